@@ -1,0 +1,108 @@
+// Scene data as the device sees it (std430). Written by src/scene (upload), read by every
+// pass that shades: see shaders/lib/scene.glsl for the accessors.
+#ifndef OSR_SHARED_SCENE_H
+#define OSR_SHARED_SCENE_H
+#include "shared/types.h"
+OSR_NAMESPACE_BEGIN(scene)
+
+// Material flags.
+OSR_CONST(uint, kMaterialDoubleSided, 1u);
+OSR_CONST(uint, kMaterialAlphaMask, 2u);   // alpha < alphaCutoff is a hole
+OSR_CONST(uint, kMaterialAlphaBlend, 4u);  // treated as mask at 0.5 (no blending in a path tracer)
+OSR_CONST(int, kNoTexture, -1);
+
+// One vertex in world space (all node transforms applied at load).
+struct Vertex {
+  vec3 position;
+  float u;
+  vec3 normal;  // unit shading normal (geometric normal where the file has none)
+  float v;
+};
+
+// Triangle: vertex indices and material, one uvec4 per triangle.
+struct Triangle {
+  uint v0;
+  uint v1;
+  uint v2;
+  uint material;
+};
+
+// glTF metallic-roughness material with the extensions of DESIGN.md. Factors are linear.
+struct Material {
+  vec4 baseColor;       // baseColorFactor (RGBA)
+  vec3 emission;        // emissiveFactor * KHR_materials_emissive_strength: radiance
+  float roughness;      // perceptual roughness factor
+  vec3 specularColor;   // KHR_materials_specular specularColorFactor (default 1)
+  float metallic;
+  float specular;       // KHR_materials_specular specularFactor (default 1)
+  float ior;            // KHR_materials_ior (default 1.5)
+  float transmission;   // KHR_materials_transmission factor
+  float alphaCutoff;    // for kMaterialAlphaMask (default 0.5)
+  int baseColorTexture;          // index into textures or kNoTexture; sRGB
+  int metallicRoughnessTexture;  // G = roughness, B = metallic; linear
+  int normalTexture;             // tangent-space normal map; linear
+  int emissiveTexture;           // sRGB
+  int transmissionTexture;       // R; linear
+  int specularTexture;           // A; linear
+  int specularColorTexture;      // RGB; sRGB
+  uint flags;
+  float normalScale;
+  float _pad0;
+  float _pad1;
+  float _pad2;
+};
+
+// Texture wrap modes (glTF sampler), in TextureInfo.wrap: S in bits 0-1, T in bits 2-3.
+OSR_CONST(uint, kWrapRepeat, 0u);
+OSR_CONST(uint, kWrapClamp, 1u);
+OSR_CONST(uint, kWrapMirror, 2u);
+
+// A texture's texels are RGBA8 (one uint each, R in the low byte) in the shared texel buffer.
+struct TextureInfo {
+  uint offset;  // first texel in the texel buffer
+  uint width;
+  uint height;
+  uint wrap;
+};
+
+// An emissive triangle for light sampling, chosen with probability proportional to power.
+struct EmissiveTriangle {
+  uint triangle;  // index into the triangle buffer
+  float power;    // luminance(emission) * area * pi (two-sided counts once per side emitting)
+  float cdf;      // inclusive prefix sum of power / total power
+  float area;
+};
+
+// KHR_lights_punctual.
+OSR_CONST(uint, kLightPoint, 0u);
+OSR_CONST(uint, kLightSpot, 1u);
+OSR_CONST(uint, kLightDirectional, 2u);
+struct PunctualLight {
+  vec3 position;     // world space
+  uint type;
+  vec3 direction;    // world space, direction the light points in (unit)
+  float range;       // 0 = infinite
+  vec3 intensity;    // color * intensity: W/sr (point, spot) or lux (directional)
+  float cosInner;    // spot inner cone cosine
+  float cosOuter;    // spot outer cone cosine
+  float _pad0;
+  float _pad1;
+  float _pad2;
+};
+
+// Scene-wide counts and the environment map, in one small buffer every shading pass binds.
+struct SceneInfo {
+  uint triangleCount;
+  uint emissiveCount;
+  uint lightCount;
+  uint envWidth;       // 0: no environment map (black world)
+  uint envHeight;
+  float envScale;      // radiance multiplier
+  float emissivePower; // total power of emissive triangles
+  float _pad0;
+  vec4 boundsMin;
+  vec4 boundsMax;
+};
+
+OSR_NAMESPACE_END
+#endif

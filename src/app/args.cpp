@@ -1,0 +1,83 @@
+#include "app/args.h"
+
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+
+#include "common/error.h"
+
+namespace osr::app {
+
+Args::Args(std::vector<std::string> args, std::string command)
+    : args_(std::move(args)), used_(args_.size(), false), command_(std::move(command)) {}
+
+bool Args::flag(const std::string& name) {
+  bool found = false;
+  for (size_t i = 0; i < args_.size(); ++i)
+    if (!used_[i] && args_[i] == name) used_[i] = found = true;
+  return found;
+}
+
+std::optional<std::string> Args::value(const std::string& name) {
+  std::optional<std::string> result;
+  for (size_t i = 0; i < args_.size(); ++i) {
+    if (used_[i]) continue;
+    if (args_[i] == name) {
+      if (i + 1 >= args_.size())
+        throw InputError(command_ + ": option " + name + " needs a value");
+      used_[i] = used_[i + 1] = true;
+      result = args_[i + 1];
+      ++i;
+    } else if (args_[i].rfind(name + "=", 0) == 0) {
+      used_[i] = true;
+      result = args_[i].substr(name.size() + 1);
+    }
+  }
+  return result;
+}
+
+std::optional<long long> Args::integer(const std::string& name, long long min, long long max) {
+  auto v = value(name);
+  if (!v) return std::nullopt;
+  errno = 0;
+  char* end = nullptr;
+  long long x = std::strtoll(v->c_str(), &end, 10);
+  if (v->empty() || *end || errno)
+    throw InputError(command_ + ": option " + name + " expects an integer, got '" + *v + "'");
+  if (x < min || x > max)
+    throw InputError(command_ + ": option " + name + " must be in [" + std::to_string(min) +
+                     ", " + std::to_string(max) + "], got " + *v);
+  return x;
+}
+
+std::optional<double> Args::number(const std::string& name, double min, double max) {
+  auto v = value(name);
+  if (!v) return std::nullopt;
+  errno = 0;
+  char* end = nullptr;
+  double x = std::strtod(v->c_str(), &end);
+  if (v->empty() || *end || errno || !std::isfinite(x))
+    throw InputError(command_ + ": option " + name + " expects a number, got '" + *v + "'");
+  if (x < min || x > max)
+    throw InputError(command_ + ": option " + name + " must be in [" + std::to_string(min) +
+                     ", " + std::to_string(max) + "], got " + *v);
+  return x;
+}
+
+std::vector<std::string> Args::positional() {
+  std::vector<std::string> out;
+  for (size_t i = 0; i < args_.size(); ++i)
+    if (!used_[i] && (args_[i].empty() || args_[i][0] != '-' || args_[i] == "-")) {
+      used_[i] = true;
+      out.push_back(args_[i]);
+    }
+  return out;
+}
+
+void Args::finish() const {
+  for (size_t i = 0; i < args_.size(); ++i)
+    if (!used_[i])
+      throw InputError(command_ + ": unknown option '" + args_[i] + "' (see osr-vk --help)");
+}
+
+}  // namespace osr::app

@@ -1,0 +1,107 @@
+// The Vulkan instance, the chosen physical device, its one compute queue and the capabilities
+// every pass reads. Created once per process (or test) and passed by reference; no globals.
+#pragma once
+#include <vulkan/vulkan.h>
+
+#include <atomic>
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace osr::vk {
+
+struct ContextOptions {
+  // Khronos validation layer; also switched on by the environment variable OSR_VALIDATION=1.
+  bool validation = false;
+  // "" picks discrete GPU, then integrated, then virtual, then CPU; a number is an index into
+  // listDevices(); anything else is a case-insensitive substring of the device name.
+  std::string device;
+  // Print the chosen device and its capabilities on stderr.
+  bool verbose = false;
+};
+
+struct DeviceInfo {
+  uint32_t index = 0;
+  std::string name;
+  std::string type;  // "discrete", "integrated", "virtual", "cpu", "other"
+  uint32_t apiVersion = 0;
+};
+
+// Properties chosen once at creation that kernels specialise on.
+struct Capabilities {
+  std::string deviceName;
+  VkPhysicalDeviceType deviceType = VK_PHYSICAL_DEVICE_TYPE_OTHER;
+  uint32_t subgroupSize = 1;
+  uint64_t maxStorageBufferRange = 0;
+  uint32_t maxComputeWorkGroupCount[3] = {};
+  uint32_t maxPushConstantsSize = 0;
+  float timestampPeriodNs = 1.0f;
+  bool timestamps = false;
+  bool shaderFloat16 = false;     // fp16 arithmetic in shaders
+  bool storageBuffer16Bit = false;  // fp16/int16 loads and stores in storage buffers
+  bool shaderInt64 = false;
+  bool unifiedMemory = false;  // device-local memory is also host-visible (lavapipe, iGPUs)
+  bool isCpu() const { return deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU; }
+};
+
+std::vector<DeviceInfo> listDevices();
+
+class Context {
+ public:
+  explicit Context(const ContextOptions& options = {});
+  ~Context();
+  Context(const Context&) = delete;
+  Context& operator=(const Context&) = delete;
+
+  VkInstance instance() const { return instance_; }
+  VkPhysicalDevice physicalDevice() const { return physicalDevice_; }
+  VkDevice device() const { return device_; }
+  VkQueue queue() const { return queue_; }
+  uint32_t queueFamily() const { return queueFamily_; }
+  const Capabilities& caps() const { return caps_; }
+  bool validationEnabled() const { return validation_; }
+
+  // Number of validation warnings and errors reported so far (tests require zero).
+  uint32_t validationMessages() const { return validationMessages_.load(); }
+
+  // Memory type with all `required` flags among `typeBits`; throws if none.
+  uint32_t findMemoryType(uint32_t typeBits, VkMemoryPropertyFlags required) const;
+  bool hasMemoryType(uint32_t typeBits, VkMemoryPropertyFlags required) const;
+
+  // Debug names and labels (no-ops without VK_EXT_debug_utils).
+  void setName(VkObjectType type, uint64_t handle, const std::string& name) const;
+  void beginLabel(VkCommandBuffer cmd, const char* name) const;
+  void endLabel(VkCommandBuffer cmd) const;
+
+  // Records into a fresh command buffer, submits it and waits (bounded; a hang throws).
+  void submitAndWait(const std::function<void(VkCommandBuffer)>& record) const;
+
+  PFN_vkCmdPushDescriptorSetKHR cmdPushDescriptorSet = nullptr;
+
+ private:
+  void createInstance(bool wantValidation);
+  void pickPhysicalDevice(const std::string& selector);
+  void createDevice();
+  static VKAPI_ATTR VkBool32 VKAPI_CALL debugCallback(
+      VkDebugUtilsMessageSeverityFlagBitsEXT severity, VkDebugUtilsMessageTypeFlagsEXT types,
+      const VkDebugUtilsMessengerCallbackDataEXT* data, void* user);
+
+  // Declared in creation order; the destructor frees in reverse.
+  VkInstance instance_ = VK_NULL_HANDLE;
+  VkDebugUtilsMessengerEXT messenger_ = VK_NULL_HANDLE;
+  VkPhysicalDevice physicalDevice_ = VK_NULL_HANDLE;
+  VkDevice device_ = VK_NULL_HANDLE;
+  VkQueue queue_ = VK_NULL_HANDLE;
+  uint32_t queueFamily_ = 0;
+  VkCommandPool commandPool_ = VK_NULL_HANDLE;
+  VkPhysicalDeviceMemoryProperties memoryProperties_{};
+  Capabilities caps_;
+  bool validation_ = false;
+  bool debugUtils_ = false;
+  mutable std::atomic<uint32_t> validationMessages_{0};
+  PFN_vkSetDebugUtilsObjectNameEXT setObjectName_ = nullptr;
+  PFN_vkCmdBeginDebugUtilsLabelEXT cmdBeginLabel_ = nullptr;
+  PFN_vkCmdEndDebugUtilsLabelEXT cmdEndLabel_ = nullptr;
+};
+
+}  // namespace osr::vk

@@ -1,0 +1,151 @@
+#include "vk/pipeline.h"
+
+#include "common/error.h"
+#include "vk/check.h"
+
+namespace osr::vk {
+
+ComputePipeline::ComputePipeline(const Context& ctx, shaders::Id shader, uint32_t bindingCount,
+                                 uint32_t pushBytes, const std::vector<SpecConstant>& spec)
+    : ctx_(&ctx), bindingCount_(bindingCount), pushBytes_(pushBytes) {
+  const shaders::Module& m = shaders::module(shader);
+  name_ = m.name;
+  VkDevice dev = ctx.device();
+
+  VkShaderModuleCreateInfo moduleInfo{VK_STRUCTURE_TYPE_SHADER_MODULE_CREATE_INFO};
+  moduleInfo.codeSize = m.words * 4;
+  moduleInfo.pCode = m.code;
+  check(vkCreateShaderModule(dev, &moduleInfo, nullptr, &module_), name_);
+  ctx.setName(VK_OBJECT_TYPE_SHADER_MODULE, reinterpret_cast<uint64_t>(module_), name_);
+
+  std::vector<VkDescriptorSetLayoutBinding> bindings(bindingCount);
+  for (uint32_t i = 0; i < bindingCount; ++i) {
+    bindings[i].binding = i;
+    bindings[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    bindings[i].descriptorCount = 1;
+    bindings[i].stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
+  }
+  VkDescriptorSetLayoutCreateInfo setInfo{VK_STRUCTURE_TYPE_DESCRIPTOR_SET_LAYOUT_CREATE_INFO};
+  setInfo.flags = VK_DESCRIPTOR_SET_LAYOUT_CREATE_PUSH_DESCRIPTOR_BIT_KHR;
+  setInfo.bindingCount = bindingCount;
+  setInfo.pBindings = bindings.data();
+  check(vkCreateDescriptorSetLayout(dev, &setInfo, nullptr, &setLayout_), name_);
+
+  VkPushConstantRange range{VK_SHADER_STAGE_COMPUTE_BIT, 0, pushBytes};
+  VkPipelineLayoutCreateInfo layoutInfo{VK_STRUCTURE_TYPE_PIPELINE_LAYOUT_CREATE_INFO};
+  layoutInfo.setLayoutCount = 1;
+  layoutInfo.pSetLayouts = &setLayout_;
+  layoutInfo.pushConstantRangeCount = pushBytes ? 1 : 0;
+  layoutInfo.pPushConstantRanges = &range;
+  check(vkCreatePipelineLayout(dev, &layoutInfo, nullptr, &layout_), name_);
+
+  std::vector<VkSpecializationMapEntry> entries;
+  std::vector<uint32_t> values;
+  for (size_t i = 0; i < spec.size(); ++i) {
+    entries.push_back({spec[i].id, static_cast<uint32_t>(i * 4), 4});
+    values.push_back(spec[i].bits);
+  }
+  VkSpecializationInfo specInfo{static_cast<uint32_t>(entries.size()), entries.data(),
+                                values.size() * 4, values.data()};
+  VkComputePipelineCreateInfo info{VK_STRUCTURE_TYPE_COMPUTE_PIPELINE_CREATE_INFO};
+  info.stage.sType = VK_STRUCTURE_TYPE_PIPELINE_SHADER_STAGE_CREATE_INFO;
+  info.stage.stage = VK_SHADER_STAGE_COMPUTE_BIT;
+  info.stage.module = module_;
+  info.stage.pName = "main";
+  info.stage.pSpecializationInfo = spec.empty() ? nullptr : &specInfo;
+  info.layout = layout_;
+  check(vkCreateComputePipelines(dev, VK_NULL_HANDLE, 1, &info, nullptr, &pipeline_), name_);
+  ctx.setName(VK_OBJECT_TYPE_PIPELINE, reinterpret_cast<uint64_t>(pipeline_), name_);
+}
+
+ComputePipeline::~ComputePipeline() { release(); }
+
+ComputePipeline::ComputePipeline(ComputePipeline&& o) noexcept { *this = std::move(o); }
+
+ComputePipeline& ComputePipeline::operator=(ComputePipeline&& o) noexcept {
+  if (this != &o) {
+    release();
+    ctx_ = o.ctx_;
+    name_ = o.name_;
+    bindingCount_ = o.bindingCount_;
+    pushBytes_ = o.pushBytes_;
+    module_ = o.module_;
+    setLayout_ = o.setLayout_;
+    layout_ = o.layout_;
+    pipeline_ = o.pipeline_;
+    o.module_ = VK_NULL_HANDLE;
+    o.setLayout_ = VK_NULL_HANDLE;
+    o.layout_ = VK_NULL_HANDLE;
+    o.pipeline_ = VK_NULL_HANDLE;
+  }
+  return *this;
+}
+
+void ComputePipeline::release() {
+  if (!ctx_) return;
+  VkDevice dev = ctx_->device();
+  if (pipeline_) vkDestroyPipeline(dev, pipeline_, nullptr);
+  if (layout_) vkDestroyPipelineLayout(dev, layout_, nullptr);
+  if (setLayout_) vkDestroyDescriptorSetLayout(dev, setLayout_, nullptr);
+  if (module_) vkDestroyShaderModule(dev, module_, nullptr);
+  pipeline_ = VK_NULL_HANDLE;
+  layout_ = VK_NULL_HANDLE;
+  setLayout_ = VK_NULL_HANDLE;
+  module_ = VK_NULL_HANDLE;
+}
+
+void ComputePipeline::checkPushSize(size_t bytes) const {
+  if (bytes != pushBytes_)
+    throw DeviceError(std::string(name_) + ": push constants of " + std::to_string(bytes) +
+                      " bytes, pipeline declares " + std::to_string(pushBytes_));
+}
+
+void ComputePipeline::bind(VkCommandBuffer cmd, std::initializer_list<BufferRange> buffers,
+                           const void* push) const {
+  if (buffers.size() != bindingCount_)
+    throw DeviceError(std::string(name_) + ": " + std::to_string(buffers.size()) +
+                      " buffers bound, pipeline declares " + std::to_string(bindingCount_));
+  std::vector<VkDescriptorBufferInfo> infos;
+  std::vector<VkWriteDescriptorSet> writes;
+  infos.reserve(buffers.size());
+  uint32_t slot = 0;
+  for (const BufferRange& r : buffers) {
+    if (!r.buffer || !r.buffer->valid())
+      throw DeviceError(std::string(name_) + ": slot " + std::to_string(slot) + " has no buffer");
+    VkDeviceSize bytes = r.bytes();
+    if (bytes > ctx_->caps().maxStorageBufferRange)
+      throw DeviceError(std::string(name_) + ": buffer '" + r.buffer->name() + "' range of " +
+                        std::to_string(bytes >> 20) + " MiB exceeds the device's " +
+                        "maxStorageBufferRange of " +
+                        std::to_string(ctx_->caps().maxStorageBufferRange >> 20) + " MiB");
+    infos.push_back({r.buffer->handle(), r.offset, bytes});
+    VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+    w.dstBinding = slot++;
+    w.descriptorCount = 1;
+    w.descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    w.pBufferInfo = &infos.back();
+    writes.push_back(w);
+  }
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_);
+  if (!writes.empty())
+    ctx_->cmdPushDescriptorSet(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_, 0,
+                               static_cast<uint32_t>(writes.size()), writes.data());
+  if (pushBytes_ && push)
+    vkCmdPushConstants(cmd, layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, pushBytes_, push);
+}
+
+void ComputePipeline::dispatch(VkCommandBuffer cmd, uint32_t x, uint32_t y, uint32_t z) const {
+  const uint32_t* maxCount = ctx_->caps().maxComputeWorkGroupCount;
+  if (x > maxCount[0] || y > maxCount[1] || z > maxCount[2])
+    throw DeviceError(std::string(name_) + ": dispatch of " + std::to_string(x) + "x" +
+                      std::to_string(y) + "x" + std::to_string(z) +
+                      " groups exceeds maxComputeWorkGroupCount");
+  if (x && y && z) vkCmdDispatch(cmd, x, y, z);
+}
+
+void ComputePipeline::dispatchIndirect(VkCommandBuffer cmd, const Buffer& args,
+                                       VkDeviceSize offset) const {
+  vkCmdDispatchIndirect(cmd, args.handle(), offset);
+}
+
+}  // namespace osr::vk
