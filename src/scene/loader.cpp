@@ -176,6 +176,8 @@ class Loader {
     }
     finishBounds();
     collectEmissive();
+    for (const std::string& w : scene_.warnings)
+      std::fprintf(stderr, "osr-vk: warning: %s: %s\n", path_.c_str(), w.c_str());
   }
 
  private:
@@ -183,10 +185,10 @@ class Loader {
     throw InputError(path_ + ": " + problem);
   }
 
+  // Collected while loading and printed once the scene loaded, so that a refused file gets
+  // exactly one line on stderr.
   void warn(const std::string& message) {
-    if (!warned_.insert(message).second) return;
-    scene_.warnings.push_back(message);
-    std::fprintf(stderr, "osr-vk: warning: %s: %s\n", path_.c_str(), message.c_str());
+    if (warned_.insert(message).second) scene_.warnings.push_back(message);
   }
 
   // --- Parsing ------------------------------------------------------------------------------
