@@ -286,6 +286,40 @@ def binary(out: Path) -> None:
     (out / "bad_truncated.glb").write_bytes(data[: len(data) // 2])
 
 
+def sparse_accessor(g: Gltf, base: int | None, indices: list[int], values: list) -> dict:
+    """Makes accessor `base` (or a new one without buffer view, 4 elements) sparse."""
+    flat = [c for v in values for c in v]
+    sparse = {"count": len(indices),
+              "indices": {"bufferView": g.view(struct.pack("<" + "B" * len(indices), *indices)),
+                          "componentType": UBYTE},
+              "values": {"bufferView": g.view(struct.pack("<" + "f" * len(flat), *flat))}}
+    if base is None:
+        g.doc["accessors"].append({"componentType": FLOAT, "count": 4, "type": "VEC3"})
+        base = len(g.doc["accessors"]) - 1
+    g.doc["accessors"][base]["sparse"] = sparse
+    g.doc["accessors"][base].pop("min", None)
+    g.doc["accessors"][base].pop("max", None)
+    return g.doc["accessors"][base]
+
+
+def sparse(out: Path) -> None:
+    """Sparse POSITION accessors: one over a buffer view, one over zeros (no buffer view)."""
+    g = Gltf()
+    g.mesh(QUAD_P, QUAD_I, QUAD_N)
+    sparse_accessor(g, g.doc["meshes"][0]["primitives"][0]["attributes"]["POSITION"], [2], [(1, 1, 1)])
+    g.mesh(QUAD_P, QUAD_I, QUAD_N)
+    sparse_accessor(g, None, [1, 2, 3], [(1, 0, 0), (1, 1, 0), (0, 1, 0)])
+    g.doc["meshes"][1]["primitives"][0]["attributes"]["POSITION"] = len(g.doc["accessors"]) - 1
+    g.node(name="over_view", mesh=0)
+    g.node(name="over_zeros", mesh=1, translation=[0, 0, 2])
+    g.gltf(out / "sparse.gltf")
+    bad = Gltf()
+    bad.mesh(QUAD_P, QUAD_I, QUAD_N)
+    sparse_accessor(bad, 0, [9], [(1, 1, 1)])
+    bad.node(mesh=0)
+    bad.gltf(out / "bad_sparse_index.gltf")
+
+
 def bad_inputs(out: Path) -> None:
     """One file per kind of bad input the loader must refuse with one line."""
     def quad_file(name: str, edit=None, positions=QUAD_P, indices=QUAD_I, **kw: Any) -> None:
@@ -339,7 +373,7 @@ def main() -> None:
     args = parser.parse_args()
     args.out.mkdir(parents=True, exist_ok=True)
     for make in [hierarchy, nonindexed, index_types, textured, alpha_mask, lights, cameras, materials,
-                 binary, bad_inputs]:
+                 binary, sparse, bad_inputs]:
         make(args.out)
 
 

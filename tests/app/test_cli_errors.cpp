@@ -34,7 +34,7 @@ TEST(CliErrors, BadScenesExitTwoWithOneLine) {
                          "bad_buffer_view_range.gltf", "bad_index.gltf",
                          "bad_nan.gltf",              "bad_inf.gltf",
                          "bad_missing_texture.gltf",  "bad_no_triangles.gltf",
-                         "bad_missing_bin.gltf"};
+                         "bad_missing_bin.gltf",      "bad_sparse_index.gltf"};
   for (const char* name : files) {
     std::string path = osr::test::dataPath(std::string("scene/") + name);
     Outcome r = runOsr("'" + path + "'");

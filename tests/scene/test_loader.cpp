@@ -259,6 +259,18 @@ TEST(Loader, BinaryGlbWithEmbeddedImage) {
   EXPECT_EQ(s.textures[0].texels[0], 0xFF1E140Au);  // (10, 20, 30, 255)
 }
 
+TEST(Loader, SparseAccessors) {
+  scene::Scene s = scene::loadScene(data("sparse.gltf"));
+  ASSERT_EQ(s.triangles.size(), 4u);
+  // Over a buffer view: vertex 2 replaced by (1, 1, 1), the others kept.
+  expectNear(s.vertices[s.triangles[0].v1].position, {1, 0, 0});
+  expectNear(s.vertices[s.triangles[0].v2].position, {1, 1, 1});
+  // Over zeros: vertex 0 stays (0, 0, 0), 1..3 from the sparse values; node moved to z = 2.
+  const gs::Triangle& t = s.triangles[2];
+  expectNear(s.vertices[t.v0].position, {0, 0, 2});
+  expectNear(s.vertices[t.v2].position, {1, 1, 2});
+}
+
 // ---- Bad input: InputError, one line, starting with the file name ----------------------------
 
 namespace {
@@ -289,6 +301,7 @@ TEST(LoaderBadInput, EachKindNamesTheFileAndTheProblem) {
   expectInputError(data("bad_missing_texture.gltf"), "missing texture image");
   expectInputError(data("bad_no_triangles.gltf"), "no triangles");
   expectInputError(data("bad_missing_bin.gltf"), "not found");
+  expectInputError(data("bad_sparse_index.gltf"), "past the accessor count");
   expectInputError(test::dataPath("scene"), "directory");
 }
 
