@@ -7,23 +7,17 @@
 #include "common/error.h"
 #include "common/vk_test.h"
 #include "scene/scene.h"
+#include "scene/scene_test_util.h"
 
 using namespace osr;
+using test::expectNear;
+using test::hasWarning;
 
 namespace {
 
 std::string data(const std::string& name) { return test::dataPath("scene/" + name); }
 
-void expectNear(glm::vec3 a, glm::vec3 b, float tol = 1e-5f) {
-  EXPECT_LE(glm::length(a - b), tol) << "(" << a.x << ", " << a.y << ", " << a.z << ") vs (" << b.x
-                                     << ", " << b.y << ", " << b.z << ")";
-}
 
-bool hasWarning(const scene::Scene& s, const std::string& part) {
-  for (const auto& w : s.warnings)
-    if (w.find(part) != std::string::npos) return true;
-  return false;
-}
 
 }  // namespace
 

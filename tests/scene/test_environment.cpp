@@ -14,6 +14,7 @@
 #include "common/vk_test.h"
 #include "scene/environment.h"
 #include "scene/scene_probe.h"
+#include "scene/scene_test_util.h"
 #include "scene/surface.h"
 
 using namespace osr;
@@ -38,15 +39,7 @@ scene::Environment testEnvironment() {
 std::string temp(const std::string& name) { return ::testing::TempDir() + name; }
 
 void expectInputError(const std::string& path, const std::string& part) {
-  try {
-    scene::loadEnvironment(path);
-    ADD_FAILURE() << path << " loaded";
-  } catch (const InputError& e) {
-    std::string msg = e.what();
-    EXPECT_EQ(msg.rfind(path + ": ", 0), 0u) << msg;
-    EXPECT_NE(msg.find(part), std::string::npos) << msg;
-    EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
-  }
+  test::expectInputError([](const std::string& p) { scene::loadEnvironment(p); }, path, part);
 }
 
 }  // namespace
@@ -183,7 +176,7 @@ TEST(Environment, GpuMatchesCpu) {
   vk::Buffer qb(ctx, n * sizeof(envp::Query), vk::MemoryUse::DeviceLocal, "env queries");
   vk::Buffer rb(ctx, n * sizeof(envp::Result), vk::MemoryUse::DeviceLocal, "env results");
   qb.uploadVector(queries);
-  scene::EnvironmentProbe pass(ctx);
+  scene::SceneProbe pass(ctx, scene::ProbeKind::Environment);
   ctx.submitAndWait([&](VkCommandBuffer cmd) { pass.record(cmd, {&qb, &rb, n, &g}); });
   auto results = rb.downloadVector<envp::Result>(n);
   int mismatchedTexel = 0;

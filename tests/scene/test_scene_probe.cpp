@@ -44,7 +44,7 @@ void checkScene(const std::string& path, uint32_t count) {
   vk::Buffer q(ctx, queries.size() * sizeof(probe::Query), vk::MemoryUse::DeviceLocal, "queries");
   vk::Buffer r(ctx, queries.size() * sizeof(probe::Result), vk::MemoryUse::DeviceLocal, "results");
   q.uploadVector(queries);
-  scene::SceneProbe pass(ctx);
+  scene::SceneProbe pass(ctx, scene::ProbeKind::Surface);
   ctx.submitAndWait([&](VkCommandBuffer cmd) { pass.record(cmd, {&q, &r, count, &g}); });
   auto results = r.downloadVector<probe::Result>(count);
 
