@@ -79,8 +79,9 @@ void checkScene(const std::string& path, uint32_t count) {
     EXPECT_NEAR(gpu.transmission, cpu.m.transmission, 1e-4f) << where;
     EXPECT_EQ(gpu.doubleSided != 0, cpu.m.doubleSided) << where;
     const auto& mat = s.materials[cpu.material];
-    if (std::abs(cpu.m.alpha - mat.alphaCutoff) > 1e-3f)
+    if (std::abs(cpu.m.alpha - mat.alphaCutoff) > 1e-3f) {
       EXPECT_EQ(gpu.alphaCutout != 0, cpuCut) << where << " alpha " << cpu.m.alpha;
+    }
     cutouts += cpuCut;
   }
   if (path.find("alpha_mask") != std::string::npos) {
