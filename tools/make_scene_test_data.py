@@ -13,7 +13,7 @@ import zlib
 from pathlib import Path
 from typing import Any
 
-FLOAT, UBYTE, USHORT, UINT = 5126, 5121, 5123, 5125
+FLOAT, BYTE, UBYTE, SHORT, USHORT, UINT = 5126, 5120, 5121, 5122, 5123, 5125
 REPEAT, CLAMP, MIRROR = 10497, 33071, 33648
 
 
@@ -51,11 +51,20 @@ class Gltf:
         self.bin += data
         return len(self.doc["bufferViews"]) - 1
 
-    def accessor(self, values: list, kind: str, component: int = FLOAT) -> int:
-        fmt = {FLOAT: "f", UBYTE: "B", USHORT: "H", UINT: "I"}[component]
+    def accessor(self, values: list, kind: str, component: int = FLOAT, normalized: bool = False,
+                 stride: int = 0) -> int:
+        fmt = {FLOAT: "f", BYTE: "b", UBYTE: "B", SHORT: "h", USHORT: "H", UINT: "I"}[component]
         flat = [c for v in values for c in (v if isinstance(v, (list, tuple)) else [v])]
-        acc: dict[str, Any] = {"bufferView": self.view(struct.pack("<" + fmt * len(flat), *flat)),
+        data = struct.pack("<" + fmt * len(flat), *flat)
+        if stride:  # interleave padding: each element starts `stride` bytes after the last
+            size = len(data) // len(values)
+            data = b"".join(data[i * size:(i + 1) * size] + b"\xee" * (stride - size) for i in range(len(values)))
+        acc: dict[str, Any] = {"bufferView": self.view(data),
                                "componentType": component, "count": len(values), "type": kind}
+        if stride:
+            self.doc["bufferViews"][-1]["byteStride"] = stride
+        if normalized:
+            acc["normalized"] = True
         if kind == "VEC3" and component == FLOAT and all(map(math.isfinite, flat)):
             acc["min"] = [min(v[i] for v in values) for i in range(3)]
             acc["max"] = [max(v[i] for v in values) for i in range(3)]
@@ -320,6 +329,22 @@ def sparse(out: Path) -> None:
     bad.gltf(out / "bad_sparse_index.gltf")
 
 
+def quantized(out: Path) -> None:
+    """KHR_mesh_quantization: int16 positions (scaled back by the node), int8 normalized
+    normals, uint16 normalized uvs, positions in a strided buffer view."""
+    g = Gltf()
+    g.doc["extensionsUsed"] = ["KHR_mesh_quantization"]
+    g.doc["extensionsRequired"] = ["KHR_mesh_quantization"]
+    prim = {"attributes": {
+        "POSITION": g.accessor([(0, 0, 0), (1000, 0, 0), (1000, 1000, 0), (0, 1000, 0)], "VEC3", SHORT, stride=8),
+        "NORMAL": g.accessor([(0, 0, 127)] * 4, "VEC3", BYTE, normalized=True, stride=4),
+        "TEXCOORD_0": g.accessor([(0, 65535), (65535, 65535), (65535, 0), (0, 0)], "VEC2", USHORT, normalized=True)},
+        "indices": g.accessor(QUAD_I, "SCALAR", UBYTE)}
+    g.doc["meshes"].append({"primitives": [prim]})
+    g.node(name="quad", mesh=0, scale=[0.001, 0.001, 0.001])
+    g.gltf(out / "quantized.gltf")
+
+
 def bad_inputs(out: Path) -> None:
     """One file per kind of bad input the loader must refuse with one line."""
     def quad_file(name: str, edit=None, positions=QUAD_P, indices=QUAD_I, **kw: Any) -> None:
@@ -373,7 +398,7 @@ def main() -> None:
     args = parser.parse_args()
     args.out.mkdir(parents=True, exist_ok=True)
     for make in [hierarchy, nonindexed, index_types, textured, alpha_mask, lights, cameras, materials,
-                 binary, sparse, bad_inputs]:
+                 binary, sparse, quantized, bad_inputs]:
         make(args.out)
 
 

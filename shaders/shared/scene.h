@@ -82,7 +82,7 @@ struct PunctualLight {
   uint type;
   vec3 direction;    // world space, direction the light points in (unit)
   float range;       // 0 = infinite
-  vec3 intensity;    // color * intensity: W/sr (point, spot) or lux (directional)
+  vec3 intensity;    // color * intensity / 683 lm/W: W/sr (point, spot), W/m^2 (directional)
   float cosInner;    // spot inner cone cosine
   float cosOuter;    // spot outer cone cosine
   float _pad0;

@@ -50,7 +50,9 @@ namespace {
 // Extensions whose data the loader uses. Everything else is warned about once and ignored.
 const std::set<std::string> kSupportedExtensions = {
     "KHR_materials_emissive_strength", "KHR_materials_specular", "KHR_materials_ior",
-    "KHR_materials_transmission", "KHR_lights_punctual"};
+    "KHR_materials_transmission", "KHR_lights_punctual",
+    // Integer and normalized attribute types: every accessor is read through one converter.
+    "KHR_mesh_quantization"};
 
 // Luminous efficacy used to turn glTF's photometric light units into the radiometric ones of
 // emissive radiance (the constant Blender's glTF I/O uses, PBR_WATTS_TO_LUMENS = 683 lm/W):

@@ -224,6 +224,9 @@ TEST(Loader, MaterialExtensionsWarningsAndEmissivePower) {
   scene::Scene s = scene::loadScene(data("materials.gltf"));
   EXPECT_EQ(s.triangles.size(), 8u);  // the LINES primitive is skipped
   EXPECT_TRUE(hasWarning(s, "KHR_materials_clearcoat"));
+  int clearcoat = 0;  // named in extensionsUsed and by a material: warned once
+  for (const auto& w : s.warnings) clearcoat += w.find("KHR_materials_clearcoat") != std::string::npos;
+  EXPECT_EQ(clearcoat, 1);
   EXPECT_TRUE(hasWarning(s, "mode 1"));
   ASSERT_EQ(s.materials.size(), 4u);  // three + the default for the primitive without one
   const gs::Material& glass = s.materials[0];
@@ -267,6 +270,18 @@ TEST(Loader, SparseAccessors) {
   const gs::Triangle& t = s.triangles[2];
   expectNear(s.vertices[t.v0].position, {0, 0, 2});
   expectNear(s.vertices[t.v2].position, {1, 1, 2});
+}
+
+TEST(Loader, QuantizedAttributes) {
+  scene::Scene s = scene::loadScene(data("quantized.gltf"));
+  EXPECT_TRUE(s.warnings.empty());  // KHR_mesh_quantization is supported
+  ASSERT_EQ(s.triangles.size(), 2u);
+  const gs::Triangle& t = s.triangles[0];
+  expectNear(s.vertices[t.v1].position, {1, 0, 0});  // int16 1000 x node scale 0.001
+  expectNear(s.vertices[t.v2].position, {1, 1, 0});
+  expectNear(s.vertices[t.v0].normal, {0, 0, 1});  // int8 127 normalized
+  EXPECT_NEAR(s.vertices[t.v0].v, 1.0f, 1e-6f);    // uint16 65535 normalized
+  EXPECT_NEAR(s.vertices[t.v2].u, 1.0f, 1e-6f);
 }
 
 // ---- Bad input: InputError, one line, starting with the file name ----------------------------
