@@ -17,17 +17,18 @@ FLOAT, BYTE, UBYTE, SHORT, USHORT, UINT = 5126, 5120, 5121, 5122, 5123, 5125
 REPEAT, CLAMP, MIRROR = 10497, 33071, 33648
 
 
-def png(width: int, height: int, texels: list[tuple[int, int, int, int]]) -> bytes:
-    """Minimal RGBA8 PNG encoder (filter 0 on every row)."""
+def png(width: int, height: int, texels: list[tuple[int, int, int, int]], bits: int = 8) -> bytes:
+    """Minimal RGBA PNG encoder, 8 or 16 bits per channel (filter 0 on every row)."""
 
     def chunk(kind: bytes, data: bytes) -> bytes:
         body = kind + data
         return struct.pack(">I", len(data)) + body + struct.pack(">I", zlib.crc32(body))
 
+    fmt = ">4B" if bits == 8 else ">4H"
     rows = b""
     for y in range(height):
-        rows += b"\x00" + b"".join(bytes(texels[y * width + x]) for x in range(width))
-    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, 8, 6, 0, 0, 0))
+        rows += b"\x00" + b"".join(struct.pack(fmt, *texels[y * width + x]) for x in range(width))
+    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, bits, 6, 0, 0, 0))
             + chunk(b"IDAT", zlib.compress(rows)) + chunk(b"IEND", b""))
 
 
@@ -329,6 +330,17 @@ def sparse(out: Path) -> None:
     bad.gltf(out / "bad_sparse_index.gltf")
 
 
+def texture16(out: Path) -> None:
+    """A 16-bit-per-channel PNG: decoded to RGBA8 by its high bytes."""
+    g = Gltf()
+    g.doc["images"] = [{"uri": data_uri(png(2, 1, [(0x1234, 0xABCD, 0xFFFF, 0xFFFF), (0x00FF, 0x0100, 0x8000, 0x7FFF)], 16), "image/png")}]
+    g.doc["textures"] = [{"source": 0}]
+    g.add("materials", {"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}})
+    g.mesh(QUAD_P, QUAD_I, QUAD_N, QUAD_UV, material=0)
+    g.node(name="quad", mesh=0)
+    g.gltf(out / "texture16.gltf")
+
+
 def quantized(out: Path) -> None:
     """KHR_mesh_quantization: int16 positions (scaled back by the node), int8 normalized
     normals, uint16 normalized uvs, positions in a strided buffer view."""
@@ -398,7 +410,7 @@ def main() -> None:
     args = parser.parse_args()
     args.out.mkdir(parents=True, exist_ok=True)
     for make in [hierarchy, nonindexed, index_types, textured, alpha_mask, lights, cameras, materials,
-                 binary, sparse, quantized, bad_inputs]:
+                 binary, sparse, quantized, texture16, bad_inputs]:
         make(args.out)
 
 

@@ -399,8 +399,8 @@ class Loader {
       uint32_t c[4] = {0, 0, 0, 255};
       for (int k = 0; k < comps; ++k) {
         const unsigned char* p = &image.image[(i * comps + k) * bytesPer];
-        // 16-bit channels keep their high byte (little-endian as stb returns them).
-        c[k] = bytesPer == 2 ? p[1] : p[0];
+        // 16-bit channels (native little-endian from stb) are rounded to 8 bits.
+        c[k] = bytesPer == 2 ? ((p[0] | (uint32_t(p[1]) << 8)) * 255u + 32767u) / 65535u : p[0];
       }
       if (comps == 1) c[1] = c[2] = c[0];
       if (comps == 2) {  // grey + alpha

@@ -188,6 +188,14 @@ TEST(Loader, TexturesFromFilesAndDataUris) {
   EXPECT_NEAR(s.emissivePower, lum * 3.14159265f * 2.0f, 1e-4f);
 }
 
+TEST(Loader, SixteenBitTexturesRoundTo8Bits) {
+  scene::Scene s = scene::loadScene(data("texture16.gltf"));
+  ASSERT_EQ(s.textures.size(), 1u);
+  ASSERT_EQ(s.textures[0].texels.size(), 2u);
+  EXPECT_EQ(s.textures[0].texels[0], 0xFFFFAB12u);
+  EXPECT_EQ(s.textures[0].texels[1], 0x7F800101u);  // 0x00FF and 0x0100 round to 1
+}
+
 TEST(Loader, AlphaModes) {
   scene::Scene s = scene::loadScene(data("alpha_mask.gltf"));
   ASSERT_EQ(s.materials.size(), 3u);
