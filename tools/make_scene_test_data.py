@@ -331,7 +331,7 @@ def sparse(out: Path) -> None:
 
 
 def texture16(out: Path) -> None:
-    """A 16-bit-per-channel PNG: decoded to RGBA8 by its high bytes."""
+    """A 16-bit-per-channel PNG: rounded to RGBA8."""
     g = Gltf()
     g.doc["images"] = [{"uri": data_uri(png(2, 1, [(0x1234, 0xABCD, 0xFFFF, 0xFFFF), (0x00FF, 0x0100, 0x8000, 0x7FFF)], 16), "image/png")}]
     g.doc["textures"] = [{"source": 0}]
@@ -339,6 +339,20 @@ def texture16(out: Path) -> None:
     g.mesh(QUAD_P, QUAD_I, QUAD_N, QUAD_UV, material=0)
     g.node(name="quad", mesh=0)
     g.gltf(out / "texture16.gltf")
+
+
+def degenerate_attributes(out: Path) -> None:
+    """Loadable with warnings: a NaN uv, a zero normal, a texture whose image only an
+    unsupported extension names."""
+    g = Gltf()
+    g.doc["extensionsUsed"] = ["EXT_texture_webp"]
+    g.doc["images"] = [{"uri": "never_read.webp"}]
+    g.doc["textures"] = [{"extensions": {"EXT_texture_webp": {"source": 0}}}]
+    g.add("materials", {"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}})
+    g.mesh(QUAD_P, QUAD_I, [(0, 0, 1), (0, 0, 0), (0, 0, 1), (0, 0, 1)],
+           [(0, 1), (float("nan"), 1), (1, 0), (0, 0)], material=0)
+    g.node(name="quad", mesh=0)
+    g.gltf(out / "degenerate_attributes.gltf")
 
 
 def quantized(out: Path) -> None:
@@ -410,7 +424,7 @@ def main() -> None:
     args = parser.parse_args()
     args.out.mkdir(parents=True, exist_ok=True)
     for make in [hierarchy, nonindexed, index_types, textured, alpha_mask, lights, cameras, materials,
-                 binary, sparse, quantized, texture16, bad_inputs]:
+                 binary, sparse, quantized, texture16, degenerate_attributes, bad_inputs]:
         make(args.out)
 
 

@@ -375,8 +375,15 @@ class Loader {
     auto found = textureMap_.find(index);
     if (found != textureMap_.end()) return found->second;
     const tinygltf::Texture& t = model_.textures[index];
-    if (t.source < 0 || size_t(t.source) >= model_.images.size())
-      fail(what + ": texture " + std::to_string(index) + " has no image");
+    if (t.source < 0) {
+      // Valid glTF when an extension (KHR_texture_basisu, EXT_texture_webp) names the image.
+      warn(what + ": texture " + std::to_string(index) + " has no PNG/JPEG source, ignored");
+      textureMap_[index] = gpu::kNoTexture;
+      return gpu::kNoTexture;
+    }
+    if (size_t(t.source) >= model_.images.size())
+      fail(what + ": texture " + std::to_string(index) + ": image " + std::to_string(t.source) +
+           " does not exist");
     const tinygltf::Image& image = model_.images[t.source];
     std::string imageName = "image " + std::to_string(t.source) +
                             (image.uri.empty() || image.uri.rfind("data:", 0) == 0
@@ -640,7 +647,12 @@ class Loader {
         fail(what + " POSITION " + std::to_string(i) + " is not finite after the node transform");
       return w;
     };
-    auto uvAt = [&](uint32_t i) { return hasUv ? uv.vec2(i) : glm::vec2(0.0f); };
+    auto uvAt = [&](uint32_t i) {
+      glm::vec2 t = hasUv ? uv.vec2(i) : glm::vec2(0.0f);
+      if (std::isfinite(t.x) && std::isfinite(t.y)) return t;
+      warn(what + ": non-finite TEXCOORD_0 replaced by (0, 0)");
+      return glm::vec2(0.0f);
+    };
 
     if (hasNormals) {
       uint32_t base = uint32_t(scene_.vertices.size());
@@ -650,7 +662,9 @@ class Loader {
         gpu::Vertex v{};
         v.position = worldPosition(i);
         // A zero or broken normal falls back to the face normal in the shader (length 0).
-        v.normal = len > 0.0f && std::isfinite(len) ? n / len : glm::vec3(0.0f);
+        bool valid = len > 0.0f && std::isfinite(len);
+        if (!valid) warn(what + ": zero or non-finite NORMAL replaced by the face normal");
+        v.normal = valid ? n / len : glm::vec3(0.0f);
         glm::vec2 t = uvAt(i);
         v.u = t.x;
         v.v = t.y;

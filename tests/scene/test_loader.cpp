@@ -196,6 +196,19 @@ TEST(Loader, SixteenBitTexturesRoundTo8Bits) {
   EXPECT_EQ(s.textures[0].texels[1], 0x7F800101u);  // 0x00FF and 0x0100 round to 1
 }
 
+TEST(Loader, DegenerateAttributesWarnAndFallBack) {
+  scene::Scene s = scene::loadScene(data("degenerate_attributes.gltf"));
+  EXPECT_TRUE(hasWarning(s, "EXT_texture_webp"));
+  EXPECT_TRUE(hasWarning(s, "no PNG/JPEG source"));
+  EXPECT_TRUE(hasWarning(s, "TEXCOORD_0"));
+  EXPECT_TRUE(hasWarning(s, "NORMAL"));
+  EXPECT_EQ(s.materials[0].baseColorTexture, gs::kNoTexture);
+  EXPECT_TRUE(s.textures.empty());
+  const gs::Vertex& v1 = s.vertices[s.triangles[0].v1];
+  EXPECT_EQ(v1.u, 0.0f);
+  EXPECT_EQ(v1.normal, glm::vec3(0.0f));  // the shaders use the face normal for it
+}
+
 TEST(Loader, AlphaModes) {
   scene::Scene s = scene::loadScene(data("alpha_mask.gltf"));
   ASSERT_EQ(s.materials.size(), 3u);
