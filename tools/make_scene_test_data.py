@@ -355,6 +355,28 @@ def degenerate_attributes(out: Path) -> None:
     g.gltf(out / "degenerate_attributes.gltf")
 
 
+def texture_transform(out: Path) -> None:
+    """KHR_texture_transform: offset + scale, the extension's rotated example, and a material whose
+    slots disagree (warned; the first slot's transform is used)."""
+    g = Gltf()
+    g.doc["extensionsUsed"] = ["KHR_texture_transform"]
+    g.doc["images"] = [{"uri": data_uri(checker(2, (255, 255, 255, 255), (0, 0, 0, 255)), "image/png")}]
+    g.doc["textures"] = [{"source": 0}]
+    shift = {"KHR_texture_transform": {"offset": [0.5, 0], "scale": [0.5, 0.5]}}
+    # "the lower left quadrant of the source image, rotated clockwise 90 degrees"
+    quadrant = {"KHR_texture_transform": {"offset": [0, 1], "rotation": 1.57079632679, "scale": [0.5, 0.5]}}
+    g.add("materials", {"pbrMetallicRoughness": {"baseColorTexture": {"index": 0, "extensions": shift}},
+                        "emissiveTexture": {"index": 0, "extensions": shift}})
+    g.add("materials", {"emissiveTexture": {"index": 0, "extensions": quadrant}})
+    g.add("materials", {"pbrMetallicRoughness": {"baseColorTexture": {"index": 0, "extensions": shift}},
+                        "normalTexture": {"index": 0}})
+    uv01 = [(0, 0), (1, 0), (1, 1), (0, 1)]
+    for m in range(3):
+        g.mesh(QUAD_P, QUAD_I, QUAD_N, uv01, material=m)
+        g.node(name=f"quad{m}", mesh=m, translation=[2.0 * m, 0, 0])
+    g.gltf(out / "texture_transform.gltf")
+
+
 def quantized(out: Path) -> None:
     """KHR_mesh_quantization: int16 positions (scaled back by the node), int8 normalized
     normals, uint16 normalized uvs, positions in a strided buffer view."""
@@ -424,7 +446,8 @@ def main() -> None:
     args = parser.parse_args()
     args.out.mkdir(parents=True, exist_ok=True)
     for make in [hierarchy, nonindexed, index_types, textured, alpha_mask, lights, cameras, materials,
-                 binary, sparse, quantized, texture16, degenerate_attributes, bad_inputs]:
+                 binary, sparse, quantized, texture16, degenerate_attributes,
+                 texture_transform, bad_inputs]:
         make(args.out)
 
 

@@ -52,7 +52,9 @@ const std::set<std::string> kSupportedExtensions = {
     "KHR_materials_emissive_strength", "KHR_materials_specular", "KHR_materials_ior",
     "KHR_materials_transmission", "KHR_lights_punctual",
     // Integer and normalized attribute types: every accessor is read through one converter.
-    "KHR_mesh_quantization"};
+    "KHR_mesh_quantization",
+    // Baked into the vertex uvs, one transform per material (see Loader::noteUvTransform).
+    "KHR_texture_transform"};
 
 // Luminous efficacy used to turn glTF's photometric light units into the radiometric ones of
 // emissive radiance (the constant Blender's glTF I/O uses, PBR_WATTS_TO_LUMENS = 683 lm/W):
@@ -366,11 +368,54 @@ class Loader {
 
   // --- Materials and textures ---------------------------------------------------------------
 
+  // KHR_texture_transform of a texture reference (nullptr: none).
+  static const tinygltf::Value* transformOf(const tinygltf::ExtensionMap& extensions) {
+    auto it = extensions.find("KHR_texture_transform");
+    return it == extensions.end() ? nullptr : &it->second;
+  }
+
+  // Records a texture slot's KHR_texture_transform for the material being converted. The
+  // transform is baked into the vertex uvs, so all textured slots of a material must agree
+  // (true of exporters that write one uv mapping per material); the first one wins otherwise.
+  void noteUvTransform(const tinygltf::Value* ext, const std::string& what) {
+    glm::mat3 m(1.0f);
+    if (ext && ext->IsObject()) {
+      glm::vec2 offset(0.0f), scale(1.0f);
+      if (ext->Has("offset") && ext->Get("offset").IsArray() && ext->Get("offset").ArrayLen() == 2)
+        offset = {ext->Get("offset").Get(0).GetNumberAsDouble(), ext->Get("offset").Get(1).GetNumberAsDouble()};
+      if (ext->Has("scale") && ext->Get("scale").IsArray() && ext->Get("scale").ArrayLen() == 2)
+        scale = {ext->Get("scale").Get(0).GetNumberAsDouble(), ext->Get("scale").Get(1).GetNumberAsDouble()};
+      float r = float(number(*ext, "rotation", 0.0));
+      // The extension's matrix, translation * rotation * scale; rotation is counter-clockwise
+      // in uv space (v down): u' = cos u + sin v, v' = -sin u + cos v.
+      glm::mat3 t(1.0f), rot(1.0f), sc(1.0f);
+      t[2] = glm::vec3(offset, 1.0f);
+      rot[0] = glm::vec3(std::cos(r), -std::sin(r), 0.0f);
+      rot[1] = glm::vec3(std::sin(r), std::cos(r), 0.0f);
+      sc[0][0] = scale.x;
+      sc[1][1] = scale.y;
+      m = t * rot * sc;
+      for (int c = 0; c < 3; ++c)
+        for (int k = 0; k < 3; ++k)
+          if (!std::isfinite(m[c][k])) fail(what + ": KHR_texture_transform is not finite");
+    }
+    if (!uvTransformSet_) {
+      uvTransform_ = m;
+      uvTransformSet_ = true;
+    } else if (m != uvTransform_) {
+      warn(what + ": texture slots with different KHR_texture_transform, using the first one");
+    }
+  }
+
   // Our texture index for glTF texture `index`, created on first use.
-  int texture(int index, int texCoord, const std::string& what) {
+  int texture(int index, int texCoord, const std::string& what,
+              const tinygltf::Value* transform = nullptr) {
     if (index < 0) return gpu::kNoTexture;
     if (size_t(index) >= model_.textures.size())
       fail(what + ": texture " + std::to_string(index) + " does not exist");
+    if (transform && transform->IsObject() && transform->Has("texCoord"))
+      texCoord = int(number(*transform, "texCoord", 0));
+    noteUvTransform(transform, what);
     if (texCoord != 0) warn(what + ": TEXCOORD_" + std::to_string(texCoord) + " not supported, using TEXCOORD_0");
     auto found = textureMap_.find(index);
     if (found != textureMap_.end()) return found->second;
@@ -435,8 +480,11 @@ class Loader {
   int extensionTexture(const tinygltf::Value& ext, const char* key, const std::string& what) {
     if (!ext.IsObject() || !ext.Has(key)) return gpu::kNoTexture;
     const tinygltf::Value& info = ext.Get(key);
+    const tinygltf::Value* transform = nullptr;
+    if (info.IsObject() && info.Has("extensions") && info.Get("extensions").Has("KHR_texture_transform"))
+      transform = &info.Get("extensions").Get("KHR_texture_transform");
     return texture(int(number(info, "index", -1)), int(number(info, "texCoord", 0)),
-                   what + " " + key);
+                   what + " " + key, transform);
   }
 
   gpu::Material material(int index) {
@@ -444,18 +492,24 @@ class Loader {
     std::string what = "material " + std::to_string(index) +
                        (src.name.empty() ? "" : " '" + src.name + "'");
     gpu::Material m = defaultMaterial();
+    uvTransform_ = glm::mat3(1.0f);
+    uvTransformSet_ = false;
     const auto& pbr = src.pbrMetallicRoughness;
     if (pbr.baseColorFactor.size() == 4)
       m.baseColor = glm::vec4(pbr.baseColorFactor[0], pbr.baseColorFactor[1],
                               pbr.baseColorFactor[2], pbr.baseColorFactor[3]);
     m.metallic = float(pbr.metallicFactor);
     m.roughness = float(pbr.roughnessFactor);
-    m.baseColorTexture = texture(pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord, what);
+    m.baseColorTexture = texture(pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord, what,
+                                 transformOf(pbr.baseColorTexture.extensions));
     m.metallicRoughnessTexture =
-        texture(pbr.metallicRoughnessTexture.index, pbr.metallicRoughnessTexture.texCoord, what);
-    m.normalTexture = texture(src.normalTexture.index, src.normalTexture.texCoord, what);
+        texture(pbr.metallicRoughnessTexture.index, pbr.metallicRoughnessTexture.texCoord, what,
+                transformOf(pbr.metallicRoughnessTexture.extensions));
+    m.normalTexture = texture(src.normalTexture.index, src.normalTexture.texCoord, what,
+                              transformOf(src.normalTexture.extensions));
     m.normalScale = float(src.normalTexture.scale);
-    m.emissiveTexture = texture(src.emissiveTexture.index, src.emissiveTexture.texCoord, what);
+    m.emissiveTexture = texture(src.emissiveTexture.index, src.emissiveTexture.texCoord, what,
+                                transformOf(src.emissiveTexture.extensions));
     glm::vec3 emissive = toVec3(src.emissiveFactor, glm::vec3(0.0f));
     float strength = 1.0f;
     auto ext = [&](const char* name) -> const tinygltf::Value* {
@@ -497,6 +551,7 @@ class Loader {
       if (!std::isfinite(v)) fail(what + " has a non-finite factor");
     if (m.emission.r < 0 || m.emission.g < 0 || m.emission.b < 0)
       fail(what + " has a negative emission");
+    materialUv_.push_back(uvTransform_);
     return m;
   }
 
@@ -647,8 +702,11 @@ class Loader {
         fail(what + " POSITION " + std::to_string(i) + " is not finite after the node transform");
       return w;
     };
+    // The material's KHR_texture_transform, baked in (identity for the default material).
+    glm::mat3 uvFromFile = materialIndex < materialUv_.size() ? materialUv_[materialIndex] : glm::mat3(1.0f);
     auto uvAt = [&](uint32_t i) {
       glm::vec2 t = hasUv ? uv.vec2(i) : glm::vec2(0.0f);
+      t = glm::vec2(uvFromFile * glm::vec3(t, 1.0f));
       if (std::isfinite(t.x) && std::isfinite(t.y)) return t;
       warn(what + ": non-finite TEXCOORD_0 replaced by (0, 0)");
       return glm::vec2(0.0f);
@@ -820,6 +878,9 @@ class Loader {
   std::set<std::string> warned_;
   std::map<int, int> textureMap_;
   std::map<int, glm::vec3> meanCache_;
+  std::vector<glm::mat3> materialUv_;  // per glTF material: its KHR_texture_transform
+  glm::mat3 uvTransform_{1.0f};        // of the material being converted
+  bool uvTransformSet_ = false;
   int defaultMaterialIndex_ = -1;
 };
 

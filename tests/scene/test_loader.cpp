@@ -209,6 +209,28 @@ TEST(Loader, DegenerateAttributesWarnAndFallBack) {
   EXPECT_EQ(v1.normal, glm::vec3(0.0f));  // the shaders use the face normal for it
 }
 
+TEST(Loader, TextureTransformIsBakedIntoUvs) {
+  scene::Scene s = scene::loadScene(data("texture_transform.gltf"));
+  ASSERT_EQ(s.triangles.size(), 6u);
+  auto uv = [&](uint32_t tri, int corner) {
+    const gs::Vertex& v = s.vertices[(&s.triangles[tri].v0)[corner]];
+    return glm::vec2(v.u, v.v);
+  };
+  auto near2 = [](glm::vec2 a, glm::vec2 b) { return glm::length(a - b) < 1e-5f; };
+  // Quad uvs (0,0), (1,0), (1,1) on triangle 0. Offset (0.5, 0), scale 0.5:
+  EXPECT_TRUE(near2(uv(0, 0), {0.5f, 0.0f}));
+  EXPECT_TRUE(near2(uv(0, 1), {1.0f, 0.0f}));
+  EXPECT_TRUE(near2(uv(0, 2), {1.0f, 0.5f}));
+  // The extension's example: lower-left quadrant (u < 0.5, v > 0.5 with v down), rotated.
+  EXPECT_TRUE(near2(uv(2, 0), {0.0f, 1.0f}));
+  EXPECT_TRUE(near2(uv(2, 1), {0.0f, 0.5f}));
+  EXPECT_TRUE(near2(uv(2, 2), {0.5f, 0.5f}));
+  // Slots that disagree: warned, the first (base colour) transform used.
+  EXPECT_TRUE(hasWarning(s, "different KHR_texture_transform"));
+  EXPECT_TRUE(near2(uv(4, 1), {1.0f, 0.0f}));
+  EXPECT_FALSE(hasWarning(s, "unsupported extension KHR_texture_transform"));
+}
+
 TEST(Loader, AlphaModes) {
   scene::Scene s = scene::loadScene(data("alpha_mask.gltf"));
   ASSERT_EQ(s.materials.size(), 3u);

@@ -101,6 +101,7 @@ TEST(SceneProbe, HierarchyAndMaterials) {
   checkScene(test::dataPath("scene/quad.glb"), 200);
   checkScene(test::dataPath("scene/degenerate_attributes.gltf"), 200);
   checkScene(test::dataPath("scene/texture16.gltf"), 200);
+  checkScene(test::dataPath("scene/texture_transform.gltf"), 200);
 }
 TEST(SceneProbe, ReferenceScenes) {
   checkScene(test::referencePath("cornell/cornell.gltf"), 1000);
