@@ -211,6 +211,8 @@ class Loader {
     std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)),
                                      std::istreambuf_iterator<char>());
     if (bytes.empty()) fail("file is empty");
+    // tinygltf takes 32-bit sizes.
+    if (bytes.size() >= (uint64_t(1) << 32)) fail("file is larger than 4 GiB, which tinygltf cannot read");
     std::string baseDir = fs::path(path_).parent_path().string();
     if (baseDir.empty()) baseDir = ".";
 
@@ -245,8 +247,8 @@ class Loader {
     if (b.size() < 20) fail("truncated .glb: " + std::to_string(b.size()) + " bytes, header needs 20");
     if (u32(4) != 2) fail("unsupported .glb version " + std::to_string(u32(4)));
     if (u32(8) != b.size())
-      fail("truncated .glb: header says " + std::to_string(u32(8)) + " bytes, file has " +
-           std::to_string(b.size()));
+      fail(std::string(u32(8) > b.size() ? "truncated" : "malformed") + " .glb: header says " +
+           std::to_string(u32(8)) + " bytes, file has " + std::to_string(b.size()));
     size_t at = 12;
     int chunk = 0;
     while (at < b.size()) {
@@ -594,17 +596,32 @@ class Loader {
       for (size_t i = 0; i < model_.nodes.size(); ++i)
         if (!isChild[i]) roots.push_back(int(i));
     }
-    std::vector<bool> onPath(model_.nodes.size(), false);
-    for (int root : roots) visit(root, glm::mat4(1.0f), onPath);
+    // Depth-first with an explicit stack: a deep (hostile) hierarchy must not overflow the call
+    // stack. glTF node hierarchies are disjoint trees, so a node reached twice (a cycle or a
+    // second parent, which could also blow up exponentially) is refused.
+    std::vector<bool> reached(model_.nodes.size(), false);
+    std::vector<std::pair<int, glm::mat4>> stack;
+    for (auto it = roots.rbegin(); it != roots.rend(); ++it) stack.emplace_back(*it, glm::mat4(1.0f));
+    while (!stack.empty()) {
+      auto [index, worldFromParent] = stack.back();
+      stack.pop_back();
+      if (index < 0 || size_t(index) >= model_.nodes.size())
+        fail("node " + std::to_string(index) + " does not exist");
+      if (reached[index])
+        fail("node " + std::to_string(index) +
+             " is reached twice (a cycle or two parents; glTF node hierarchies are trees)");
+      reached[index] = true;
+      glm::mat4 worldFromNode = worldFromParent * localTransform(model_.nodes[index], index);
+      visit(index, worldFromNode);
+      const std::vector<int>& children = model_.nodes[index].children;
+      for (auto it = children.rbegin(); it != children.rend(); ++it)
+        stack.emplace_back(*it, worldFromNode);
+    }
   }
 
-  void visit(int index, const glm::mat4& worldFromParent, std::vector<bool>& onPath) {
-    if (index < 0 || size_t(index) >= model_.nodes.size())
-      fail("node " + std::to_string(index) + " does not exist");
-    if (onPath[index]) fail("node " + std::to_string(index) + " is its own ancestor (cycle)");
-    onPath[index] = true;
+  // Everything a node carries: meshes, a camera, a light.
+  void visit(int index, const glm::mat4& worldFromNode) {
     const tinygltf::Node& node = model_.nodes[index];
-    glm::mat4 worldFromNode = worldFromParent * localTransform(node, index);
     if (node.skin >= 0) warn("skins not supported: meshes drawn in their bind pose");
     if (!node.weights.empty()) warn("morph targets not supported: base mesh drawn");
     if (node.mesh >= 0) {
@@ -619,8 +636,6 @@ class Loader {
     if (node.camera >= 0) camera(node, index, worldFromNode);
     auto light = node.extensions.find("KHR_lights_punctual");
     if (light != node.extensions.end()) punctualLight(light->second, index, worldFromNode);
-    for (int child : node.children) visit(child, worldFromNode, onPath);
-    onPath[index] = false;
   }
 
   void primitive(const tinygltf::Primitive& prim, const std::string& what,

@@ -2,6 +2,9 @@
 // its refusal of bad input (InputError naming the file).
 #include <gtest/gtest.h>
 
+#include <fstream>
+#include <nlohmann/json.hpp>
+
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -396,4 +399,40 @@ TEST(LoaderBadInput, EveryTruncationOfAGlb) {
     }
   }
   EXPECT_GT(refused, 0);
+}
+
+namespace {
+
+// nonindexed.gltf (one mesh, buffer in a data: URI) with its node list replaced.
+std::string withNodes(const std::string& name, const nlohmann::json& nodes, const nlohmann::json& roots) {
+  std::ifstream in(data("nonindexed.gltf"));
+  nlohmann::json doc = nlohmann::json::parse(in);
+  doc["nodes"] = nodes;
+  doc["scenes"][0]["nodes"] = roots;
+  std::string path = ::testing::TempDir() + name;
+  std::ofstream(path) << doc.dump();
+  return path;
+}
+
+}  // namespace
+
+TEST(Loader, DeepHierarchyNeedsNoDeepStack) {
+  // 100k nested nodes (a recursive walk would need tens of MiB of stack), each translating by
+  // 2^-17 in x, which float sums exactly; the mesh at the bottom.
+  const int depth = 100000;
+  const double step = 1.0 / 131072;
+  nlohmann::json nodes = nlohmann::json::array();
+  for (int i = 0; i < depth - 1; ++i)
+    nodes.push_back({{"children", {i + 1}}, {"translation", {step, 0, 0}}});
+  nodes.push_back({{"mesh", 0}});
+  scene::Scene s = scene::loadScene(withNodes("deep.gltf", nodes, {0}));
+  EXPECT_EQ(s.vertices[0].position.x, float((depth - 1) * step));
+}
+
+TEST(LoaderBadInput, NodeCyclesAndSecondParents) {
+  nlohmann::json cycle = {{{"children", {1}}}, {{"children", {0}}, {"mesh", 0}}};
+  expectInputError(withNodes("cycle.gltf", cycle, {0}), "reached twice");
+  nlohmann::json shared = {{{"children", {2}}}, {{"children", {2}}}, {{"mesh", 0}}};
+  expectInputError(withNodes("shared.gltf", shared, {0, 1}), "reached twice");
+  expectInputError(withNodes("dangling.gltf", {{{"children", {7}}}}, {0}), "node 7 does not exist");
 }
