@@ -284,6 +284,8 @@ class Loader {
     d.normalized = a.normalized;
     size_t elementBytes = componentBytes(a.componentType) * d.components;
     if (elementBytes == 0) fail(name + " has an invalid component type or type");
+    // Vertex indices are 32-bit; an accessor without a buffer view (zeros) is otherwise unbounded.
+    if (d.count > 0x7fffffffu) fail(name + " count " + std::to_string(d.count) + " is too large");
     if (a.bufferView >= 0) {
       const tinygltf::BufferView& view = bufferView(a.bufferView, name);
       d.stride = view.byteStride ? view.byteStride : elementBytes;
@@ -701,6 +703,8 @@ class Loader {
            std::to_string(indices.size() % 3) + " ignored");
     size_t triangleCount = indices.size() / 3;
     if (triangleCount == 0) return;
+    if (scene_.vertices.size() + std::max<size_t>(pos.count, 3 * triangleCount) > 0xffffffffu)
+      fail(what + ": the scene has more than 2^32 vertices");
 
     // Normals transform with the inverse transpose; a mirroring transform (det < 0) would
     // turn counter-clockwise front faces clockwise, so the winding is flipped to keep them.
@@ -904,7 +908,12 @@ class Loader {
 Scene loadScene(const std::string& path) {
   Scene scene;
   scene.path = path;
-  Loader(path, scene).run();
+  try {
+    Loader(path, scene).run();
+  } catch (const std::bad_alloc&) {
+    // Counts in a file can ask for any amount of memory; that is the file's fault.
+    throw InputError(path + ": out of memory loading the scene");
+  }
   return scene;
 }
 

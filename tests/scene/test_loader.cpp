@@ -436,3 +436,15 @@ TEST(LoaderBadInput, NodeCyclesAndSecondParents) {
   expectInputError(withNodes("shared.gltf", shared, {0, 1}), "reached twice");
   expectInputError(withNodes("dangling.gltf", {{{"children", {7}}}}, {0}), "node 7 does not exist");
 }
+
+TEST(LoaderBadInput, HugeCountWithoutBufferView) {
+  std::ifstream in(data("nonindexed.gltf"));
+  nlohmann::json doc = nlohmann::json::parse(in);
+  doc["accessors"][0].erase("bufferView");  // zeros: nothing bounds the count but the count
+  doc["accessors"][0].erase("min");
+  doc["accessors"][0].erase("max");
+  doc["accessors"][0]["count"] = 1ll << 40;
+  std::string path = ::testing::TempDir() + "huge_count.gltf";
+  std::ofstream(path) << doc.dump();
+  expectInputError(path, "too large");
+}
