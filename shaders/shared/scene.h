@@ -68,7 +68,7 @@ struct TextureInfo {
 // An emissive triangle for light sampling, chosen with probability proportional to power.
 struct EmissiveTriangle {
   uint triangle;  // index into the triangle buffer
-  float power;    // luminance(emission) * area * pi (two-sided counts once per side emitting)
+  float power;    // luminance(emission x mean emissive texture) * area * pi, x2 if double-sided
   float cdf;      // inclusive prefix sum of power / total power
   float area;
 };
