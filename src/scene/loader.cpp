@@ -473,6 +473,8 @@ class Loader {
     if (t.sampler >= 0 && size_t(t.sampler) < model_.samplers.size()) {
       const tinygltf::Sampler& s = model_.samplers[t.sampler];
       tex.wrap = wrapMode(s.wrapS) | (wrapMode(s.wrapT) << 2);
+      // Magnification decides: without mipmaps, minification is the path tracer's many samples.
+      if (s.magFilter == TINYGLTF_TEXTURE_FILTER_NEAREST) tex.wrap |= gpu::kTextureNearest;
     }
     int ours = int(scene_.textures.size());
     scene_.textures.push_back(std::move(tex));

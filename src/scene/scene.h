@@ -16,7 +16,7 @@ namespace gpu = osr::gpu::scene;
 // One texture: RGBA8 texels, R in the low byte, row 0 first (glTF's uv (0,0) is its top-left).
 struct Texture {
   uint32_t width = 0, height = 0;
-  uint32_t wrap = 0;  // kWrap* for S in bits 0-1, T in bits 2-3
+  uint32_t wrap = 0;  // kWrap* for S in bits 0-1, T in bits 2-3, | kTextureNearest
   std::vector<uint32_t> texels;
   std::string name;
 };

@@ -53,6 +53,7 @@ glm::vec4 sampleTexture(const Scene& scene, int texture, glm::vec2 uv) {
   int w = int(t.width), h = int(t.height);
   glm::vec2 st = uv * glm::vec2(w, h) - 0.5f;
   for (int k = 0; k < 2; ++k) st[k] = std::isnan(st[k]) ? 0.0f : std::clamp(st[k], -1e9f, 1e9f);
+  if (t.wrap & gpu::kTextureNearest) st = glm::floor(st + 0.5f);
   glm::vec2 base = glm::floor(st);
   glm::vec2 f = st - base;
   int x0 = int(base.x), y0 = int(base.y);

@@ -175,7 +175,8 @@ TEST(Loader, TexturesFromFilesAndDataUris) {
   EXPECT_EQ(mr.width, 2u);
   EXPECT_EQ(mr.texels[1], 0xFF808000u);
   EXPECT_EQ(mr.wrap, gs::kWrapClamp | (gs::kWrapMirror << 2));
-  EXPECT_EQ(s.textures[m.normalTexture].wrap, gs::kWrapMirror | (gs::kWrapClamp << 2));
+  EXPECT_EQ(s.textures[m.normalTexture].wrap,
+            gs::kWrapMirror | (gs::kWrapClamp << 2) | gs::kTextureNearest);  // magFilter NEAREST
   EXPECT_EQ(m.emissiveTexture, m.specularColorTexture);
   EXPECT_EQ(m.specularTexture, m.transmissionTexture);
   EXPECT_NE(m.emissiveTexture, m.specularTexture);

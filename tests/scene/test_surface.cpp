@@ -79,6 +79,21 @@ TEST(Surface, WrapModes) {
   expectNear4(scene::sampleTexture(repeat, 0, {0.0f, 0.25f}), 0.5f * (texelValue(repeat, 2, 0) + texelValue(repeat, 0, 0)), "seam");
 }
 
+TEST(Surface, NearestFilter) {
+  for (uint32_t wrap : {gs::kWrapRepeat, gs::kWrapClamp, gs::kWrapMirror}) {
+    scene::Scene s = textureScene(wrap, wrap);
+    s.textures[0].wrap |= gs::kTextureNearest;
+    for (int y = 0; y < 2; ++y)
+      for (int x = 0; x < 3; ++x)
+        for (glm::vec2 f : {glm::vec2(0.01f, 0.02f), glm::vec2(0.49f, 0.6f), glm::vec2(0.98f, 0.97f)})
+          expectNear4(scene::sampleTexture(s, 0, {(x + f.x) / 3, (y + f.y) / 2}), texelValue(s, x, y),
+                      "nearest, wrap " + std::to_string(wrap) + " texel " + std::to_string(x) + "," + std::to_string(y));
+  }
+  scene::Scene s = textureScene(gs::kWrapRepeat, gs::kWrapRepeat);
+  s.textures[0].wrap |= gs::kTextureNearest;
+  expectNear4(scene::sampleTexture(s, 0, {-0.1f, 0.1f}), texelValue(s, 2, 0), "nearest repeat");
+}
+
 TEST(Surface, SrgbToLinear) {
   glm::vec3 l = scene::srgbToLinear({0.0f, 0.04045f, 1.0f});
   EXPECT_FLOAT_EQ(l.x, 0.0f);
