@@ -824,8 +824,16 @@ class Loader {
       out.type = gpu::kLightPoint;
     } else if (l.type == "spot") {
       out.type = gpu::kLightSpot;
-      out.cosInner = std::cos(float(l.spot.innerConeAngle));
-      out.cosOuter = std::cos(float(l.spot.outerConeAngle));
+      // The spec asks 0 <= inner < outer <= pi/2; out-of-range cones are clamped into it.
+      float outer = float(l.spot.outerConeAngle), inner = float(l.spot.innerConeAngle);
+      if (!std::isfinite(outer) || !std::isfinite(inner))
+        fail("light " + std::to_string(index) + ": spot cone angles are not finite");
+      float outerOk = std::clamp(outer, 1e-4f, 1.5707964f);
+      float innerOk = std::clamp(inner, 0.0f, outerOk * 0.9999f);
+      if (!(outerOk == outer && innerOk == inner))
+        warn("light " + std::to_string(index) + ": spot cone angles outside 0 <= inner < outer <= pi/2, clamped");
+      out.cosInner = std::cos(innerOk);
+      out.cosOuter = std::cos(outerOk);
     } else if (l.type == "directional") {
       out.type = gpu::kLightDirectional;
     } else {

@@ -81,11 +81,30 @@ TEST(Loader, Room) {
   EXPECT_GE(extent.x, 5.0f);
   EXPECT_GE(extent.y, 2.8f);
   EXPECT_LE(std::max({extent.x, extent.y, extent.z}), 8.0f);
-  // Metals from the README: copper sphere (roughness 0.25) and mirror (0.05).
-  int metals = 0;
-  for (const auto& m : s.materials) metals += m.metallic > 0.99f;
-  EXPECT_GE(metals, 2);
-  EXPECT_GT(s.emissive.size(), 0u);
+  // Metals from the README: copper sphere (roughness 0.25) and mirror (0.05); metallicFactor
+  // absent in the file means 1, roughnessFactor absent means 1.
+  ASSERT_EQ(s.materials.size(), 8u);
+  EXPECT_EQ(s.materials[6].metallic, 1.0f);
+  EXPECT_FLOAT_EQ(s.materials[6].roughness, 0.25f);
+  EXPECT_EQ(s.materials[7].metallic, 1.0f);
+  EXPECT_FLOAT_EQ(s.materials[7].roughness, 0.05f);
+  EXPECT_EQ(s.materials[1].metallic, 0.0f);
+  EXPECT_EQ(s.materials[1].roughness, 1.0f);
+  // Emissive triangles are exactly those of the sky and lamp materials (2 and 3), with power
+  // luminance x area x pi x 2 (double-sided) each.
+  size_t emissiveTriangles = 0;
+  for (const auto& t : s.triangles) emissiveTriangles += t.material == 2 || t.material == 3;
+  EXPECT_EQ(s.emissive.size(), emissiveTriangles);
+  double total = 0.0;
+  for (const auto& e : s.emissive) {
+    const gs::Triangle& t = s.triangles[e.triangle];
+    glm::vec3 p0 = s.vertices[t.v0].position, p1 = s.vertices[t.v1].position, p2 = s.vertices[t.v2].position;
+    float area = 0.5f * glm::length(glm::cross(p1 - p0, p2 - p0));
+    EXPECT_NEAR(e.area, area, 1e-6f);
+    EXPECT_NEAR(e.power, scene::luminance(s.materials[t.material].emission) * area * 3.14159265f * 2.0f, 1e-4f * e.power);
+    total += e.power;
+  }
+  EXPECT_NEAR(s.emissivePower, total, 1e-4 * total);
 }
 
 namespace {
@@ -448,4 +467,16 @@ TEST(LoaderBadInput, HugeCountWithoutBufferView) {
   std::string path = ::testing::TempDir() + "huge_count.gltf";
   std::ofstream(path) << doc.dump();
   expectInputError(path, "too large");
+}
+
+TEST(Loader, SpotConesOutOfRangeAreClamped) {
+  std::ifstream in(data("lights.gltf"));
+  nlohmann::json doc = nlohmann::json::parse(in);
+  doc["extensions"]["KHR_lights_punctual"]["lights"][1]["spot"] = {{"innerConeAngle", 1.0}, {"outerConeAngle", 0.5}};
+  std::string path = ::testing::TempDir() + "bad_cone.gltf";
+  std::ofstream(path) << doc.dump();
+  scene::Scene s = scene::loadScene(path);
+  EXPECT_TRUE(hasWarning(s, "clamped"));
+  EXPECT_NEAR(s.lights[1].cosOuter, std::cos(0.5f), 1e-6f);
+  EXPECT_GT(s.lights[1].cosInner, s.lights[1].cosOuter);
 }
