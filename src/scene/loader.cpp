@@ -18,6 +18,7 @@
 #include <set>
 
 #include "common/error.h"
+#include "scene/emissive.h"
 #include "scene/scene.h"
 
 namespace osr::scene {
@@ -183,7 +184,7 @@ class Loader {
       scene_.materials.push_back(defaultMaterial());
     }
     finishBounds();
-    collectEmissive();
+    collectEmissive(scene_);
     for (const std::string& w : scene_.warnings)
       std::fprintf(stderr, "osr-vk: warning: %s: %s\n", path_.c_str(), w.c_str());
   }
@@ -858,55 +859,11 @@ class Loader {
     scene_.boundsMax = hi;
   }
 
-  // Mean linear colour of an sRGB texture: the emissive texture's share of a triangle's power.
-  glm::vec3 meanLinear(int textureIndex) {
-    auto cached = meanCache_.find(textureIndex);
-    if (cached != meanCache_.end()) return cached->second;
-    const Texture& t = scene_.textures[textureIndex];
-    glm::dvec3 sum(0.0);
-    for (uint32_t texel : t.texels)
-      for (int k = 0; k < 3; ++k) {
-        double c = ((texel >> (8 * k)) & 255u) / 255.0;
-        sum[k] += c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4);
-      }
-    glm::vec3 mean = t.texels.empty() ? glm::vec3(1.0f) : glm::vec3(sum / double(t.texels.size()));
-    meanCache_[textureIndex] = mean;
-    return mean;
-  }
-
-  void collectEmissive() {
-    double total = 0.0;
-    for (uint32_t i = 0; i < scene_.triangles.size(); ++i) {
-      const gpu::Triangle& t = scene_.triangles[i];
-      const gpu::Material& m = scene_.materials[t.material];
-      glm::vec3 emission = m.emission;
-      if (m.emissiveTexture != gpu::kNoTexture) emission *= meanLinear(m.emissiveTexture);
-      float lum = luminance(emission);
-      if (!(lum > 0.0f)) continue;
-      glm::vec3 p0 = scene_.vertices[t.v0].position, p1 = scene_.vertices[t.v1].position,
-                p2 = scene_.vertices[t.v2].position;
-      float area = 0.5f * glm::length(glm::cross(p1 - p0, p2 - p0));
-      if (!(area > 0.0f)) continue;
-      float sides = (m.flags & gpu::kMaterialDoubleSided) ? 2.0f : 1.0f;
-      float power = lum * area * 3.14159265f * sides;
-      scene_.emissive.push_back({i, power, 0.0f, area});
-      total += power;
-    }
-    double running = 0.0;
-    for (gpu::EmissiveTriangle& e : scene_.emissive) {
-      running += e.power;
-      e.cdf = float(running / total);
-    }
-    if (!scene_.emissive.empty()) scene_.emissive.back().cdf = 1.0f;
-    scene_.emissivePower = float(total);
-  }
-
   const std::string& path_;
   Scene& scene_;
   tinygltf::Model model_;
   std::set<std::string> warned_;
   std::map<int, int> textureMap_;
-  std::map<int, glm::vec3> meanCache_;
   std::vector<glm::mat3> materialUv_;  // per glTF material: its KHR_texture_transform
   glm::mat3 uvTransform_{1.0f};        // of the material being converted
   bool uvTransformSet_ = false;
