@@ -271,6 +271,10 @@ class Loader {
       for (const auto& [name, value] : m.extensions) names.insert(name);
     for (const std::string& name : names)
       if (!kSupportedExtensions.count(name)) warn("unsupported extension " + name + " ignored");
+    // Compressed geometry cannot be ignored: its accessors have no data to fall back on.
+    for (const std::string& name : model_.extensionsRequired)
+      if (name == "KHR_draco_mesh_compression" || name == "EXT_meshopt_compression")
+        fail("requires " + name + " (compressed geometry), which is not supported");
   }
 
   AccessorData accessor(int index, const std::string& what) const {

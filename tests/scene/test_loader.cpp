@@ -480,3 +480,13 @@ TEST(Loader, SpotConesOutOfRangeAreClamped) {
   EXPECT_NEAR(s.lights[1].cosOuter, std::cos(0.5f), 1e-6f);
   EXPECT_GT(s.lights[1].cosInner, s.lights[1].cosOuter);
 }
+
+TEST(LoaderBadInput, RequiredGeometryCompression) {
+  std::ifstream in(data("nonindexed.gltf"));
+  nlohmann::json doc = nlohmann::json::parse(in);
+  doc["extensionsUsed"] = {"KHR_draco_mesh_compression"};
+  doc["extensionsRequired"] = {"KHR_draco_mesh_compression"};
+  std::string path = ::testing::TempDir() + "draco.gltf";
+  std::ofstream(path) << doc.dump();
+  expectInputError(path, "KHR_draco_mesh_compression");
+}
