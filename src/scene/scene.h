@@ -75,6 +75,8 @@ Camera selectCamera(const Scene& scene, const std::string& selector, float aspec
 Camera defaultCamera(const Scene& scene, float aspect);
 
 // Rec. 709 luminance of linear RGB (the weight used for emissive power).
-inline float luminance(glm::vec3 c) { return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b; }
+inline float luminance(glm::vec3 c) {
+  return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b;
+}
 
 }  // namespace osr::scene

@@ -11,7 +11,9 @@ TEST(Emissive, PowerAndCdf) {
   scene::Scene s;
   // Four triangles: a 2 x 1 right triangle (area 1), the same double-sided, a degenerate one
   // and a non-emitting one; then one with an emissive texture of mean linear 0.5 in red.
-  s.vertices = {{{0, 0, 0}, 0, {0, 0, 1}, 0}, {{2, 0, 0}, 0, {0, 0, 1}, 0}, {{0, 1, 0}, 0, {0, 0, 1}, 0},
+  s.vertices = {{{0, 0, 0}, 0, {0, 0, 1}, 0},
+                {{2, 0, 0}, 0, {0, 0, 1}, 0},
+                {{0, 1, 0}, 0, {0, 0, 1}, 0},
                 {{4, 0, 0}, 0, {0, 0, 1}, 0}};
   gs::Material one = scene::defaultMaterial(), two = one, dark = one, textured = one;
   one.emission = glm::vec3(1.0f, 0.0f, 0.0f);
@@ -48,7 +50,8 @@ TEST(Emissive, PowerAndCdf) {
 
 TEST(Emissive, NoEmittersMeansAnEmptyList) {
   scene::Scene s;
-  s.vertices = {{{0, 0, 0}, 0, {0, 0, 1}, 0}, {{1, 0, 0}, 0, {0, 0, 1}, 0}, {{0, 1, 0}, 0, {0, 0, 1}, 0}};
+  s.vertices = {
+      {{0, 0, 0}, 0, {0, 0, 1}, 0}, {{1, 0, 0}, 0, {0, 0, 1}, 0}, {{0, 1, 0}, 0, {0, 0, 1}, 0}};
   s.materials = {scene::defaultMaterial()};
   s.triangles = {{0, 1, 2, 0}};
   scene::collectEmissive(s);

@@ -2,12 +2,11 @@
 // its refusal of bad input (InputError naming the file).
 #include <gtest/gtest.h>
 
-#include <fstream>
-#include <nlohmann/json.hpp>
-
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <fstream>
+#include <nlohmann/json.hpp>
 
 #include "common/error.h"
 #include "common/vk_test.h"
@@ -37,7 +36,8 @@ TEST(Loader, Cornell) {
   EXPECT_NE(findEmissive(s, glm::vec3(17.0f, 0.78f * 17.0f, 0.5f * 17.0f)), nullptr);
   ASSERT_FALSE(s.emissive.empty());
   EXPECT_FLOAT_EQ(s.emissive.back().cdf, 1.0f);
-  for (size_t i = 1; i < s.emissive.size(); ++i) EXPECT_GE(s.emissive[i].cdf, s.emissive[i - 1].cdf);
+  for (size_t i = 1; i < s.emissive.size(); ++i)
+    EXPECT_GE(s.emissive[i].cdf, s.emissive[i - 1].cdf);
   ASSERT_EQ(s.cameras.size(), 1u);
   EXPECT_EQ(s.cameras[0].name, "Camera");
   EXPECT_NEAR(s.cameras[0].yfov, 0.6806784f, 1e-6f);
@@ -98,10 +98,13 @@ TEST(Loader, Room) {
   double total = 0.0;
   for (const auto& e : s.emissive) {
     const gs::Triangle& t = s.triangles[e.triangle];
-    glm::vec3 p0 = s.vertices[t.v0].position, p1 = s.vertices[t.v1].position, p2 = s.vertices[t.v2].position;
+    glm::vec3 p0 = s.vertices[t.v0].position, p1 = s.vertices[t.v1].position,
+              p2 = s.vertices[t.v2].position;
     float area = 0.5f * glm::length(glm::cross(p1 - p0, p2 - p0));
     EXPECT_NEAR(e.area, area, 1e-6f);
-    EXPECT_NEAR(e.power, scene::luminance(s.materials[t.material].emission) * area * 3.14159265f * 2.0f, 1e-4f * e.power);
+    EXPECT_NEAR(e.power,
+                scene::luminance(s.materials[t.material].emission) * area * 3.14159265f * 2.0f,
+                1e-4f * e.power);
     total += e.power;
   }
   EXPECT_NEAR(s.emissivePower, total, 1e-4 * total);
@@ -109,19 +112,19 @@ TEST(Loader, Room) {
 
 namespace {
 
-std::string data(const std::string& name) { return test::dataPath("scene/" + name); }
+std::string data(const std::string& name) {
+  return test::dataPath("scene/" + name);
+}
 
 void expectInputError(const std::string& path, const std::string& part) {
   test::expectInputError([](const std::string& p) { scene::loadScene(p); }, path, part);
 }
-
 
 glm::vec3 faceNormal(const scene::Scene& s, const gs::Triangle& t) {
   glm::vec3 p0 = s.vertices[t.v0].position, p1 = s.vertices[t.v1].position,
             p2 = s.vertices[t.v2].position;
   return glm::normalize(glm::cross(p1 - p0, p2 - p0));
 }
-
 
 }  // namespace
 
@@ -291,7 +294,8 @@ TEST(Loader, MaterialExtensionsWarningsAndEmissivePower) {
   EXPECT_EQ(s.triangles.size(), 8u);  // the LINES primitive is skipped
   EXPECT_TRUE(hasWarning(s, "KHR_materials_clearcoat"));
   int clearcoat = 0;  // named in extensionsUsed and by a material: warned once
-  for (const auto& w : s.warnings) clearcoat += w.find("KHR_materials_clearcoat") != std::string::npos;
+  for (const auto& w : s.warnings)
+    clearcoat += w.find("KHR_materials_clearcoat") != std::string::npos;
   EXPECT_EQ(clearcoat, 1);
   EXPECT_TRUE(hasWarning(s, "mode 1"));
   ASSERT_EQ(s.materials.size(), 4u);  // three + the default for the primitive without one
@@ -424,7 +428,8 @@ TEST(LoaderBadInput, EveryTruncationOfAGlb) {
 namespace {
 
 // nonindexed.gltf (one mesh, buffer in a data: URI) with its node list replaced.
-std::string withNodes(const std::string& name, const nlohmann::json& nodes, const nlohmann::json& roots) {
+std::string withNodes(const std::string& name, const nlohmann::json& nodes,
+                      const nlohmann::json& roots) {
   std::ifstream in(data("nonindexed.gltf"));
   nlohmann::json doc = nlohmann::json::parse(in);
   doc["nodes"] = nodes;
@@ -472,7 +477,8 @@ TEST(LoaderBadInput, HugeCountWithoutBufferView) {
 TEST(Loader, SpotConesOutOfRangeAreClamped) {
   std::ifstream in(data("lights.gltf"));
   nlohmann::json doc = nlohmann::json::parse(in);
-  doc["extensions"]["KHR_lights_punctual"]["lights"][1]["spot"] = {{"innerConeAngle", 1.0}, {"outerConeAngle", 0.5}};
+  doc["extensions"]["KHR_lights_punctual"]["lights"][1]["spot"] = {{"innerConeAngle", 1.0},
+                                                                   {"outerConeAngle", 0.5}};
   std::string path = ::testing::TempDir() + "bad_cone.gltf";
   std::ofstream(path) << doc.dump();
   scene::Scene s = scene::loadScene(path);
