@@ -6,7 +6,9 @@
 #include <cstdio>
 #include <cstring>
 #include <fstream>
+#include <iterator>
 #include <nlohmann/json.hpp>
+#include <random>
 
 #include "common/error.h"
 #include "common/vk_test.h"
@@ -495,4 +497,91 @@ TEST(LoaderBadInput, RequiredGeometryCompression) {
   std::string path = ::testing::TempDir() + "draco.gltf";
   std::ofstream(path) << doc.dump();
   expectInputError(path, "KHR_draco_mesh_compression");
+}
+
+namespace {
+
+// Every JSON pointer below `at`, for the mutation test.
+void collectPointers(const nlohmann::json& j, const nlohmann::json::json_pointer& at,
+                     std::vector<nlohmann::json::json_pointer>& out) {
+  if (j.is_object()) {
+    for (auto it = j.begin(); it != j.end(); ++it) {
+      if (it.key() == "uri") continue;  // keep the embedded data
+      out.push_back(at / it.key());
+      collectPointers(it.value(), at / it.key(), out);
+    }
+  } else if (j.is_array()) {
+    for (size_t i = 0; i < j.size(); ++i) {
+      out.push_back(at / i);
+      collectPointers(j[i], at / i, out);
+    }
+  }
+}
+
+// Loads `path`: either a scene or an InputError; anything else (another exception, a crash)
+// fails the test.
+void loadOrInputError(const std::string& path, const std::string& what) {
+  try {
+    scene::loadScene(path);
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << what << ": " << e.what();
+  } catch (const std::exception& e) {
+    ADD_FAILURE() << what << ": " << e.what();
+  }
+}
+
+}  // namespace
+
+// Random edits of valid files (values replaced by wrong types, out-of-range indices, huge or
+// negative numbers; keys removed): the loader answers with a scene or one InputError line.
+TEST(LoaderBadInput, RandomMutationsNeverCrash) {
+  const char* files[] = {"hierarchy.gltf", "materials.gltf",         "lights.gltf",
+                         "cameras.gltf",   "alpha_mask.gltf",        "sparse.gltf",
+                         "quantized.gltf", "texture_transform.gltf", "texture16.gltf"};
+  const nlohmann::json replacements[] = {-1,
+                                         0,
+                                         1,
+                                         3,
+                                         99,
+                                         4294967301ll,
+                                         -2147483648ll,
+                                         1e30,
+                                         -0.5,
+                                         "x",
+                                         nullptr,
+                                         nlohmann::json::array(),
+                                         nlohmann::json::object(),
+                                         {1, 2},
+                                         true};
+  std::mt19937 rng(2024);
+  std::string path = ::testing::TempDir() + "mutated.gltf";
+  for (int iteration = 0; iteration < 400; ++iteration) {
+    const char* file = files[rng() % std::size(files)];
+    std::ifstream in(data(file));
+    nlohmann::json doc = nlohmann::json::parse(in);
+    std::vector<nlohmann::json::json_pointer> pointers;
+    collectPointers(doc, nlohmann::json::json_pointer(), pointers);
+    std::string edits;
+    for (int e = 1 + int(rng() % 3); e > 0; --e) {
+      const auto& p = pointers[rng() % pointers.size()];
+      if (!doc.contains(p)) continue;  // under a value an earlier edit replaced
+      if (rng() % 5 == 0 && !p.empty()) {
+        nlohmann::json& parent = doc[p.parent_pointer()];
+        if (parent.is_object()) parent.erase(p.back());
+        edits += " erase " + p.to_string();
+      } else {
+        doc[p] = replacements[rng() % std::size(replacements)];
+        edits += " set " + p.to_string() + "=" + doc[p].dump();
+      }
+    }
+    std::ofstream(path) << doc.dump();
+    loadOrInputError(path, std::string(file) + edits);
+  }
+  // Byte flips anywhere in a .glb (header, JSON, binary chunk).
+  std::vector<unsigned char> glb = readFile(data("quad.glb"));
+  for (int iteration = 0; iteration < 300; ++iteration) {
+    std::vector<unsigned char> bytes = glb;
+    for (int e = 1 + int(rng() % 6); e > 0; --e) bytes[rng() % bytes.size()] = uint8_t(rng());
+    loadOrInputError(tempFile("mutated.glb", bytes), "glb mutation " + std::to_string(iteration));
+  }
 }
