@@ -56,6 +56,8 @@ struct Material {
 OSR_CONST(uint, kWrapRepeat, 0u);
 OSR_CONST(uint, kWrapClamp, 1u);
 OSR_CONST(uint, kWrapMirror, 2u);
+// Also in TextureInfo.wrap: the sampler's magFilter is NEAREST (default: bilinear).
+OSR_CONST(uint, kTextureNearest, 16u);
 
 // A texture's texels are RGBA8 (one uint each, R in the low byte) in the shared texel buffer.
 struct TextureInfo {
@@ -68,7 +70,7 @@ struct TextureInfo {
 // An emissive triangle for light sampling, chosen with probability proportional to power.
 struct EmissiveTriangle {
   uint triangle;  // index into the triangle buffer
-  float power;    // luminance(emission) * area * pi (two-sided counts once per side emitting)
+  float power;    // luminance(emission x mean emissive texture) * area * pi, x2 if double-sided
   float cdf;      // inclusive prefix sum of power / total power
   float area;
 };
@@ -82,7 +84,7 @@ struct PunctualLight {
   uint type;
   vec3 direction;    // world space, direction the light points in (unit)
   float range;       // 0 = infinite
-  vec3 intensity;    // color * intensity: W/sr (point, spot) or lux (directional)
+  vec3 intensity;    // color * intensity / 683 lm/W: W/sr (point, spot), W/m^2 (directional)
   float cosInner;    // spot inner cone cosine
   float cosOuter;    // spot outer cone cosine
   float _pad0;
@@ -103,6 +105,20 @@ struct SceneInfo {
   vec4 boundsMin;
   vec4 boundsMax;
 };
+
+// Binding slots of the scene buffers, relative to the first slot a pass gives them
+// (OSR_SCENE_BINDING in GLSL); GpuScene::bindings() returns the buffers in this order.
+OSR_CONST(uint, kSceneBindingVertices, 0u);
+OSR_CONST(uint, kSceneBindingTriangles, 1u);
+OSR_CONST(uint, kSceneBindingMaterials, 2u);
+OSR_CONST(uint, kSceneBindingTextureInfos, 3u);
+OSR_CONST(uint, kSceneBindingTexels, 4u);
+OSR_CONST(uint, kSceneBindingLights, 5u);
+OSR_CONST(uint, kSceneBindingEmissive, 6u);
+OSR_CONST(uint, kSceneBindingInfo, 7u);
+OSR_CONST(uint, kSceneBindingEnvironment, 8u);
+OSR_CONST(uint, kSceneBindingEnvironmentCdf, 9u);
+OSR_CONST(uint, kSceneBindingCount, 10u);
 
 OSR_NAMESPACE_END
 #endif
