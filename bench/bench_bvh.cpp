@@ -27,9 +27,13 @@ int runBvh(const std::vector<std::string>& argv) {
   app::Args args(argv, "osr-bench bvh");
   std::string only = args.value("--scene").value_or("");
   int repeat = int(args.integer("--repeat", 1, 100).value_or(3));
+  bvh::GpuBuildOptions options;
+  options.treeletRounds = uint32_t(args.integer("--treelet-rounds", 0, 8).value_or(options.treeletRounds));
+  options.treeletLeaves = uint32_t(
+      args.integer("--treelet-leaves", 3, gpu::bvh_build::kTreeletMaxLeaves).value_or(options.treeletLeaves));
   args.finish();
   vk::Context ctx;
-  bvh::GpuBuilder builder(ctx);
+  bvh::GpuBuilder builder(ctx, options);
   for (const BvhBenchScene& s : bvhBenchScenes(only)) {
     const auto& m = s.mesh;
     const uint32_t n = uint32_t(m.triangles.size());
@@ -65,6 +69,7 @@ int runBvh(const std::vector<std::string>& argv) {
     line.str("bench", "bvh").str("scene", s.name).integer("triangles", n).str("device", ctx.caps().deviceName);
     line.num("build_ms", best.totalMs).num("mtris_per_s", n / (best.totalMs * 1e3));
     line.num("sah_gpu", sahGpu).num("sah_cpu", sahCpu).num("sah_ratio", sahGpu / sahCpu);
+    line.integer("treelet_rounds", options.treeletRounds).integer("treelet_leaves", options.treeletLeaves);
     line.integer("depth", bvh::depth(gpuTree)).num("wall_ms", bestWall).num("cpu_build_ms", cpuMs);
     for (const auto& p : best.passes) line.num(("pass_" + p.name + "_ms").c_str(), p.ms);
 #ifdef OSR_HAVE_EMBREE
