@@ -79,17 +79,20 @@ void restructure(uint root) {
         tris += leafTris[k];
       }
     float area = boxArea(slo, shi);
-    // Each unordered partition once: the side holding the lowest member of s.
+    // Each unordered partition once: p = the lowest member of s plus any proper subset q of
+    // the rest (q = rest itself would make p = s), enumerated by the usual (q - 1) & rest walk.
     uint lowest = s & (~s + 1u);
+    uint rest = s ^ lowest;
     float best = 3.0e38;
     uint bestP = 0u;
-    for (uint p = (s - 1u) & s; p != 0u; p = (p - 1u) & s) {
-      if ((p & lowest) == 0u) continue;
+    for (uint q = (rest - 1u) & rest;; q = (q - 1u) & rest) {
+      uint p = lowest | q;
       float c = cost[p] + cost[s ^ p];
       if (c < best) {
         best = c;
         bestP = p;
       }
+      if (q == 0u) break;
     }
     float c = kSahNodeCost * area + best;
     bool canCollapse = tris <= kBvhMaxLeafTriangles && !(s == full && root == 0u);

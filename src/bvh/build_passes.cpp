@@ -1,6 +1,7 @@
 #include "bvh/build_passes.h"
 
 #include <algorithm>
+#include <optional>
 #include <string>
 
 #include "common/error.h"
@@ -142,8 +143,10 @@ uint64_t TreeletPass::scheduleBytes() {
   return bb::kTreeletMaxLevels * (sizeof(bb::TreeletLevel) + sizeof(bb::DispatchArgs));
 }
 
-void TreeletPass::record(VkCommandBuffer cmd, const Args& a) const {
+void TreeletPass::record(VkCommandBuffer cmd, const Args& a, vk::GpuTimer* timer) const {
   const uint32_t interior = a.triangleCount - 1;
+  std::optional<vk::TimedScope> scope;
+  scope.emplace(timer, cmd, "bvh_treelet_schedule");
   vkCmdFillBuffer(cmd, a.schedule->handle(), 0, VK_WHOLE_SIZE, 0);
   vk::transferBarrier(cmd);
   BuildPush push{a.triangleCount, a.minTriangles, 0, 0};
@@ -157,6 +160,8 @@ void TreeletPass::record(VkCommandBuffer cmd, const Args& a) const {
   scatter_.bind(cmd, {a.interior, a.leaves, a.counters, schedule, a.nodeList}, push);
   scatter_.dispatch(cmd, groups(interior));
   vk::computeBarrier(cmd);
+  scope.reset();
+  scope.emplace(timer, cmd, "bvh_treelet");
   // Height 0 holds no restructurable node (leaves and collapsed subtrees).
   const uint64_t argsOffset = bb::kTreeletMaxLevels * sizeof(bb::TreeletLevel);
   for (uint32_t h = 1; h < bb::kTreeletMaxLevels; ++h) {

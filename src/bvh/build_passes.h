@@ -124,7 +124,9 @@ class TreeletPass {
     uint32_t triangleCount = 0;
     uint32_t minTriangles = 0;             // smallest subtree restructured
   };
-  void record(VkCommandBuffer cmd, const Args& args) const;
+  // `timer` (may be null) gets scopes "bvh_treelet_schedule" (count, plan, scatter) and
+  // "bvh_treelet" (the per-height dispatches).
+  void record(VkCommandBuffer cmd, const Args& args, vk::GpuTimer* timer = nullptr) const;
 
  private:
   vk::ComputePipeline count_, plan_, scatter_, treelet_;

@@ -125,10 +125,10 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
       passes.refit.record(cmd, {interior, leaves, &counters, n});
     }
     for (uint32_t round = 0; round < treeletRounds && n > 2; ++round) {
-      vk::TimedScope scope(&timer, cmd, "bvh_treelet");
       // Karras & Aila grow the smallest restructured subtree each round: the bottom levels
       // improve most in the first round, later rounds polish the upper tree at less cost.
-      passes.treelet.record(cmd, {interior, leaves, counters, &schedule, nodeList, n, options.treeletLeaves << round});
+      passes.treelet.record(cmd, {interior, leaves, counters, &schedule, nodeList, n, options.treeletLeaves << round},
+                            &timer);
     }
     vk::TimedScope scope(&timer, cmd, "bvh_emit");
     passes.emit.record(cmd, {interior, leaves, prims, info, bvh.nodes, bvh.leafData, n});
