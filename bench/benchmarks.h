@@ -5,4 +5,6 @@
 
 namespace osr::bench {
 int runFill(const std::vector<std::string>& args);  // memory bandwidth of util_fill
+int runBvh(const std::vector<std::string>& args);   // GPU BVH build vs CPU SAH and Embree
+int runTrace(const std::vector<std::string>& args); // rays/s of bvh_trace_rays vs Embree
 }  // namespace osr::bench

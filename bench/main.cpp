@@ -16,6 +16,8 @@ struct Benchmark {
 };
 const Benchmark kBenchmarks[] = {
     {"fill", osr::bench::runFill},
+    {"bvh", osr::bench::runBvh},
+    {"trace", osr::bench::runTrace},
 };
 }  // namespace
 

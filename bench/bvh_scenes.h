@@ -1,0 +1,29 @@
+// Scenes of `osr-bench bvh` and `osr-bench trace`: a generated mesh of over a million triangles
+// and the reference scenes, each with a camera for primary rays.
+#pragma once
+#include <string>
+#include <vector>
+
+#include <glm/glm.hpp>
+
+#include "bvh/synthetic_mesh.h"
+#include "scene/scene.h"
+
+namespace osr::bench {
+
+struct BvhBenchScene {
+  std::string name;
+  bvh::SyntheticMesh mesh;
+  glm::mat4 worldFromCamera{1.0f};
+  float yfov = 0.8f;
+};
+
+// `only` empty: all scenes; else the one with that name (InputError when unknown).
+std::vector<BvhBenchScene> bvhBenchScenes(const std::string& only);
+
+// CPU time of the whole process (every thread: lavapipe's workers, Embree's) in ms. On a
+// machine shared with other jobs, wall time swings with their load; the CPU time a phase
+// consumes does much less, so the benchmarks report both.
+double processCpuMs();
+
+}  // namespace osr::bench

@@ -1,0 +1,186 @@
+#version 460
+// bvh_treelet: treelet restructuring (Karras & Aila 2013, "Fast Parallel Construction of
+// High-Quality Bounding Volume Hierarchies") of the nodes of one height (param), from the
+// schedule of bvh_treelet_plan/scatter. Each node is first refitted from its children (whose
+// subtrees earlier heights may have restructured), then grows a treelet of up to
+// kTreeletLeaves leaves below it (always expanding the largest-area treelet leaf), finds by
+// dynamic programming over all leaf subsets the topology of least SAH cost (leaf collapse
+// included, as in the paper), and rewrites the treelet's interior nodes if that is cheaper.
+// Nodes of one height own disjoint subtrees, so no two invocations touch the same node.
+#extension GL_GOOGLE_include_directive : require
+#include "shared/bvh_build.h"
+
+layout(local_size_x = kWorkgroupSize) in;
+layout(constant_id = kTreeletSpecLeaves) const uint kTreeletLeaves = kTreeletMaxLeaves;
+layout(push_constant) uniform PushBlock { BuildPush gPush; };
+#include "lib/bvh_build_nodes.glsl"
+#include "lib/bvh_treelet_schedule.glsl"
+
+const uint kSubsets = 1u << kTreeletMaxLeaves;
+
+// Treelet leaf slots: the node and the fields the dynamic program and the rewrite need, kept in
+// registers so that each node is read once (memory traffic, not arithmetic, dominates here).
+struct Slot {
+  uint node;
+  vec3 lo;
+  vec3 hi;
+  float cost;
+  uint triangles;
+  uint flags;
+};
+
+Slot makeSlot(uint u) {
+  BvhBuildNode n = loadNode(u);
+  Slot s;
+  s.node = u;
+  s.lo = n.lo;
+  s.hi = n.hi;
+  s.cost = n.cost;
+  s.triangles = n.triangleCount;
+  s.flags = n.flags;
+  return s;
+}
+
+const uint kCollapseBit = 0x80000000u;  // in split[]: the subset becomes one leaf
+
+void restructure(uint root) {
+  Slot slots[kTreeletMaxLeaves];
+  uint interior[kTreeletMaxLeaves - 1u];
+  BvhBuildNode rn = gInterior[root];
+  slots[0] = makeSlot(rn.left);
+  slots[1] = makeSlot(rn.right);
+  interior[0] = root;
+  uint nl = 2u, ni = 1u;
+  while (nl < kTreeletLeaves) {
+    int best = -1;
+    float bestArea = -1.0;
+    for (uint k = 0u; k < nl; ++k) {
+      float a = boxArea(slots[k].lo, slots[k].hi);
+      if (!isLeafNode(slots[k].node) && a > bestArea) {
+        best = int(k);
+        bestArea = a;
+      }
+    }
+    if (best < 0) break;
+    uint expanded = slots[best].node;
+    BvhBuildNode e = gInterior[expanded];
+    interior[ni++] = expanded;
+    slots[best] = makeSlot(e.left);
+    slots[nl++] = makeSlot(e.right);
+  }
+  if (nl < 3u) return;  // two leaves have one topology only
+
+  float cost[kSubsets];
+  uint split[kSubsets];
+  uint full = (1u << nl) - 1u;
+  // Subsets in increasing order: every proper subset of s is smaller than s.
+  for (uint s = 1u; s <= full; ++s) {
+    if (bitCount(s) == 1) {
+      cost[s] = slots[findLSB(s)].cost;
+      split[s] = 0u;
+      continue;
+    }
+    vec3 slo = vec3(3.0e38), shi = vec3(-3.0e38);
+    uint tris = 0u;
+    for (uint k = 0u; k < nl; ++k)
+      if ((s & (1u << k)) != 0u) {
+        slo = min(slo, slots[k].lo);
+        shi = max(shi, slots[k].hi);
+        tris += slots[k].triangles;
+      }
+    float area = boxArea(slo, shi);
+    // Each unordered partition once: p = the lowest member of s plus any proper subset q of
+    // the rest (q = rest itself would make p = s), enumerated by the usual (q - 1) & rest walk.
+    uint lowest = s & (~s + 1u);
+    uint rest = s ^ lowest;
+    float best = 3.0e38;
+    uint bestP = 0u;
+    for (uint q = (rest - 1u) & rest;; q = (q - 1u) & rest) {
+      uint p = lowest | q;
+      float c = cost[p] + cost[s ^ p];
+      if (c < best) {
+        best = c;
+        bestP = p;
+      }
+      if (q == 0u) break;
+    }
+    // Same rule as refitNode: collapse when not more costly (never the tree's root).
+    float interiorCost = kSahNodeCost * area + best;
+    float leafCost = kSahTriangleCost * area * float(tris);
+    bool collapse = tris <= kBvhMaxLeafTriangles && !(s == full && root == 0u) && leafCost <= interiorCost;
+    cost[s] = collapse ? leafCost : interiorCost;
+    split[s] = bestP | (collapse ? kCollapseBit : 0u);
+  }
+  // Keep the old topology unless the new one is measurably cheaper (ties would churn).
+  if (!(cost[full] < rn.cost * 0.9999)) return;
+
+  // Assign subsets to the treelet's interior nodes top-down: node interior[k] gets subset
+  // subsetOf[k]; its children are leaf slots or interior nodes assigned after it. A child is
+  // recorded as slot index j (< kTreeletMaxLeaves) or kTreeletMaxLeaves + interior index.
+  uint subsetOf[kTreeletMaxLeaves - 1u];
+  uint childOf[kTreeletMaxLeaves - 1u][2];
+  uint parentOf[kTreeletMaxLeaves - 1u];
+  subsetOf[0] = full;
+  parentOf[0] = rn.parent;
+  uint next = 1u;
+  for (uint k = 0u; k < ni; ++k) {
+    uint s = subsetOf[k];
+    uint p = split[s] & ~kCollapseBit;
+    uint parts[2] = uint[2](p, s ^ p);
+    for (int c = 0; c < 2; ++c) {
+      if (bitCount(parts[c]) == 1) {
+        uint j = uint(findLSB(parts[c]));
+        childOf[k][c] = j;
+        setParent(slots[j].node, interior[k]);
+      } else {
+        childOf[k][c] = kTreeletMaxLeaves + next;
+        subsetOf[next] = parts[c];
+        parentOf[next] = interior[k];
+        ++next;
+      }
+    }
+  }
+  // Write each interior node once, bottom-up (children were assigned after their parents):
+  // bounds, count and cost from the subset, heights from the children.
+  uint flagsOf[kTreeletMaxLeaves - 1u];
+  for (int k = int(ni) - 1; k >= 0; --k) {
+    uint s = subsetOf[k];
+    BvhBuildNode n;
+    n.lo = vec3(3.0e38);
+    n.hi = vec3(-3.0e38);
+    n.triangleCount = 0u;
+    for (uint j = 0u; j < nl; ++j)
+      if ((s & (1u << j)) != 0u) {
+        n.lo = min(n.lo, slots[j].lo);
+        n.hi = max(n.hi, slots[j].hi);
+        n.triangleCount += slots[j].triangles;
+      }
+    n.cost = cost[s];
+    uint height = 0u, traversalHeight = 0u;
+    uint ids[2];
+    for (int c = 0; c < 2; ++c) {
+      uint child = childOf[k][c];
+      uint childFlags = child < kTreeletMaxLeaves ? slots[child].flags : flagsOf[child - kTreeletMaxLeaves];
+      ids[c] = child < kTreeletMaxLeaves ? slots[child].node : interior[child - kTreeletMaxLeaves];
+      height = max(height, childFlags & kHeightMask);
+      traversalHeight = max(traversalHeight, (childFlags >> kTraversalHeightShift) & kHeightMask);
+    }
+    bool collapse = (split[s] & kCollapseBit) != 0u;
+    n.flags = (collapse ? kFlagCollapsed : 0u) | ((collapse ? 0u : traversalHeight + 1u) << kTraversalHeightShift) |
+              (height + 1u);
+    n.left = ids[0];
+    n.right = ids[1];
+    n.parent = parentOf[k];
+    flagsOf[k] = n.flags;
+    gInterior[interior[k]] = n;
+  }
+}
+
+void main() {
+  TreeletLevel level = gLevels[gPush.param];
+  uint i = gl_GlobalInvocationID.x;
+  if (i >= level.count) return;
+  uint node = gNodeList[level.offset + i];
+  refitStored(node);
+  restructure(node);
+}
