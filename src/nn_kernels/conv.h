@@ -1,0 +1,55 @@
+// The convolution pass of the U-Net (shaders/nn_conv.comp): 3x3 or 1x1, zero padding, bias,
+// activation, optional per-channel scale and shift after it, reading and writing channel
+// slices. Specialised per layer shape class; channel counts are push constants.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "nn_kernels/tensor_view.h"
+#include "nn_kernels/weights.h"
+#include "vk/pipeline.h"
+
+namespace osr::nn {
+
+struct ConvConfig {
+  uint32_t kernel = 3;
+  uint32_t cout = 0;    // picks the workgroup size; a pass serves any cout with that size
+  uint32_t width = 32;  // square maps; picks the tile
+  Activation activation = Activation::LeakyRelu;
+  float slope = 0.2f;
+  bool batchNorm = false;
+  bool inHalf = false, outHalf = false, weightHalf = false;
+  uint32_t tileH = 0, tileW = 0;  // 0: chosen for the device (conv.cpp)
+};
+
+class ConvPass {
+ public:
+  ConvPass(const vk::Context& ctx, const ConvConfig& config);
+
+  struct Args {
+    TensorView src, dst;      // src.half / dst.half must match the config
+    vk::BufferRange weights;  // packWeights() words
+    vk::BufferRange params;   // packParams() floats
+    uint32_t maps = 0;
+    uint32_t cin = 0, cout = 0;
+  };
+  // Records the dispatch and a barrier after it. Ranges must fit maxStorageBufferRange.
+  void record(VkCommandBuffer cmd, const Args& args) const;
+
+  uint32_t workgroup() const { return workgroup_; }
+  // Weight and parameter row length for `cout` output channels: a workgroup multiple.
+  uint32_t coutPadded(uint32_t cout) const { return (cout + workgroup_ - 1) / workgroup_ * workgroup_; }
+  uint32_t tileH() const { return tileH_; }
+  uint32_t tileW() const { return tileW_; }
+  // Device layout: weights [cin][kernel^2][coutPadded] (zero-padded), fp32 or packed fp16.
+  std::vector<uint32_t> packWeights(const ConvWeights& conv) const;
+  // bias, scale, shift, each coutPadded fp32.
+  std::vector<float> packParams(const ConvWeights& conv) const;
+
+ private:
+  ConvConfig config_;
+  uint32_t workgroup_ = 0, tileH_ = 0, tileW_ = 0;
+  vk::ComputePipeline pipeline_;
+};
+
+}  // namespace osr::nn
