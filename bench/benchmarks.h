@@ -5,4 +5,5 @@
 
 namespace osr::bench {
 int runFill(const std::vector<std::string>& args);  // memory bandwidth of util_fill
+int runUnet(const std::vector<std::string>& args);  // U-Net maps/s vs PyTorch
 }  // namespace osr::bench

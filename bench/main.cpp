@@ -16,6 +16,7 @@ struct Benchmark {
 };
 const Benchmark kBenchmarks[] = {
     {"fill", osr::bench::runFill},
+    {"unet", osr::bench::runUnet},
 };
 }  // namespace
 
