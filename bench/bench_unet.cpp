@@ -4,6 +4,7 @@
 //   osr-bench unet [--k 16,64] [--batch 64,256,1024,4096] [--precision fp32,fp16]
 //                  [--no-pytorch] [--min-seconds S] [--tile HxW] [--chunk N]
 #include <chrono>
+#include <ctime>
 #include <cstdio>
 #include <map>
 #include <memory>
@@ -18,6 +19,7 @@
 #include "nn_kernels/unet.h"
 #include "nn_kernels/unet_cpu.h"
 #include "vk/buffer.h"
+#include "vk/timer.h"
 
 namespace osr::bench {
 
@@ -64,7 +66,7 @@ double pytorchMapsPerSecond(uint32_t k, uint32_t batch, unsigned threads, double
 int runUnet(const std::vector<std::string>& args) {
   std::vector<uint32_t> ks = {16, 64}, batches = {64, 256, 1024, 4096};
   std::vector<std::string> precisions = {"fp32", "fp16"};
-  bool pytorch = true;
+  bool pytorch = true, profile = false;
   double minSeconds = 2.0;
   nn::UNetOptions base;
   for (size_t i = 0; i < args.size(); ++i) {
@@ -82,12 +84,16 @@ int runUnet(const std::vector<std::string>& args) {
       precisions = splitList(next());
       for (auto& p : precisions)
         if (p != "fp32" && p != "fp16") throw InputError("unet: --precision takes fp32,fp16");
+    } else if (args[i] == "--profile") {
+      profile = true;  // per-pass GPU times of one batch on stderr
     } else if (args[i] == "--no-pytorch") {
       pytorch = false;
     } else if (args[i] == "--min-seconds") {
       minSeconds = std::stod(next());
     } else if (args[i] == "--chunk") {
       base.maxChunk = toUint(next(), "--chunk");
+    } else if (args[i] == "--share") {
+      base.shareLoads = int(toUint(next(), "--share")) - 1;  // 1: off, 9: share over 8 lanes
     } else if (args[i] == "--tile") {
       const std::string& t = next();
       size_t x = t.find('x');
@@ -145,6 +151,9 @@ int runUnet(const std::vector<std::string>& args) {
         // Time whole submissions (the engine is one command buffer per batch).
         int reps = 0;
         double seconds = 0;
+        // Process CPU time too: on a shared CPU (lavapipe) it compares variants under load.
+        timespec cpu0{}, cpu1{};
+        clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &cpu0);
         const int minReps = firstSeconds > minSeconds ? 1 : 2;
         while (reps < minReps || seconds < minSeconds) {
           auto s = std::chrono::steady_clock::now();
@@ -152,7 +161,19 @@ int runUnet(const std::vector<std::string>& args) {
           seconds += std::chrono::duration<double>(std::chrono::steady_clock::now() - s).count();
           ++reps;
         }
+        clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &cpu1);
+        const double cpuSeconds = double(cpu1.tv_sec - cpu0.tv_sec) + 1e-9 * double(cpu1.tv_nsec - cpu0.tv_nsec);
         const double mapsPerS = batch * reps / seconds;
+        if (profile && ctx.caps().timestamps) {
+          vk::GpuTimer timer(ctx, 64 * (batch / net.chunkMaps() + 1));
+          ctx.submitAndWait([&](VkCommandBuffer cmd) {
+            timer.reset(cmd);
+            net.record(cmd, in, 0, out, 0, batch, &timer);
+          });
+          std::map<std::string, double> perPass;
+          for (const vk::PassTime& t : timer.results()) perPass[t.name] += t.ms;
+          for (auto& [name, ms] : perPass) std::fprintf(stderr, "  %-12s %8.2f ms\n", name.c_str(), ms);
+        }
         const double gflops = mapsPerS * net.flopsPerMap() / 1e9;
         if (pytorch && !peer.count(batch)) {
           const double p = pytorchMapsPerSecond(k, batch, threads, minSeconds);
@@ -181,7 +202,8 @@ int runUnet(const std::vector<std::string>& args) {
             .num("gflops", gflops)
             .str("device", ctx.caps().deviceName)
             .integer("chunk", net.chunkMaps())
-            .integer("reps", reps);
+            .integer("reps", reps)
+            .num("cpu_ms_per_map", 1e3 * cpuSeconds / (double(batch) * reps));
         if (peer.count(batch) && peer[batch] > 0) line.num("ratio_vs_pytorch", mapsPerS / peer[batch]);
         line.print();
       }

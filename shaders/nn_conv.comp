@@ -4,16 +4,22 @@
 // with zero padding p = kKernel / 2 (3x3 "same" and the final 1x1), act = LeakyReLU / ReLU /
 // none and bn = per-channel scale and shift (a BatchNorm that follows the activation in the
 // seed's layout, so it cannot fold into this convolution's weights).
-// Inputs: in (channel slice view), weights [cin][kKernel^2][coutPadded], params (bias, scale,
-// shift, each coutPadded fp32). Output: a channel slice view of out (skip concatenation).
-// Work split, chosen for CPU Vulkan (lavapipe runs the invocations of a subgroup as SIMD
-// lanes): each lane owns one output channel and a kTileH x kTileW pixel tile that is the
-// same for the whole workgroup, so every input load has a uniform address (one scalar load
-// and a broadcast) and is reused kKernel^2 times per channel; the only per-lane loads are the
-// kKernel^2 weights per input channel, amortised over the whole tile. No shared memory and no
-// barriers. On GPUs the same split reads weights coalesced and inputs as broadcasts.
+// Inputs: in (channel slice view), weights [cin / 4][kKernel^2][coutPadded] x 4 input channels
+// (ConvPass::packWeights), params (bias, scale, shift, each coutPadded fp32).
+// Output: a channel slice view of out (skip concatenations cost no copy).
+//
+// Work split: each lane owns one output channel and a kTileH x kTileW pixel tile shared by the
+// whole workgroup, accumulated in registers; per input channel it needs the tile's footprint
+// (tile plus padding) of that channel, the same for every lane. On GPUs (kShare = 0) each lane
+// reads the footprint itself: the addresses are uniform, so the loads are broadcasts. On
+// lavapipe every storage-buffer access is a loop over the SIMD lanes, so uniform loads cost 8x;
+// there (kShare = subgroup size) the lanes load different footprint elements and exchange them
+// with subgroupBroadcast, one load instruction per kShare elements. No shared memory, no
+// barriers.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_control_flow_attributes : require
+#extension GL_KHR_shader_subgroup_basic : require
+#extension GL_KHR_shader_subgroup_ballot : require
 #include "shared/nn.h"
 #include "lib/nn_storage.glsl"
 
@@ -24,19 +30,32 @@ layout(constant_id = kSpecTileW) const int kTileW = 8;
 layout(constant_id = kSpecActivation) const uint kActivation = kActLeakyRelu;
 layout(constant_id = kSpecBatchNorm) const uint kBatchNorm = 0;
 layout(constant_id = kSpecSlope) const float kSlope = 0.2;
+layout(constant_id = kSpecShare) const int kShare = 0;
 
-layout(std430, binding = kBindingWeights) readonly buffer WeightBuf { uint gWeights[]; };
+layout(std430, binding = kBindingWeights) readonly buffer WeightBuf2 { uvec2 gWeights2[]; };
+layout(std430, binding = kBindingWeights) readonly buffer WeightBuf4 { uvec4 gWeights4[]; };
 layout(std430, binding = kBindingParams) readonly buffer ParamBuf { float gParams[]; };
 layout(push_constant) uniform PushBlock { ConvPush gPush; };
 
-float loadWeight(uint i) {
-  if (kWeightHalf != 0) return unpackHalf2x16(gWeights[i >> 1])[i & 1u];
-  return uintBitsToFloat(gWeights[i]);
+// Weights of 4 consecutive input channels for one tap and output channel.
+vec4 loadWeight4(uint i) {
+  if (kWeightHalf != 0) {
+    const uvec2 w = gWeights2[i];
+    return vec4(unpackHalf2x16(w.x), unpackHalf2x16(w.y));
+  }
+  return uintBitsToFloat(gWeights4[i]);
 }
+
+const int kPad = kKernel / 2;
+const int kFootW = kTileW + 2 * kPad;
+const int kFoot = (kTileH + 2 * kPad) * kFootW;
+const int kLanes = kShare > 0 ? kShare : 1;
+const int kLoads = (kFoot + kLanes - 1) / kLanes;  // shared loads per input channel per lane
+const int kTaps = kKernel * kKernel;
 
 void main() {
   const uint tile = gl_WorkGroupID.y + gl_WorkGroupID.z * gPush.tileGroupsY;
-  if (tile >= gPush.tileCount) return;
+  if (tile >= gPush.tileCount) return;  // uniform over the workgroup
   const uint co = gl_GlobalInvocationID.x;  // < coutPadded: weights are zero-padded
   const uint height = gPush.height, width = gPush.width, plane = height * width;
   const uint tilesX = width / uint(kTileW), tilesY = height / uint(kTileH);
@@ -44,43 +63,51 @@ void main() {
   const uint rest = tile - n * tilesX * tilesY;
   const int y0 = int(rest / tilesX) * kTileH;
   const int x0 = int(rest % tilesX) * kTileW;
-  const int pad = kKernel / 2;
-  const int rowLen = kTileW + kKernel - 1;
+
+  // Footprint element e = r * kFootW + c is input pixel (y0 + r - pad, x0 + c - pad). With
+  // sharing, this lane loads elements lane + k * kShare; `offset` is -1 outside the image.
+  int offset[kLoads];
+  [[unroll]] for (int k = 0; k < kLoads; ++k) {
+    const int e = int(gl_SubgroupInvocationID) + k * kLanes;
+    const int iy = y0 + e / kFootW - kPad, ix = x0 + e % kFootW - kPad;
+    const bool inside = e < kFoot && iy >= 0 && iy < int(height) && ix >= 0 && ix < int(width);
+    offset[k] = inside ? iy * int(width) + ix : -1;
+  }
 
   float acc[kTileH * kTileW];
   [[unroll]] for (int i = 0; i < kTileH * kTileW; ++i) acc[i] = 0.0;
 
-  uint inBase = (n * gPush.src.cTotal + gPush.src.c0) * plane;
-  uint wIndex = co;
-  const uint tapStride = gPush.coutPadded;
-  for (uint ci = 0; ci < gPush.cin; ++ci) {
-    float w[kKernel * kKernel];
-    [[unroll]] for (int t = 0; t < kKernel * kKernel; ++t)
-      w[t] = loadWeight(wIndex + uint(t) * tapStride);
-    wIndex += uint(kKernel * kKernel) * tapStride;
-
-    [[unroll]] for (int r = 0; r < kTileH + kKernel - 1; ++r) {
-      const int iy = y0 + r - pad;
-      if (iy < 0 || iy >= int(height)) continue;  // uniform: the tile is the workgroup's
-      const uint rowBase = inBase + uint(iy) * width;
-      float row[rowLen];
-      [[unroll]] for (int c = 0; c < rowLen; ++c) {
-        const int ix = x0 + c - pad;
-        // Only the first and last column of a tile can fall into the zero padding.
-        if (pad > 0 && (c == 0 || c == rowLen - 1))
-          row[c] = (ix >= 0 && ix < int(width)) ? loadIn(rowBase + uint(clamp(ix, 0, int(width) - 1))) : 0.0;
-        else
-          row[c] = loadIn(rowBase + uint(ix));
+  const uint mapBase = (n * gPush.src.cTotal + gPush.src.c0) * plane;
+  const uint groups = (gPush.cin + 3) / 4;
+  for (uint g = 0; g < groups; ++g) {
+    vec4 w[kTaps];
+    [[unroll]] for (int t = 0; t < kTaps; ++t)
+      w[t] = loadWeight4((g * uint(kTaps) + uint(t)) * gPush.coutPadded + co);
+    [[unroll]] for (int sub = 0; sub < 4; ++sub) {
+      // Padding channels of the last group have zero weights; read a real channel instead
+      // of past the view so that no NaN from foreign memory meets the zero.
+      const uint chanBase = mapBase + min(g * 4 + uint(sub), gPush.cin - 1) * plane;
+      float foot[kFoot];
+      if (kShare > 0) {
+        float mine[kLoads];
+        [[unroll]] for (int k = 0; k < kLoads; ++k)
+          mine[k] = offset[k] >= 0 ? loadIn(chanBase + uint(max(offset[k], 0))) : 0.0;
+        [[unroll]] for (int e = 0; e < kFoot; ++e)
+          foot[e] = subgroupBroadcast(mine[e / kLanes], uint(e % kLanes));
+      } else {
+        [[unroll]] for (int e = 0; e < kFoot; ++e) {
+          const int iy = y0 + e / kFootW - kPad, ix = x0 + e % kFootW - kPad;
+          const bool inside = iy >= 0 && iy < int(height) && ix >= 0 && ix < int(width);
+          foot[e] = inside ? loadIn(chanBase + uint(iy) * width + uint(ix)) : 0.0;
+        }
       }
-      [[unroll]] for (int ky = 0; ky < kKernel; ++ky) {
-        const int oy = r - ky;
-        if (oy < 0 || oy >= kTileH) continue;
-        [[unroll]] for (int ox = 0; ox < kTileW; ++ox)
-          [[unroll]] for (int kx = 0; kx < kKernel; ++kx)
-            acc[oy * kTileW + ox] = fma(w[ky * kKernel + kx], row[ox + kx], acc[oy * kTileW + ox]);
-      }
+      [[unroll]] for (int oy = 0; oy < kTileH; ++oy)
+        [[unroll]] for (int ky = 0; ky < kKernel; ++ky)
+          [[unroll]] for (int ox = 0; ox < kTileW; ++ox)
+            [[unroll]] for (int kx = 0; kx < kKernel; ++kx)
+              acc[oy * kTileW + ox] = fma(w[ky * kKernel + kx][sub], foot[(oy + ky) * kFootW + ox + kx],
+                                          acc[oy * kTileW + ox]);
     }
-    inBase += plane;
   }
 
   if (co >= gPush.cout) return;
@@ -89,12 +116,13 @@ void main() {
   const float shift = gParams[2 * gPush.coutPadded + co];
   const uint outBase = ((n * gPush.dst.cTotal + gPush.dst.c0 + co) * height + uint(y0)) * width + uint(x0);
   [[unroll]] for (int oy = 0; oy < kTileH; ++oy) {
-    [[unroll]] for (int ox = 0; ox < kTileW; ox += 2) {
-      vec2 v = vec2(acc[oy * kTileW + ox], acc[oy * kTileW + ox + 1]) + bias;
-      if (kActivation == kActLeakyRelu) v = mix(v * kSlope, v, greaterThanEqual(v, vec2(0.0)));
-      if (kActivation == kActRelu) v = max(v, vec2(0.0));
+    [[unroll]] for (int ox = 0; ox < kTileW; ox += 4) {
+      const int i = oy * kTileW + ox;
+      vec4 v = vec4(acc[i], acc[i + 1], acc[i + 2], acc[i + 3]) + bias;
+      if (kActivation == kActLeakyRelu) v = mix(v * kSlope, v, greaterThanEqual(v, vec4(0.0)));
+      if (kActivation == kActRelu) v = max(v, vec4(0.0));
       if (kBatchNorm != 0) v = v * scale + shift;
-      storeOutPair(outBase + uint(oy) * width + uint(ox), v.x, v.y);
+      storeOut4(outBase + uint(oy) * width + uint(ox), v);
     }
   }
 }

@@ -25,6 +25,7 @@ OSR_CONST(uint, kSpecTileW, 6);       // conv: output columns per invocation (ev
 OSR_CONST(uint, kSpecActivation, 7);  // conv: kActNone / kActLeakyRelu / kActRelu
 OSR_CONST(uint, kSpecBatchNorm, 8);   // conv: 1 applies scale/shift after the activation
 OSR_CONST(uint, kSpecSlope, 9);       // conv: LeakyReLU negative slope (float)
+OSR_CONST(uint, kSpecShare, 10);      // conv: lanes sharing input loads (subgroup size), 0: none
 
 OSR_CONST(uint, kActNone, 0);
 OSR_CONST(uint, kActLeakyRelu, 1);

@@ -20,9 +20,16 @@ ConvPass::ConvPass(const vk::Context& ctx, const ConvConfig& config) : config_(c
   // still fit a CPU's vector registers plus spill slots (measured with osr-bench unet --tile).
   tileW_ = config.tileW ? config.tileW : std::min(config.width, 8u);
   tileH_ = config.tileH ? config.tileH : std::min(config.width, 4u);
-  if (config.width % tileW_ || config.width % tileH_ || tileW_ % 2)
+  if (config.width % tileW_ || config.width % tileH_ || tileW_ % 4)
     throw InputError("conv tile " + std::to_string(tileH_) + "x" + std::to_string(tileW_) +
                      " does not divide width " + std::to_string(config.width));
+  // CPU Vulkan turns each buffer access into a loop over lanes; sharing loads across the
+  // subgroup pays there. The workgroup is a multiple of the subgroup, so subgroups are full.
+  const uint32_t share = config.shareLoads >= 0 ? uint32_t(config.shareLoads)
+                         : ctx.caps().isCpu()   ? ctx.caps().subgroupSize
+                                                : 0u;
+  if (share && (workgroup_ % share || share != ctx.caps().subgroupSize))
+    throw DeviceError("nn_conv: load sharing needs whole subgroups");
   pipeline_ = vk::ComputePipeline(
       ctx, shaders::Id::nn_conv, 4, sizeof(g::ConvPush),
       {vk::specUint(g::kSpecWorkgroup, workgroup_), vk::specUint(g::kSpecInHalf, config.inHalf),
@@ -31,20 +38,25 @@ ConvPass::ConvPass(const vk::Context& ctx, const ConvConfig& config) : config_(c
        vk::specUint(g::kSpecKernel, config.kernel), vk::specUint(g::kSpecTileH, tileH_),
        vk::specUint(g::kSpecTileW, tileW_),
        vk::specUint(g::kSpecActivation, uint32_t(config.activation)),
-       vk::specUint(g::kSpecBatchNorm, config.batchNorm), vk::specFloat(g::kSpecSlope, config.slope)});
+       vk::specUint(g::kSpecBatchNorm, config.batchNorm), vk::specFloat(g::kSpecSlope, config.slope),
+       vk::specUint(g::kSpecShare, share)});
 }
 
 std::vector<uint32_t> ConvPass::packWeights(const ConvWeights& conv) const {
+  // [cin / 4][tap][coutPadded][4 input channels]: a lane reads its 4 weights of one tap with
+  // one 16-byte (fp32) or 8-byte (fp16) load; zero for padding channels.
   const uint32_t taps = conv.kernel * conv.kernel;
   const uint32_t padded = coutPadded(conv.cout);
-  std::vector<float> w(size_t(conv.cin) * taps * padded, 0.0f);
+  const uint32_t groups = (conv.cin + 3) / 4;
+  std::vector<float> w(size_t(groups) * taps * padded * 4, 0.0f);
   for (uint32_t co = 0; co < conv.cout; ++co)
     for (uint32_t ci = 0; ci < conv.cin; ++ci)
       for (uint32_t t = 0; t < taps; ++t)
-        w[(size_t(ci) * taps + t) * padded + co] = conv.weight[(size_t(co) * conv.cin + ci) * taps + t];
+        w[((size_t(ci / 4) * taps + t) * padded + co) * 4 + ci % 4] =
+            conv.weight[(size_t(co) * conv.cin + ci) * taps + t];
   std::vector<uint32_t> words;
   if (config_.weightHalf) {
-    words.resize((w.size() + 1) / 2, 0);
+    words.resize(w.size() / 2, 0);
     for (size_t i = 0; i < w.size(); ++i) words[i / 2] |= uint32_t(floatToHalf(w[i])) << (16 * (i % 2));
   } else {
     words.resize(w.size());

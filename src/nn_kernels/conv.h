@@ -19,7 +19,8 @@ struct ConvConfig {
   float slope = 0.2f;
   bool batchNorm = false;
   bool inHalf = false, outHalf = false, weightHalf = false;
-  uint32_t tileH = 0, tileW = 0;  // 0: chosen for the device (conv.cpp)
+  uint32_t tileH = 0, tileW = 0;  // 0: chosen for the device (conv.cpp); tileW % 4 == 0
+  int shareLoads = -1;  // lanes sharing input loads: -1 per device (CPU: subgroup size), 0: off
 };
 
 class ConvPass {
@@ -41,7 +42,7 @@ class ConvPass {
   uint32_t coutPadded(uint32_t cout) const { return (cout + workgroup_ - 1) / workgroup_ * workgroup_; }
   uint32_t tileH() const { return tileH_; }
   uint32_t tileW() const { return tileW_; }
-  // Device layout: weights [cin][kernel^2][coutPadded] (zero-padded), fp32 or packed fp16.
+  // Device layout of the weights (see packWeights in conv.cpp), fp32 or packed fp16.
   std::vector<uint32_t> packWeights(const ConvWeights& conv) const;
   // bias, scale, shift, each coutPadded fp32.
   std::vector<float> packParams(const ConvWeights& conv) const;

@@ -86,6 +86,7 @@ UNet::UNet(const vk::Context& ctx, const UNetWeights& w, const UNetOptions& opti
     cfg.weightHalf = half_;
     cfg.tileH = std::min(options.tileH, cfg.width);
     cfg.tileW = std::min(options.tileW, cfg.width);
+    cfg.shareLoads = options.shareLoads;
     const uint32_t sub = std::max(ctx.caps().subgroupSize, 8u);
     const uint32_t wgClass = std::min((c.cout + sub - 1) / sub * sub, 64u);  // as ConvPass picks
     auto key = std::make_tuple(cfg.kernel, cfg.width, wgClass, int(cfg.activation),
@@ -155,7 +156,6 @@ void UNet::record(VkCommandBuffer cmd, const vk::Buffer& in, VkDeviceSize inOffs
     throw DeviceError("unet: buffer offsets must be multiples of 256 bytes");
   if (inOffset + inMap * maps > in.size() || outOffset + outMap * maps > out.size())
     throw DeviceError("unet: " + std::to_string(maps) + " maps do not fit the given buffers");
-  vk::TimedScope all(timer, cmd, "unet");
   for (uint32_t first = 0; first < maps; first += chunk_) {
     const uint32_t n = std::min(chunk_, maps - first);
     for (const Step& s : kSteps) {
@@ -172,6 +172,8 @@ void UNet::record(VkCommandBuffer cmd, const vk::Buffer& in, VkDeviceSize inOffs
       } else {
         dst = view(s.dst, s.dstC0TimesK * k_);
       }
+      vk::TimedScope scope(timer, cmd, s.op == Op::Conv ? kConvSpecs[s.conv].name
+                                       : s.op == Op::Pool ? "maxpool" : "upsample");
       if (s.op == Op::Conv) {
         const ConvLayer& l = layers_[s.conv];
         ConvPass::Args a;

@@ -21,6 +21,7 @@ struct UNetOptions {
   uint32_t maxChunk = 1024;             // maps per chunk at most
   uint64_t scratchBudget = 768ull << 20;  // bytes of intermediate activations at most
   uint32_t tileH = 0, tileW = 0;        // conv tile override (0: per device)
+  int shareLoads = -1;                  // conv input-load sharing override (-1: per device)
 };
 
 class UNet {

@@ -20,13 +20,14 @@ struct ConvCase {
   bool half;
   uint32_t srcCTotal, srcC0, dstCTotal, dstC0;
   uint32_t tileH = 0, tileW = 0;
+  int share = -1;
 };
 
 std::string describe(const ConvCase& c) {
   char buf[256];
-  std::snprintf(buf, sizeof buf, "n=%u cin=%u cout=%u width=%u kernel=%u act=%u bn=%d half=%d src=%u/%u dst=%u/%u tile=%ux%u",
+  std::snprintf(buf, sizeof buf, "n=%u cin=%u cout=%u width=%u kernel=%u act=%u bn=%d half=%d src=%u/%u dst=%u/%u tile=%ux%u share=%d",
                 c.n, c.cin, c.cout, c.width, c.kernel, unsigned(c.act), c.bn, c.half, c.srcC0,
-                c.srcCTotal, c.dstC0, c.dstCTotal, c.tileH, c.tileW);
+                c.srcCTotal, c.dstC0, c.dstCTotal, c.tileH, c.tileW, c.share);
   return buf;
 }
 
@@ -67,6 +68,7 @@ void runCase(const ConvCase& c, uint32_t seed) {
   cfg.inHalf = cfg.outHalf = cfg.weightHalf = c.half;
   cfg.tileH = c.tileH;
   cfg.tileW = c.tileW;
+  cfg.shareLoads = c.share;
   nn::ConvPass pass(ctx, cfg);
   auto words = pass.packWeights(w);
   auto params = pass.packParams(w);
@@ -136,8 +138,15 @@ TEST(Conv, DecoderWidthAndOutputLayer) {
 }
 
 TEST(Conv, TileShapes) {
-  for (auto [th, tw] : {std::pair{1u, 2u}, {2u, 16u}, {8u, 8u}, {4u, 32u}})
+  for (auto [th, tw] : {std::pair{1u, 4u}, {2u, 16u}, {8u, 8u}, {4u, 32u}})
     runCase({3, 16, 16, 32, 3, nn::Activation::LeakyRelu, true, false, 16, 0, 16, 0, th, tw}, 70 + th);
+}
+
+// The GPU path (every lane loads the footprint itself) on lavapipe too.
+TEST(Conv, WithoutLoadSharing) {
+  runCase({3, 16, 32, 16, 3, nn::Activation::LeakyRelu, true, false, 16, 0, 32, 0, 0, 0, 0}, 100);
+  runCase({3, 7, 8, 32, 3, nn::Activation::LeakyRelu, false, true, 7, 0, 8, 0, 0, 0, 0}, 101);
+  runCase({3, 8, 3, 32, 1, nn::Activation::Relu, false, false, 8, 0, 3, 0, 0, 0, 0}, 102);
 }
 
 TEST(Conv, HalfStorage) {
