@@ -5,7 +5,8 @@
 // none and bn = per-channel scale and shift (a BatchNorm that follows the activation in the
 // seed's layout, so it cannot fold into this convolution's weights).
 // Inputs: in (channel slice view), weights [cin / 4][kKernel^2][coutPadded] x 4 input channels
-// (ConvPass::packWeights), params (bias, scale, shift, each coutPadded fp32).
+// (ConvPass::packWeights) as a storage buffer and as texels, params (bias, scale, shift, each
+// coutPadded fp32).
 // Output: a channel slice view of out (skip concatenations cost no copy).
 //
 // Work split: each lane owns one output channel and a kTileH x kTileW pixel tile shared by the
@@ -31,14 +32,19 @@ layout(constant_id = kSpecActivation) const uint kActivation = kActLeakyRelu;
 layout(constant_id = kSpecBatchNorm) const uint kBatchNorm = 0;
 layout(constant_id = kSpecSlope) const float kSlope = 0.2;
 layout(constant_id = kSpecShare) const int kShare = 0;
+layout(constant_id = kSpecWeightTexel) const uint kWeightTexel = 0;
 
 layout(std430, binding = kBindingWeights) readonly buffer WeightBuf2 { uvec2 gWeights2[]; };
 layout(std430, binding = kBindingWeights) readonly buffer WeightBuf4 { uvec4 gWeights4[]; };
 layout(std430, binding = kBindingParams) readonly buffer ParamBuf { float gParams[]; };
+// The same weights as RGBA32F / RGBA16F texels: lavapipe fetches texels with a straight-line
+// gather, several times cheaper than its per-lane loop for a storage-buffer load.
+layout(binding = kBindingWeightTexels) uniform samplerBuffer gWeightTexels;
 layout(push_constant) uniform PushBlock { ConvPush gPush; };
 
 // Weights of 4 consecutive input channels for one tap and output channel.
 vec4 loadWeight4(uint i) {
+  if (kWeightTexel != 0) return texelFetch(gWeightTexels, int(i));
   if (kWeightHalf != 0) {
     const uvec2 w = gWeights2[i];
     return vec4(unpackHalf2x16(w.x), unpackHalf2x16(w.y));

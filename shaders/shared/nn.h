@@ -13,6 +13,7 @@ OSR_CONST(uint, kBindingIn, 0);
 OSR_CONST(uint, kBindingOut, 1);
 OSR_CONST(uint, kBindingWeights, 2);  // conv only: [cin][ks*ks][coutPadded]
 OSR_CONST(uint, kBindingParams, 3);   // conv only: fp32 bias[coutPadded], scale[..], shift[..]
+OSR_CONST(uint, kBindingWeightTexels, 4);  // conv only: the weights as an RGBA texel buffer
 
 // Specialization constant ids.
 OSR_CONST(uint, kSpecWorkgroup, 0);   // local_size_x
@@ -26,6 +27,7 @@ OSR_CONST(uint, kSpecActivation, 7);  // conv: kActNone / kActLeakyRelu / kActRe
 OSR_CONST(uint, kSpecBatchNorm, 8);   // conv: 1 applies scale/shift after the activation
 OSR_CONST(uint, kSpecSlope, 9);       // conv: LeakyReLU negative slope (float)
 OSR_CONST(uint, kSpecShare, 10);      // conv: lanes sharing input loads (subgroup size), 0: none
+OSR_CONST(uint, kSpecWeightTexel, 11);  // conv: 1 reads weights through the texel binding
 
 OSR_CONST(uint, kActNone, 0);
 OSR_CONST(uint, kActLeakyRelu, 1);

@@ -31,7 +31,11 @@ ConvPass::ConvPass(const vk::Context& ctx, const ConvConfig& config) : config_(c
   if (share && (workgroup_ % share || share != ctx.caps().subgroupSize))
     throw DeviceError("nn_conv: load sharing needs whole subgroups");
   pipeline_ = vk::ComputePipeline(
-      ctx, shaders::Id::nn_conv, 4, sizeof(g::ConvPush),
+      ctx, shaders::Id::nn_conv,
+      {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+       VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+       VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER},
+      sizeof(g::ConvPush),
       {vk::specUint(g::kSpecWorkgroup, workgroup_), vk::specUint(g::kSpecInHalf, config.inHalf),
        vk::specUint(g::kSpecOutHalf, config.outHalf),
        vk::specUint(g::kSpecWeightHalf, config.weightHalf),
@@ -39,7 +43,8 @@ ConvPass::ConvPass(const vk::Context& ctx, const ConvConfig& config) : config_(c
        vk::specUint(g::kSpecTileW, tileW_),
        vk::specUint(g::kSpecActivation, uint32_t(config.activation)),
        vk::specUint(g::kSpecBatchNorm, config.batchNorm), vk::specFloat(g::kSpecSlope, config.slope),
-       vk::specUint(g::kSpecShare, share)});
+       vk::specUint(g::kSpecShare, share),
+       vk::specUint(g::kSpecWeightTexel, config.weightTexels)});
 }
 
 std::vector<uint32_t> ConvPass::packWeights(const ConvWeights& conv) const {
@@ -92,7 +97,7 @@ void ConvPass::record(VkCommandBuffer cmd, const Args& a) const {
   uint32_t gy, gz;
   splitGroups(tiles, gy, gz);
   push.tileGroupsY = gy;
-  pipeline_.bind(cmd, {a.src.range, a.dst.range, a.weights, a.params}, push);
+  pipeline_.bindDescriptors(cmd, {a.src.range, a.dst.range, a.weights, a.params, a.weightTexels}, &push);
   pipeline_.dispatch(cmd, push.coutPadded / workgroup_, gy, gz);
   vk::computeBarrier(cmd);
 }

@@ -21,6 +21,7 @@ struct ConvConfig {
   bool inHalf = false, outHalf = false, weightHalf = false;
   uint32_t tileH = 0, tileW = 0;  // 0: chosen for the device (conv.cpp); tileW % 4 == 0
   int shareLoads = -1;  // lanes sharing input loads: -1 per device (CPU: subgroup size), 0: off
+  bool weightTexels = true;  // read weights through Args::weightTexels (else the buffer)
 };
 
 class ConvPass {
@@ -30,6 +31,7 @@ class ConvPass {
   struct Args {
     TensorView src, dst;      // src.half / dst.half must match the config
     vk::BufferRange weights;  // packWeights() words
+    VkBufferView weightTexels = VK_NULL_HANDLE;  // the same range, weightTexelFormat()
     vk::BufferRange params;   // packParams() floats
     uint32_t maps = 0;
     uint32_t cin = 0, cout = 0;
@@ -44,6 +46,9 @@ class ConvPass {
   uint32_t tileW() const { return tileW_; }
   // Device layout of the weights (see packWeights in conv.cpp), fp32 or packed fp16.
   std::vector<uint32_t> packWeights(const ConvWeights& conv) const;
+  VkFormat weightTexelFormat() const {
+    return config_.weightHalf ? VK_FORMAT_R16G16B16A16_SFLOAT : VK_FORMAT_R32G32B32A32_SFLOAT;
+  }
   // bias, scale, shift, each coutPadded fp32.
   std::vector<float> packParams(const ConvWeights& conv) const;
 

@@ -12,6 +12,7 @@
 #include "nn_kernels/resample.h"
 #include "nn_kernels/weights.h"
 #include "vk/buffer.h"
+#include "vk/buffer_view.h"
 #include "vk/timer.h"
 
 namespace osr::nn {
@@ -61,6 +62,7 @@ class UNet {
   std::unique_ptr<ResamplePass> pool_, upsample_;
   std::vector<Scratch> scratch_;
   vk::Buffer weightBuffer_, paramBuffer_, arena_;
+  std::vector<vk::BufferView> weightViews_;  // per conv layer, in layers_ order
 };
 
 }  // namespace osr::nn

@@ -8,6 +8,7 @@
 #include "common/vk_test.h"
 #include "nn_kernels/conv.h"
 #include "nn_test_util.h"
+#include "vk/buffer_view.h"
 
 using namespace osr;
 
@@ -21,13 +22,14 @@ struct ConvCase {
   uint32_t srcCTotal, srcC0, dstCTotal, dstC0;
   uint32_t tileH = 0, tileW = 0;
   int share = -1;
+  bool texels = true;
 };
 
 std::string describe(const ConvCase& c) {
   char buf[256];
-  std::snprintf(buf, sizeof buf, "n=%u cin=%u cout=%u width=%u kernel=%u act=%u bn=%d half=%d src=%u/%u dst=%u/%u tile=%ux%u share=%d",
+  std::snprintf(buf, sizeof buf, "n=%u cin=%u cout=%u width=%u kernel=%u act=%u bn=%d half=%d src=%u/%u dst=%u/%u tile=%ux%u share=%d texels=%d",
                 c.n, c.cin, c.cout, c.width, c.kernel, unsigned(c.act), c.bn, c.half, c.srcC0,
-                c.srcCTotal, c.dstC0, c.dstCTotal, c.tileH, c.tileW, c.share);
+                c.srcCTotal, c.dstC0, c.dstCTotal, c.tileH, c.tileW, c.share, c.texels);
   return buf;
 }
 
@@ -69,11 +71,14 @@ void runCase(const ConvCase& c, uint32_t seed) {
   cfg.tileH = c.tileH;
   cfg.tileW = c.tileW;
   cfg.shareLoads = c.share;
+  cfg.weightTexels = c.texels;
   nn::ConvPass pass(ctx, cfg);
   auto words = pass.packWeights(w);
   auto params = pass.packParams(w);
-  vk::Buffer wbuf(ctx, words.size() * 4, vk::MemoryUse::DeviceLocal, "conv weights");
+  vk::Buffer wbuf(ctx, words.size() * 4, vk::MemoryUse::DeviceLocal, "conv weights",
+                  VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT);
   wbuf.uploadVector(words);
+  vk::BufferView wview(ctx, vk::BufferRange(wbuf), pass.weightTexelFormat(), "conv weight texels");
   vk::Buffer pbuf(ctx, params.size() * 4, vk::MemoryUse::DeviceLocal, "conv params");
   pbuf.uploadVector(params);
   vk::Buffer src = test::deviceTensor(ctx, full.data, c.half, "conv src");
@@ -85,6 +90,7 @@ void runCase(const ConvCase& c, uint32_t seed) {
   a.src = {vk::BufferRange(src), c.srcCTotal, c.srcC0, c.half};
   a.dst = {vk::BufferRange(dst), c.dstCTotal, c.dstC0, c.half};
   a.weights = wbuf;
+  a.weightTexels = wview.handle();
   a.params = pbuf;
   a.maps = c.n;
   a.cin = c.cin;
@@ -147,6 +153,12 @@ TEST(Conv, WithoutLoadSharing) {
   runCase({3, 16, 32, 16, 3, nn::Activation::LeakyRelu, true, false, 16, 0, 32, 0, 0, 0, 0}, 100);
   runCase({3, 7, 8, 32, 3, nn::Activation::LeakyRelu, false, true, 7, 0, 8, 0, 0, 0, 0}, 101);
   runCase({3, 8, 3, 32, 1, nn::Activation::Relu, false, false, 8, 0, 3, 0, 0, 0, 0}, 102);
+}
+
+// Weights through the storage buffer instead of texels (devices with small texel limits).
+TEST(Conv, WeightsFromStorageBuffer) {
+  runCase({3, 16, 32, 16, 3, nn::Activation::LeakyRelu, true, false, 16, 0, 32, 0, 0, 0, -1, false}, 110);
+  runCase({3, 7, 8, 32, 3, nn::Activation::LeakyRelu, false, true, 7, 0, 8, 0, 0, 0, -1, false}, 111);
 }
 
 TEST(Conv, HalfStorage) {
