@@ -33,6 +33,7 @@ layout(constant_id = kSpecBatchNorm) const uint kBatchNorm = 0;
 layout(constant_id = kSpecSlope) const float kSlope = 0.2;
 layout(constant_id = kSpecShare) const int kShare = 0;
 layout(constant_id = kSpecWeightTexel) const uint kWeightTexel = 0;
+layout(constant_id = kSpecInTexel) const uint kInTexel = 0;
 
 layout(std430, binding = kBindingWeights) readonly buffer WeightBuf2 { uvec2 gWeights2[]; };
 layout(std430, binding = kBindingWeights) readonly buffer WeightBuf4 { uvec4 gWeights4[]; };
@@ -40,6 +41,8 @@ layout(std430, binding = kBindingParams) readonly buffer ParamBuf { float gParam
 // The same weights as RGBA32F / RGBA16F texels: lavapipe fetches texels with a straight-line
 // gather, several times cheaper than its per-lane loop for a storage-buffer load.
 layout(binding = kBindingWeightTexels) uniform samplerBuffer gWeightTexels;
+// The input view as texels of 4 consecutive pixels (used with kShare and kInTexel).
+layout(binding = kBindingInTexels) uniform samplerBuffer gInTexels;
 layout(push_constant) uniform PushBlock { ConvPush gPush; };
 
 // Weights of 4 consecutive input channels for one tap and output channel.
@@ -58,6 +61,12 @@ const int kFoot = (kTileH + 2 * kPad) * kFootW;
 const int kLanes = kShare > 0 ? kShare : 1;
 const int kLoads = (kFoot + kLanes - 1) / kLanes;  // shared loads per input channel per lane
 const int kTaps = kKernel * kKernel;
+// Texel footprint: rows of kTexW texels starting at column x0 + kTexX0 (one texel of halo
+// each side when padding).
+const int kTexX0 = kPad > 0 ? -4 : 0;
+const int kTexW = kTileW / 4 + (kPad > 0 ? 2 : 0);
+const int kTexFoot = (kTileH + 2 * kPad) * kTexW;
+const int kTexLoads = (kTexFoot + kLanes - 1) / kLanes;
 
 void main() {
   const uint tile = gl_WorkGroupID.y + gl_WorkGroupID.z * gPush.tileGroupsY;
@@ -80,6 +89,15 @@ void main() {
     offset[k] = inside ? iy * int(width) + ix : -1;
   }
 
+  // The same for texel loads: texel t = lane + k * kShare of the texel footprint.
+  int texOffset[kTexLoads];
+  [[unroll]] for (int k = 0; k < kTexLoads; ++k) {
+    const int t = int(gl_SubgroupInvocationID) + k * kLanes;
+    const int iy = y0 + t / kTexW - kPad, ix = x0 + kTexX0 + 4 * (t % kTexW);
+    const bool inside = t < kTexFoot && iy >= 0 && iy < int(height) && ix >= 0 && ix < int(width);
+    texOffset[k] = inside ? (iy * int(width) + ix) / 4 : -1;
+  }
+
   float acc[kTileH * kTileW];
   [[unroll]] for (int i = 0; i < kTileH * kTileW; ++i) acc[i] = 0.0;
 
@@ -94,7 +112,17 @@ void main() {
       // of past the view so that no NaN from foreign memory meets the zero.
       const uint chanBase = mapBase + min(g * 4 + uint(sub), gPush.cin - 1) * plane;
       float foot[kFoot];
-      if (kShare > 0) {
+      if (kShare > 0 && kInTexel != 0) {
+        vec4 mine[kTexLoads];
+        const int texBase = int(chanBase / 4);  // views and planes are 4-pixel aligned
+        [[unroll]] for (int k = 0; k < kTexLoads; ++k)
+          mine[k] = texOffset[k] >= 0 ? texelFetch(gInTexels, texBase + texOffset[k]) : vec4(0.0);
+        [[unroll]] for (int e = 0; e < kFoot; ++e) {
+          const int col = e % kFootW - kPad - kTexX0;  // column within the texel row
+          const int t = (e / kFootW) * kTexW + col / 4;
+          foot[e] = subgroupBroadcast(mine[t / kLanes][col % 4], uint(t % kLanes));
+        }
+      } else if (kShare > 0) {
         float mine[kLoads];
         [[unroll]] for (int k = 0; k < kLoads; ++k)
           mine[k] = offset[k] >= 0 ? loadIn(chanBase + uint(max(offset[k], 0))) : 0.0;

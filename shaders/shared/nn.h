@@ -14,6 +14,7 @@ OSR_CONST(uint, kBindingOut, 1);
 OSR_CONST(uint, kBindingWeights, 2);  // conv only: [cin][ks*ks][coutPadded]
 OSR_CONST(uint, kBindingParams, 3);   // conv only: fp32 bias[coutPadded], scale[..], shift[..]
 OSR_CONST(uint, kBindingWeightTexels, 4);  // conv only: the weights as an RGBA texel buffer
+OSR_CONST(uint, kBindingInTexels, 5);      // conv only: the input as RGBA texels (4 pixels each)
 
 // Specialization constant ids.
 OSR_CONST(uint, kSpecWorkgroup, 0);   // local_size_x
@@ -28,6 +29,7 @@ OSR_CONST(uint, kSpecBatchNorm, 8);   // conv: 1 applies scale/shift after the a
 OSR_CONST(uint, kSpecSlope, 9);       // conv: LeakyReLU negative slope (float)
 OSR_CONST(uint, kSpecShare, 10);      // conv: lanes sharing input loads (subgroup size), 0: none
 OSR_CONST(uint, kSpecWeightTexel, 11);  // conv: 1 reads weights through the texel binding
+OSR_CONST(uint, kSpecInTexel, 12);      // conv: 1 reads shared input loads as texels
 
 OSR_CONST(uint, kActNone, 0);
 OSR_CONST(uint, kActLeakyRelu, 1);

@@ -28,13 +28,14 @@ ConvPass::ConvPass(const vk::Context& ctx, const ConvConfig& config) : config_(c
   const uint32_t share = config.shareLoads >= 0 ? uint32_t(config.shareLoads)
                          : ctx.caps().isCpu()   ? ctx.caps().subgroupSize
                                                 : 0u;
+  inputTexels_ = config.inputTexels && share > 0;
   if (share && (workgroup_ % share || share != ctx.caps().subgroupSize))
     throw DeviceError("nn_conv: load sharing needs whole subgroups");
   pipeline_ = vk::ComputePipeline(
       ctx, shaders::Id::nn_conv,
       {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
        VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-       VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER},
+       VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER},
       sizeof(g::ConvPush),
       {vk::specUint(g::kSpecWorkgroup, workgroup_), vk::specUint(g::kSpecInHalf, config.inHalf),
        vk::specUint(g::kSpecOutHalf, config.outHalf),
@@ -44,7 +45,8 @@ ConvPass::ConvPass(const vk::Context& ctx, const ConvConfig& config) : config_(c
        vk::specUint(g::kSpecActivation, uint32_t(config.activation)),
        vk::specUint(g::kSpecBatchNorm, config.batchNorm), vk::specFloat(g::kSpecSlope, config.slope),
        vk::specUint(g::kSpecShare, share),
-       vk::specUint(g::kSpecWeightTexel, config.weightTexels)});
+       vk::specUint(g::kSpecWeightTexel, config.weightTexels),
+       vk::specUint(g::kSpecInTexel, inputTexels_)});
 }
 
 std::vector<uint32_t> ConvPass::packWeights(const ConvWeights& conv) const {
@@ -97,7 +99,10 @@ void ConvPass::record(VkCommandBuffer cmd, const Args& a) const {
   uint32_t gy, gz;
   splitGroups(tiles, gy, gz);
   push.tileGroupsY = gy;
-  pipeline_.bindDescriptors(cmd, {a.src.range, a.dst.range, a.weights, a.params, a.weightTexels}, &push);
+  if (inputTexels_ && !a.srcTexels) throw DeviceError("nn_conv: input texel view missing");
+  // Without input texels the slot still needs a valid view; the shader never reads it.
+  pipeline_.bindDescriptors(cmd, {a.src.range, a.dst.range, a.weights, a.params, a.weightTexels,
+                                  inputTexels_ ? a.srcTexels : a.weightTexels}, &push);
   pipeline_.dispatch(cmd, push.coutPadded / workgroup_, gy, gz);
   vk::computeBarrier(cmd);
 }

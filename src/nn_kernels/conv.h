@@ -22,6 +22,7 @@ struct ConvConfig {
   uint32_t tileH = 0, tileW = 0;  // 0: chosen for the device (conv.cpp); tileW % 4 == 0
   int shareLoads = -1;  // lanes sharing input loads: -1 per device (CPU: subgroup size), 0: off
   bool weightTexels = true;  // read weights through Args::weightTexels (else the buffer)
+  bool inputTexels = false;  // with load sharing: read the input through Args::srcTexels
 };
 
 class ConvPass {
@@ -32,6 +33,7 @@ class ConvPass {
     TensorView src, dst;      // src.half / dst.half must match the config
     vk::BufferRange weights;  // packWeights() words
     VkBufferView weightTexels = VK_NULL_HANDLE;  // the same range, weightTexelFormat()
+    VkBufferView srcTexels = VK_NULL_HANDLE;  // src.range as texelFormat(src.half), if inputTexels
     vk::BufferRange params;   // packParams() floats
     uint32_t maps = 0;
     uint32_t cin = 0, cout = 0;
@@ -46,6 +48,10 @@ class ConvPass {
   uint32_t tileW() const { return tileW_; }
   // Device layout of the weights (see packWeights in conv.cpp), fp32 or packed fp16.
   std::vector<uint32_t> packWeights(const ConvWeights& conv) const;
+  // RGBA texels of 4 consecutive pixels of an activation tensor.
+  static VkFormat texelFormat(bool half) {
+    return half ? VK_FORMAT_R16G16B16A16_SFLOAT : VK_FORMAT_R32G32B32A32_SFLOAT;
+  }
   VkFormat weightTexelFormat() const {
     return config_.weightHalf ? VK_FORMAT_R16G16B16A16_SFLOAT : VK_FORMAT_R32G32B32A32_SFLOAT;
   }
@@ -54,6 +60,7 @@ class ConvPass {
 
  private:
   ConvConfig config_;
+  bool inputTexels_ = false;
   uint32_t workgroup_ = 0, tileH_ = 0, tileW_ = 0;
   vk::ComputePipeline pipeline_;
 };

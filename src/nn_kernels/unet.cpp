@@ -74,13 +74,16 @@ UNet::UNet(const vk::Context& ctx, const UNetWeights& w, const UNetOptions& opti
   VkPhysicalDeviceProperties props;
   vkGetPhysicalDeviceProperties(ctx.physicalDevice(), &props);
   bool texels = !half_;
+  // Shared input loads read texels on CPU devices when a whole storage range fits a view.
+  const bool inTexels = ctx.caps().isCpu() && options.shareLoads != 0 &&
+                        ctx.caps().maxStorageBufferRange / 8 <= props.limits.maxTexelBufferElements;
   for (const ConvWeights& c : w.convs) {
     const uint64_t texelCount = uint64_t((c.cin + 3) / 4) * c.kernel * c.kernel * (c.cout + 63);
     texels = texels && texelCount <= props.limits.maxTexelBufferElements;
   }
 
   // Passes, shared between layers whose specialisation is equal.
-  std::map<std::tuple<uint32_t, uint32_t, uint32_t, int, bool, bool, bool>, size_t> passIndex;
+  std::map<std::tuple<uint32_t, uint32_t, uint32_t, int, bool, bool, bool, bool>, size_t> passIndex;
   std::vector<uint32_t> weightWords;
   std::vector<float> params;
   for (int i = 0; i < kConvCount; ++i) {
@@ -99,10 +102,13 @@ UNet::UNet(const vk::Context& ctx, const UNetWeights& w, const UNetOptions& opti
     cfg.tileW = std::min(options.tileW, cfg.width);
     cfg.shareLoads = options.shareLoads;
     cfg.weightTexels = texels;
+    // Input texels for every layer reading the arena; the caller's maps (layer 0) may lack
+    // the texel-buffer usage.
+    cfg.inputTexels = inTexels && i != 0;
     const uint32_t sub = std::max(ctx.caps().subgroupSize, 8u);
     const uint32_t wgClass = std::min((c.cout + sub - 1) / sub * sub, 64u);  // as ConvPass picks
     auto key = std::make_tuple(cfg.kernel, cfg.width, wgClass, int(cfg.activation),
-                               cfg.batchNorm, cfg.inHalf, cfg.outHalf);
+                               cfg.batchNorm, cfg.inHalf, cfg.outHalf, cfg.inputTexels);
     auto it = passIndex.find(key);
     if (it == passIndex.end()) {
       convPasses_.emplace_back(ctx, cfg);
@@ -153,7 +159,11 @@ UNet::UNet(const vk::Context& ctx, const UNetWeights& w, const UNetOptions& opti
     scratch_.push_back({kScratchTimesK[s] * k_, kScratchWidth[s], offset, b});
     offset = alignUp(offset + b);
   }
-  arena_ = vk::Buffer(ctx, offset, vk::MemoryUse::DeviceLocal, "unet activations");
+  arena_ = vk::Buffer(ctx, offset, vk::MemoryUse::DeviceLocal, "unet activations",
+                      VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT);
+  for (const Scratch& sc : inTexels ? scratch_ : std::vector<Scratch>{})
+    scratchViews_.emplace_back(ctx, vk::BufferRange(arena_, sc.offset, sc.bytes),
+                               ConvPass::texelFormat(half_), "unet activation texels");
 }
 
 TensorView UNet::view(int s, uint32_t c0) const {
@@ -199,6 +209,7 @@ void UNet::record(VkCommandBuffer cmd, const vk::Buffer& in, VkDeviceSize inOffs
         a.dst = dst;
         a.weights = vk::BufferRange(weightBuffer_, l.weightOffset, l.weightBytes);
         a.weightTexels = weightViews_[s.conv].handle();
+        if (s.src != kExternal && !scratchViews_.empty()) a.srcTexels = scratchViews_[s.src].handle();
         a.params = vk::BufferRange(paramBuffer_, l.paramOffset, l.paramBytes);
         a.maps = n;
         a.cin = l.cin;

@@ -63,6 +63,7 @@ class UNet {
   std::vector<Scratch> scratch_;
   vk::Buffer weightBuffer_, paramBuffer_, arena_;
   std::vector<vk::BufferView> weightViews_;  // per conv layer, in layers_ order
+  std::vector<vk::BufferView> scratchViews_;  // per scratch tensor, as input texels
 };
 
 }  // namespace osr::nn

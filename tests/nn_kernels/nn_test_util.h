@@ -23,7 +23,7 @@ inline nn::Tensor randomTensor(uint32_t n, uint32_t c, uint32_t h, uint32_t w, u
 
 // Device buffer holding `values` as fp32 words or packed fp16 pairs (plus 256 spare bytes).
 inline vk::Buffer deviceTensor(const vk::Context& ctx, const std::vector<float>& values, bool half,
-                               const char* name) {
+                               const char* name, VkBufferUsageFlags extraUsage = 0) {
   std::vector<uint32_t> words;
   if (half) {
     words.assign((values.size() + 1) / 2, 0);
@@ -33,7 +33,7 @@ inline vk::Buffer deviceTensor(const vk::Context& ctx, const std::vector<float>&
     words.resize(values.size());
     std::memcpy(words.data(), values.data(), values.size() * 4);
   }
-  vk::Buffer b(ctx, words.size() * 4 + 256, vk::MemoryUse::DeviceLocal, name);
+  vk::Buffer b(ctx, words.size() * 4 + 256, vk::MemoryUse::DeviceLocal, name, extraUsage);
   b.uploadVector(words);
   return b;
 }

@@ -23,13 +23,14 @@ struct ConvCase {
   uint32_t tileH = 0, tileW = 0;
   int share = -1;
   bool texels = true;
+  bool inTexels = false;
 };
 
 std::string describe(const ConvCase& c) {
   char buf[256];
-  std::snprintf(buf, sizeof buf, "n=%u cin=%u cout=%u width=%u kernel=%u act=%u bn=%d half=%d src=%u/%u dst=%u/%u tile=%ux%u share=%d texels=%d",
+  std::snprintf(buf, sizeof buf, "n=%u cin=%u cout=%u width=%u kernel=%u act=%u bn=%d half=%d src=%u/%u dst=%u/%u tile=%ux%u share=%d texels=%d in_texels=%d",
                 c.n, c.cin, c.cout, c.width, c.kernel, unsigned(c.act), c.bn, c.half, c.srcC0,
-                c.srcCTotal, c.dstC0, c.dstCTotal, c.tileH, c.tileW, c.share, c.texels);
+                c.srcCTotal, c.dstC0, c.dstCTotal, c.tileH, c.tileW, c.share, c.texels, c.inTexels);
   return buf;
 }
 
@@ -72,6 +73,7 @@ void runCase(const ConvCase& c, uint32_t seed) {
   cfg.tileW = c.tileW;
   cfg.shareLoads = c.share;
   cfg.weightTexels = c.texels;
+  cfg.inputTexels = c.inTexels;
   nn::ConvPass pass(ctx, cfg);
   auto words = pass.packWeights(w);
   auto params = pass.packParams(w);
@@ -81,7 +83,8 @@ void runCase(const ConvCase& c, uint32_t seed) {
   vk::BufferView wview(ctx, vk::BufferRange(wbuf), pass.weightTexelFormat(), "conv weight texels");
   vk::Buffer pbuf(ctx, params.size() * 4, vk::MemoryUse::DeviceLocal, "conv params");
   pbuf.uploadVector(params);
-  vk::Buffer src = test::deviceTensor(ctx, full.data, c.half, "conv src");
+  vk::Buffer src = test::deviceTensor(ctx, full.data, c.half, "conv src", VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT);
+  vk::BufferView srcView(ctx, vk::BufferRange(src), nn::ConvPass::texelFormat(c.half), "conv src texels");
   const size_t dstCount = size_t(c.n) * c.dstCTotal * c.width * c.width;
   const float sentinel = 1234.0f;  // exact in fp16 too
   vk::Buffer dst = test::deviceTensor(ctx, std::vector<float>(dstCount, sentinel), c.half, "conv dst");
@@ -91,6 +94,7 @@ void runCase(const ConvCase& c, uint32_t seed) {
   a.dst = {vk::BufferRange(dst), c.dstCTotal, c.dstC0, c.half};
   a.weights = wbuf;
   a.weightTexels = wview.handle();
+  a.srcTexels = srcView.handle();
   a.params = pbuf;
   a.maps = c.n;
   a.cin = c.cin;
@@ -159,6 +163,17 @@ TEST(Conv, WithoutLoadSharing) {
 TEST(Conv, WeightsFromStorageBuffer) {
   runCase({3, 16, 32, 16, 3, nn::Activation::LeakyRelu, true, false, 16, 0, 32, 0, 0, 0, -1, false}, 110);
   runCase({3, 7, 8, 32, 3, nn::Activation::LeakyRelu, false, true, 7, 0, 8, 0, 0, 0, -1, false}, 111);
+}
+
+// Input footprints fetched as RGBA texels and shared over the subgroup (lavapipe's path).
+TEST(Conv, InputTexels) {
+  using A = nn::Activation;
+  for (uint32_t k : {8u, 16u, 64u}) {
+    runCase({3, k, 2 * k, 16, 3, A::LeakyRelu, true, false, 2 * k, k, 4 * k, 2 * k, 0, 0, -1, true, true}, 120 + k);
+    runCase({3, 8 * k, 4 * k, 4, 3, A::LeakyRelu, false, true, 8 * k, 0, 4 * k, 0, 0, 0, -1, false, true}, 130 + k);
+    runCase({3, k, 3, 32, 1, A::Relu, false, false, k, 0, 3, 0, 0, 0, -1, true, true}, 140 + k);
+  }
+  runCase({5, 7, 5, 32, 3, A::None, true, false, 9, 2, 11, 3, 2, 16, -1, true, true}, 150);
 }
 
 TEST(Conv, HalfStorage) {
