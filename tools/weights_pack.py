@@ -214,8 +214,8 @@ def write_golden(model, directory: str, maps: int, seed: int, k: int) -> None:
 
 def main(argv: list[str] | None = None) -> int:
     parser = argparse.ArgumentParser(
-        prog="weights_pack.py", description=__doc__.split("\n\n")[0] + " See the module docstring.",
-        epilog="The byte layout is in docs/weights_format.md.")
+        prog="weights_pack.py", description=__doc__.split("\n", 2)[2],
+        formatter_class=argparse.RawDescriptionHelpFormatter)
     parser.add_argument("checkpoint", help="PyTorch state_dict or checkpoint (.pt/.pth)")
     parser.add_argument("out", help="packed weights file to write")
     parser.add_argument("--fp16", action="store_true", help="store convolution weights as fp16")

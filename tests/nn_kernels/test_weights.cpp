@@ -3,7 +3,10 @@
 // shape-mismatched files are refused with one line naming the file and the problem.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
+#include <cstdlib>
+#include <sys/wait.h>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
@@ -125,4 +128,41 @@ TEST(Weights, Crc32AndHalfConversion) {
   EXPECT_EQ(nn::floatToHalf(1.0f), 0x3C00);
   EXPECT_EQ(nn::floatToHalf(0.1f), 0x2E66);  // round to nearest
   EXPECT_EQ(nn::floatToHalf(1e6f), 0x7C00);  // overflow to inf
+}
+
+// tools/weights_pack.py refuses checkpoints that are not the U-Net, with one line and exit 2.
+TEST(Weights, PackerRejectsBadCheckpoints) {
+  const char* py = "/usr/bin/python3";
+  if (std::system((std::string(py) + " -c 'import torch' >/dev/null 2>&1").c_str()) != 0)
+    GTEST_SKIP() << "/usr/bin/python3 has no torch";
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("osr_pack_bad_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const std::string tools = std::string(OSR_SOURCE_DIR) + "/tools";
+  // Three broken state_dicts of a K=8 model: a key removed, a key added, a shape changed.
+  const std::string make =
+      std::string(py) + " -c \"import sys; sys.path.insert(0, '" + tools + "'); import unet, torch; " +
+      "d = unet.UNet(8).state_dict(); m = dict(d); del m['decoder1.2.running_var']; " +
+      "torch.save(m, '" + (dir / "missing.pt").string() + "'); e = dict(d); e['extra.weight'] = torch.zeros(1); " +
+      "torch.save(e, '" + (dir / "extra.pt").string() + "'); s = dict(d); s['encoder2.4.bias'] = torch.zeros(5); " +
+      "torch.save(s, '" + (dir / "shape.pt").string() + "')\"";
+  ASSERT_EQ(std::system(make.c_str()), 0);
+  const std::pair<const char*, const char*> cases[] = {
+      {"missing", "missing keys decoder1.2.running_var"},
+      {"extra", "unexpected keys extra.weight"},
+      {"shape", "encoder2.4.bias has shape (5,), expected (32,)"}};
+  for (auto [name, problem] : cases) {
+    const std::string ckpt = (dir / (std::string(name) + ".pt")).string();
+    const std::string err = (dir / "err.txt").string();
+    const std::string cmd = std::string(py) + " " + tools + "/weights_pack.py " + ckpt + " " +
+                            (dir / "out.osrw").string() + " 2>" + err;
+    const int status = std::system(cmd.c_str());
+    EXPECT_EQ(WEXITSTATUS(status), 2) << name;
+    std::ifstream f(err);
+    std::string all((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+    EXPECT_EQ(std::count(all.begin(), all.end(), '\n'), 1) << all;
+    EXPECT_NE(all.find(ckpt + ": "), std::string::npos) << all;
+    EXPECT_NE(all.find(problem), std::string::npos) << all;
+  }
+  fs::remove_all(dir);
 }
