@@ -1,6 +1,10 @@
 // unet: maps/s and achieved GFLOP/s of the U-Net engine for K x batch x precision, with the
 // same network in PyTorch (/usr/bin/python3, torch.set_num_threads = cores) timed in the same
 // run as the peer. Each configuration is checked against the CPU twin before it is timed.
+// Lines: bench, K, batch, precision, maps_per_s, gflops, device, cpu_ms_per_map (process CPU
+// time, all threads: comparable under load from other processes), ratio_vs_pytorch (maps/s)
+// and cpu_ratio_vs_pytorch (PyTorch CPU ms per map / ours); peer lines add peer="pytorch".
+// fp16 lines are compared with PyTorch fp32 (PyTorch has no fast fp16 CPU convolution).
 //   osr-bench unet [--k 16,64] [--batch 64,256,1024,4096] [--precision fp32,fp16]
 //                  [--no-pytorch] [--min-seconds S] [--tile HxW] [--chunk N]
 #include <chrono>
@@ -43,21 +47,27 @@ uint32_t toUint(const std::string& s, const char* flag) {
   throw InputError(std::string("unet: bad value '") + s + "' for " + flag);
 }
 
-// PyTorch's maps/s for (K, batch), or a negative value when the peer cannot run.
-double pytorchMapsPerSecond(uint32_t k, uint32_t batch, unsigned threads, double minSeconds) {
+struct PeerResult {
+  double mapsPerS = -1;  // negative: the peer could not run
+  double cpuMsPerMap = -1;
+};
+
+// PyTorch's throughput for (K, batch).
+PeerResult pytorchPeer(uint32_t k, uint32_t batch, unsigned threads, double minSeconds) {
   const std::string cmd = "/usr/bin/python3 " + std::string(OSR_SOURCE_DIR) +
                           "/tools/bench_unet_torch.py --k " + std::to_string(k) + " --batch " +
                           std::to_string(batch) + " --threads " + std::to_string(threads) +
                           " --min-seconds " + std::to_string(minSeconds) + " 2>/dev/null";
   std::unique_ptr<FILE, int (*)(FILE*)> pipe(popen(cmd.c_str(), "r"), pclose);
-  if (!pipe) return -1;
+  if (!pipe) return {};
   std::string out;
   char buf[512];
   while (std::fgets(buf, sizeof buf, pipe.get())) out += buf;
   try {
-    return nlohmann::json::parse(out).at("maps_per_s").get<double>();
+    auto j = nlohmann::json::parse(out);
+    return {j.at("maps_per_s").get<double>(), j.at("cpu_ms_per_map").get<double>()};
   } catch (const std::exception&) {
-    return -1;
+    return {};
   }
 }
 
@@ -110,7 +120,7 @@ int runUnet(const std::vector<std::string>& args) {
   constexpr size_t kInMap = 7 * 32 * 32, kOutMap = 3 * 32 * 32;
   int rc = 0;
   for (uint32_t k : ks) {
-    std::map<uint32_t, double> peer;  // batch -> PyTorch maps/s (fp32), measured once per K
+    std::map<uint32_t, PeerResult> peer;  // batch -> PyTorch fp32, measured once per K
     for (const std::string& precision : precisions) {
       const bool half = precision == "fp16";
       nn::UNetWeights w = nn::UNetWeights::random(k, 7, half);
@@ -176,8 +186,9 @@ int runUnet(const std::vector<std::string>& args) {
         }
         const double gflops = mapsPerS * net.flopsPerMap() / 1e9;
         if (pytorch && !peer.count(batch)) {
-          const double p = pytorchMapsPerSecond(k, batch, threads, minSeconds);
-          peer[batch] = p;
+          const PeerResult pr = pytorchPeer(k, batch, threads, minSeconds);
+          const double p = pr.mapsPerS;
+          peer[batch] = pr;
           if (p > 0)
             JsonLine()
                 .str("bench", "unet")
@@ -189,6 +200,7 @@ int runUnet(const std::vector<std::string>& args) {
                 .str("device", "cpu")
                 .integer("threads", threads)
                 .str("peer", "pytorch")
+                .num("cpu_ms_per_map", pr.cpuMsPerMap)
                 .print();
           else
             std::fprintf(stderr, "unet: PyTorch peer unavailable (/usr/bin/python3 with torch)\n");
@@ -204,7 +216,9 @@ int runUnet(const std::vector<std::string>& args) {
             .integer("chunk", net.chunkMaps())
             .integer("reps", reps)
             .num("cpu_ms_per_map", 1e3 * cpuSeconds / (double(batch) * reps));
-        if (peer.count(batch) && peer[batch] > 0) line.num("ratio_vs_pytorch", mapsPerS / peer[batch]);
+        if (peer.count(batch) && peer[batch].mapsPerS > 0)
+          line.num("ratio_vs_pytorch", mapsPerS / peer[batch].mapsPerS)
+              .num("cpu_ratio_vs_pytorch", peer[batch].cpuMsPerMap / (1e3 * cpuSeconds / (double(batch) * reps)));
         line.print();
       }
     }

@@ -3,8 +3,8 @@
 
 usage: bench_unet_torch.py --k K --batch N --threads T [--min-seconds S] [--chunk C]
 
-Prints one JSON object: {"maps_per_s": ..., "seconds": ..., "reps": ..., "torch": version,
-"threads": T}. Batches above --chunk maps run as consecutive chunks, as the Vulkan engine does,
+Prints one JSON object: {"maps_per_s": ..., "seconds": ..., "reps": ...,
+"cpu_ms_per_map": process CPU time per map, "torch": version, "threads": T}. Batches above --chunk maps run as consecutive chunks, as the Vulkan engine does,
 which bounds memory at K=64 (a 4096-map batch would otherwise hold ~8 GB of activations).
 """
 from __future__ import annotations
@@ -39,14 +39,16 @@ def main() -> int:
             model(x[first:first + args.chunk])
 
     run()  # warm-up: allocator, oneDNN primitive caches
-    reps, start = 0, time.perf_counter()
+    reps, start, cpu_start = 0, time.perf_counter(), time.process_time()
     while True:
         run()
         reps += 1
         elapsed = time.perf_counter() - start
         if elapsed >= args.min_seconds:
             break
+    cpu = time.process_time() - cpu_start
     print(json.dumps({"maps_per_s": args.batch * reps / elapsed, "seconds": elapsed, "reps": reps,
+                      "cpu_ms_per_map": 1e3 * cpu / (args.batch * reps),
                       "torch": torch.__version__, "threads": torch.get_num_threads()}))
     return 0
 
