@@ -236,7 +236,7 @@ UNetWeights UNetWeights::load(const std::string& path) {
       fail(path, "architecture '" + header["architecture"].get<std::string>() + "', expected '" +
                      kArchitecture + "'");
     w.k = header.at("base_width").get<uint32_t>();
-    if (w.k == 0 || w.k % 2 || w.k > 1024) fail(path, "base width K=" + std::to_string(w.k) + " is not a positive even number <= 1024");
+    if (w.k == 0 || w.k > 1024) fail(path, "base width K=" + std::to_string(w.k) + " is not in 1..1024");
     if (header.at("map_size").get<uint32_t>() != kMapSize)
       fail(path, "map size " + header["map_size"].dump() + ", expected " + std::to_string(kMapSize));
     w.halfStorage = header.at("dtype").get<std::string>() == "f16";

@@ -57,6 +57,7 @@ void compareWithCpu(uint32_t k, uint32_t n, bool half, double tol) {
 
 TEST(UNet, RandomWeightsK16MatchesCpu) { compareWithCpu(16, 3, false, 1e-4); }
 TEST(UNet, RandomWeightsK64MatchesCpu) { compareWithCpu(64, 1, false, 1e-4); }
+TEST(UNet, OddBaseWidthMatchesCpu) { compareWithCpu(5, 3, false, 1e-4); }
 
 // fp16 storage of weights and activations, fp32 arithmetic: stated bound 1e-2 relative
 // (each of 15 layers rounds its output to 2^-11 relative; measured about 2e-3).
