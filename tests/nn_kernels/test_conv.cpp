@@ -3,14 +3,21 @@
 // reading and writing channel slices (the skip concatenations), fp32 and packed fp16.
 #include <gtest/gtest.h>
 
+#include <cstddef>
 #include <cstdio>
 
 #include "common/vk_test.h"
 #include "nn_kernels/conv.h"
+#include "shaders/shared/nn.h"
 #include "nn_test_util.h"
 #include "vk/buffer_view.h"
 
 using namespace osr;
+
+// shaders/shared/nn.h is read by GLSL with std430 push-constant layout: no implicit padding.
+static_assert(sizeof(gpu::nn::View) == 16);
+static_assert(sizeof(gpu::nn::ConvPush) == 72 && offsetof(gpu::nn::ConvPush, maps) == 32);
+static_assert(sizeof(gpu::nn::PoolPush) == 64 && offsetof(gpu::nn::PoolPush, maps) == 32);
 
 namespace {
 
