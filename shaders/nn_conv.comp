@@ -13,10 +13,12 @@
 // whole workgroup, accumulated in registers; per input channel it needs the tile's footprint
 // (tile plus padding) of that channel, the same for every lane. On GPUs (kShare = 0) each lane
 // reads the footprint itself: the addresses are uniform, so the loads are broadcasts. On
-// lavapipe every storage-buffer access is a loop over the SIMD lanes, so uniform loads cost 8x;
-// there (kShare = subgroup size) the lanes load different footprint elements and exchange them
-// with subgroupBroadcast, one load instruction per kShare elements. No shared memory, no
-// barriers.
+// lavapipe (Mesa 22) every storage-buffer access is a loop over the SIMD lanes with a branch
+// per lane and component, so uniform loads cost 8x; there (kShare = subgroup size) the lanes
+// load different footprint elements and exchange them with subgroupBroadcast, and with
+// kInTexel each lane fetches a whole RGBA texel (4 pixels) through a texel buffer, which
+// lavapipe compiles to a straight-line gather. fp32 weights come through a texel buffer for
+// the same reason (kWeightTexel). No shared memory, no barriers.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_EXT_control_flow_attributes : require
 #extension GL_KHR_shader_subgroup_basic : require
