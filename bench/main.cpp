@@ -18,6 +18,7 @@ const Benchmark kBenchmarks[] = {
     {"fill", osr::bench::runFill},
     {"bvh", osr::bench::runBvh},
     {"trace", osr::bench::runTrace},
+    {"unet", osr::bench::runUnet},
 };
 }  // namespace
 

@@ -10,5 +10,7 @@ namespace osr::app {
 int runRender(const std::vector<std::string>& args);
 // osr-vk --list-devices
 int runListDevices(const std::vector<std::string>& args);
+// osr-vk unet --weights FILE --in maps.f32 --out pred.f32
+int runUnet(const std::vector<std::string>& args);
 
 }  // namespace osr::app

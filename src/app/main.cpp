@@ -13,6 +13,7 @@ namespace {
 constexpr const char* kUsage =
     "usage: osr-vk [options] scene.gltf|scene.glb\n"
     "       osr-vk --list-devices\n"
+    "       osr-vk unet --weights FILE --in maps.f32 --out pred.f32 [--precision fp32|fp16]\n"
     "\n"
     "render options:\n"
     "  --offline out.exr     render without a window and write a multi-layer OpenEXR\n"
@@ -45,6 +46,7 @@ int main(int argc, char** argv) {
     }
     static const Command kCommands[] = {
         {"--list-devices", osr::app::runListDevices},
+        {"unet", osr::app::runUnet},
     };
     for (const Command& c : kCommands)
       if (args[0] == c.name) return c.run({args.begin() + 1, args.end()});

@@ -7,7 +7,15 @@ namespace osr::vk {
 
 ComputePipeline::ComputePipeline(const Context& ctx, shaders::Id shader, uint32_t bindingCount,
                                  uint32_t pushBytes, const std::vector<SpecConstant>& spec)
-    : ctx_(&ctx), bindingCount_(bindingCount), pushBytes_(pushBytes) {
+    : ComputePipeline(ctx, shader,
+                      std::vector<VkDescriptorType>(bindingCount, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER),
+                      pushBytes, spec) {}
+
+ComputePipeline::ComputePipeline(const Context& ctx, shaders::Id shader,
+                                 std::vector<VkDescriptorType> types, uint32_t pushBytes,
+                                 const std::vector<SpecConstant>& spec)
+    : ctx_(&ctx), bindingCount_(uint32_t(types.size())), pushBytes_(pushBytes), types_(std::move(types)) {
+  const uint32_t bindingCount = bindingCount_;
   const shaders::Module& m = shaders::module(shader);
   name_ = m.name;
   VkDevice dev = ctx.device();
@@ -21,7 +29,7 @@ ComputePipeline::ComputePipeline(const Context& ctx, shaders::Id shader, uint32_
   std::vector<VkDescriptorSetLayoutBinding> bindings(bindingCount);
   for (uint32_t i = 0; i < bindingCount; ++i) {
     bindings[i].binding = i;
-    bindings[i].descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+    bindings[i].descriptorType = types_[i];
     bindings[i].descriptorCount = 1;
     bindings[i].stageFlags = VK_SHADER_STAGE_COMPUTE_BIT;
   }
@@ -69,6 +77,7 @@ ComputePipeline& ComputePipeline::operator=(ComputePipeline&& o) noexcept {
     name_ = o.name_;
     bindingCount_ = o.bindingCount_;
     pushBytes_ = o.pushBytes_;
+    types_ = std::move(o.types_);
     module_ = o.module_;
     setLayout_ = o.setLayout_;
     layout_ = o.layout_;
@@ -151,6 +160,46 @@ void ComputePipeline::dispatch(VkCommandBuffer cmd, uint32_t x, uint32_t y, uint
 void ComputePipeline::dispatchIndirect(VkCommandBuffer cmd, const Buffer& args,
                                        VkDeviceSize offset) const {
   vkCmdDispatchIndirect(cmd, args.handle(), offset);
+}
+
+
+void ComputePipeline::bindDescriptors(VkCommandBuffer cmd, std::initializer_list<Descriptor> slots,
+                                      const void* push) const {
+  if (slots.size() != bindingCount_)
+    throw DeviceError(std::string(name_) + ": " + std::to_string(slots.size()) +
+                      " descriptors bound, pipeline declares " + std::to_string(bindingCount_));
+  std::vector<VkDescriptorBufferInfo> infos(slots.size());
+  std::vector<VkBufferView> views(slots.size());
+  std::vector<VkWriteDescriptorSet> writes;
+  uint32_t slot = 0;
+  for (const Descriptor& d : slots) {
+    VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
+    w.dstBinding = slot;
+    w.descriptorCount = 1;
+    w.descriptorType = types_[slot];
+    if (types_[slot] == VK_DESCRIPTOR_TYPE_STORAGE_BUFFER) {
+      const BufferRange& r = d.buffer;
+      if (!r.buffer || !r.buffer->valid())
+        throw DeviceError(std::string(name_) + ": slot " + std::to_string(slot) + " has no buffer");
+      if (r.bytes() > ctx_->caps().maxStorageBufferRange)
+        throw DeviceError(std::string(name_) + ": buffer '" + r.buffer->name() +
+                          "' range exceeds the device's maxStorageBufferRange");
+      infos[slot] = {r.buffer->handle(), r.offset, r.bytes()};
+      w.pBufferInfo = &infos[slot];
+    } else {
+      if (!d.texel)
+        throw DeviceError(std::string(name_) + ": slot " + std::to_string(slot) + " has no texel view");
+      views[slot] = d.texel;
+      w.pTexelBufferView = &views[slot];
+    }
+    writes.push_back(w);
+    ++slot;
+  }
+  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_);
+  ctx_->cmdPushDescriptorSet(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_, 0,
+                             static_cast<uint32_t>(writes.size()), writes.data());
+  if (pushBytes_ && push)
+    vkCmdPushConstants(cmd, layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, pushBytes_, push);
 }
 
 }  // namespace osr::vk

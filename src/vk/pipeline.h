@@ -34,6 +34,10 @@ class ComputePipeline {
   // bindingCount storage buffers; pushBytes of push constants (0 for none).
   ComputePipeline(const Context& ctx, shaders::Id shader, uint32_t bindingCount,
                   uint32_t pushBytes, const std::vector<SpecConstant>& spec = {});
+  // Bindings of the given types (storage buffers, uniform texel buffers), in slot order;
+  // bound with bindDescriptors().
+  ComputePipeline(const Context& ctx, shaders::Id shader, std::vector<VkDescriptorType> types,
+                  uint32_t pushBytes, const std::vector<SpecConstant>& spec = {});
   ~ComputePipeline();
   ComputePipeline(ComputePipeline&& other) noexcept;
   ComputePipeline& operator=(ComputePipeline&& other) noexcept;
@@ -68,6 +72,17 @@ class ComputePipeline {
   void dispatch(VkCommandBuffer cmd, uint32_t x, uint32_t y = 1, uint32_t z = 1) const;
   void dispatchIndirect(VkCommandBuffer cmd, const Buffer& args, VkDeviceSize offset) const;
 
+  // One slot for bindDescriptors(): a buffer range, or a texel view for texel-buffer slots.
+  struct Descriptor {
+    BufferRange buffer;
+    VkBufferView texel = VK_NULL_HANDLE;
+    Descriptor(const BufferRange& b) : buffer(b) {}  // NOLINT: buffers convert implicitly
+    Descriptor(VkBufferView view) : texel(view) {}   // NOLINT
+  };
+  // bind() for pipelines made with descriptor types; push must match pushBytes.
+  void bindDescriptors(VkCommandBuffer cmd, std::initializer_list<Descriptor> slots,
+                       const void* push) const;
+
  private:
   void checkPushSize(size_t bytes) const;
   void release();
@@ -75,6 +90,7 @@ class ComputePipeline {
   const char* name_ = "";
   uint32_t bindingCount_ = 0;
   uint32_t pushBytes_ = 0;
+  std::vector<VkDescriptorType> types_;
   VkShaderModule module_ = VK_NULL_HANDLE;
   VkDescriptorSetLayout setLayout_ = VK_NULL_HANDLE;
   VkPipelineLayout layout_ = VK_NULL_HANDLE;

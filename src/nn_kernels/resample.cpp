@@ -1,0 +1,40 @@
+#include "nn_kernels/resample.h"
+
+#include "common/error.h"
+#include "shaders/shared/nn.h"
+
+namespace osr::nn {
+
+namespace g = gpu::nn;
+
+ResamplePass::ResamplePass(const vk::Context& ctx, Resample kind, bool inHalf, bool outHalf)
+    : kind_(kind), inHalf_(inHalf), outHalf_(outHalf) {
+  pipeline_ = vk::ComputePipeline(
+      ctx, kind == Resample::MaxPool2x2 ? shaders::Id::nn_maxpool : shaders::Id::nn_upsample, 2,
+      sizeof(g::PoolPush),
+      {vk::specUint(g::kSpecWorkgroup, g::kElementwiseWorkgroup),
+       vk::specUint(g::kSpecInHalf, inHalf), vk::specUint(g::kSpecOutHalf, outHalf)});
+}
+
+void ResamplePass::record(VkCommandBuffer cmd, const Args& a) const {
+  if (a.src.half != inHalf_ || a.dst.half != outHalf_)
+    throw DeviceError("nn resample: arguments do not match the pass's specialisation");
+  const uint32_t outW = kind_ == Resample::MaxPool2x2 ? a.inWidth / 2 : a.inWidth * 2;
+  g::PoolPush push{};
+  push.src = {a.src.cTotal, a.src.c0, 0, 0};
+  push.dst = {a.dst.cTotal, a.dst.c0, 0, 0};
+  push.maps = a.maps;
+  push.channels = a.channels;
+  push.inHeight = a.inWidth;
+  push.inWidth = a.inWidth;
+  const uint64_t pairs = uint64_t(a.maps) * a.channels * outW * outW / 2;
+  push.pairCount = uint32_t(pairs);
+  uint32_t gx, gy;
+  splitGroups((pairs + g::kElementwiseWorkgroup - 1) / g::kElementwiseWorkgroup, gx, gy);
+  push.groupsX = gx;
+  pipeline_.bind(cmd, {a.src.range, a.dst.range}, push);
+  pipeline_.dispatch(cmd, gx, gy);
+  vk::computeBarrier(cmd);
+}
+
+}  // namespace osr::nn

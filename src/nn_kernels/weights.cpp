@@ -1,0 +1,281 @@
+#include "nn_kernels/weights.h"
+
+#include <array>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <nlohmann/json.hpp>
+#include <random>
+
+#include "common/error.h"
+#include "nn_kernels/weights_format.h"
+
+namespace osr::nn {
+
+using A = Activation;
+const ConvSpec kConvSpecs[kConvCount] = {
+    {"encoder0.0", nullptr, 0, 1, 3, false, A::LeakyRelu},
+    {"encoder0.2", nullptr, 1, 1, 3, false, A::LeakyRelu},
+    {"encoder1.1", "encoder1.3", 1, 2, 3, false, A::LeakyRelu},
+    {"encoder1.4", nullptr, 2, 2, 3, false, A::LeakyRelu},
+    {"encoder2.1", "encoder2.3", 2, 4, 3, false, A::LeakyRelu},
+    {"encoder2.4", nullptr, 4, 4, 3, false, A::LeakyRelu},
+    {"encoder3.1", "encoder3.3", 4, 8, 3, false, A::LeakyRelu},
+    {"encoder3.4", nullptr, 8, 4, 3, false, A::LeakyRelu},
+    {"decoder0.0", "decoder0.2", 8, 4, 3, true, A::LeakyRelu},
+    {"decoder0.3", nullptr, 4, 2, 3, true, A::LeakyRelu},
+    {"decoder1.0", "decoder1.2", 4, 2, 3, true, A::LeakyRelu},
+    {"decoder1.3", nullptr, 2, 1, 3, true, A::LeakyRelu},
+    {"decoder2.0", nullptr, 2, 1, 3, true, A::LeakyRelu},
+    {"decoder2.2", nullptr, 1, 1, 3, true, A::LeakyRelu},
+    {"decoder2.4", nullptr, 1, 0, 1, false, A::Relu},
+};
+
+namespace {
+
+// Resolution (width) at which each conv of kConvSpecs runs.
+constexpr uint32_t kConvWidth[kConvCount] = {32, 32, 16, 16, 8, 8, 4, 4, 8, 8, 16, 16, 32, 32, 32};
+
+uint32_t channels(uint32_t timesK, uint32_t k, uint32_t whenZero) {
+  return timesK ? timesK * k : whenZero;
+}
+
+const char* activationName(A a) {
+  return a == A::LeakyRelu ? "leaky_relu" : a == A::Relu ? "relu" : "none";
+}
+
+}  // namespace
+
+uint32_t crc32(const uint8_t* data, size_t bytes) {
+  static const std::array<uint32_t, 256> kTable = [] {
+    std::array<uint32_t, 256> t{};
+    for (uint32_t i = 0; i < 256; ++i) {
+      uint32_t c = i;
+      for (int b = 0; b < 8; ++b) c = (c & 1) ? 0xEDB88320u ^ (c >> 1) : c >> 1;
+      t[i] = c;
+    }
+    return t;
+  }();
+  uint32_t c = 0xFFFFFFFFu;
+  for (size_t i = 0; i < bytes; ++i) c = kTable[(c ^ data[i]) & 0xFF] ^ (c >> 8);
+  return c ^ 0xFFFFFFFFu;
+}
+
+uint16_t floatToHalf(float f) {
+  // Round to nearest even, with subnormals, inf and NaN (IEEE 754 binary16).
+  uint32_t x;
+  std::memcpy(&x, &f, 4);
+  uint32_t sign = (x >> 16) & 0x8000u;
+  uint32_t absx = x & 0x7FFFFFFFu;
+  if (absx >= 0x7F800000u) return uint16_t(sign | 0x7C00u | (absx > 0x7F800000u ? 0x200u : 0));
+  if (absx >= 0x477FF000u) return uint16_t(sign | 0x7C00u);  // rounds to >= 65520: inf
+  if (absx < 0x38800000u) {  // below the smallest normal half: subnormal or zero
+    float a;
+    std::memcpy(&a, &absx, 4);
+    return uint16_t(sign | uint32_t(std::nearbyint(a * 16777216.0f)));  // a / 2^-24
+  }
+  uint32_t mant = absx & 0x7FFFFFu;
+  uint32_t exp = (absx >> 23) - 112;
+  uint32_t h = (exp << 10) | (mant >> 13);
+  uint32_t rem = mant & 0x1FFFu;
+  if (rem > 0x1000u || (rem == 0x1000u && (h & 1))) ++h;
+  return uint16_t(sign | h);
+}
+
+float halfToFloat(uint16_t h) {
+  uint32_t sign = uint32_t(h & 0x8000u) << 16;
+  uint32_t exp = (h >> 10) & 0x1F, mant = h & 0x3FFu;
+  float v;
+  if (exp == 0) {
+    v = std::ldexp(float(mant), -24);
+  } else if (exp == 31) {
+    uint32_t bits = 0x7F800000u | (mant << 13);
+    std::memcpy(&v, &bits, 4);
+  } else {
+    uint32_t bits = ((exp + 112) << 23) | (mant << 13);
+    std::memcpy(&v, &bits, 4);
+  }
+  uint32_t bits;
+  std::memcpy(&bits, &v, 4);
+  bits |= sign;
+  std::memcpy(&v, &bits, 4);
+  return v;
+}
+
+UNetWeights UNetWeights::random(uint32_t k, uint32_t seed, bool half) {
+  UNetWeights w;
+  w.k = k;
+  w.halfStorage = half;
+  w.source = "random(K=" + std::to_string(k) + ")";
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> uni(-1.0f, 1.0f);
+  auto round = [&](float v) { return half ? halfToFloat(floatToHalf(v)) : v; };
+  for (const ConvSpec& s : kConvSpecs) {
+    ConvWeights c;
+    c.cin = channels(s.cinTimesK, k, kInChannels);
+    c.cout = channels(s.coutTimesK, k, kOutChannels);
+    c.kernel = s.kernel;
+    c.activation = s.activation;
+    c.batchNorm = s.batchNorm != nullptr;
+    // Uniform with variance 2 / fan_in keeps activations O(1) through the 15 layers.
+    float bound = std::sqrt(6.0f / float(c.cin * c.kernel * c.kernel));
+    c.weight.resize(size_t(c.cout) * c.cin * c.kernel * c.kernel);
+    for (float& v : c.weight) v = round(bound * uni(rng));
+    c.bias.resize(c.cout);
+    for (float& v : c.bias) v = 0.1f * uni(rng);
+    c.scale.assign(c.cout, 1.0f);
+    c.shift.assign(c.cout, 0.0f);
+    if (c.batchNorm)
+      for (uint32_t i = 0; i < c.cout; ++i) {
+        c.scale[i] = 1.0f + 0.3f * uni(rng);
+        c.shift[i] = 0.2f * uni(rng);
+      }
+    w.convs.push_back(std::move(c));
+  }
+  return w;
+}
+
+double UNetWeights::flopsPerMap() const {
+  double flops = 0;
+  for (int i = 0; i < kConvCount; ++i) {
+    const ConvWeights& c = convs[i];
+    flops += 2.0 * c.cin * c.cout * c.kernel * c.kernel * kConvWidth[i] * kConvWidth[i];
+  }
+  return flops;
+}
+
+namespace {
+
+template <class T>
+T readLe(const std::vector<uint8_t>& bytes, size_t offset) {
+  T v;
+  std::memcpy(&v, bytes.data() + offset, sizeof(T));  // the format and every host are little-endian
+  return v;
+}
+
+[[noreturn]] void fail(const std::string& path, const std::string& problem) {
+  throw InputError(path + ": " + problem);
+}
+
+// Reads tensor `key` of layer `layer` with the expected shape into `out` as floats.
+void readTensor(const std::string& path, const std::vector<uint8_t>& file, uint64_t dataOffset,
+                uint64_t dataBytes, const nlohmann::json& layer, const char* key,
+                const std::vector<uint64_t>& shape, std::vector<float>& out) {
+  const std::string where = layer.value("name", std::string("?")) + "." + key;
+  if (!layer.contains("tensors") || !layer["tensors"].contains(key))
+    fail(path, "layer tensor " + where + " is missing");
+  const nlohmann::json& t = layer["tensors"][key];
+  std::vector<uint64_t> got = t.at("shape").get<std::vector<uint64_t>>();
+  if (got != shape) {
+    std::string g, e;
+    for (auto v : got) g += (g.empty() ? "" : "x") + std::to_string(v);
+    for (auto v : shape) e += (e.empty() ? "" : "x") + std::to_string(v);
+    fail(path, "tensor " + where + " has shape " + g + ", expected " + e);
+  }
+  uint64_t count = 1;
+  for (auto v : shape) count *= v;
+  const std::string dtype = t.at("dtype").get<std::string>();
+  const uint64_t elem = dtype == "f32" ? 4 : dtype == "f16" ? 2 : 0;
+  if (!elem) fail(path, "tensor " + where + " has unknown dtype '" + dtype + "'");
+  const uint64_t offset = t.at("offset").get<uint64_t>(), bytes = t.at("bytes").get<uint64_t>();
+  if (bytes != count * elem) fail(path, "tensor " + where + " byte size does not match its shape");
+  if (offset % kDataAlignment) fail(path, "tensor " + where + " is not aligned");
+  if (offset > dataBytes || bytes > dataBytes - offset)
+    fail(path, "tensor " + where + " lies outside the data section");
+  const uint8_t* p = file.data() + dataOffset + offset;
+  out.resize(count);
+  for (uint64_t i = 0; i < count; ++i) {
+    if (elem == 4) {
+      std::memcpy(&out[i], p + 4 * i, 4);
+    } else {
+      uint16_t h;
+      std::memcpy(&h, p + 2 * i, 2);
+      out[i] = halfToFloat(h);
+    }
+  }
+}
+
+}  // namespace
+
+UNetWeights UNetWeights::load(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) fail(path, "cannot open weights file");
+  std::vector<uint8_t> file((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (file.size() < kPrefixBytes) fail(path, "truncated: " + std::to_string(file.size()) + " bytes");
+  if (std::memcmp(file.data(), kWeightsMagic, 8) != 0)
+    fail(path, "not a packed U-Net weights file (bad magic)");
+  const uint32_t version = readLe<uint32_t>(file, kOffsetVersion);
+  if (version != kWeightsVersion)
+    fail(path, "weights format version " + std::to_string(version) + ", this build reads " +
+                   std::to_string(kWeightsVersion));
+  const uint64_t headerBytes = readLe<uint64_t>(file, kOffsetHeaderBytes);
+  const uint64_t dataOffset = readLe<uint64_t>(file, kOffsetDataOffset);
+  const uint64_t dataBytes = readLe<uint64_t>(file, kOffsetDataBytes);
+  if (dataOffset < kPrefixBytes + headerBytes || dataOffset % kDataAlignment ||
+      dataOffset > (1ull << 40) || dataBytes > (1ull << 40))
+    fail(path, "corrupt prefix (header/data offsets)");
+  if (file.size() < dataOffset + dataBytes)
+    fail(path, "truncated: " + std::to_string(file.size()) + " bytes, expected " +
+                   std::to_string(dataOffset + dataBytes));
+  if (file.size() > dataOffset + dataBytes) fail(path, "trailing bytes after the data section");
+  const uint32_t stored = readLe<uint32_t>(file, kOffsetChecksum);
+  const uint32_t actual = crc32(file.data() + kPrefixBytes, file.size() - kPrefixBytes);
+  if (stored != actual) fail(path, "checksum mismatch (file corrupted)");
+
+  nlohmann::json header;
+  try {
+    header = nlohmann::json::parse(file.begin() + kPrefixBytes,
+                                   file.begin() + kPrefixBytes + headerBytes);
+  } catch (const std::exception& e) {
+    fail(path, std::string("header is not valid JSON: ") + e.what());
+  }
+  UNetWeights w;
+  w.source = path;
+  try {
+    if (header.at("architecture").get<std::string>() != kArchitecture)
+      fail(path, "architecture '" + header["architecture"].get<std::string>() + "', expected '" +
+                     kArchitecture + "'");
+    w.k = header.at("base_width").get<uint32_t>();
+    if (w.k == 0 || w.k > 1024) fail(path, "base width K=" + std::to_string(w.k) + " is not in 1..1024");
+    if (header.at("map_size").get<uint32_t>() != kMapSize)
+      fail(path, "map size " + header["map_size"].dump() + ", expected " + std::to_string(kMapSize));
+    w.halfStorage = header.at("dtype").get<std::string>() == "f16";
+    const nlohmann::json& layers = header.at("layers");
+    if (!layers.is_array() || layers.size() != kConvCount)
+      fail(path, "layer table has " + std::to_string(layers.size()) + " layers, expected " +
+                     std::to_string(kConvCount));
+    for (int i = 0; i < kConvCount; ++i) {
+      const ConvSpec& s = kConvSpecs[i];
+      const nlohmann::json& l = layers[i];
+      if (l.at("name").get<std::string>() != s.name)
+        fail(path, "layer " + std::to_string(i) + " is '" + l["name"].get<std::string>() +
+                       "', expected '" + s.name + "'");
+      ConvWeights c;
+      c.cin = channels(s.cinTimesK, w.k, kInChannels);
+      c.cout = channels(s.coutTimesK, w.k, kOutChannels);
+      c.kernel = s.kernel;
+      c.activation = s.activation;
+      c.batchNorm = s.batchNorm != nullptr;
+      if (l.at("activation").get<std::string>() != activationName(s.activation))
+        fail(path, std::string("layer ") + s.name + " has activation " + l["activation"].dump());
+      c.slope = l.value("slope", 0.2f);
+      if (l.at("batchnorm").get<bool>() != c.batchNorm)
+        fail(path, std::string("layer ") + s.name + " BatchNorm presence does not match");
+      readTensor(path, file, dataOffset, dataBytes, l, "weight", {c.cout, c.cin, c.kernel, c.kernel}, c.weight);
+      readTensor(path, file, dataOffset, dataBytes, l, "bias", {c.cout}, c.bias);
+      if (c.batchNorm) {
+        readTensor(path, file, dataOffset, dataBytes, l, "bn_scale", {c.cout}, c.scale);
+        readTensor(path, file, dataOffset, dataBytes, l, "bn_shift", {c.cout}, c.shift);
+      } else {
+        c.scale.assign(c.cout, 1.0f);
+        c.shift.assign(c.cout, 0.0f);
+      }
+      w.convs.push_back(std::move(c));
+    }
+  } catch (const nlohmann::json::exception& e) {
+    fail(path, std::string("malformed header: ") + e.what());
+  }
+  return w;
+}
+
+}  // namespace osr::nn

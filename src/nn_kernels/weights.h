@@ -1,0 +1,59 @@
+// U-Net weights in memory: the layer table of the seed's network for base width K (the graph
+// the engine runs) and the loader of packed files (weights_format.h). Values are held as
+// float; a file stored in fp16 keeps `halfStorage`, and since fp16 -> float -> fp16 is exact
+// the device copy is bit-identical to the file.
+#pragma once
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace osr::nn {
+
+enum class Activation : uint32_t { None = 0, LeakyRelu = 1, Relu = 2 };
+
+// One convolution of the network and the fused epilogue of DESIGN.md "Network".
+struct ConvSpec {
+  const char* name;       // PyTorch state_dict prefix of the conv, e.g. "decoder1.0"
+  const char* batchNorm;  // prefix of the BatchNorm after its activation, or nullptr
+  uint32_t cinTimesK;     // input channels = cinTimesK * K, or kInChannels when 0
+  uint32_t coutTimesK;    // output channels = coutTimesK * K, or kOutChannels when 0
+  uint32_t kernel;        // 3 or 1
+  bool transposed;        // ConvTranspose2d in PyTorch (the packer has flipped it)
+  Activation activation;
+};
+
+// The seed's U-Net (thesis Appendix B) in execution order.
+inline constexpr int kConvCount = 15;
+extern const ConvSpec kConvSpecs[kConvCount];
+
+struct ConvWeights {
+  uint32_t cin = 0, cout = 0, kernel = 3;
+  Activation activation = Activation::LeakyRelu;
+  float slope = 0.2f;
+  bool batchNorm = false;
+  std::vector<float> weight;  // [cout][cin][kernel][kernel], as a plain (not transposed) conv
+  std::vector<float> bias;    // [cout]
+  std::vector<float> scale;   // [cout], 1 without BatchNorm
+  std::vector<float> shift;   // [cout], 0 without BatchNorm
+};
+
+struct UNetWeights {
+  uint32_t k = 0;
+  bool halfStorage = false;
+  std::string source;  // file name, for messages
+  std::vector<ConvWeights> convs;  // kConvSpecs order
+
+  // Random weights (He-like scale, BatchNorm scale near 1) for tests and benchmarks. With
+  // `half` the values are rounded to fp16 so device and CPU see the same numbers.
+  static UNetWeights random(uint32_t k, uint32_t seed, bool half = false);
+  // Throws InputError "<path>: <problem>" on any mismatch with weights_format.h.
+  static UNetWeights load(const std::string& path);
+  // Floating-point operations of one 32x32 map (2 per multiply-add).
+  double flopsPerMap() const;
+};
+
+uint32_t crc32(const uint8_t* data, size_t bytes);
+uint16_t floatToHalf(float f);
+float halfToFloat(uint16_t h);
+
+}  // namespace osr::nn

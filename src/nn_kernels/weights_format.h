@@ -1,0 +1,33 @@
+// The packed U-Net weights file, byte level (docs/weights_format.md describes it in prose).
+// This header is the format's only definition: tools/weights_pack.py parses its
+// `inline constexpr` lines (name = integer or string literal), so do not add other syntax to
+// those lines.
+//
+//   offset  size  field (little-endian)
+//   0       8     kWeightsMagic (ASCII, no terminator)
+//   8       4     u32 version = kWeightsVersion
+//   12      4     u32 CRC-32 (zlib polynomial) of every byte from kPrefixBytes to the end
+//   16      8     u64 header bytes: UTF-8 JSON at offset kPrefixBytes
+//   24      8     u64 data offset (multiple of kDataAlignment, after the header)
+//   32      8     u64 data bytes (file size = data offset + data bytes)
+//   40            JSON header, zero padding, tensor data (each tensor kDataAlignment-aligned)
+#pragma once
+#include <cstdint>
+
+namespace osr::nn {
+
+inline constexpr char kWeightsMagic[] = "OSRUNETW";
+inline constexpr uint32_t kWeightsVersion = 1;
+inline constexpr uint32_t kOffsetVersion = 8;
+inline constexpr uint32_t kOffsetChecksum = 12;
+inline constexpr uint32_t kOffsetHeaderBytes = 16;
+inline constexpr uint32_t kOffsetDataOffset = 24;
+inline constexpr uint32_t kOffsetDataBytes = 32;
+inline constexpr uint32_t kPrefixBytes = 40;
+inline constexpr uint32_t kDataAlignment = 64;
+inline constexpr char kArchitecture[] = "osr_unet_v1";
+inline constexpr uint32_t kMapSize = 32;
+inline constexpr uint32_t kInChannels = 7;
+inline constexpr uint32_t kOutChannels = 3;
+
+}  // namespace osr::nn

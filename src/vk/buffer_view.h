@@ -1,0 +1,29 @@
+// A typed view of a buffer range (VkBufferView), for texel-buffer bindings: on CPU Vulkan a
+// texel fetch is a straight-line gather, much cheaper than a per-lane storage-buffer load.
+#pragma once
+#include <vulkan/vulkan.h>
+
+#include <string>
+
+#include "vk/buffer.h"
+
+namespace osr::vk {
+
+class BufferView {
+ public:
+  BufferView() = default;
+  // `range` must be aligned to minTexelBufferOffsetAlignment and hold whole texels.
+  BufferView(const Context& ctx, const BufferRange& range, VkFormat format, const std::string& name);
+  ~BufferView();
+  BufferView(BufferView&& other) noexcept;
+  BufferView& operator=(BufferView&& other) noexcept;
+  BufferView(const BufferView&) = delete;
+  BufferView& operator=(const BufferView&) = delete;
+  VkBufferView handle() const { return view_; }
+
+ private:
+  const Context* ctx_ = nullptr;
+  VkBufferView view_ = VK_NULL_HANDLE;
+};
+
+}  // namespace osr::vk

@@ -1,0 +1,168 @@
+// The packed weights loader: the committed file (made by tools/weights_pack.py) loads with
+// the expected layer table, and truncated, corrupted, wrong-magic, wrong-version and
+// shape-mismatched files are refused with one line naming the file and the problem.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <sys/wait.h>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+
+#include "common/error.h"
+#include "common/vk_test.h"
+#include "nn_kernels/weights.h"
+#include "nn_kernels/weights_format.h"
+
+using namespace osr;
+
+namespace {
+
+std::vector<uint8_t> readFile(const std::string& path) {
+  std::ifstream f(path, std::ios::binary);
+  return {std::istreambuf_iterator<char>(f), std::istreambuf_iterator<char>()};
+}
+
+std::string writeTemp(const std::vector<uint8_t>& bytes, const std::string& name) {
+  auto path = std::filesystem::temp_directory_path() / (name + "_" + std::to_string(::getpid()) + ".osrw");
+  std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(bytes.data()), bytes.size());
+  return path.string();
+}
+
+void rechecksum(std::vector<uint8_t>& bytes) {
+  uint32_t crc = nn::crc32(bytes.data() + nn::kPrefixBytes, bytes.size() - nn::kPrefixBytes);
+  std::memcpy(bytes.data() + nn::kOffsetChecksum, &crc, 4);
+}
+
+// Loading `bytes` throws an InputError of one line containing the file name and `problem`.
+void expectRejected(const std::vector<uint8_t>& bytes, const std::string& name, const std::string& problem) {
+  const std::string path = writeTemp(bytes, name);
+  try {
+    nn::UNetWeights::load(path);
+    ADD_FAILURE() << name << ": loaded without error";
+  } catch (const InputError& e) {
+    const std::string msg = e.what();
+    EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
+    EXPECT_EQ(msg.rfind(path + ": ", 0), 0u) << msg;
+    EXPECT_NE(msg.find(problem), std::string::npos) << "message: " << msg;
+    std::printf("%s -> %s\n", name.c_str(), msg.c_str());
+  }
+  std::filesystem::remove(path);
+}
+
+const std::string kGood = "unet_k8.osrw";
+
+}  // namespace
+
+TEST(Weights, LoadsThePackedFile) {
+  nn::UNetWeights w = nn::UNetWeights::load(test::dataPath(kGood));
+  EXPECT_EQ(w.k, 8u);
+  EXPECT_FALSE(w.halfStorage);
+  ASSERT_EQ(w.convs.size(), size_t(nn::kConvCount));
+  EXPECT_EQ(w.convs[0].cin, 7u);
+  EXPECT_EQ(w.convs[8].cin, 64u);  // decoder0 reads the 8K concatenation
+  EXPECT_TRUE(w.convs[2].batchNorm);
+  EXPECT_EQ(w.convs[14].cout, 3u);
+  EXPECT_EQ(w.convs[14].activation, nn::Activation::Relu);
+  EXPECT_EQ(w.flopsPerMap(), 16416768.0);  // sum of 2 cin cout k^2 w^2 over the 15 convs
+  nn::UNetWeights h = nn::UNetWeights::load(test::dataPath("unet_k8_fp16.osrw"));
+  EXPECT_TRUE(h.halfStorage);
+  // The fp16 file holds the fp32 file's weights rounded to fp16.
+  for (size_t i = 0; i < w.convs[5].weight.size(); ++i)
+    ASSERT_EQ(h.convs[5].weight[i], nn::halfToFloat(nn::floatToHalf(w.convs[5].weight[i])));
+}
+
+TEST(Weights, RejectsTruncated) {
+  auto bytes = readFile(test::dataPath(kGood));
+  expectRejected({bytes.begin(), bytes.begin() + 20}, "truncated_prefix", "truncated");
+  expectRejected({bytes.begin(), bytes.end() - 100}, "truncated_data", "truncated");
+}
+
+TEST(Weights, RejectsChecksumMismatch) {
+  auto bytes = readFile(test::dataPath(kGood));
+  bytes[bytes.size() - 5] ^= 0x40;  // one bit of the last tensor
+  expectRejected(bytes, "corrupted", "checksum");
+}
+
+TEST(Weights, RejectsWrongMagic) {
+  auto bytes = readFile(test::dataPath(kGood));
+  bytes[0] = 'X';
+  expectRejected(bytes, "magic", "magic");
+}
+
+TEST(Weights, RejectsWrongVersion) {
+  auto bytes = readFile(test::dataPath(kGood));
+  uint32_t v = nn::kWeightsVersion + 1;
+  std::memcpy(bytes.data() + nn::kOffsetVersion, &v, 4);
+  expectRejected(bytes, "version", "version");
+}
+
+TEST(Weights, RejectsShapeMismatch) {
+  auto bytes = readFile(test::dataPath(kGood));
+  // Claim K=6 in the header (same length, checksum recomputed): every shape is now wrong.
+  std::string text(bytes.begin(), bytes.end());
+  size_t at = text.find("\"base_width\":8");
+  ASSERT_NE(at, std::string::npos);
+  bytes[at + 13] = '6';
+  rechecksum(bytes);
+  expectRejected(bytes, "shape", "has shape 8x7x3x3, expected 6x7x3x3");
+}
+
+TEST(Weights, RejectsWrongLayer) {
+  auto bytes = readFile(test::dataPath(kGood));
+  std::string text(bytes.begin(), bytes.end());
+  size_t at = text.find("\"decoder1.3\"");
+  ASSERT_NE(at, std::string::npos);
+  bytes[at + 10] = '9';
+  rechecksum(bytes);
+  expectRejected(bytes, "layer", "expected 'decoder1.3'");
+}
+
+TEST(Weights, Crc32AndHalfConversion) {
+  const char* s = "123456789";
+  EXPECT_EQ(nn::crc32(reinterpret_cast<const uint8_t*>(s), 9), 0xCBF43926u);  // the CRC-32 check value
+  for (float f : {0.0f, 1.0f, -2.5f, 65504.0f, 6.103515625e-05f, 5.96e-08f, 0.1f})
+    EXPECT_NEAR(nn::halfToFloat(nn::floatToHalf(f)), f, std::fabs(f) * 1e-3 + 1e-8) << f;
+  EXPECT_EQ(nn::floatToHalf(1.0f), 0x3C00);
+  EXPECT_EQ(nn::floatToHalf(0.1f), 0x2E66);  // round to nearest
+  EXPECT_EQ(nn::floatToHalf(1e6f), 0x7C00);  // overflow to inf
+}
+
+// tools/weights_pack.py refuses checkpoints that are not the U-Net, with one line and exit 2.
+TEST(Weights, PackerRejectsBadCheckpoints) {
+  const char* py = "/usr/bin/python3";
+  if (std::system((std::string(py) + " -c 'import torch' >/dev/null 2>&1").c_str()) != 0)
+    GTEST_SKIP() << "/usr/bin/python3 has no torch";
+  namespace fs = std::filesystem;
+  const fs::path dir = fs::temp_directory_path() / ("osr_pack_bad_" + std::to_string(::getpid()));
+  fs::create_directories(dir);
+  const std::string tools = std::string(OSR_SOURCE_DIR) + "/tools";
+  // Three broken state_dicts of a K=8 model: a key removed, a key added, a shape changed.
+  const std::string make =
+      std::string(py) + " -c \"import sys; sys.path.insert(0, '" + tools + "'); import unet, torch; " +
+      "d = unet.UNet(8).state_dict(); m = dict(d); del m['decoder1.2.running_var']; " +
+      "torch.save(m, '" + (dir / "missing.pt").string() + "'); e = dict(d); e['extra.weight'] = torch.zeros(1); " +
+      "torch.save(e, '" + (dir / "extra.pt").string() + "'); s = dict(d); s['encoder2.4.bias'] = torch.zeros(5); " +
+      "torch.save(s, '" + (dir / "shape.pt").string() + "')\"";
+  ASSERT_EQ(std::system(make.c_str()), 0);
+  const std::pair<const char*, const char*> cases[] = {
+      {"missing", "missing keys decoder1.2.running_var"},
+      {"extra", "unexpected keys extra.weight"},
+      {"shape", "encoder2.4.bias has shape (5,), expected (32,)"}};
+  for (auto [name, problem] : cases) {
+    const std::string ckpt = (dir / (std::string(name) + ".pt")).string();
+    const std::string err = (dir / "err.txt").string();
+    const std::string cmd = std::string(py) + " " + tools + "/weights_pack.py " + ckpt + " " +
+                            (dir / "out.osrw").string() + " 2>" + err;
+    const int status = std::system(cmd.c_str());
+    EXPECT_EQ(WEXITSTATUS(status), 2) << name;
+    std::ifstream f(err);
+    std::string all((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+    EXPECT_EQ(std::count(all.begin(), all.end(), '\n'), 1) << all;
+    EXPECT_NE(all.find(ckpt + ": "), std::string::npos) << all;
+    EXPECT_NE(all.find(problem), std::string::npos) << all;
+  }
+  fs::remove_all(dir);
+}
