@@ -10,5 +10,7 @@ namespace osr::app {
 int runRender(const std::vector<std::string>& args);
 // osr-vk --list-devices
 int runListDevices(const std::vector<std::string>& args);
+// osr-vk compare a.exr b.exr
+int runCompare(const std::vector<std::string>& args);
 
 }  // namespace osr::app

@@ -13,6 +13,7 @@ namespace {
 constexpr const char* kUsage =
     "usage: osr-vk [options] scene.gltf|scene.glb\n"
     "       osr-vk --list-devices\n"
+    "       osr-vk compare a.exr b.exr   relmse, psnr, ssim, lum_ratio as one JSON line\n"
     "\n"
     "render options:\n"
     "  --offline out.exr     render without a window and write a multi-layer OpenEXR\n"
@@ -45,6 +46,7 @@ int main(int argc, char** argv) {
     }
     static const Command kCommands[] = {
         {"--list-devices", osr::app::runListDevices},
+        {"compare", osr::app::runCompare},
     };
     for (const Command& c : kCommands)
       if (args[0] == c.name) return c.run({args.begin() + 1, args.end()});
