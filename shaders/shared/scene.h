@@ -104,5 +104,19 @@ struct SceneInfo {
   vec4 boundsMax;
 };
 
+// Binding slots of the scene buffers, relative to the first slot a pass gives them
+// (OSR_SCENE_BINDING in GLSL); GpuScene::bindings() returns the buffers in this order.
+OSR_CONST(uint, kSceneBindingVertices, 0u);
+OSR_CONST(uint, kSceneBindingTriangles, 1u);
+OSR_CONST(uint, kSceneBindingMaterials, 2u);
+OSR_CONST(uint, kSceneBindingTextureInfos, 3u);
+OSR_CONST(uint, kSceneBindingTexels, 4u);
+OSR_CONST(uint, kSceneBindingLights, 5u);
+OSR_CONST(uint, kSceneBindingEmissive, 6u);
+OSR_CONST(uint, kSceneBindingInfo, 7u);
+OSR_CONST(uint, kSceneBindingEnvironment, 8u);
+OSR_CONST(uint, kSceneBindingEnvironmentCdf, 9u);
+OSR_CONST(uint, kSceneBindingCount, 10u);
+
 OSR_NAMESPACE_END
 #endif

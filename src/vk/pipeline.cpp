@@ -102,6 +102,11 @@ void ComputePipeline::checkPushSize(size_t bytes) const {
 
 void ComputePipeline::bind(VkCommandBuffer cmd, std::initializer_list<BufferRange> buffers,
                            const void* push) const {
+  bindSpan(cmd, std::span<const BufferRange>(buffers.begin(), buffers.size()), push);
+}
+
+void ComputePipeline::bindSpan(VkCommandBuffer cmd, std::span<const BufferRange> buffers,
+                               const void* push) const {
   if (buffers.size() != bindingCount_)
     throw DeviceError(std::string(name_) + ": " + std::to_string(buffers.size()) +
                       " buffers bound, pipeline declares " + std::to_string(bindingCount_));

@@ -6,6 +6,7 @@
 
 #include <cstring>
 #include <initializer_list>
+#include <span>
 #include <string>
 #include <vector>
 
@@ -51,6 +52,17 @@ class ComputePipeline {
     static_assert(!std::is_pointer_v<Push>);
     checkPushSize(sizeof(Push));
     bind(cmd, buffers, static_cast<const void*>(&push));
+  }
+  // bind() for a list assembled at run time, e.g. a pass's own buffers followed by
+  // scene::GpuScene::bindings().
+  void bindSpan(VkCommandBuffer cmd, std::span<const BufferRange> buffers,
+                const void* push = nullptr) const;
+  template <class Push>
+  void bindSpan(VkCommandBuffer cmd, std::span<const BufferRange> buffers,
+                const Push& push) const {
+    static_assert(!std::is_pointer_v<Push>);
+    checkPushSize(sizeof(Push));
+    bindSpan(cmd, buffers, static_cast<const void*>(&push));
   }
   // Dispatches groups, splitting counts beyond the device limit is the caller's job.
   void dispatch(VkCommandBuffer cmd, uint32_t x, uint32_t y = 1, uint32_t z = 1) const;

@@ -1,0 +1,278 @@
+// Scene buffers and accessors for every pass that shades or tests alpha.
+//
+// Usage: #define OSR_SCENE_BINDING <first slot> before including; the scene then occupies
+// slots OSR_SCENE_BINDING + 0 .. + kSceneBindingCount - 1 in the order of the kSceneBinding*
+// constants of shared/scene.h, which is the order osr::scene::GpuScene::bindings() returns.
+// C++ twins of every function here live in src/scene/surface.h and are tested against this
+// file by tests/scene/test_scene_probe.cpp.
+#ifndef OSR_LIB_SCENE_GLSL
+#define OSR_LIB_SCENE_GLSL
+
+#ifndef OSR_SCENE_BINDING
+#error "#define OSR_SCENE_BINDING (first binding slot of the scene buffers) before including lib/scene.glsl"
+#endif
+
+#include "shared/scene.h"
+
+layout(std430, binding = OSR_SCENE_BINDING + kSceneBindingVertices) readonly buffer SceneVertices {
+  Vertex gVertices[];
+};
+layout(std430, binding = OSR_SCENE_BINDING + kSceneBindingTriangles) readonly buffer SceneTriangles {
+  Triangle gTriangles[];
+};
+layout(std430, binding = OSR_SCENE_BINDING + kSceneBindingMaterials) readonly buffer SceneMaterials {
+  Material gMaterials[];
+};
+layout(std430, binding = OSR_SCENE_BINDING + kSceneBindingTextureInfos) readonly buffer SceneTextureInfos {
+  TextureInfo gTextureInfos[];
+};
+layout(std430, binding = OSR_SCENE_BINDING + kSceneBindingTexels) readonly buffer SceneTexels {
+  uint gTexels[];
+};
+layout(std430, binding = OSR_SCENE_BINDING + kSceneBindingLights) readonly buffer SceneLights {
+  PunctualLight gLights[];
+};
+layout(std430, binding = OSR_SCENE_BINDING + kSceneBindingEmissive) readonly buffer SceneEmissive {
+  EmissiveTriangle gEmissive[];
+};
+layout(std430, binding = OSR_SCENE_BINDING + kSceneBindingInfo) readonly buffer SceneInfoBlock {
+  SceneInfo gSceneInfo;
+};
+layout(std430, binding = OSR_SCENE_BINDING + kSceneBindingEnvironment) readonly buffer SceneEnvironment {
+  vec4 gEnvironment[];  // envWidth x envHeight linear RGB radiance, row 0 = top (+Y)
+};
+layout(std430, binding = OSR_SCENE_BINDING + kSceneBindingEnvironmentCdf) readonly buffer SceneEnvironmentCdf {
+  // [0, envHeight): inclusive marginal CDF over rows; then per row y at envHeight + y *
+  // envWidth: inclusive conditional CDF over its columns. Both end in exactly 1.
+  float gEnvironmentCdf[];
+};
+
+const float kScenePi = 3.14159265358979;
+
+// ---- Textures -------------------------------------------------------------------------------
+
+vec3 srgbToLinear(vec3 c) {
+  vec3 lo = c / 12.92;
+  vec3 hi = pow((c + 0.055) / 1.055, vec3(2.4));
+  return mix(hi, lo, lessThanEqual(c, vec3(0.04045)));
+}
+
+// Integer texel coordinate i wrapped into [0, size) by a glTF wrap mode.
+int sceneWrap(int i, int size, uint mode) {
+  if (mode == kWrapClamp) return clamp(i, 0, size - 1);
+  if (mode == kWrapMirror) {
+    int period = 2 * size;
+    int m = ((i % period) + period) % period;
+    return m < size ? m : period - 1 - m;
+  }
+  return ((i % size) + size) % size;
+}
+
+vec4 sceneTexel(TextureInfo info, int x, int y) {
+  return unpackUnorm4x8(gTexels[info.offset + uint(y) * info.width + uint(x)]);
+}
+
+// Bilinear lookup with the texture's wrap modes; texel centres at (i + 0.5) / size, uv (0,0)
+// is the first texel of row 0 (glTF). Raw RGBA in [0, 1]: the caller decodes sRGB. A
+// texture index of kNoTexture returns white, so `factor * sampleTexture(...)` needs no branch.
+vec4 sampleTexture(int texture, vec2 uv) {
+  if (texture < 0) return vec4(1.0);
+  TextureInfo info = gTextureInfos[texture];
+  int w = int(info.width), h = int(info.height);
+  // Stay in a range where float keeps sub-texel precision; repeat/mirror are periodic in 2.
+  vec2 st = uv * vec2(w, h) - 0.5;
+  vec2 base = floor(st);
+  vec2 f = st - base;
+  int x0 = int(base.x), y0 = int(base.y);
+  uint wrapS = info.wrap & 3u, wrapT = (info.wrap >> 2) & 3u;
+  int xa = sceneWrap(x0, w, wrapS), xb = sceneWrap(x0 + 1, w, wrapS);
+  int ya = sceneWrap(y0, h, wrapT), yb = sceneWrap(y0 + 1, h, wrapT);
+  vec4 top = mix(sceneTexel(info, xa, ya), sceneTexel(info, xb, ya), f.x);
+  vec4 bottom = mix(sceneTexel(info, xa, yb), sceneTexel(info, xb, yb), f.x);
+  return mix(top, bottom, f.y);
+}
+
+// ---- Surfaces -------------------------------------------------------------------------------
+
+// A material evaluated at a surface point: textures applied, colours linear.
+struct SurfaceMaterial {
+  vec3 baseColor;
+  float alpha;
+  vec3 emission;  // radiance, emitted from the front side (and the back where doubleSided)
+  float metallic;
+  vec3 specularColor;
+  float roughness;  // perceptual
+  float specular;
+  float ior;
+  float transmission;
+  bool doubleSided;
+};
+
+struct SurfaceSample {
+  vec3 position;         // world space
+  vec3 geometricNormal;  // unit, from the winding: normalize(cross(p1 - p0, p2 - p0))
+  vec3 shadingNormal;    // unit: interpolated vertex normal, then the normal map if any
+  vec2 uv;
+  uint material;  // index into gMaterials
+  SurfaceMaterial m;
+};
+
+// Barycentrics (b1, b2) weight v1 and v2; v0 gets 1 - b1 - b2.
+vec2 sceneUv(Triangle t, vec2 b) {
+  Vertex a = gVertices[t.v0], v1 = gVertices[t.v1], v2 = gVertices[t.v2];
+  return vec2(a.u, a.v) * (1.0 - b.x - b.y) + vec2(v1.u, v1.v) * b.x + vec2(v2.u, v2.v) * b.y;
+}
+
+SurfaceMaterial evaluateMaterial(Material mat, vec2 uv) {
+  SurfaceMaterial m;
+  vec4 base = sampleTexture(mat.baseColorTexture, uv);
+  m.baseColor = mat.baseColor.rgb * srgbToLinear(base.rgb);
+  m.alpha = mat.baseColor.a * base.a;
+  vec4 mr = sampleTexture(mat.metallicRoughnessTexture, uv);
+  m.roughness = mat.roughness * mr.g;
+  m.metallic = mat.metallic * mr.b;
+  m.emission = mat.emission * srgbToLinear(sampleTexture(mat.emissiveTexture, uv).rgb);
+  m.specular = mat.specular * sampleTexture(mat.specularTexture, uv).a;
+  m.specularColor = mat.specularColor * srgbToLinear(sampleTexture(mat.specularColorTexture, uv).rgb);
+  m.ior = mat.ior;
+  m.transmission = mat.transmission * sampleTexture(mat.transmissionTexture, uv).r;
+  m.doubleSided = (mat.flags & kMaterialDoubleSided) != 0u;
+  return m;
+}
+
+// Full surface description at a hit. The shading normal is not flipped towards the viewer:
+// the integrator decides (it knows the ray direction).
+SurfaceSample surfaceAt(uint triangle, vec2 b) {
+  Triangle t = gTriangles[triangle];
+  Vertex v0 = gVertices[t.v0], v1 = gVertices[t.v1], v2 = gVertices[t.v2];
+  float b0 = 1.0 - b.x - b.y;
+  SurfaceSample s;
+  s.position = v0.position * b0 + v1.position * b.x + v2.position * b.y;
+  vec3 e1 = v1.position - v0.position, e2 = v2.position - v0.position;
+  vec3 ng = cross(e1, e2);
+  float ngLength = length(ng);
+  s.geometricNormal = ngLength > 0.0 ? ng / ngLength : vec3(0.0, 0.0, 1.0);
+  vec3 n = v0.normal * b0 + v1.normal * b.x + v2.normal * b.y;
+  float nLength = length(n);
+  // Zero-length vertex normals (degenerate input) fall back to the face normal.
+  s.shadingNormal = nLength > 1e-12 ? n / nLength : s.geometricNormal;
+  vec2 uv0 = vec2(v0.u, v0.v), uv1 = vec2(v1.u, v1.v), uv2 = vec2(v2.u, v2.v);
+  s.uv = uv0 * b0 + uv1 * b.x + uv2 * b.y;
+  s.material = t.material;
+  Material mat = gMaterials[t.material];
+  s.m = evaluateMaterial(mat, s.uv);
+  if (mat.normalTexture >= 0) {
+    // Tangent frame from the triangle's uv parameterization (the file's TANGENT attribute is
+    // not loaded; for well-behaved uvs this is the per-face MikkTSpace result).
+    vec2 d1 = uv1 - uv0, d2 = uv2 - uv0;
+    float det = d1.x * d2.y - d1.y * d2.x;
+    if (abs(det) > 1e-20) {
+      vec3 dpdu = (e1 * d2.y - e2 * d1.y) / det;
+      vec3 dpdv = (e2 * d1.x - e1 * d2.x) / det;
+      vec3 nn = s.shadingNormal;
+      vec3 tangent = dpdu - nn * dot(nn, dpdu);
+      float tLength = length(tangent);
+      if (tLength > 1e-20) {
+        tangent /= tLength;
+        vec3 bitangent = cross(nn, tangent) * (dot(cross(nn, tangent), dpdv) < 0.0 ? -1.0 : 1.0);
+        vec3 tn = sampleTexture(mat.normalTexture, s.uv).xyz * 2.0 - 1.0;
+        tn.xy *= mat.normalScale;
+        vec3 mapped = tangent * tn.x + bitangent * tn.y + nn * tn.z;
+        float mLength = length(mapped);
+        if (mLength > 1e-12) s.shadingNormal = mapped / mLength;
+      }
+    }
+  }
+  return s;
+}
+
+// Any-hit test: true when the hit is in a hole of an alpha-masked (or blended, treated as
+// masked) material, i.e. the ray should continue.
+bool osrAlphaCutout(uint triangle, vec2 b) {
+  Triangle t = gTriangles[triangle];
+  Material mat = gMaterials[t.material];
+  if ((mat.flags & (kMaterialAlphaMask | kMaterialAlphaBlend)) == 0u) return false;
+  float alpha = mat.baseColor.a * sampleTexture(mat.baseColorTexture, sceneUv(t, b)).a;
+  return alpha < mat.alphaCutoff;
+}
+
+// ---- Environment ----------------------------------------------------------------------------
+// Equirectangular, matching Blender's world mapping for a +Y-up glTF export: u = 0.5 +
+// atan2(z, x) / 2pi, v (from the top row) = acos(y) / pi. Radiance is piecewise constant per
+// texel so that environmentPdf() is exact for sampleEnvironment().
+
+vec3 environmentDirection(vec2 uv) {
+  float phi = (uv.x - 0.5) * 2.0 * kScenePi;
+  float theta = uv.y * kScenePi;
+  float st = sin(theta);
+  return vec3(st * cos(phi), cos(theta), st * sin(phi));
+}
+
+vec2 environmentUv(vec3 dir) {
+  float u = 0.5 + atan(dir.z, dir.x) / (2.0 * kScenePi);
+  float v = acos(clamp(dir.y, -1.0, 1.0)) / kScenePi;
+  return vec2(u, v);
+}
+
+uvec2 environmentTexel(vec2 uv) {
+  uint w = gSceneInfo.envWidth, h = gSceneInfo.envHeight;
+  return uvec2(min(uint(max(uv.x, 0.0) * float(w)), w - 1u), min(uint(max(uv.y, 0.0) * float(h)), h - 1u));
+}
+
+// Radiance arriving from direction `dir` (unit, world space); black without a map.
+vec3 environmentRadiance(vec3 dir) {
+  if (gSceneInfo.envWidth == 0u) return vec3(0.0);
+  uvec2 p = environmentTexel(environmentUv(dir));
+  return gEnvironment[p.y * gSceneInfo.envWidth + p.x].rgb * gSceneInfo.envScale;
+}
+
+// First index i in [first, first + count) with cdf[i] > u (the last one if none).
+uint environmentSearch(uint first, uint count, float u) {
+  uint lo = 0u, hi = count - 1u;
+  while (lo < hi) {
+    uint mid = (lo + hi) / 2u;
+    if (gEnvironmentCdf[first + mid] > u) hi = mid; else lo = mid + 1u;
+  }
+  return lo;
+}
+
+float environmentCdfStep(uint first, uint i) {
+  return gEnvironmentCdf[first + i] - (i > 0u ? gEnvironmentCdf[first + i - 1u] : 0.0);
+}
+
+// Solid-angle density of sampleEnvironment() for direction `dir`; 0 without a map.
+float environmentPdf(vec3 dir) {
+  uint w = gSceneInfo.envWidth, h = gSceneInfo.envHeight;
+  if (w == 0u) return 0.0;
+  uvec2 p = environmentTexel(environmentUv(dir));
+  float sinTheta = sqrt(max(0.0, 1.0 - dir.y * dir.y));
+  if (sinTheta <= 0.0) return 0.0;
+  float pRow = environmentCdfStep(0u, p.y), pCol = environmentCdfStep(h + p.y * w, p.x);
+  return pRow * pCol * float(w * h) / (2.0 * kScenePi * kScenePi * sinTheta);
+}
+
+// Direction sampled proportionally to luminance x sin(theta) per texel; `u` uniform in [0,1)^2.
+// Returns the direction; pdf (solid angle) and radiance for it are written out.
+vec3 sampleEnvironment(vec2 u, out float pdf, out vec3 radiance) {
+  uint w = gSceneInfo.envWidth, h = gSceneInfo.envHeight;
+  if (w == 0u) {
+    pdf = 0.0;
+    radiance = vec3(0.0);
+    return vec3(0.0, 1.0, 0.0);
+  }
+  uint y = environmentSearch(0u, h, u.y);
+  uint rowFirst = h + y * w;
+  uint x = environmentSearch(rowFirst, w, u.x);
+  // Reuse the random numbers inside the chosen texel (stratified, no extra dimensions).
+  float pRow = environmentCdfStep(0u, y), pCol = environmentCdfStep(rowFirst, x);
+  float fy = pRow > 0.0 ? clamp((u.y - (gEnvironmentCdf[y] - pRow)) / pRow, 0.0, 1.0) : 0.5;
+  float fx = pCol > 0.0 ? clamp((u.x - (gEnvironmentCdf[rowFirst + x] - pCol)) / pCol, 0.0, 1.0) : 0.5;
+  vec2 uv = vec2((float(x) + fx) / float(w), (float(y) + fy) / float(h));
+  vec3 dir = environmentDirection(uv);
+  float sinTheta = sin(uv.y * kScenePi);
+  pdf = sinTheta > 0.0 ? pRow * pCol * float(w * h) / (2.0 * kScenePi * kScenePi * sinTheta) : 0.0;
+  radiance = gEnvironment[y * w + x].rgb * gSceneInfo.envScale;
+  return dir;
+}
+
+#endif

@@ -1,0 +1,51 @@
+// Camera choice: a file camera by index or name, or a default one framing the scene.
+#include <cerrno>
+#include <cmath>
+#include <cstdlib>
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "common/error.h"
+#include "scene/scene.h"
+
+namespace osr::scene {
+
+Camera defaultCamera(const Scene& scene, float aspect) {
+  if (!(aspect > 0.0f) || !std::isfinite(aspect)) aspect = 1.0f;
+  Camera cam;
+  cam.name = "default";
+  cam.yfov = 0.8f;  // ~46 degrees, a normal lens
+  cam.aspect = aspect;
+  glm::vec3 center = 0.5f * (scene.boundsMin + scene.boundsMax);
+  float radius = 0.5f * glm::length(scene.boundsMax - scene.boundsMin);
+  if (!(radius > 0.0f)) radius = 1.0f;
+  // The bounding sphere must fit the narrower of the two fields of view.
+  float halfY = 0.5f * cam.yfov;
+  float halfX = std::atan(std::tan(halfY) * aspect);
+  float half = std::min(halfX, halfY);
+  float distance = radius / std::sin(half) * 1.05f;
+  glm::vec3 eye = center + glm::vec3(0.0f, 0.0f, distance);
+  cam.worldFromCamera = glm::translate(glm::mat4(1.0f), eye);  // looks down -Z at the centre
+  return cam;
+}
+
+Camera selectCamera(const Scene& scene, const std::string& selector, float aspect) {
+  if (selector.empty())
+    return scene.cameras.empty() ? defaultCamera(scene, aspect) : scene.cameras.front();
+  char* end = nullptr;
+  errno = 0;
+  long index = std::strtol(selector.c_str(), &end, 10);
+  if (*end == '\0' && errno == 0) {
+    if (index < 0 || size_t(index) >= scene.cameras.size())
+      throw InputError(scene.path + ": camera " + selector + " does not exist (the file has " +
+                       std::to_string(scene.cameras.size()) + " camera(s))");
+    return scene.cameras[index];
+  }
+  for (const Camera& c : scene.cameras)
+    if (c.name == selector) return c;
+  std::string names;
+  for (const Camera& c : scene.cameras) names += (names.empty() ? "" : ", ") + ("'" + c.name + "'");
+  throw InputError(scene.path + ": no camera named '" + selector + "' (cameras: " +
+                   (names.empty() ? "none" : names) + ")");
+}
+
+}  // namespace osr::scene

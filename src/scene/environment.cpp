@@ -1,0 +1,115 @@
+// Equirectangular environment maps: .exr through OpenEXR, .hdr through stb_image, and the
+// importance-sampling CDFs for the device.
+#include "scene/environment.h"
+
+#include <stb/stb_image.h>
+
+#include <ImfArray.h>
+#include <ImfRgbaFile.h>
+
+#include <algorithm>
+#include <cmath>
+#include <filesystem>
+
+#include "common/error.h"
+
+namespace osr::scene {
+
+namespace {
+
+std::string lowerExtension(const std::string& path) {
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  return ext;
+}
+
+std::string oneLine(std::string s) {
+  std::replace(s.begin(), s.end(), '\n', ' ');
+  return s;
+}
+
+}  // namespace
+
+Environment loadEnvironment(const std::string& path) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) throw InputError(path + ": file not found");
+  Environment env;
+  env.path = path;
+  std::string ext = lowerExtension(path);
+  if (ext == ".exr") {
+    try {
+      Imf::RgbaInputFile file(path.c_str());
+      Imath::Box2i dw = file.dataWindow();
+      long w = long(dw.max.x) - dw.min.x + 1, h = long(dw.max.y) - dw.min.y + 1;
+      if (w <= 0 || h <= 0) throw InputError(path + ": empty image");
+      Imf::Array2D<Imf::Rgba> pixels(h, w);
+      file.setFrameBuffer(&pixels[0][0] - dw.min.x - dw.min.y * w, 1, size_t(w));
+      file.readPixels(dw.min.y, dw.max.y);
+      env.width = uint32_t(w);
+      env.height = uint32_t(h);
+      env.texels.resize(size_t(w) * h);
+      for (long y = 0; y < h; ++y)
+        for (long x = 0; x < w; ++x) {
+          const Imf::Rgba& p = pixels[y][x];
+          env.texels[y * w + x] = glm::vec4(float(p.r), float(p.g), float(p.b), 1.0f);
+        }
+    } catch (const InputError&) {
+      throw;
+    } catch (const std::exception& e) {
+      throw InputError(path + ": cannot read OpenEXR image (" + oneLine(e.what()) + ")");
+    }
+  } else if (ext == ".hdr") {
+    int w = 0, h = 0, comp = 0;
+    if (!stbi_is_hdr(path.c_str())) throw InputError(path + ": not a Radiance .hdr image");
+    float* data = stbi_loadf(path.c_str(), &w, &h, &comp, 3);
+    if (!data)
+      throw InputError(path + ": cannot read .hdr image (" +
+                       std::string(stbi_failure_reason() ? stbi_failure_reason() : "unknown") + ")");
+    env.width = uint32_t(w);
+    env.height = uint32_t(h);
+    env.texels.resize(size_t(w) * h);
+    for (size_t i = 0; i < env.texels.size(); ++i)
+      env.texels[i] = glm::vec4(data[3 * i], data[3 * i + 1], data[3 * i + 2], 1.0f);
+    stbi_image_free(data);
+  } else {
+    throw InputError(path + ": environment maps must be .exr or .hdr");
+  }
+  for (glm::vec4& t : env.texels)
+    for (int k = 0; k < 3; ++k)
+      if (!std::isfinite(t[k]) || t[k] < 0.0f)
+        throw InputError(path + ": environment map holds a negative or non-finite value");
+  return env;
+}
+
+std::vector<float> environmentCdf(const Environment& env) {
+  const uint32_t w = env.width, h = env.height;
+  std::vector<float> cdf;
+  if (w == 0 || h == 0) return cdf;
+  cdf.resize(size_t(h) + size_t(w) * h);
+  std::vector<double> rowWeight(h);
+  for (uint32_t y = 0; y < h; ++y) {
+    double sum = 0.0;
+    for (uint32_t x = 0; x < w; ++x) sum += luminance(glm::vec3(env.texels[size_t(y) * w + x]));
+    float* row = &cdf[h + size_t(y) * w];
+    double running = 0.0;
+    for (uint32_t x = 0; x < w; ++x) {
+      running += sum > 0.0 ? luminance(glm::vec3(env.texels[size_t(y) * w + x])) : 1.0;
+      row[x] = float(running / (sum > 0.0 ? sum : double(w)));
+    }
+    row[w - 1] = 1.0f;
+    double sinTheta = std::sin((y + 0.5) / h * M_PI);
+    rowWeight[y] = sum * sinTheta;
+  }
+  double total = 0.0;
+  for (double r : rowWeight) total += r;
+  double running = 0.0;
+  for (uint32_t y = 0; y < h; ++y) {
+    running += total > 0.0 ? rowWeight[y] : std::sin((y + 0.5) / h * M_PI);
+    cdf[y] = float(running);
+  }
+  for (uint32_t y = 0; y < h; ++y) cdf[y] = float(cdf[y] / running);
+  cdf[h - 1] = 1.0f;
+  return cdf;
+}
+
+}  // namespace osr::scene

@@ -1,0 +1,105 @@
+#include "scene/gpu_scene.h"
+
+#include "common/error.h"
+#include "scene/environment.h"
+
+namespace osr::scene {
+
+namespace {
+
+// One device-local buffer holding `data` (or one zeroed T when empty). Refuses sizes past the
+// device's maxStorageBufferRange: a pass could not bind it whole and the shaders index it flat.
+template <class T>
+vk::Buffer upload(const vk::Context& ctx, const std::vector<T>& data, const std::string& what,
+                  const std::string& scenePath) {
+  uint64_t bytes = uint64_t(std::max<size_t>(data.size(), 1)) * sizeof(T);
+  uint64_t limit = ctx.caps().maxStorageBufferRange;
+  if (bytes > limit)
+    throw DeviceError(scenePath + ": scene too large for the device: the " + what + " buffer needs " +
+                      std::to_string((bytes + (1 << 20) - 1) >> 20) + " MiB (" +
+                      std::to_string(data.size()) + " elements), more than the device's "
+                      "maxStorageBufferRange of " + std::to_string(limit >> 20) + " MiB (" +
+                      ctx.caps().deviceName + ")");
+  vk::Buffer buffer(ctx, bytes, vk::MemoryUse::DeviceLocal, "scene " + what);
+  if (data.empty()) {
+    T zero{};
+    buffer.upload(&zero, sizeof(T));
+  } else {
+    buffer.uploadVector(data);
+  }
+  return buffer;
+}
+
+}  // namespace
+
+GpuScene::GpuScene(const vk::Context& ctx, const Scene& scene, const Environment* env) {
+  const std::string& path = scene.path;
+  // Texels of every texture back to back; TextureInfo says where each one starts.
+  std::vector<gpu::TextureInfo> infos;
+  uint64_t texelCount = 0;
+  for (const Texture& t : scene.textures) texelCount += t.texels.size();
+  uint64_t texelBytes = texelCount * 4;
+  if (texelBytes > ctx.caps().maxStorageBufferRange)
+    throw DeviceError(path + ": scene too large for the device: its textures need " +
+                      std::to_string((texelBytes + (1 << 20) - 1) >> 20) +
+                      " MiB, more than the device's maxStorageBufferRange of " +
+                      std::to_string(ctx.caps().maxStorageBufferRange >> 20) + " MiB (" +
+                      ctx.caps().deviceName + ")");
+  std::vector<uint32_t> allTexels;
+  allTexels.reserve(texelCount);
+  for (const Texture& t : scene.textures) {
+    infos.push_back({uint32_t(allTexels.size()), t.width, t.height, t.wrap});
+    allTexels.insert(allTexels.end(), t.texels.begin(), t.texels.end());
+  }
+
+  gpu::SceneInfo si{};
+  si.triangleCount = uint32_t(scene.triangles.size());
+  si.emissiveCount = uint32_t(scene.emissive.size());
+  si.lightCount = uint32_t(scene.lights.size());
+  si.envScale = 1.0f;
+  si.emissivePower = scene.emissivePower;
+  si.boundsMin = glm::vec4(scene.boundsMin, 0.0f);
+  si.boundsMax = glm::vec4(scene.boundsMax, 0.0f);
+  std::vector<glm::vec4> envTexels;
+  std::vector<float> envCdf;
+  if (env && env->width > 0 && env->height > 0) {
+    si.envWidth = env->width;
+    si.envHeight = env->height;
+    envTexels = env->texels;
+    envCdf = scene::environmentCdf(*env);
+  }
+
+  vertices = upload(ctx, scene.vertices, "vertex", path);
+  triangles = upload(ctx, scene.triangles, "triangle", path);
+  materials = upload(ctx, scene.materials, "material", path);
+  textureInfos = upload(ctx, infos, "texture info", path);
+  texels = upload(ctx, allTexels, "texel", path);
+  lights = upload(ctx, scene.lights, "light", path);
+  emissive = upload(ctx, scene.emissive, "emissive triangle", path);
+  info = upload(ctx, std::vector<gpu::SceneInfo>{si}, "info", path);
+  environment = upload(ctx, envTexels, "environment", env ? env->path : path);
+  environmentCdf = upload(ctx, envCdf, "environment cdf", env ? env->path : path);
+  triangleCount = si.triangleCount;
+  vertexCount = uint32_t(scene.vertices.size());
+}
+
+std::array<vk::BufferRange, gpu::kSceneBindingCount> GpuScene::bindings() const {
+  return {vertices, triangles, materials, textureInfos, texels,
+          lights,   emissive,  info,      environment,  environmentCdf};
+}
+
+std::vector<vk::BufferRange> GpuScene::withBindings(
+    std::initializer_list<vk::BufferRange> passBuffers) const {
+  std::vector<vk::BufferRange> all(passBuffers);
+  auto scene = bindings();
+  all.insert(all.end(), scene.begin(), scene.end());
+  return all;
+}
+
+uint64_t GpuScene::bytes() const {
+  uint64_t total = 0;
+  for (const vk::BufferRange& r : bindings()) total += r.buffer->size();
+  return total;
+}
+
+}  // namespace osr::scene

@@ -1,0 +1,45 @@
+// The scene on the device: one storage buffer per kind of scene data, uploaded once, in the
+// layout of shaders/shared/scene.h. Passes bind them with bindings() at the slots
+// shaders/lib/scene.glsl declares (OSR_SCENE_BINDING + kSceneBinding*).
+#pragma once
+#include <array>
+#include <initializer_list>
+#include <vector>
+
+#include "scene/scene.h"
+#include "vk/buffer.h"
+#include "vk/context.h"
+
+namespace osr::scene {
+
+class GpuScene {
+ public:
+  // Uploads `scene` (and `env`, optional). Buffers are never empty: an empty list is padded with
+  // one zeroed element (the counts in SceneInfo say how many are real). Throws DeviceError naming
+  // maxStorageBufferRange when a buffer would exceed it.
+  GpuScene(const vk::Context& ctx, const Scene& scene, const Environment* env = nullptr);
+
+  // Declared in binding order.
+  vk::Buffer vertices;
+  vk::Buffer triangles;
+  vk::Buffer materials;
+  vk::Buffer textureInfos;
+  vk::Buffer texels;
+  vk::Buffer lights;
+  vk::Buffer emissive;
+  vk::Buffer info;
+  vk::Buffer environment;
+  vk::Buffer environmentCdf;
+  uint32_t triangleCount = 0;
+  uint32_t vertexCount = 0;
+
+  // The buffers in binding order (slot OSR_SCENE_BINDING + i is element i).
+  std::array<vk::BufferRange, gpu::kSceneBindingCount> bindings() const;
+  // A pass's own buffers (slots 0..n-1) followed by the scene's (OSR_SCENE_BINDING = n), ready for
+  // ComputePipeline::bindSpan.
+  std::vector<vk::BufferRange> withBindings(std::initializer_list<vk::BufferRange> passBuffers) const;
+  // Total bytes uploaded.
+  uint64_t bytes() const;
+};
+
+}  // namespace osr::scene

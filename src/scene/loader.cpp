@@ -1,0 +1,757 @@
+// glTF 2.0 -> Scene: tinygltf parses the file (and decodes images with stb_image); this file
+// checks everything tinygltf leaves unchecked (accessor ranges, indices, finite positions,
+// images), applies every node transform and flattens the meshes into world-space triangles.
+#include <tiny_gltf.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+#include <fstream>
+#include <functional>
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/quaternion.hpp>
+#include <glm/gtc/type_ptr.hpp>
+#include <map>
+#include <set>
+
+#include "common/error.h"
+#include "scene/scene.h"
+
+namespace osr::scene {
+
+gpu::Material defaultMaterial() {
+  gpu::Material m{};
+  m.baseColor = glm::vec4(1.0f);
+  m.emission = glm::vec3(0.0f);
+  m.roughness = 1.0f;
+  m.specularColor = glm::vec3(1.0f);
+  m.metallic = 1.0f;
+  m.specular = 1.0f;
+  m.ior = 1.5f;
+  m.transmission = 0.0f;
+  m.alphaCutoff = 0.5f;
+  m.baseColorTexture = gpu::kNoTexture;
+  m.metallicRoughnessTexture = gpu::kNoTexture;
+  m.normalTexture = gpu::kNoTexture;
+  m.emissiveTexture = gpu::kNoTexture;
+  m.transmissionTexture = gpu::kNoTexture;
+  m.specularTexture = gpu::kNoTexture;
+  m.specularColorTexture = gpu::kNoTexture;
+  m.flags = 0;
+  m.normalScale = 1.0f;
+  return m;
+}
+
+namespace {
+
+// Extensions whose data the loader uses. Everything else is warned about once and ignored.
+const std::set<std::string> kSupportedExtensions = {
+    "KHR_materials_emissive_strength", "KHR_materials_specular", "KHR_materials_ior",
+    "KHR_materials_transmission", "KHR_lights_punctual"};
+
+// Luminous efficacy used to turn glTF's photometric light units into the radiometric ones of
+// emissive radiance (the constant Blender's glTF I/O uses, PBR_WATTS_TO_LUMENS = 683 lm/W):
+// point/spot candela / 683 = W/sr, directional lux / 683 = W/m^2.
+constexpr float kLumensPerWatt = 683.0f;
+
+// tinygltf's messages span lines; errors here are one line.
+std::string oneLine(const std::string& text) {
+  std::string out;
+  bool space = false;
+  for (char c : text) {
+    if (c == '\n' || c == '\r') {
+      space = !out.empty();
+      continue;
+    }
+    if (space) out += "; ";
+    space = false;
+    out += c;
+  }
+  while (!out.empty() && (out.back() == ' ' || out.back() == ';')) out.pop_back();
+  return out;
+}
+
+size_t componentBytes(int componentType) {
+  switch (componentType) {
+    case TINYGLTF_COMPONENT_TYPE_BYTE:
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return 1;
+    case TINYGLTF_COMPONENT_TYPE_SHORT:
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: return 2;
+    case TINYGLTF_COMPONENT_TYPE_INT:
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
+    case TINYGLTF_COMPONENT_TYPE_FLOAT: return 4;
+    default: return 0;
+  }
+}
+
+int componentCount(int type) {
+  switch (type) {
+    case TINYGLTF_TYPE_SCALAR: return 1;
+    case TINYGLTF_TYPE_VEC2: return 2;
+    case TINYGLTF_TYPE_VEC3: return 3;
+    case TINYGLTF_TYPE_VEC4: return 4;
+    case TINYGLTF_TYPE_MAT2: return 4;
+    case TINYGLTF_TYPE_MAT3: return 9;
+    case TINYGLTF_TYPE_MAT4: return 16;
+    default: return 0;
+  }
+}
+
+// A checked view of an accessor's elements: every element lies inside its buffer view.
+struct AccessorData {
+  const uint8_t* data = nullptr;  // nullptr: no buffer view, every element is zero (spec)
+  size_t stride = 0;
+  size_t count = 0;
+  int componentType = 0;
+  int components = 0;
+  bool normalized = false;
+
+  double component(size_t element, int c) const {
+    if (!data) return 0.0;
+    const uint8_t* p = data + element * stride + c * componentBytes(componentType);
+    switch (componentType) {
+      case TINYGLTF_COMPONENT_TYPE_FLOAT: {
+        float f;
+        std::memcpy(&f, p, 4);
+        return f;
+      }
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return normalized ? *p / 255.0 : *p;
+      case TINYGLTF_COMPONENT_TYPE_BYTE: {
+        double v = static_cast<int8_t>(*p);
+        return normalized ? std::max(v / 127.0, -1.0) : v;
+      }
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
+        uint16_t v;
+        std::memcpy(&v, p, 2);
+        return normalized ? v / 65535.0 : v;
+      }
+      case TINYGLTF_COMPONENT_TYPE_SHORT: {
+        int16_t v;
+        std::memcpy(&v, p, 2);
+        return normalized ? std::max(v / 32767.0, -1.0) : v;
+      }
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: {
+        uint32_t v;
+        std::memcpy(&v, p, 4);
+        return v;
+      }
+      case TINYGLTF_COMPONENT_TYPE_INT: {
+        int32_t v;
+        std::memcpy(&v, p, 4);
+        return v;
+      }
+    }
+    return 0.0;
+  }
+  uint32_t index(size_t element) const { return static_cast<uint32_t>(component(element, 0)); }
+  glm::vec2 vec2(size_t i) const { return {component(i, 0), component(i, 1)}; }
+  glm::vec3 vec3(size_t i) const { return {component(i, 0), component(i, 1), component(i, 2)}; }
+};
+
+glm::vec3 toVec3(const std::vector<double>& v, glm::vec3 fallback) {
+  return v.size() >= 3 ? glm::vec3(v[0], v[1], v[2]) : fallback;
+}
+
+double number(const tinygltf::Value& object, const char* key, double fallback) {
+  if (!object.IsObject() || !object.Has(key)) return fallback;
+  const tinygltf::Value& v = object.Get(key);
+  return v.IsNumber() ? v.GetNumberAsDouble() : fallback;
+}
+
+class Loader {
+ public:
+  Loader(const std::string& path, Scene& scene) : path_(path), scene_(scene) {}
+
+  void run() {
+    parse();
+    checkExtensions();
+    for (size_t i = 0; i < model_.materials.size(); ++i) scene_.materials.push_back(material(int(i)));
+    traverseScenes();
+    if (scene_.triangles.empty()) fail("the scene has no triangles");
+    if (defaultMaterialIndex_ >= 0 || scene_.materials.empty()) {
+      if (defaultMaterialIndex_ < 0) defaultMaterialIndex_ = int(scene_.materials.size());
+      scene_.materials.push_back(defaultMaterial());
+    }
+    finishBounds();
+    collectEmissive();
+  }
+
+ private:
+  [[noreturn]] void fail(const std::string& problem) const {
+    throw InputError(path_ + ": " + problem);
+  }
+
+  void warn(const std::string& message) {
+    if (!warned_.insert(message).second) return;
+    scene_.warnings.push_back(message);
+    std::fprintf(stderr, "osr-vk: warning: %s: %s\n", path_.c_str(), message.c_str());
+  }
+
+  // --- Parsing ------------------------------------------------------------------------------
+
+  void parse() {
+    namespace fs = std::filesystem;
+    std::error_code ec;
+    if (!fs::exists(path_, ec)) fail("file not found");
+    if (fs::is_directory(path_, ec)) fail("is a directory, not a glTF file");
+    std::ifstream in(path_, std::ios::binary);
+    if (!in) fail("cannot open file");
+    std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)),
+                                     std::istreambuf_iterator<char>());
+    if (bytes.empty()) fail("file is empty");
+    std::string baseDir = fs::path(path_).parent_path().string();
+    if (baseDir.empty()) baseDir = ".";
+
+    tinygltf::TinyGLTF gltf;
+    std::string err, warn;
+    bool ok;
+    // Decide by content, not by name: a .glb starts with the magic "glTF".
+    if (bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0) {
+      checkGlbHeader(bytes);
+      ok = gltf.LoadBinaryFromMemory(&model_, &err, &warn, bytes.data(),
+                                     static_cast<unsigned>(bytes.size()), baseDir);
+    } else {
+      ok = gltf.LoadASCIIFromString(&model_, &err, &warn,
+                                    reinterpret_cast<const char*>(bytes.data()),
+                                    static_cast<unsigned>(bytes.size()), baseDir);
+    }
+    if (!ok) fail(err.empty() ? "not a valid glTF file" : oneLine(err));
+    if (!warn.empty()) {
+      // tinygltf reports an unreadable image as a warning; that is checked per texture below.
+      std::string w = oneLine(warn);
+      if (w.find("Failed to load external 'uri' for image") == std::string::npos) this->warn(w);
+    }
+  }
+
+  // tinygltf trusts the GLB chunk lengths; a truncated file must not make it read past the end.
+  void checkGlbHeader(const std::vector<unsigned char>& b) const {
+    auto u32 = [&](size_t at) {
+      uint32_t v;
+      std::memcpy(&v, b.data() + at, 4);
+      return v;
+    };
+    if (b.size() < 20) fail("truncated .glb: " + std::to_string(b.size()) + " bytes, header needs 20");
+    if (u32(4) != 2) fail("unsupported .glb version " + std::to_string(u32(4)));
+    if (u32(8) != b.size())
+      fail("truncated .glb: header says " + std::to_string(u32(8)) + " bytes, file has " +
+           std::to_string(b.size()));
+    size_t at = 12;
+    int chunk = 0;
+    while (at < b.size()) {
+      if (at + 8 > b.size()) fail("truncated .glb: chunk " + std::to_string(chunk) + " header cut off");
+      uint64_t length = u32(at);
+      if (at + 8 + length > b.size())
+        fail("truncated .glb: chunk " + std::to_string(chunk) + " of " + std::to_string(length) +
+             " bytes runs past the end of the file");
+      if (chunk == 0 && u32(at + 4) != 0x4E4F534Au) fail("malformed .glb: first chunk is not JSON");
+      at += 8 + length;
+      ++chunk;
+    }
+  }
+
+  void checkExtensions() {
+    std::set<std::string> names(model_.extensionsUsed.begin(), model_.extensionsUsed.end());
+    names.insert(model_.extensionsRequired.begin(), model_.extensionsRequired.end());
+    for (const auto& m : model_.materials)
+      for (const auto& [name, value] : m.extensions) names.insert(name);
+    for (const std::string& name : names)
+      if (!kSupportedExtensions.count(name)) warn("unsupported extension " + name + " ignored");
+  }
+
+  AccessorData accessor(int index, const std::string& what) const {
+    if (index < 0 || size_t(index) >= model_.accessors.size())
+      fail(what + ": accessor " + std::to_string(index) + " does not exist");
+    const tinygltf::Accessor& a = model_.accessors[index];
+    std::string name = what + ": accessor " + std::to_string(index);
+    AccessorData d;
+    d.count = a.count;
+    d.componentType = a.componentType;
+    d.components = componentCount(a.type);
+    d.normalized = a.normalized;
+    size_t elementBytes = componentBytes(a.componentType) * d.components;
+    if (elementBytes == 0) fail(name + " has an invalid component type or type");
+    if (a.sparse.isSparse) fail(name + " is sparse, which is not supported");
+    if (a.bufferView < 0) return d;  // all zeros
+    if (size_t(a.bufferView) >= model_.bufferViews.size())
+      fail(name + ": buffer view " + std::to_string(a.bufferView) + " does not exist");
+    const tinygltf::BufferView& view = model_.bufferViews[a.bufferView];
+    if (view.buffer < 0 || size_t(view.buffer) >= model_.buffers.size())
+      fail(name + ": buffer " + std::to_string(view.buffer) + " does not exist");
+    const tinygltf::Buffer& buffer = model_.buffers[view.buffer];
+    if (uint64_t(view.byteOffset) + view.byteLength > buffer.data.size())
+      fail(name + ": buffer view " + std::to_string(a.bufferView) + " (bytes " +
+           std::to_string(view.byteOffset) + " + " + std::to_string(view.byteLength) +
+           ") is out of range of buffer " + std::to_string(view.buffer) + " (" +
+           std::to_string(buffer.data.size()) + " bytes)");
+    d.stride = view.byteStride ? view.byteStride : elementBytes;
+    if (d.stride < elementBytes)
+      fail(name + ": byte stride " + std::to_string(d.stride) + " is smaller than an element");
+    if (d.count > 0) {
+      uint64_t end = uint64_t(a.byteOffset) + uint64_t(d.count - 1) * d.stride + elementBytes;
+      if (end > view.byteLength)
+        fail(name + " is out of range: offset " + std::to_string(a.byteOffset) + " + " +
+             std::to_string(d.count) + " elements x stride " + std::to_string(d.stride) +
+             " reads past buffer view " + std::to_string(a.bufferView) + " (" +
+             std::to_string(view.byteLength) + " bytes)");
+    }
+    d.data = buffer.data.data() + view.byteOffset + a.byteOffset;
+    return d;
+  }
+
+  // --- Materials and textures ---------------------------------------------------------------
+
+  // Our texture index for glTF texture `index`, created on first use.
+  int texture(int index, int texCoord, const std::string& what) {
+    if (index < 0) return gpu::kNoTexture;
+    if (size_t(index) >= model_.textures.size())
+      fail(what + ": texture " + std::to_string(index) + " does not exist");
+    if (texCoord != 0) warn(what + ": TEXCOORD_" + std::to_string(texCoord) + " not supported, using TEXCOORD_0");
+    auto found = textureMap_.find(index);
+    if (found != textureMap_.end()) return found->second;
+    const tinygltf::Texture& t = model_.textures[index];
+    if (t.source < 0 || size_t(t.source) >= model_.images.size())
+      fail(what + ": texture " + std::to_string(index) + " has no image");
+    const tinygltf::Image& image = model_.images[t.source];
+    std::string imageName = "image " + std::to_string(t.source) +
+                            (image.uri.empty() || image.uri.rfind("data:", 0) == 0
+                                 ? std::string()
+                                 : " '" + image.uri + "'");
+    if (image.image.empty() || image.width <= 0 || image.height <= 0)
+      fail("missing texture image: " + imageName + " of texture " + std::to_string(index) +
+           " could not be loaded");
+    Texture tex;
+    tex.width = uint32_t(image.width);
+    tex.height = uint32_t(image.height);
+    tex.name = image.name.empty() ? imageName : image.name;
+    int comps = image.component, bytesPer = image.bits / 8;
+    size_t texels = size_t(tex.width) * tex.height;
+    if (comps < 1 || comps > 4 || (bytesPer != 1 && bytesPer != 2) ||
+        image.image.size() < texels * comps * bytesPer)
+      fail(imageName + ": unsupported pixel format");
+    tex.texels.resize(texels);
+    for (size_t i = 0; i < texels; ++i) {
+      uint32_t c[4] = {0, 0, 0, 255};
+      for (int k = 0; k < comps; ++k) {
+        const unsigned char* p = &image.image[(i * comps + k) * bytesPer];
+        // 16-bit channels keep their high byte (little-endian as stb returns them).
+        c[k] = bytesPer == 2 ? p[1] : p[0];
+      }
+      if (comps == 1) c[1] = c[2] = c[0];
+      if (comps == 2) {  // grey + alpha
+        c[3] = c[1];
+        c[1] = c[2] = c[0];
+      }
+      tex.texels[i] = c[0] | (c[1] << 8) | (c[2] << 16) | (c[3] << 24);
+    }
+    auto wrapMode = [](int gl) {
+      if (gl == TINYGLTF_TEXTURE_WRAP_CLAMP_TO_EDGE) return gpu::kWrapClamp;
+      if (gl == TINYGLTF_TEXTURE_WRAP_MIRRORED_REPEAT) return gpu::kWrapMirror;
+      return gpu::kWrapRepeat;
+    };
+    if (t.sampler >= 0 && size_t(t.sampler) < model_.samplers.size()) {
+      const tinygltf::Sampler& s = model_.samplers[t.sampler];
+      tex.wrap = wrapMode(s.wrapS) | (wrapMode(s.wrapT) << 2);
+    }
+    int ours = int(scene_.textures.size());
+    scene_.textures.push_back(std::move(tex));
+    textureMap_[index] = ours;
+    return ours;
+  }
+
+  // A texture reference inside an extension object: {"index": n, "texCoord": k}.
+  int extensionTexture(const tinygltf::Value& ext, const char* key, const std::string& what) {
+    if (!ext.IsObject() || !ext.Has(key)) return gpu::kNoTexture;
+    const tinygltf::Value& info = ext.Get(key);
+    return texture(int(number(info, "index", -1)), int(number(info, "texCoord", 0)),
+                   what + " " + key);
+  }
+
+  gpu::Material material(int index) {
+    const tinygltf::Material& src = model_.materials[index];
+    std::string what = "material " + std::to_string(index) +
+                       (src.name.empty() ? "" : " '" + src.name + "'");
+    gpu::Material m = defaultMaterial();
+    const auto& pbr = src.pbrMetallicRoughness;
+    if (pbr.baseColorFactor.size() == 4)
+      m.baseColor = glm::vec4(pbr.baseColorFactor[0], pbr.baseColorFactor[1],
+                              pbr.baseColorFactor[2], pbr.baseColorFactor[3]);
+    m.metallic = float(pbr.metallicFactor);
+    m.roughness = float(pbr.roughnessFactor);
+    m.baseColorTexture = texture(pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord, what);
+    m.metallicRoughnessTexture =
+        texture(pbr.metallicRoughnessTexture.index, pbr.metallicRoughnessTexture.texCoord, what);
+    m.normalTexture = texture(src.normalTexture.index, src.normalTexture.texCoord, what);
+    m.normalScale = float(src.normalTexture.scale);
+    m.emissiveTexture = texture(src.emissiveTexture.index, src.emissiveTexture.texCoord, what);
+    glm::vec3 emissive = toVec3(src.emissiveFactor, glm::vec3(0.0f));
+    float strength = 1.0f;
+    auto ext = [&](const char* name) -> const tinygltf::Value* {
+      auto it = src.extensions.find(name);
+      return it == src.extensions.end() ? nullptr : &it->second;
+    };
+    if (auto* e = ext("KHR_materials_emissive_strength"))
+      strength = float(number(*e, "emissiveStrength", 1.0));
+    m.emission = emissive * strength;
+    if (auto* e = ext("KHR_materials_specular")) {
+      m.specular = float(number(*e, "specularFactor", 1.0));
+      if (e->Has("specularColorFactor")) {
+        const tinygltf::Value& c = e->Get("specularColorFactor");
+        if (c.IsArray() && c.ArrayLen() == 3)
+          m.specularColor = glm::vec3(c.Get(0).GetNumberAsDouble(), c.Get(1).GetNumberAsDouble(),
+                                      c.Get(2).GetNumberAsDouble());
+      }
+      m.specularTexture = extensionTexture(*e, "specularTexture", what);
+      m.specularColorTexture = extensionTexture(*e, "specularColorTexture", what);
+    }
+    if (auto* e = ext("KHR_materials_ior")) m.ior = float(number(*e, "ior", 1.5));
+    if (auto* e = ext("KHR_materials_transmission")) {
+      m.transmission = float(number(*e, "transmissionFactor", 0.0));
+      m.transmissionTexture = extensionTexture(*e, "transmissionTexture", what);
+    }
+    if (src.doubleSided) m.flags |= gpu::kMaterialDoubleSided;
+    if (src.alphaMode == "MASK") {
+      m.flags |= gpu::kMaterialAlphaMask;
+      m.alphaCutoff = float(src.alphaCutoff);
+    } else if (src.alphaMode == "BLEND") {
+      m.flags |= gpu::kMaterialAlphaBlend;
+      m.alphaCutoff = 0.5f;
+      warn(what + ": alphaMode BLEND is rendered as MASK with cutoff 0.5");
+    }
+    const float values[] = {m.baseColor.r, m.baseColor.g, m.baseColor.b, m.baseColor.a,
+                            m.metallic, m.roughness, m.emission.r, m.emission.g, m.emission.b,
+                            m.specular, m.ior, m.transmission, m.alphaCutoff};
+    for (float v : values)
+      if (!std::isfinite(v)) fail(what + " has a non-finite factor");
+    if (m.emission.r < 0 || m.emission.g < 0 || m.emission.b < 0)
+      fail(what + " has a negative emission");
+    return m;
+  }
+
+  // --- Nodes ----------------------------------------------------------------------------------
+
+  glm::mat4 localTransform(const tinygltf::Node& node, int index) const {
+    if (node.matrix.size() == 16) {
+      glm::mat4 m;
+      for (int i = 0; i < 16; ++i) glm::value_ptr(m)[i] = float(node.matrix[i]);  // column-major
+      return m;
+    }
+    if (!node.matrix.empty()) fail("node " + std::to_string(index) + ": matrix needs 16 numbers");
+    glm::mat4 t(1.0f), r(1.0f), s(1.0f);
+    if (node.translation.size() == 3)
+      t = glm::translate(glm::mat4(1.0f), glm::vec3(node.translation[0], node.translation[1],
+                                                   node.translation[2]));
+    if (node.rotation.size() == 4) {
+      // glTF stores quaternions as (x, y, z, w); glm's constructor takes (w, x, y, z).
+      glm::quat q(float(node.rotation[3]), float(node.rotation[0]), float(node.rotation[1]),
+                  float(node.rotation[2]));
+      r = glm::mat4_cast(glm::normalize(q));
+    }
+    if (node.scale.size() == 3)
+      s = glm::scale(glm::mat4(1.0f), glm::vec3(node.scale[0], node.scale[1], node.scale[2]));
+    return t * r * s;
+  }
+
+  void traverseScenes() {
+    std::vector<int> roots;
+    if (!model_.scenes.empty()) {
+      int sceneIndex = model_.defaultScene >= 0 ? model_.defaultScene : 0;
+      if (size_t(sceneIndex) >= model_.scenes.size()) fail("default scene does not exist");
+      roots = model_.scenes[sceneIndex].nodes;
+    } else {
+      // No scene: render every root node (the spec leaves this to the application).
+      std::vector<bool> isChild(model_.nodes.size(), false);
+      for (const auto& n : model_.nodes)
+        for (int c : n.children)
+          if (c >= 0 && size_t(c) < isChild.size()) isChild[c] = true;
+      for (size_t i = 0; i < model_.nodes.size(); ++i)
+        if (!isChild[i]) roots.push_back(int(i));
+    }
+    std::vector<bool> onPath(model_.nodes.size(), false);
+    for (int root : roots) visit(root, glm::mat4(1.0f), onPath);
+  }
+
+  void visit(int index, const glm::mat4& worldFromParent, std::vector<bool>& onPath) {
+    if (index < 0 || size_t(index) >= model_.nodes.size())
+      fail("node " + std::to_string(index) + " does not exist");
+    if (onPath[index]) fail("node " + std::to_string(index) + " is its own ancestor (cycle)");
+    onPath[index] = true;
+    const tinygltf::Node& node = model_.nodes[index];
+    glm::mat4 worldFromNode = worldFromParent * localTransform(node, index);
+    if (node.skin >= 0) warn("skins not supported: meshes drawn in their bind pose");
+    if (!node.weights.empty()) warn("morph targets not supported: base mesh drawn");
+    if (node.mesh >= 0) {
+      if (size_t(node.mesh) >= model_.meshes.size())
+        fail("node " + std::to_string(index) + ": mesh " + std::to_string(node.mesh) + " does not exist");
+      const tinygltf::Mesh& mesh = model_.meshes[node.mesh];
+      for (size_t p = 0; p < mesh.primitives.size(); ++p)
+        primitive(mesh.primitives[p],
+                  "mesh " + std::to_string(node.mesh) + " primitive " + std::to_string(p),
+                  worldFromNode);
+    }
+    if (node.camera >= 0) camera(node, index, worldFromNode);
+    auto light = node.extensions.find("KHR_lights_punctual");
+    if (light != node.extensions.end()) punctualLight(light->second, index, worldFromNode);
+    for (int child : node.children) visit(child, worldFromNode, onPath);
+    onPath[index] = false;
+  }
+
+  void primitive(const tinygltf::Primitive& prim, const std::string& what,
+                 const glm::mat4& worldFromObject) {
+    if (prim.mode != TINYGLTF_MODE_TRIANGLES && prim.mode != -1) {
+      warn(what + ": primitive mode " + std::to_string(prim.mode) +
+           " is not triangles (mode 4), skipped");
+      return;
+    }
+    auto attr = [&](const char* name) {
+      auto it = prim.attributes.find(name);
+      return it == prim.attributes.end() ? -1 : it->second;
+    };
+    if (attr("POSITION") < 0) fail(what + " has no POSITION");
+    AccessorData pos = accessor(attr("POSITION"), what + " POSITION");
+    if (pos.components != 3) fail(what + " POSITION is not a VEC3");
+    AccessorData nrm, uv;
+    bool hasNormals = attr("NORMAL") >= 0, hasUv = attr("TEXCOORD_0") >= 0;
+    if (hasNormals) {
+      nrm = accessor(attr("NORMAL"), what + " NORMAL");
+      if (nrm.components != 3 || nrm.count != pos.count)
+        fail(what + " NORMAL does not match POSITION (type or count)");
+    }
+    if (hasUv) {
+      uv = accessor(attr("TEXCOORD_0"), what + " TEXCOORD_0");
+      if (uv.components != 2 || uv.count != pos.count)
+        fail(what + " TEXCOORD_0 does not match POSITION (type or count)");
+    }
+    if (attr("COLOR_0") >= 0) warn("vertex colors (COLOR_0) not supported, ignored");
+    if (!prim.targets.empty()) warn("morph targets not supported: base mesh drawn");
+
+    uint32_t materialIndex;
+    if (prim.material < 0) {
+      if (defaultMaterialIndex_ < 0) defaultMaterialIndex_ = int(model_.materials.size());
+      materialIndex = uint32_t(defaultMaterialIndex_);
+    } else if (size_t(prim.material) >= model_.materials.size()) {
+      fail(what + ": material " + std::to_string(prim.material) + " does not exist");
+    } else {
+      materialIndex = uint32_t(prim.material);
+    }
+
+    // Indices: explicit (u8/u16/u32) or 0..count-1.
+    std::vector<uint32_t> indices;
+    if (prim.indices >= 0) {
+      AccessorData idx = accessor(prim.indices, what + " indices");
+      if (idx.components != 1 || (idx.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE &&
+                                  idx.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
+                                  idx.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT))
+        fail(what + " indices are not unsigned byte/short/int scalars");
+      indices.resize(idx.count);
+      for (size_t i = 0; i < idx.count; ++i) {
+        indices[i] = idx.index(i);
+        if (indices[i] >= pos.count)
+          fail(what + ": index " + std::to_string(indices[i]) + " at position " +
+               std::to_string(i) + " is past the vertex count " + std::to_string(pos.count));
+      }
+    } else {
+      indices.resize(pos.count);
+      for (size_t i = 0; i < pos.count; ++i) indices[i] = uint32_t(i);
+    }
+    if (indices.size() % 3 != 0)
+      warn(what + ": index count not a multiple of 3, last " +
+           std::to_string(indices.size() % 3) + " ignored");
+    size_t triangleCount = indices.size() / 3;
+    if (triangleCount == 0) return;
+
+    // Normals transform with the inverse transpose; a mirroring transform (det < 0) would
+    // turn counter-clockwise front faces clockwise, so the winding is flipped to keep them.
+    glm::mat3 linear(worldFromObject);
+    glm::mat3 normalFromObject = glm::transpose(glm::inverse(linear));
+    bool flip = glm::determinant(linear) < 0.0f;
+
+    auto worldPosition = [&](uint32_t i) {
+      glm::vec3 p = pos.vec3(i);
+      if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z))
+        fail(what + " POSITION " + std::to_string(i) + " is not finite (NaN or Inf)");
+      glm::vec3 w = glm::vec3(worldFromObject * glm::vec4(p, 1.0f));
+      if (!std::isfinite(w.x) || !std::isfinite(w.y) || !std::isfinite(w.z))
+        fail(what + " POSITION " + std::to_string(i) + " is not finite after the node transform");
+      return w;
+    };
+    auto uvAt = [&](uint32_t i) { return hasUv ? uv.vec2(i) : glm::vec2(0.0f); };
+
+    if (hasNormals) {
+      uint32_t base = uint32_t(scene_.vertices.size());
+      for (uint32_t i = 0; i < pos.count; ++i) {
+        glm::vec3 n = normalFromObject * nrm.vec3(i);
+        float len = glm::length(n);
+        gpu::Vertex v{};
+        v.position = worldPosition(i);
+        // A zero or broken normal falls back to the face normal in the shader (length 0).
+        v.normal = len > 0.0f && std::isfinite(len) ? n / len : glm::vec3(0.0f);
+        glm::vec2 t = uvAt(i);
+        v.u = t.x;
+        v.v = t.y;
+        scene_.vertices.push_back(v);
+      }
+      for (size_t t = 0; t < triangleCount; ++t) {
+        uint32_t a = indices[3 * t], b = indices[3 * t + 1], c = indices[3 * t + 2];
+        if (flip) std::swap(b, c);
+        scene_.triangles.push_back({base + a, base + b, base + c, materialIndex});
+      }
+    } else {
+      // No normals: glTF asks for flat shading, so every triangle gets its own vertices
+      // carrying the face normal.
+      for (size_t t = 0; t < triangleCount; ++t) {
+        uint32_t id[3] = {indices[3 * t], indices[3 * t + 1], indices[3 * t + 2]};
+        if (flip) std::swap(id[1], id[2]);
+        glm::vec3 p[3] = {worldPosition(id[0]), worldPosition(id[1]), worldPosition(id[2])};
+        glm::vec3 n = glm::cross(p[1] - p[0], p[2] - p[0]);
+        float len = glm::length(n);
+        n = len > 0.0f ? n / len : glm::vec3(0.0f);
+        uint32_t base = uint32_t(scene_.vertices.size());
+        for (int k = 0; k < 3; ++k) {
+          glm::vec2 tc = uvAt(id[k]);
+          scene_.vertices.push_back({p[k], tc.x, n, tc.y});
+        }
+        scene_.triangles.push_back({base, base + 1, base + 2, materialIndex});
+      }
+    }
+  }
+
+  void camera(const tinygltf::Node& node, int nodeIndex, const glm::mat4& worldFromNode) {
+    if (size_t(node.camera) >= model_.cameras.size())
+      fail("node " + std::to_string(nodeIndex) + ": camera " + std::to_string(node.camera) +
+           " does not exist");
+    const tinygltf::Camera& c = model_.cameras[node.camera];
+    if (c.type != "perspective") {
+      warn("camera " + std::to_string(node.camera) + ": only perspective cameras supported, '" +
+           c.type + "' skipped");
+      return;
+    }
+    Camera cam;
+    cam.name = !c.name.empty() ? c.name
+               : !node.name.empty() ? node.name
+                                    : "camera " + std::to_string(node.camera);
+    // Rigid part only: a scaled camera node must not scale the rays.
+    glm::mat4 m = worldFromNode;
+    for (int k = 0; k < 3; ++k) {
+      glm::vec3 axis(m[k]);
+      float len = glm::length(axis);
+      if (!(len > 0.0f) || !std::isfinite(len))
+        fail("node " + std::to_string(nodeIndex) + ": camera transform is degenerate");
+      m[k] = glm::vec4(axis / len, 0.0f);
+    }
+    cam.worldFromCamera = m;
+    cam.yfov = float(c.perspective.yfov);
+    cam.aspect = float(c.perspective.aspectRatio);
+    if (!(cam.yfov > 0.0f && cam.yfov < 3.14159f))
+      fail("camera " + std::to_string(node.camera) + ": yfov must be in (0, pi)");
+    if (!(cam.aspect >= 0.0f) || !std::isfinite(cam.aspect)) cam.aspect = 0.0f;
+    scene_.cameras.push_back(cam);
+  }
+
+  void punctualLight(const tinygltf::Value& ext, int nodeIndex, const glm::mat4& worldFromNode) {
+    int index = int(number(ext, "light", -1));
+    if (index < 0 || size_t(index) >= model_.lights.size())
+      fail("node " + std::to_string(nodeIndex) + ": KHR_lights_punctual light " +
+           std::to_string(index) + " does not exist");
+    const tinygltf::Light& l = model_.lights[index];
+    gpu::PunctualLight out{};
+    glm::vec3 color = toVec3(l.color, glm::vec3(1.0f));
+    out.intensity = color * float(l.intensity) / kLumensPerWatt;
+    out.position = glm::vec3(worldFromNode * glm::vec4(0, 0, 0, 1));
+    glm::vec3 dir = glm::mat3(worldFromNode) * glm::vec3(0, 0, -1);  // lights point down -Z
+    float len = glm::length(dir);
+    out.direction = len > 0.0f ? dir / len : glm::vec3(0, 0, -1);
+    out.range = float(l.range);
+    if (l.type == "point") {
+      out.type = gpu::kLightPoint;
+    } else if (l.type == "spot") {
+      out.type = gpu::kLightSpot;
+      out.cosInner = std::cos(float(l.spot.innerConeAngle));
+      out.cosOuter = std::cos(float(l.spot.outerConeAngle));
+    } else if (l.type == "directional") {
+      out.type = gpu::kLightDirectional;
+    } else {
+      warn("light " + std::to_string(index) + ": unknown type '" + l.type + "' skipped");
+      return;
+    }
+    if (!std::isfinite(out.intensity.r + out.intensity.g + out.intensity.b) ||
+        !std::isfinite(out.position.x + out.position.y + out.position.z))
+      fail("light " + std::to_string(index) + " is not finite");
+    scene_.lights.push_back(out);
+  }
+
+  // --- Derived data ---------------------------------------------------------------------------
+
+  void finishBounds() {
+    glm::vec3 lo(INFINITY), hi(-INFINITY);
+    for (const gpu::Vertex& v : scene_.vertices) {
+      lo = glm::min(lo, v.position);
+      hi = glm::max(hi, v.position);
+    }
+    scene_.boundsMin = lo;
+    scene_.boundsMax = hi;
+  }
+
+  // Mean linear colour of an sRGB texture: the emissive texture's share of a triangle's power.
+  glm::vec3 meanLinear(int textureIndex) {
+    auto cached = meanCache_.find(textureIndex);
+    if (cached != meanCache_.end()) return cached->second;
+    const Texture& t = scene_.textures[textureIndex];
+    glm::dvec3 sum(0.0);
+    for (uint32_t texel : t.texels)
+      for (int k = 0; k < 3; ++k) {
+        double c = ((texel >> (8 * k)) & 255u) / 255.0;
+        sum[k] += c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4);
+      }
+    glm::vec3 mean = t.texels.empty() ? glm::vec3(1.0f) : glm::vec3(sum / double(t.texels.size()));
+    meanCache_[textureIndex] = mean;
+    return mean;
+  }
+
+  void collectEmissive() {
+    double total = 0.0;
+    for (uint32_t i = 0; i < scene_.triangles.size(); ++i) {
+      const gpu::Triangle& t = scene_.triangles[i];
+      const gpu::Material& m = scene_.materials[t.material];
+      glm::vec3 emission = m.emission;
+      if (m.emissiveTexture != gpu::kNoTexture) emission *= meanLinear(m.emissiveTexture);
+      float lum = luminance(emission);
+      if (!(lum > 0.0f)) continue;
+      glm::vec3 p0 = scene_.vertices[t.v0].position, p1 = scene_.vertices[t.v1].position,
+                p2 = scene_.vertices[t.v2].position;
+      float area = 0.5f * glm::length(glm::cross(p1 - p0, p2 - p0));
+      if (!(area > 0.0f)) continue;
+      float sides = (m.flags & gpu::kMaterialDoubleSided) ? 2.0f : 1.0f;
+      float power = lum * area * 3.14159265f * sides;
+      scene_.emissive.push_back({i, power, 0.0f, area});
+      total += power;
+    }
+    double running = 0.0;
+    for (gpu::EmissiveTriangle& e : scene_.emissive) {
+      running += e.power;
+      e.cdf = float(running / total);
+    }
+    if (!scene_.emissive.empty()) scene_.emissive.back().cdf = 1.0f;
+    scene_.emissivePower = float(total);
+  }
+
+  const std::string& path_;
+  Scene& scene_;
+  tinygltf::Model model_;
+  std::set<std::string> warned_;
+  std::map<int, int> textureMap_;
+  std::map<int, glm::vec3> meanCache_;
+  int defaultMaterialIndex_ = -1;
+};
+
+}  // namespace
+
+Scene loadScene(const std::string& path) {
+  Scene scene;
+  scene.path = path;
+  Loader(path, scene).run();
+  return scene;
+}
+
+}  // namespace osr::scene

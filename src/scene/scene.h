@@ -1,0 +1,79 @@
+// The scene as loaded from glTF 2.0: flattened into world-space vertices and triangles with
+// the device structs of shaders/shared/scene.h, so the upload is a plain copy. Conventions
+// (units, extensions, what is unsupported) are those of DESIGN.md "Conventions: Scene".
+#pragma once
+#include <cstdint>
+#include <glm/glm.hpp>
+#include <string>
+#include <vector>
+
+#include "shaders/shared/scene.h"
+
+namespace osr::scene {
+
+namespace gpu = osr::gpu::scene;
+
+// One texture: RGBA8 texels, R in the low byte, row 0 first (glTF's uv (0,0) is its top-left).
+struct Texture {
+  uint32_t width = 0, height = 0;
+  uint32_t wrap = 0;  // kWrap* for S in bits 0-1, T in bits 2-3
+  std::vector<uint32_t> texels;
+  std::string name;
+};
+
+// A perspective camera. It looks down its local -Z with +Y up (glTF); worldFromCamera is
+// rigid (scale removed). yfov in radians; aspect = width / height, 0 when the file gives none.
+struct Camera {
+  std::string name;
+  glm::mat4 worldFromCamera{1.0f};
+  float yfov = 0.8f;
+  float aspect = 0.0f;
+};
+
+// Equirectangular environment: linear RGB radiance, row 0 at the top (+Y), see
+// shaders/lib/scene.glsl environmentDirection() for the direction <-> texel mapping.
+struct Environment {
+  uint32_t width = 0, height = 0;
+  std::vector<glm::vec4> texels;
+  std::string path;
+};
+
+struct Scene {
+  std::string path;
+  std::vector<gpu::Vertex> vertices;  // world space
+  std::vector<gpu::Triangle> triangles;
+  std::vector<gpu::Material> materials;  // always >= 1: the last one may be the default
+  std::vector<Texture> textures;
+  std::vector<gpu::PunctualLight> lights;
+  std::vector<gpu::EmissiveTriangle> emissive;  // cdf over power
+  std::vector<Camera> cameras;                  // file cameras in node order
+  glm::vec3 boundsMin{0.0f}, boundsMax{0.0f};
+  std::vector<std::string> warnings;  // e.g. unsupported extensions (also printed once each)
+  float emissivePower = 0.0f;         // sum of emissive[i].power
+};
+
+// The glTF default material (white, metallic 1, roughness 1 per the spec's factor defaults,
+// KHR_* defaults).
+gpu::Material defaultMaterial();
+
+// Loads a .gltf or .glb file. Throws InputError("<path>: <problem>") for anything that is not a
+// valid glTF 2.0 scene with at least one triangle. Warnings go to Scene::warnings and stderr.
+Scene loadScene(const std::string& path);
+
+// Loads an equirectangular .exr (OpenEXR, RGB(A)) or .hdr (Radiance, via stb_image).
+// Throws InputError("<path>: <problem>").
+Environment loadEnvironment(const std::string& path);
+
+// selector "" picks the first file camera, or when there is none a camera framing the scene
+// bounds for an image of the given aspect (width / height; <= 0 means 1); a number picks a
+// file camera by index; anything else by name. Throws InputError naming the scene file.
+Camera selectCamera(const Scene& scene, const std::string& selector, float aspect);
+
+// A camera looking down -Z at the centre of the bounds, far enough for the bounding sphere to
+// fit the smaller field of view of an image with this aspect.
+Camera defaultCamera(const Scene& scene, float aspect);
+
+// Rec. 709 luminance of linear RGB (the weight used for emissive power).
+inline float luminance(glm::vec3 c) { return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b; }
+
+}  // namespace osr::scene

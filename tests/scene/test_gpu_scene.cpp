@@ -1,0 +1,65 @@
+// GpuScene: the device buffers hold exactly the loaded scene, padded where empty, and a scene
+// past maxStorageBufferRange is refused with a message naming the limit.
+#include <gtest/gtest.h>
+
+#include <cstring>
+
+#include "common/error.h"
+#include "common/vk_test.h"
+#include "scene/gpu_scene.h"
+
+using namespace osr;
+namespace gs = osr::gpu::scene;
+
+// std430 layout of the shared structs (the GLSL side is checked by test_scene_probe).
+static_assert(sizeof(gs::Vertex) == 32 && offsetof(gs::Vertex, normal) == 16);
+static_assert(sizeof(gs::Triangle) == 16);
+static_assert(sizeof(gs::Material) == 112);
+static_assert(offsetof(gs::Material, emission) == 16 && offsetof(gs::Material, specularColor) == 32);
+static_assert(offsetof(gs::Material, baseColorTexture) == 64 && offsetof(gs::Material, flags) == 92);
+static_assert(sizeof(gs::TextureInfo) == 16 && sizeof(gs::EmissiveTriangle) == 16);
+static_assert(sizeof(gs::PunctualLight) == 64 && offsetof(gs::PunctualLight, intensity) == 32);
+static_assert(sizeof(gs::SceneInfo) == 64 && offsetof(gs::SceneInfo, boundsMin) == 32);
+
+TEST(GpuScene, UploadsTheCornellBox) {
+  auto& ctx = test::context();
+  scene::Scene s = scene::loadScene(test::referencePath("cornell/cornell.gltf"));
+  scene::GpuScene g(ctx, s);
+  EXPECT_EQ(g.triangleCount, s.triangles.size());
+  auto tris = g.triangles.downloadVector<gs::Triangle>(s.triangles.size());
+  EXPECT_EQ(std::memcmp(tris.data(), s.triangles.data(), tris.size() * sizeof(gs::Triangle)), 0);
+  auto verts = g.vertices.downloadVector<gs::Vertex>(s.vertices.size());
+  EXPECT_EQ(std::memcmp(verts.data(), s.vertices.data(), verts.size() * sizeof(gs::Vertex)), 0);
+  auto info = g.info.downloadVector<gs::SceneInfo>(1)[0];
+  EXPECT_EQ(info.triangleCount, s.triangles.size());
+  EXPECT_EQ(info.emissiveCount, s.emissive.size());
+  EXPECT_EQ(info.lightCount, 0u);
+  EXPECT_EQ(info.envWidth, 0u);
+  EXPECT_EQ(glm::vec3(info.boundsMin), s.boundsMin);
+  // Empty lists are padded to one element so every binding is valid.
+  EXPECT_EQ(g.lights.size(), sizeof(gs::PunctualLight));
+  EXPECT_EQ(g.texels.size(), 4u);
+  EXPECT_EQ(g.bindings().size(), gs::kSceneBindingCount);
+  EXPECT_EQ(g.bindings()[gs::kSceneBindingTriangles].buffer, &g.triangles);
+}
+
+TEST(GpuScene, RefusesBuffersPastMaxStorageBufferRange) {
+  auto& ctx = test::context();
+  uint64_t limit = ctx.caps().maxStorageBufferRange;
+  if (limit > (512ull << 20)) GTEST_SKIP() << "device allows " << (limit >> 20) << " MiB buffers";
+  scene::Scene s = scene::loadScene(test::referencePath("cornell/cornell.gltf"));
+  scene::Texture big;
+  big.width = 4096;
+  big.height = uint32_t(limit / 4 / 4096 + 1);
+  big.texels.resize(size_t(big.width) * big.height);
+  s.textures.push_back(std::move(big));
+  try {
+    scene::GpuScene g(ctx, s);
+    FAIL() << "expected a DeviceError";
+  } catch (const DeviceError& e) {
+    std::string msg = e.what();
+    EXPECT_NE(msg.find("maxStorageBufferRange"), std::string::npos) << msg;
+    EXPECT_NE(msg.find("cornell.gltf"), std::string::npos) << msg;
+    EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
+  }
+}
