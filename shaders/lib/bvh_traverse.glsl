@@ -1,0 +1,179 @@
+// Ray traversal of the BVH of shaders/shared/bvh.h: closest hit and any hit (occlusion).
+//
+// The including shader #defines OSR_BVH_BINDING (first of kBvhBindingCount consecutive storage
+// buffer bindings: nodes, leaf triangles) before including this file. If OSR_BVH_ALPHA_TEST is
+// defined, hits for which `bool osrAlphaCutout(uint triangle, vec2 barycentrics)` returns true
+// are skipped (the includer provides it, normally through shaders/lib/scene.glsl).
+//
+// Ray-triangle test: watertight (Woop, Benthin, Wald 2013, "Watertight Ray/Triangle
+// Intersection"), so rays through shared edges and vertices never slip between triangles.
+// Ray-box test: slabs with the far distance scaled up by 1 + 2*gamma(3) (Ize 2013, "Robust BVH
+// Ray Traversal") so boxes that the triangle test would hit are never culled by rounding.
+// Stack: one entry per level descended; the builders bound the depth by kBvhMaxDepth.
+#ifndef OSR_BVH_TRAVERSE_GLSL
+#define OSR_BVH_TRAVERSE_GLSL
+#include "shared/bvh.h"
+
+#ifndef OSR_BVH_BINDING
+#error "define OSR_BVH_BINDING before including lib/bvh_traverse.glsl"
+#endif
+
+layout(std430, binding = OSR_BVH_BINDING + kBvhBindingNodes) readonly buffer OsrBvhNodes {
+  BvhNode gBvhNodes[];
+};
+layout(std430, binding = OSR_BVH_BINDING + kBvhBindingLeafTriangles) readonly buffer OsrBvhLeaves {
+  BvhLeafTriangle gBvhLeafTriangles[];
+};
+
+// triangle = index into the scene's Triangle buffer; barycentrics = weights of v1, v2.
+struct Hit {
+  float t;
+  uint triangle;
+  vec2 barycentrics;
+};
+
+#ifdef OSR_BVH_ALPHA_TEST
+bool osrAlphaCutout(uint triangle, vec2 barycentrics);
+#endif
+
+// Per-ray constants of the watertight test and the slab test.
+struct OsrBvhRay {
+  vec3 origin;
+  vec3 invDir;
+  vec3 originScaled;  // origin * invDir, so a slab distance is one fma
+  ivec3 k;            // kx, ky, kz: kz the dominant axis, kx/ky keeping the winding
+  vec3 shear;         // Sx, Sy, Sz
+};
+
+OsrBvhRay osrBvhMakeRay(vec3 origin, vec3 dir) {
+  OsrBvhRay r;
+  r.origin = origin;
+  // Zero components would make 0 * inf = NaN in the slab test; a tiny same-signed value keeps
+  // the box test conservative (the triangle test uses the exact direction).
+  const float kTiny = 1e-30;
+  vec3 safe = mix(dir, mix(vec3(kTiny), vec3(-kTiny), lessThan(dir, vec3(0.0))),
+                  lessThan(abs(dir), vec3(kTiny)));
+  r.invDir = 1.0 / safe;
+  r.originScaled = origin * r.invDir;
+  vec3 a = abs(dir);
+  int kz = a.x > a.y ? (a.x > a.z ? 0 : 2) : (a.y > a.z ? 1 : 2);
+  int kx = kz == 2 ? 0 : kz + 1;
+  int ky = kx == 2 ? 0 : kx + 1;
+  if (dir[kz] < 0.0) {
+    int tmp = kx;
+    kx = ky;
+    ky = tmp;
+  }
+  r.k = ivec3(kx, ky, kz);
+  r.shear = vec3(dir[kx] / dir[kz], dir[ky] / dir[kz], 1.0 / dir[kz]);
+  return r;
+}
+
+// True when the ray overlaps [bmin, bmax] within [tMin, tFar]; tEnter = entry distance.
+bool osrBvhBox(OsrBvhRay r, vec3 bmin, vec3 bmax, float tMin, float tFar, out float tEnter) {
+  vec3 t0 = bmin * r.invDir - r.originScaled;
+  vec3 t1 = bmax * r.invDir - r.originScaled;
+  vec3 lo = min(t0, t1);
+  vec3 hi = max(t0, t1);
+  tEnter = max(max(lo.x, lo.y), max(lo.z, tMin));
+  float tExit = min(min(hi.x, hi.y), min(hi.z, tFar)) * 1.00000036;  // 1 + 2 * gamma(3)
+  return tEnter <= tExit;
+}
+
+// Watertight test; on a hit inside (tMin, tFar) returns t and the weights of v1, v2.
+bool osrBvhTriangle(OsrBvhRay r, vec3 v0, vec3 v1, vec3 v2, float tMin, float tFar,
+                    out float t, out vec2 bary) {
+  vec3 A = v0 - r.origin;
+  vec3 B = v1 - r.origin;
+  vec3 C = v2 - r.origin;
+  int kx = r.k.x, ky = r.k.y, kz = r.k.z;
+  float ax = A[kx] - r.shear.x * A[kz];
+  float ay = A[ky] - r.shear.y * A[kz];
+  float bx = B[kx] - r.shear.x * B[kz];
+  float by = B[ky] - r.shear.y * B[kz];
+  float cx = C[kx] - r.shear.x * C[kz];
+  float cy = C[ky] - r.shear.y * C[kz];
+  float U = cx * by - cy * bx;
+  float V = ax * cy - ay * cx;
+  float W = bx * ay - by * ax;
+  t = 0.0;
+  bary = vec2(0.0);
+  if ((U < 0.0 || V < 0.0 || W < 0.0) && (U > 0.0 || V > 0.0 || W > 0.0)) return false;
+  float det = U + V + W;
+  if (det == 0.0) return false;
+  float T = U * (r.shear.z * A[kz]) + V * (r.shear.z * B[kz]) + W * (r.shear.z * C[kz]);
+  float rcpDet = 1.0 / det;
+  t = T * rcpDet;
+  if (!(t > tMin && t < tFar)) return false;
+  bary = vec2(V, W) * rcpDet;
+  return true;
+}
+
+// Shared loop of both queries; `anyHit` is a constant at each call site, so the compiler
+// specialises it away.
+bool osrBvhTraverse(vec3 origin, vec3 dir, float tMin, float tMax, bool anyHit, out Hit hit) {
+  OsrBvhRay r = osrBvhMakeRay(origin, dir);
+  hit.t = tMax;
+  hit.triangle = 0xffffffffu;
+  hit.barycentrics = vec2(0.0);
+  bool found = false;
+  float tFar = tMax;
+  uint stack[kBvhMaxDepth];
+  uint sp = 0u;
+  uint node = 0u;
+  for (;;) {
+    BvhNode n = gBvhNodes[node];
+    float ta, tb;
+    bool ha = osrBvhBox(r, n.aMin, n.aMax, tMin, tFar, ta);
+    bool hb = osrBvhBox(r, n.bMin, n.bMax, tMin, tFar, tb);
+    // Leaf children are intersected at once; only interior children continue the walk.
+    for (int side = 0; side < 2; ++side) {
+      uint ref = side == 0 ? n.a : n.b;
+      bool entered = side == 0 ? ha : hb;
+      if (!entered || (ref & kBvhLeafFlag) == 0u) continue;
+      if (side == 0) ha = false; else hb = false;
+      uint first = ref & kBvhLeafFirstMask;
+      uint count = (ref >> kBvhLeafCountShift) & kBvhLeafCountMask;
+      for (uint i = first; i < first + count; ++i) {
+        BvhLeafTriangle tri = gBvhLeafTriangles[i];
+        float t;
+        vec2 bary;
+        if (!osrBvhTriangle(r, tri.v0.xyz, tri.v1.xyz, tri.v2.xyz, tMin, tFar, t, bary)) continue;
+        uint id = floatBitsToUint(tri.v0.w);
+#ifdef OSR_BVH_ALPHA_TEST
+        if (osrAlphaCutout(id, bary)) continue;
+#endif
+        found = true;
+        hit.t = t;
+        hit.triangle = id;
+        hit.barycentrics = bary;
+        if (anyHit) return true;
+        tFar = t;
+      }
+    }
+    if (ha && hb) {
+      bool aFirst = ta <= tb;
+      stack[sp++] = aFirst ? n.b : n.a;
+      node = aFirst ? n.a : n.b;
+    } else if (ha) {
+      node = n.a;
+    } else if (hb) {
+      node = n.b;
+    } else {
+      if (sp == 0u) break;
+      node = stack[--sp];
+    }
+  }
+  return found;
+}
+
+bool bvhClosestHit(vec3 origin, vec3 dir, float tMin, float tMax, out Hit hit) {
+  return osrBvhTraverse(origin, dir, tMin, tMax, false, hit);
+}
+
+bool bvhAnyHit(vec3 origin, vec3 dir, float tMin, float tMax) {
+  Hit unused;
+  return osrBvhTraverse(origin, dir, tMin, tMax, true, unused);
+}
+
+#endif

@@ -1,0 +1,60 @@
+// The BVH as traversal sees it (std430), written by the GPU build (src/bvh/gpu_builder.cpp) and
+// by the CPU reference builder's upload (src/bvh/cpu_builder.cpp), read by
+// shaders/lib/bvh_traverse.glsl.
+//
+// A binary tree whose nodes store the bounds of both children (one 64-byte fetch decides which
+// children a ray enters). Node 0 is the root. A child reference is either the index of another
+// node or, with kBvhLeafFlag set, a leaf: `count` consecutive BvhLeafTriangle entries starting at
+// `first`. A leaf of count 0 is an empty child (its box is inverted so no ray enters it).
+// Leaves hold a reordered copy of the triangles' world-space vertices, so traversal reads no
+// scene buffer; the original triangle index rides in v0.w.
+#ifndef OSR_SHARED_BVH_H
+#define OSR_SHARED_BVH_H
+#include "shared/types.h"
+OSR_NAMESPACE_BEGIN(bvh)
+
+// Bindings a traversing shader declares, from OSR_BVH_BINDING on: nodes, leaf triangles.
+OSR_CONST(uint, kBvhBindingCount, 2u);
+OSR_CONST(uint, kBvhBindingNodes, 0u);
+OSR_CONST(uint, kBvhBindingLeafTriangles, 1u);
+
+// Traversal keeps one stack entry per level it descends (the far child), so a tree whose
+// longest root-to-leaf path has at most kBvhMaxDepth nodes never overflows the stack. Both
+// builders guarantee that bound (see cpu_builder.cpp and gpu_builder.cpp).
+OSR_CONST(uint, kBvhMaxDepth, 64u);
+
+OSR_CONST(uint, kBvhLeafFlag, 0x80000000u);
+OSR_CONST(uint, kBvhLeafCountShift, 27u);
+OSR_CONST(uint, kBvhLeafCountMask, 15u);
+OSR_CONST(uint, kBvhLeafFirstMask, 0x07ffffffu);  // 128 Mi leaf entries
+OSR_CONST(uint, kBvhMaxLeafTriangles, 8u);
+OSR_CONST(uint, kBvhEmptyChild, 0x80000000u);     // leaf flag, count 0
+
+// Surface-area-heuristic cost constants shared by the CPU builder's split decisions, the GPU
+// build's quality step and every reported SAH figure:
+//   SAH = (sum over interior nodes of kSahNodeCost * area(node)
+//          + sum over leaves of kSahTriangleCost * area(leaf) * triangles(leaf)) / area(root)
+// (Karras & Aila 2013 use the same 1.2 : 1 ratio.)
+OSR_CONST(float, kSahNodeCost, 1.2);
+OSR_CONST(float, kSahTriangleCost, 1.0);
+
+struct BvhNode {
+  vec3 aMin;
+  uint a;  // child reference (node index or leaf)
+  vec3 aMax;
+  uint b;
+  vec3 bMin;
+  uint _pad0;
+  vec3 bMax;
+  uint _pad1;
+};
+
+// One triangle of a leaf: world-space vertices; v0.w holds the scene triangle index (as bits).
+struct BvhLeafTriangle {
+  vec4 v0;
+  vec4 v1;
+  vec4 v2;
+};
+
+OSR_NAMESPACE_END
+#endif

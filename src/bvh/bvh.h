@@ -1,0 +1,48 @@
+// The device BVH every ray-tracing pass binds (layout: shaders/shared/bvh.h) and the ways to
+// build it: buildGpu (compute passes, the renderer's path) and buildOnHost (the CPU binned-SAH
+// reference builder, uploaded to the same layout).
+#pragma once
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "shaders/shared/bvh.h"
+#include "vk/buffer.h"
+#include "vk/context.h"
+#include "vk/timer.h"
+
+namespace osr::bvh {
+
+struct Bvh {
+  vk::Buffer nodes;     // BvhNode[nodeCount], root at 0
+  vk::Buffer leafData;  // BvhLeafTriangle[triangleCount]: leaves' reordered vertex copies
+  uint32_t nodeCount = 0;
+  uint32_t triangleCount = 0;
+  // The buffers in binding order (OSR_BVH_BINDING + kBvhBinding*), for ComputePipeline::bind.
+  std::array<vk::BufferRange, gpu::bvh::kBvhBindingCount> bindings() const {
+    return {vk::BufferRange(nodes), vk::BufferRange(leafData)};
+  }
+};
+
+struct BuildStats {
+  std::vector<vk::PassTime> passes;  // GPU time per pass, in execution order
+  double totalMs = 0;                // GPU build: sum of passes; host build: wall time
+  double sahCost = 0;                // under kSahNodeCost / kSahTriangleCost
+  uint32_t depth = 0;                // nodes on the longest root-to-leaf path
+};
+
+// Builds on the device by compute passes from the scene's Vertex and Triangle buffers (world
+// space positions). triangleCount >= 1. Throws DeviceError when the scene exceeds what the
+// device's maxStorageBufferRange allows, naming the limit.
+Bvh buildGpu(const vk::Context& ctx, const vk::Buffer& vertices, const vk::Buffer& triangles,
+             uint32_t triangleCount, BuildStats* stats = nullptr);
+
+// Downloads the scene buffers, builds with the CPU binned-SAH builder and uploads the result:
+// the quality reference, and a fallback for tools. Same preconditions as buildGpu.
+Bvh buildOnHost(const vk::Context& ctx, const vk::Buffer& vertices, const vk::Buffer& triangles,
+                uint32_t triangleCount, BuildStats* stats = nullptr);
+
+// Largest triangle count whose BVH buffers fit the device's maxStorageBufferRange.
+uint32_t maxTriangles(const vk::Context& ctx);
+
+}  // namespace osr::bvh

@@ -1,0 +1,33 @@
+// The batch tracer pass (shaders/bvh_trace_rays.comp): one closest-hit or any-hit query per
+// ray of a buffer. The alpha variant (bvh_trace_rays_alpha.comp) takes a per-triangle test mask
+// and exists for the tests of OSR_BVH_ALPHA_TEST.
+#pragma once
+#include <vulkan/vulkan.h>
+
+#include "bvh/bvh.h"
+#include "shaders/shared/bvh_trace.h"
+#include "vk/pipeline.h"
+
+namespace osr::bvh {
+
+class TraceRaysPass {
+ public:
+  TraceRaysPass(const vk::Context& ctx, bool alphaTest = false);
+
+  struct Args {
+    const Bvh* bvh = nullptr;
+    vk::BufferRange rays;       // TraceRay[rayCount]
+    vk::BufferRange hits;       // TraceHit[rayCount]
+    vk::BufferRange alphaMask;  // uint per triangle; alpha variant only
+    uint32_t rayCount = 0;
+    uint32_t mode = gpu::bvh_trace::kModeClosest;
+  };
+  // Records bind + dispatch + the barrier that makes the hits visible to later passes.
+  void record(VkCommandBuffer cmd, const Args& args) const;
+
+ private:
+  bool alphaTest_;
+  vk::ComputePipeline pipeline_;
+};
+
+}  // namespace osr::bvh
