@@ -63,7 +63,7 @@ class ProgressPrinter {
 }  // namespace
 
 int runRender(const std::vector<std::string>& args) {
-  Args a(args, "osr-vk");
+  Args a(args, "render");
   std::string mode = a.value("--mode").value_or("path");
   auto exrPath = a.value("--offline");
   auto pngPath = a.value("--png");
@@ -82,16 +82,16 @@ int runRender(const std::vector<std::string>& args) {
   vkOptions.validation = a.flag("--validation");
   auto files = a.positional();
   a.finish();
-  if (files.size() != 1) throw InputError("osr-vk: expected exactly one scene file");
+  if (files.size() != 1) throw InputError("render: expected exactly one scene file");
   uint32_t integrator;
   if (mode == "path")
     integrator = gpu::pt::kIntegratorPath;
   else if (mode == "preview")
     integrator = gpu::pt::kIntegratorPreview;
   else
-    throw InputError("osr-vk: unknown --mode '" + mode + "' (path, preview)");
+    throw InputError("--mode: unknown integrator '" + mode + "' (path, preview)");
   if (!exrPath && !pngPath)
-    throw InputError("osr-vk: give --offline out.exr and/or --png out.png (no live viewer yet)");
+    throw InputError("render: give --offline out.exr and/or --png out.png (no live viewer yet)");
   // Fail before the (long) render, not after it.
   if (exrPath) checkWritable(*exrPath);
   if (pngPath) checkWritable(*pngPath);
