@@ -5,4 +5,5 @@
 
 namespace osr::bench {
 int runFill(const std::vector<std::string>& args);  // memory bandwidth of util_fill
+int runPathtrace(const std::vector<std::string>& args);  // path tracer spp/s, Mpaths/s
 }  // namespace osr::bench
