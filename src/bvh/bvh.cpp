@@ -13,6 +13,8 @@ uint32_t maxTriangles(const vk::Context& ctx) {
   // triangle (a binary tree has fewer interior nodes than triangles).
   uint64_t perBinding = ctx.caps().maxStorageBufferRange;
   uint64_t n = perBinding / sizeof(gpu::bvh::BvhNode);
+  // Build passes dispatch one invocation per triangle in one dimension of 64-wide groups.
+  n = std::min<uint64_t>(n, 65535ull * 64);
   return static_cast<uint32_t>(std::min<uint64_t>(n, gpu::bvh::kBvhLeafFirstMask));
 }
 

@@ -14,6 +14,7 @@
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
 #include <map>
+#include <memory>
 #include <set>
 
 #include "common/error.h"
@@ -56,11 +57,13 @@ const std::set<std::string> kSupportedExtensions = {
 // point/spot candela / 683 = W/sr, directional lux / 683 = W/m^2.
 constexpr float kLumensPerWatt = 683.0f;
 
-// tinygltf's messages span lines; errors here are one line.
+// tinygltf's messages span lines and may quote raw bytes of a broken file; errors here are one
+// printable line.
 std::string oneLine(const std::string& text) {
   std::string out;
   bool space = false;
   for (char c : text) {
+    if (static_cast<unsigned char>(c) >= 0x80 || (c != '\n' && c != '\r' && (c < 0x20 || c == 0x7f))) c = '?';
     if (c == '\n' || c == '\r') {
       space = !out.empty();
       continue;
@@ -146,6 +149,7 @@ struct AccessorData {
     return 0.0;
   }
   uint32_t index(size_t element) const { return static_cast<uint32_t>(component(element, 0)); }
+  std::shared_ptr<std::vector<uint8_t>> owned;  // densified sparse accessor, when `data` points here
   glm::vec2 vec2(size_t i) const { return {component(i, 0), component(i, 1)}; }
   glm::vec3 vec3(size_t i) const { return {component(i, 0), component(i, 1), component(i, 2)}; }
 };
@@ -176,6 +180,8 @@ class Loader {
     }
     finishBounds();
     collectEmissive();
+    for (const std::string& w : scene_.warnings)
+      std::fprintf(stderr, "osr-vk: warning: %s: %s\n", path_.c_str(), w.c_str());
   }
 
  private:
@@ -183,10 +189,10 @@ class Loader {
     throw InputError(path_ + ": " + problem);
   }
 
+  // Collected while loading and printed once the scene loaded, so that a refused file gets
+  // exactly one line on stderr.
   void warn(const std::string& message) {
-    if (!warned_.insert(message).second) return;
-    scene_.warnings.push_back(message);
-    std::fprintf(stderr, "osr-vk: warning: %s: %s\n", path_.c_str(), message.c_str());
+    if (warned_.insert(message).second) scene_.warnings.push_back(message);
   }
 
   // --- Parsing ------------------------------------------------------------------------------
@@ -272,32 +278,88 @@ class Loader {
     d.normalized = a.normalized;
     size_t elementBytes = componentBytes(a.componentType) * d.components;
     if (elementBytes == 0) fail(name + " has an invalid component type or type");
-    if (a.sparse.isSparse) fail(name + " is sparse, which is not supported");
-    if (a.bufferView < 0) return d;  // all zeros
-    if (size_t(a.bufferView) >= model_.bufferViews.size())
-      fail(name + ": buffer view " + std::to_string(a.bufferView) + " does not exist");
-    const tinygltf::BufferView& view = model_.bufferViews[a.bufferView];
+    if (a.bufferView >= 0) {
+      const tinygltf::BufferView& view = bufferView(a.bufferView, name);
+      d.stride = view.byteStride ? view.byteStride : elementBytes;
+      if (d.stride < elementBytes)
+        fail(name + ": byte stride " + std::to_string(d.stride) + " is smaller than an element");
+      checkRange(name, a.byteOffset, d.count, d.stride, elementBytes, a.bufferView, view);
+      d.data = model_.buffers[view.buffer].data.data() + view.byteOffset + a.byteOffset;
+    }
+    if (a.sparse.isSparse) densify(d, a, name, elementBytes);
+    return d;  // data == nullptr: no buffer view and not sparse, all zeros (spec)
+  }
+
+  const tinygltf::BufferView& bufferView(int index, const std::string& name) const {
+    if (index < 0 || size_t(index) >= model_.bufferViews.size())
+      fail(name + ": buffer view " + std::to_string(index) + " does not exist");
+    const tinygltf::BufferView& view = model_.bufferViews[index];
     if (view.buffer < 0 || size_t(view.buffer) >= model_.buffers.size())
       fail(name + ": buffer " + std::to_string(view.buffer) + " does not exist");
     const tinygltf::Buffer& buffer = model_.buffers[view.buffer];
     if (uint64_t(view.byteOffset) + view.byteLength > buffer.data.size())
-      fail(name + ": buffer view " + std::to_string(a.bufferView) + " (bytes " +
+      fail(name + ": buffer view " + std::to_string(index) + " (bytes " +
            std::to_string(view.byteOffset) + " + " + std::to_string(view.byteLength) +
            ") is out of range of buffer " + std::to_string(view.buffer) + " (" +
            std::to_string(buffer.data.size()) + " bytes)");
-    d.stride = view.byteStride ? view.byteStride : elementBytes;
-    if (d.stride < elementBytes)
-      fail(name + ": byte stride " + std::to_string(d.stride) + " is smaller than an element");
-    if (d.count > 0) {
-      uint64_t end = uint64_t(a.byteOffset) + uint64_t(d.count - 1) * d.stride + elementBytes;
-      if (end > view.byteLength)
-        fail(name + " is out of range: offset " + std::to_string(a.byteOffset) + " + " +
-             std::to_string(d.count) + " elements x stride " + std::to_string(d.stride) +
-             " reads past buffer view " + std::to_string(a.bufferView) + " (" +
-             std::to_string(view.byteLength) + " bytes)");
+    return view;
+  }
+
+  // offset + (count - 1) * stride + element must stay inside the buffer view.
+  void checkRange(const std::string& name, uint64_t offset, uint64_t count, uint64_t stride,
+                  uint64_t elementBytes, int viewIndex, const tinygltf::BufferView& view) const {
+    if (count == 0) return;
+    uint64_t end = offset + (count - 1) * stride + elementBytes;
+    if (end > view.byteLength)
+      fail(name + " is out of range: offset " + std::to_string(offset) + " + " +
+           std::to_string(count) + " elements x stride " + std::to_string(stride) +
+           " reads past buffer view " + std::to_string(viewIndex) + " (" +
+           std::to_string(view.byteLength) + " bytes)");
+  }
+
+  // Sparse accessor: a dense copy of the base (or zeros) with the listed elements replaced.
+  void densify(AccessorData& d, const tinygltf::Accessor& a, const std::string& name,
+               size_t elementBytes) const {
+    std::string sparseName = name + " sparse";
+    if (a.sparse.count < 0 || size_t(a.sparse.count) > d.count)
+      fail(sparseName + " count " + std::to_string(a.sparse.count) + " is out of range");
+    size_t count = size_t(a.sparse.count);
+    int indexType = a.sparse.indices.componentType;
+    size_t indexBytes = componentBytes(indexType);
+    if (indexType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE &&
+        indexType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
+        indexType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT)
+      fail(sparseName + " indices are not unsigned integers");
+    const tinygltf::BufferView& iv = bufferView(a.sparse.indices.bufferView, sparseName + " indices");
+    const tinygltf::BufferView& vv = bufferView(a.sparse.values.bufferView, sparseName + " values");
+    if (a.sparse.indices.byteOffset < 0 || a.sparse.values.byteOffset < 0)
+      fail(sparseName + " has a negative byte offset");
+    checkRange(sparseName + " indices", a.sparse.indices.byteOffset, count, indexBytes, indexBytes,
+               a.sparse.indices.bufferView, iv);
+    checkRange(sparseName + " values", a.sparse.values.byteOffset, count, elementBytes,
+               elementBytes, a.sparse.values.bufferView, vv);
+    auto owned = std::make_shared<std::vector<uint8_t>>(d.count * elementBytes, 0);
+    if (d.data)
+      for (size_t i = 0; i < d.count; ++i)
+        std::memcpy(owned->data() + i * elementBytes, d.data + i * d.stride, elementBytes);
+    AccessorData indices;
+    indices.data = model_.buffers[iv.buffer].data.data() + iv.byteOffset + a.sparse.indices.byteOffset;
+    indices.stride = indexBytes;
+    indices.componentType = indexType;
+    indices.components = 1;
+    const uint8_t* values =
+        model_.buffers[vv.buffer].data.data() + vv.byteOffset + a.sparse.values.byteOffset;
+    for (size_t i = 0; i < count; ++i) {
+      uint32_t target = indices.index(i);
+      if (target >= d.count)
+        fail(sparseName + " index " + std::to_string(target) + " is past the accessor count " +
+             std::to_string(d.count));
+      std::memcpy(owned->data() + size_t(target) * elementBytes, values + i * elementBytes,
+                  elementBytes);
     }
-    d.data = buffer.data.data() + view.byteOffset + a.byteOffset;
-    return d;
+    d.owned = owned;
+    d.data = owned->data();
+    d.stride = elementBytes;
   }
 
   // --- Materials and textures ---------------------------------------------------------------

@@ -3,12 +3,17 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
+#include <cstring>
 
 #include "common/error.h"
 #include "common/vk_test.h"
 #include "scene/scene.h"
+#include "scene/scene_test_util.h"
 
 using namespace osr;
+using test::expectNear;
+using test::hasWarning;
 namespace gs = osr::gpu::scene;
 
 namespace {
@@ -78,4 +83,259 @@ TEST(Loader, Room) {
   for (const auto& m : s.materials) metals += m.metallic > 0.99f;
   EXPECT_GE(metals, 2);
   EXPECT_GT(s.emissive.size(), 0u);
+}
+
+namespace {
+
+std::string data(const std::string& name) { return test::dataPath("scene/" + name); }
+
+void expectInputError(const std::string& path, const std::string& part) {
+  test::expectInputError([](const std::string& p) { scene::loadScene(p); }, path, part);
+}
+
+
+glm::vec3 faceNormal(const scene::Scene& s, const gs::Triangle& t) {
+  glm::vec3 p0 = s.vertices[t.v0].position, p1 = s.vertices[t.v1].position,
+            p2 = s.vertices[t.v2].position;
+  return glm::normalize(glm::cross(p1 - p0, p2 - p0));
+}
+
+
+}  // namespace
+
+TEST(Loader, NodeHierarchyMatrixTrsMirrorAndNonUniformScale) {
+  scene::Scene s = scene::loadScene(data("hierarchy.gltf"));
+  ASSERT_EQ(s.triangles.size(), 5u);
+  // Child quad: TRS (rotate 90 deg about Z, translate +Y) under a matrix (scale 2, +10 X).
+  // Quad corners (0,0,0), (1,0,0), (1,1,0) -> (10,2,0), (10,4,0), (8,4,0).
+  const gs::Triangle& t0 = s.triangles[0];
+  expectNear(s.vertices[t0.v0].position, {10, 2, 0});
+  expectNear(s.vertices[t0.v1].position, {10, 4, 0});
+  expectNear(s.vertices[t0.v2].position, {8, 4, 0});
+  // Mirrored quad (scale -1 in X): winding flipped so the face normal stays +Z.
+  const gs::Triangle& t2 = s.triangles[2];
+  expectNear(faceNormal(s, t2), {0, 0, 1});
+  expectNear(s.vertices[t2.v0].position, {0, 0, 5});
+  // Non-uniform scale (1,2,1) on a face with normal (0,1,1)/sqrt2: inverse transpose gives
+  // (0,1,2)/sqrt5, the normal of the stretched face.
+  expectNear(s.vertices[s.triangles[4].v0].normal, glm::normalize(glm::vec3(0, 1, 2)));
+  // Invariant: each flat face's vertex normals equal its geometric normal after transforms.
+  for (const auto& t : s.triangles) {
+    glm::vec3 n = faceNormal(s, t);
+    for (uint32_t v : {t.v0, t.v1, t.v2}) expectNear(s.vertices[v].normal, n);
+  }
+  expectNear(s.boundsMin, {-1, 0, -6});  // the slanted face reaches z = -1 - 5
+  expectNear(s.boundsMax, {10, 4, 5});
+  EXPECT_EQ(s.materials.size(), 1u);  // the default material
+  EXPECT_EQ(s.materials[0].metallic, 1.0f);
+}
+
+TEST(Loader, NonIndexedWithGeneratedNormals) {
+  scene::Scene s = scene::loadScene(data("nonindexed.gltf"));
+  ASSERT_EQ(s.triangles.size(), 2u);
+  ASSERT_EQ(s.vertices.size(), 6u);
+  expectNear(s.vertices[s.triangles[0].v1].position, {1, 0, 0});
+  for (int k = 0; k < 3; ++k) {
+    expectNear(s.vertices[3 * 0 + k].normal, {0, 0, 1});
+    expectNear(s.vertices[3 * 1 + k].normal, {-1, 0, 0});
+  }
+}
+
+TEST(Loader, IndexComponentTypes) {
+  scene::Scene s = scene::loadScene(data("index_types.gltf"));  // u8, u16, u32; external .bin
+  ASSERT_EQ(s.triangles.size(), 6u);
+  for (int q = 0; q < 3; ++q)
+    for (int t = 0; t < 2; ++t) {
+      const gs::Triangle& a = s.triangles[2 * q + t];
+      const gs::Triangle& ref = s.triangles[t];
+      for (int k = 0; k < 3; ++k) {
+        uint32_t va = (&a.v0)[k], vr = (&ref.v0)[k];
+        expectNear(s.vertices[va].position, s.vertices[vr].position + glm::vec3(2.0f * q, 0, 0));
+      }
+    }
+}
+
+TEST(Loader, TexturesFromFilesAndDataUris) {
+  scene::Scene s = scene::loadScene(data("textured.gltf"));
+  // Five glTF textures; the emissive one is shared with specularColor, the specular one with
+  // transmission: each decoded once.
+  ASSERT_EQ(s.textures.size(), 5u);
+  const gs::Material& m = s.materials[0];
+  ASSERT_GE(m.baseColorTexture, 0);
+  const scene::Texture& base = s.textures[m.baseColorTexture];  // checker.png, 4x4
+  EXPECT_EQ(base.width, 4u);
+  EXPECT_EQ(base.height, 4u);
+  EXPECT_EQ(base.texels[0], 0xFF0000FFu);  // red, opaque; R in the low byte
+  EXPECT_EQ(base.texels[1], 0x80FF0000u);  // blue, alpha 128
+  EXPECT_EQ(base.wrap, gs::kWrapRepeat | (gs::kWrapRepeat << 2));
+  const scene::Texture& mr = s.textures[m.metallicRoughnessTexture];  // data: URI, 2x2
+  EXPECT_EQ(mr.width, 2u);
+  EXPECT_EQ(mr.texels[1], 0xFF808000u);
+  EXPECT_EQ(mr.wrap, gs::kWrapClamp | (gs::kWrapMirror << 2));
+  EXPECT_EQ(s.textures[m.normalTexture].wrap, gs::kWrapMirror | (gs::kWrapClamp << 2));
+  EXPECT_EQ(m.emissiveTexture, m.specularColorTexture);
+  EXPECT_EQ(m.specularTexture, m.transmissionTexture);
+  EXPECT_NE(m.emissiveTexture, m.specularTexture);
+  EXPECT_FLOAT_EQ(m.normalScale, 0.7f);
+  EXPECT_FLOAT_EQ(m.specular, 0.9f);
+  EXPECT_FLOAT_EQ(m.transmission, 0.6f);
+  expectNear(m.specularColor, {1, 0.5f, 0.25f});
+  expectNear(glm::vec3(m.baseColor), {1, 0.5f, 1});
+  // Emissive power uses the mean linear colour of the emissive texture, texels (255, 128, 0) and
+  // (0, 128, 255): mean (0.5, srgb(128/255) = 0.21586, 0.5); two unit quads, one side each.
+  ASSERT_EQ(s.emissive.size(), 4u);
+  float lum = scene::luminance(glm::vec3(0.5f, 0.2158605f, 0.5f));
+  EXPECT_NEAR(s.emissivePower, lum * 3.14159265f * 2.0f, 1e-4f);
+}
+
+TEST(Loader, AlphaModes) {
+  scene::Scene s = scene::loadScene(data("alpha_mask.gltf"));
+  ASSERT_EQ(s.materials.size(), 3u);
+  EXPECT_TRUE(s.materials[0].flags & gs::kMaterialAlphaMask);
+  EXPECT_FLOAT_EQ(s.materials[0].alphaCutoff, 0.4f);
+  EXPECT_EQ(s.materials[1].flags & (gs::kMaterialAlphaMask | gs::kMaterialAlphaBlend), 0u);
+  EXPECT_TRUE(s.materials[2].flags & gs::kMaterialAlphaBlend);
+  EXPECT_FLOAT_EQ(s.materials[2].alphaCutoff, 0.5f);
+  EXPECT_TRUE(hasWarning(s, "BLEND"));
+}
+
+TEST(Loader, PunctualLights) {
+  scene::Scene s = scene::loadScene(data("lights.gltf"));
+  ASSERT_EQ(s.lights.size(), 3u);
+  const gs::PunctualLight &point = s.lights[0], &spot = s.lights[1], &sun = s.lights[2];
+  // 683 cd = 1 W/sr (683 lm/W), times the colour.
+  EXPECT_EQ(point.type, gs::kLightPoint);
+  expectNear(point.intensity, {1, 0.5f, 0.25f});
+  expectNear(point.position, {1, 2, 3});
+  EXPECT_FLOAT_EQ(point.range, 10.0f);
+  EXPECT_EQ(spot.type, gs::kLightSpot);
+  expectNear(spot.intensity, {2, 2, 2});
+  expectNear(spot.position, {0, 4, 0});
+  expectNear(spot.direction, {0, -1, 0});  // node rotated -90 deg about X: -Z -> -Y
+  EXPECT_NEAR(spot.cosInner, std::cos(0.2f), 1e-6f);
+  EXPECT_NEAR(spot.cosOuter, std::cos(0.5f), 1e-6f);
+  EXPECT_EQ(sun.type, gs::kLightDirectional);
+  expectNear(sun.intensity, glm::vec3(0.5f, 0.5f, 1.0f) * 0.01f);
+  expectNear(sun.direction, {0, 0, -1});
+  EXPECT_TRUE(s.warnings.empty());
+}
+
+TEST(Loader, MaterialExtensionsWarningsAndEmissivePower) {
+  scene::Scene s = scene::loadScene(data("materials.gltf"));
+  EXPECT_EQ(s.triangles.size(), 8u);  // the LINES primitive is skipped
+  EXPECT_TRUE(hasWarning(s, "KHR_materials_clearcoat"));
+  EXPECT_TRUE(hasWarning(s, "mode 1"));
+  ASSERT_EQ(s.materials.size(), 4u);  // three + the default for the primitive without one
+  const gs::Material& glass = s.materials[0];
+  EXPECT_FLOAT_EQ(glass.ior, 1.33f);
+  EXPECT_FLOAT_EQ(glass.transmission, 1.0f);
+  EXPECT_FLOAT_EQ(glass.specular, 0.5f);
+  expectNear(glass.specularColor, {0.2f, 0.4f, 0.6f});
+  EXPECT_FLOAT_EQ(glass.roughness, 0.1f);
+  EXPECT_FLOAT_EQ(glass.metallic, 0.0f);
+  expectNear(s.materials[1].emission, glm::vec3(1, 0.5f, 0.25f) * 40.0f, 1e-4f);
+  EXPECT_EQ(s.triangles[6].material, 3u);
+  EXPECT_EQ(s.materials[3].baseColor, glm::vec4(1.0f));
+  // Emissive triangles: the lamp (area 2 x 3, double-sided: both sides count) and the dim quad
+  // (area 1, one side).
+  ASSERT_EQ(s.emissive.size(), 4u);
+  const float pi = 3.14159265f;
+  float lampLum = scene::luminance(glm::vec3(1, 0.5f, 0.25f) * 40.0f);
+  float lamp = lampLum * 6.0f * pi * 2.0f, dim = 0.5f * 1.0f * pi;
+  EXPECT_NEAR(s.emissivePower, lamp + dim, 1e-3f * (lamp + dim));
+  EXPECT_NEAR(s.emissive[0].power + s.emissive[1].power, lamp, 1e-3f * lamp);
+  EXPECT_NEAR(s.emissive[0].area + s.emissive[1].area, 6.0f, 1e-5f);
+  EXPECT_NEAR(s.emissive[1].cdf, lamp / (lamp + dim), 1e-5f);
+  EXPECT_FLOAT_EQ(s.emissive[3].cdf, 1.0f);
+}
+
+TEST(Loader, BinaryGlbWithEmbeddedImage) {
+  scene::Scene s = scene::loadScene(data("quad.glb"));
+  ASSERT_EQ(s.triangles.size(), 2u);
+  expectNear(s.vertices[s.triangles[0].v1].position, {1, 0, -1});
+  ASSERT_EQ(s.textures.size(), 1u);
+  EXPECT_EQ(s.textures[0].texels[0], 0xFF1E140Au);  // (10, 20, 30, 255)
+}
+
+TEST(Loader, SparseAccessors) {
+  scene::Scene s = scene::loadScene(data("sparse.gltf"));
+  ASSERT_EQ(s.triangles.size(), 4u);
+  // Over a buffer view: vertex 2 replaced by (1, 1, 1), the others kept.
+  expectNear(s.vertices[s.triangles[0].v1].position, {1, 0, 0});
+  expectNear(s.vertices[s.triangles[0].v2].position, {1, 1, 1});
+  // Over zeros: vertex 0 stays (0, 0, 0), 1..3 from the sparse values; node moved to z = 2.
+  const gs::Triangle& t = s.triangles[2];
+  expectNear(s.vertices[t.v0].position, {0, 0, 2});
+  expectNear(s.vertices[t.v2].position, {1, 1, 2});
+}
+
+// ---- Bad input: InputError, one line, starting with the file name ----------------------------
+
+TEST(LoaderBadInput, EachKindNamesTheFileAndTheProblem) {
+  const std::pair<const char*, const char*> cases[] = {
+      {"no_such_file.gltf", "file not found"},
+      {"bad_truncated.glb", "truncated"},
+      {"bad_json.gltf", "parse error"},
+      {"bad_accessor_range.gltf", "out of range"},
+      {"bad_buffer_view_range.gltf", "out of range"},
+      {"bad_index.gltf", "past the vertex count"},
+      {"bad_nan.gltf", "not finite"},
+      {"bad_inf.gltf", "not finite"},
+      {"bad_missing_texture.gltf", "missing texture image"},
+      {"bad_no_triangles.gltf", "no triangles"},
+      {"bad_missing_bin.gltf", "not found"},
+      {"bad_sparse_index.gltf", "past the accessor count"},
+  };
+  for (const auto& [file, problem] : cases) expectInputError(data(file), problem);
+  expectInputError(test::dataPath("scene"), "directory");
+}
+
+namespace {
+
+std::string tempFile(const std::string& name, const std::vector<unsigned char>& bytes) {
+  std::string path = ::testing::TempDir() + name;
+  std::FILE* f = std::fopen(path.c_str(), "wb");
+  if (!bytes.empty()) std::fwrite(bytes.data(), 1, bytes.size(), f);
+  std::fclose(f);
+  return path;
+}
+
+std::vector<unsigned char> readFile(const std::string& path) {
+  std::vector<unsigned char> bytes;
+  std::FILE* f = std::fopen(path.c_str(), "rb");
+  for (int c; (c = std::fgetc(f)) != EOF;) bytes.push_back(static_cast<unsigned char>(c));
+  std::fclose(f);
+  return bytes;
+}
+
+}  // namespace
+
+TEST(LoaderBadInput, EmptyAndJunkFiles) {
+  expectInputError(tempFile("empty.gltf", {}), "empty");
+  expectInputError(tempFile("junk.glb", {'g', 'l', 'T', 'F', 2, 0, 0, 0, 9}), "truncated");
+  std::vector<unsigned char> junk(300);
+  for (size_t i = 0; i < junk.size(); ++i) junk[i] = static_cast<unsigned char>(i * 7 + 3);
+  std::string path = tempFile("junk.gltf", junk);
+  EXPECT_THROW(scene::loadScene(path), InputError);
+}
+
+// Every prefix of a valid .glb, with the header's total length patched to match so that the
+// chunk checks (not the length check) must catch it: InputError or a valid load, never a crash.
+TEST(LoaderBadInput, EveryTruncationOfAGlb) {
+  std::vector<unsigned char> glb = readFile(data("quad.glb"));
+  ASSERT_GT(glb.size(), 100u);
+  int refused = 0;
+  for (size_t n = 12; n < glb.size(); n += 5) {
+    std::vector<unsigned char> cut(glb.begin(), glb.begin() + n);
+    uint32_t length = uint32_t(n);
+    std::memcpy(cut.data() + 8, &length, 4);
+    std::string path = tempFile("cut.glb", cut);
+    try {
+      scene::loadScene(path);
+    } catch (const InputError& e) {
+      ++refused;
+      EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << e.what();
+    }
+  }
+  EXPECT_GT(refused, 0);
 }

@@ -1,0 +1,94 @@
+#version 460
+// bvh_emit: the traversal layout (shared/bvh.h) from the build nodes. One invocation per
+// interior build node; traversal node i is build node i (root 0). Nodes that are collapsed, or
+// lie below a collapsed node, emit nothing (they are unreachable). Each child that is a leaf or
+// a collapsed subtree becomes a leaf: its triangles (at most kBvhMaxLeafTriangles, gathered by a
+// short walk) are copied into leaf entries allocated with an atomic counter.
+// Inputs: build nodes, prims, info.leafCounter = 0. Outputs: nodes, leaf triangles.
+#extension GL_GOOGLE_include_directive : require
+#include "shared/bvh_build.h"
+
+layout(local_size_x = kWorkgroupSize) in;
+layout(std430, binding = kEmitBindingInterior) readonly buffer Interior { BvhBuildNode gInterior[]; };
+layout(std430, binding = kEmitBindingLeaves) readonly buffer Leaves { BvhBuildNode gLeaves[]; };
+layout(std430, binding = kEmitBindingPrims) readonly buffer Prims { BvhLeafTriangle gPrims[]; };
+layout(std430, binding = kEmitBindingInfo) buffer Info { BvhBuildInfo gInfo; };
+layout(std430, binding = kEmitBindingNodes) writeonly buffer Nodes { BvhNode gNodes[]; };
+layout(std430, binding = kEmitBindingLeafTriangles) writeonly buffer LeafTris { BvhLeafTriangle gLeafTriangles[]; };
+layout(push_constant) uniform PushBlock { BuildPush gPush; };
+
+uint interiorCount() { return gPush.triangleCount - 1u; }
+// if/else, not ?:, because glslang types a ?: over two blocks' structs inconsistently.
+BvhBuildNode loadNode(uint u) {
+  if (u < interiorCount()) return gInterior[u];
+  return gLeaves[u - interiorCount()];
+}
+
+// Child reference for build node u: an interior index, or a new leaf holding its triangles.
+uint emitChild(uint u, BvhBuildNode n) {
+  bool leaf = u >= interiorCount();
+  if (!leaf && (n.flags & kFlagCollapsed) == 0u) return u;
+  uint count = n.triangleCount;
+  uint slot = atomicAdd(gInfo.leafCounter, count);
+  if (leaf) {
+    gLeafTriangles[slot] = gPrims[n.left];
+  } else {
+    // Depth-first over a subtree of at most kBvhMaxLeafTriangles leaves: the stack never holds
+    // more entries than the subtree has leaves.
+    uint stack[kBvhMaxLeafTriangles];
+    uint sp = 0u, written = 0u;
+    stack[sp++] = u;
+    while (sp > 0u) {
+      uint v = stack[--sp];
+      if (v >= interiorCount()) {
+        gLeafTriangles[slot + written++] = gPrims[gLeaves[v - interiorCount()].left];
+      } else {
+        BvhBuildNode m = gInterior[v];
+        stack[sp++] = m.left;
+        stack[sp++] = m.right;
+      }
+    }
+  }
+  return kBvhLeafFlag | (count << kBvhLeafCountShift) | slot;
+}
+
+void main() {
+  uint i = gl_GlobalInvocationID.x;
+  uint n = gPush.triangleCount;
+  if (n == 1u) {  // no interior node: a root with one leaf and one empty child
+    if (i != 0u) return;
+    BvhBuildNode leaf = gLeaves[0];
+    BvhNode root;
+    root.aMin = leaf.lo;
+    root.aMax = leaf.hi;
+    root.a = emitChild(0u, leaf);
+    root.bMin = vec3(1e30);
+    root.bMax = vec3(-1e30);
+    root.b = kBvhEmptyChild;
+    root._pad0 = 0u;
+    root._pad1 = 0u;
+    gNodes[0] = root;
+    return;
+  }
+  if (i >= n - 1u) return;
+  BvhBuildNode node = gInterior[i];
+  if ((node.flags & kFlagCollapsed) != 0u) return;
+  // Only subtrees of at most kBvhMaxLeafTriangles collapse, so only such ancestors matter.
+  for (uint p = node.parent; p != kInvalidNode;) {
+    BvhBuildNode a = gInterior[p];
+    if (a.triangleCount > kBvhMaxLeafTriangles) break;
+    if ((a.flags & kFlagCollapsed) != 0u) return;
+    p = a.parent;
+  }
+  BvhBuildNode l = loadNode(node.left), r = loadNode(node.right);
+  BvhNode out_;
+  out_.aMin = l.lo;
+  out_.aMax = l.hi;
+  out_.a = emitChild(node.left, l);
+  out_.bMin = r.lo;
+  out_.bMax = r.hi;
+  out_.b = emitChild(node.right, r);
+  out_._pad0 = 0u;
+  out_._pad1 = 0u;
+  gNodes[i] = out_;
+}

@@ -1,0 +1,78 @@
+#version 460
+// bvh_lbvh: the binary radix tree over the sorted Morton codes (Karras 2012, "Maximizing
+// Parallelism in the Construction of BVHs, Octrees, and k-d Trees", section 4). Interior node
+// i finds its key range and split from the longest common prefixes; equal codes are told apart
+// by their index, as in the paper. Invocation i also initialises leaf i (sorted order): box,
+// triangle, cost. Inputs: sorted keys and values, prims. Outputs: interior left/right/parent,
+// leaf fields. Depth is at most 30 + ceil(log2 N) + 1 interior levels: each level's split is at
+// a strictly longer common prefix of the (code, index) bits.
+#extension GL_GOOGLE_include_directive : require
+#include "shared/bvh_build.h"
+
+layout(local_size_x = kWorkgroupSize) in;
+layout(std430, binding = kLbvhBindingKeys) readonly buffer Keys { uint gKeys[]; };
+layout(std430, binding = kLbvhBindingValues) readonly buffer Values { uint gValues[]; };
+layout(std430, binding = kLbvhBindingPrims) readonly buffer Prims { BvhLeafTriangle gPrims[]; };
+layout(std430, binding = kLbvhBindingInterior) buffer Interior { BvhBuildNode gInterior[]; };
+layout(std430, binding = kLbvhBindingLeaves) buffer Leaves { BvhBuildNode gLeaves[]; };
+layout(push_constant) uniform PushBlock { BuildPush gPush; };
+
+// Length of the common prefix of (key, index) at sorted positions i and j; -1 outside.
+int delta(int i, int j) {
+  int n = int(gPush.triangleCount);
+  if (j < 0 || j >= n) return -1;
+  uint a = gKeys[i], b = gKeys[j];
+  if (a != b) return 31 - findMSB(a ^ b);
+  return 32 + 31 - findMSB(uint(i ^ j));
+}
+
+void initLeaf(uint i) {
+  uint tri = gValues[i];
+  BvhLeafTriangle p = gPrims[tri];
+  vec3 lo = min(min(p.v0.xyz, p.v1.xyz), p.v2.xyz);
+  vec3 hi = max(max(p.v0.xyz, p.v1.xyz), p.v2.xyz);
+  vec3 d = hi - lo;
+  gLeaves[i].lo = lo;
+  gLeaves[i].hi = hi;
+  gLeaves[i].cost = kSahTriangleCost * 2.0 * (d.x * d.y + d.y * d.z + d.z * d.x);
+  gLeaves[i].triangleCount = 1u;
+  gLeaves[i].left = tri;
+  gLeaves[i].right = kInvalidNode;
+  gLeaves[i].flags = 0u;
+}
+
+void main() {
+  uint gi = gl_GlobalInvocationID.x;
+  uint n = gPush.triangleCount;
+  if (gi >= n) return;
+  initLeaf(gi);
+  if (gi == 0u) {
+    if (n == 1u) gLeaves[0].parent = kInvalidNode;
+    else gInterior[0].parent = kInvalidNode;
+  }
+  if (gi + 1u >= n) return;  // n - 1 interior nodes
+  int i = int(gi);
+  int d = delta(i, i + 1) - delta(i, i - 1) >= 0 ? 1 : -1;
+  int dMin = delta(i, i - d);
+  int lMax = 2;
+  while (delta(i, i + lMax * d) > dMin) lMax *= 2;
+  int l = 0;
+  for (int t = lMax / 2; t >= 1; t /= 2)
+    if (delta(i, i + (l + t) * d) > dMin) l += t;
+  int j = i + l * d;
+  int dNode = delta(i, j);
+  int s = 0;
+  for (int div = 2;; div *= 2) {
+    int t = (l + div - 1) / div;
+    if (delta(i, i + (s + t) * d) > dNode) s += t;
+    if (t <= 1) break;
+  }
+  int gamma = i + s * d + min(d, 0);
+  uint leafBase = n - 1u;
+  uint left = min(i, j) == gamma ? leafBase + uint(gamma) : uint(gamma);
+  uint right = max(i, j) == gamma + 1 ? leafBase + uint(gamma + 1) : uint(gamma + 1);
+  gInterior[gi].left = left;
+  gInterior[gi].right = right;
+  if (left >= leafBase) gLeaves[left - leafBase].parent = gi; else gInterior[left].parent = gi;
+  if (right >= leafBase) gLeaves[right - leafBase].parent = gi; else gInterior[right].parent = gi;
+}

@@ -1,0 +1,68 @@
+// Build-node access for the bottom-up passes (bvh_refit, bvh_treelet): the two node bindings
+// as one index space (shared/bvh_build.h) and the refit of one interior node. The includer
+// declares gPush (BuildPush) first.
+#ifndef OSR_BVH_BUILD_NODES_GLSL
+#define OSR_BVH_BUILD_NODES_GLSL
+#include "shared/bvh_build.h"
+
+// coherent: a node written by one invocation is read by the one that arrives second at the
+// parent (after an atomic on the parent's counter), possibly in another workgroup.
+layout(std430, binding = kClimbBindingInterior) coherent buffer Interior { BvhBuildNode gInterior[]; };
+layout(std430, binding = kClimbBindingLeaves) coherent buffer Leaves { BvhBuildNode gLeaves[]; };
+layout(std430, binding = kClimbBindingCounters) coherent buffer Counters { uint gCounters[]; };
+
+// Release the node just written before the counter atomic, acquire the sibling's after it. On
+// lavapipe a memory barrier inside divergent control flow stalls the invocations that reach it
+// (measured: the climb stopped after one level), and there every atomic is sequentially
+// consistent on coherent host memory, so the build specialises the fences away on CPU devices.
+layout(constant_id = kClimbSpecFences) const bool kClimbFences = true;
+void climbFence() {
+  if (kClimbFences) memoryBarrierBuffer();
+}
+
+uint interiorCount() { return gPush.triangleCount - 1u; }
+bool isLeafNode(uint u) { return u >= interiorCount(); }
+
+// if/else, not ?:, because glslang types a ?: over two blocks' structs inconsistently.
+BvhBuildNode loadNode(uint u) {
+  if (u < interiorCount()) return gInterior[u];
+  return gLeaves[u - interiorCount()];
+}
+
+void setParent(uint u, uint parent) {
+  if (u < interiorCount()) gInterior[u].parent = parent;
+  else gLeaves[u - interiorCount()].parent = parent;
+}
+
+float boxArea(vec3 lo, vec3 hi) {
+  vec3 d = max(hi - lo, vec3(0.0));
+  return 2.0 * (d.x * d.y + d.y * d.z + d.z * d.x);
+}
+
+uint heightOf(BvhBuildNode n) { return n.flags & kHeightMask; }
+
+// Interior node n from its children: bounds, triangle count, SAH cost, collapse decision
+// (a subtree of at most kBvhMaxLeafTriangles becomes one leaf when that is not more costly;
+// never the root, which traversal needs as a node) and height.
+BvhBuildNode refitNode(BvhBuildNode n, BvhBuildNode l, BvhBuildNode r, bool isRoot) {
+  n.lo = min(l.lo, r.lo);
+  n.hi = max(l.hi, r.hi);
+  n.triangleCount = l.triangleCount + r.triangleCount;
+  float area = boxArea(n.lo, n.hi);
+  float interiorCost = kSahNodeCost * area + l.cost + r.cost;
+  float leafCost = kSahTriangleCost * area * float(n.triangleCount);
+  bool collapse = !isRoot && n.triangleCount <= kBvhMaxLeafTriangles && leafCost <= interiorCost;
+  n.cost = collapse ? leafCost : interiorCost;
+  n.flags = collapse ? kFlagCollapsed : (1u + max(heightOf(l), heightOf(r)));
+  return n;
+}
+
+// Refits interior node u from its children in memory and stores it.
+BvhBuildNode refitStored(uint u) {
+  BvhBuildNode n = gInterior[u];
+  n = refitNode(n, loadNode(n.left), loadNode(n.right), u == 0u);
+  gInterior[u] = n;
+  return n;
+}
+
+#endif

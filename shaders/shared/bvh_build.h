@@ -1,0 +1,157 @@
+// The GPU BVH build (src/bvh/gpu_builder.cpp): intermediate structures, bindings and push
+// constants of its passes, and the integer helpers both C++ (tests, CPU twins) and GLSL use.
+//
+// Passes, in order (one .comp each):
+//   bvh_bounds        per-triangle vertex copy + scene centroid bounds (subgroup + atomic min/max)
+//   bvh_morton        30-bit Morton code of each centroid in the centroid bounds
+//   bvh_radix_histogram / bvh_scan_reduce / bvh_scan_top / bvh_scan_apply / bvh_radix_scatter
+//                     stable LSD radix sort of (code, triangle), 8 bits per round
+//   bvh_lbvh          hierarchy from the sorted codes (Karras 2012)
+//   bvh_refit         bounds, triangle counts, SAH costs and heights bottom-up (atomic counters)
+//   bvh_treelet       treelet restructuring (Karras & Aila 2013), bottom-up, several rounds
+//   bvh_emit          the traversal layout of shared/bvh.h, collapsing subtrees into leaves
+// Build nodes share one index space: interior nodes [0, N-1) (root 0), leaves [N-1, 2N-1) in
+// sorted order; they live in two bindings so that each stays under maxStorageBufferRange.
+#ifndef OSR_SHARED_BVH_BUILD_H
+#define OSR_SHARED_BVH_BUILD_H
+#include "shared/types.h"
+#include "shared/bvh.h"
+
+#ifdef __cplusplus
+#define OSR_BVH_FN inline
+#else
+#define OSR_BVH_FN
+#endif
+
+OSR_NAMESPACE_BEGIN(bvh_build)
+OSR_CONST(uint, kWorkgroupSize, 64u);
+OSR_CONST(uint, kInvalidNode, 0xffffffffu);
+// BvhBuildNode.flags: height (interior levels down to the deepest leaf, as traversal counts
+// them: 0 for a leaf or a collapsed subtree) and whether the subtree becomes one leaf.
+OSR_CONST(uint, kFlagCollapsed, 0x80000000u);
+OSR_CONST(uint, kHeightMask, 0xffffu);
+
+struct BvhBuildNode {
+  vec3 lo;
+  float cost;          // SAH cost of the subtree (not normalised): see shared/bvh.h
+  vec3 hi;
+  uint triangleCount;  // triangles below
+  uint left;           // interior: child indices; leaf: left = scene triangle index
+  uint right;
+  uint parent;         // kInvalidNode at the root
+  uint flags;
+};
+
+struct BvhBuildInfo {
+  uvec4 centroidMin;  // ordered-uint encoded floats (bvhOrderedFromBits), xyz
+  uvec4 centroidMax;
+  uint leafCounter;   // leaf entries emitted so far (bvh_emit)
+  uint _pad0;
+  uint _pad1;
+  uint _pad2;
+};
+
+// Generic push block of the build passes.
+struct BuildPush {
+  uint triangleCount;
+  uint param;   // pass-specific: see each binding list
+  uint param2;
+  uint _pad0;
+};
+
+// bvh_bounds: param = vertices in the first vertex binding (the vertex buffer is bound as two
+// chunks, so up to 2 x maxStorageBufferRange of vertices).
+OSR_CONST(uint, kBoundsBindingTriangles, 0u);
+OSR_CONST(uint, kBoundsBindingVerticesLo, 1u);
+OSR_CONST(uint, kBoundsBindingVerticesHi, 2u);
+OSR_CONST(uint, kBoundsBindingPrims, 3u);  // BvhLeafTriangle per scene triangle
+OSR_CONST(uint, kBoundsBindingInfo, 4u);
+OSR_CONST(uint, kBoundsBindingCount, 5u);
+
+// bvh_morton
+OSR_CONST(uint, kMortonBindingPrims, 0u);
+OSR_CONST(uint, kMortonBindingInfo, 1u);
+OSR_CONST(uint, kMortonBindingKeys, 2u);
+OSR_CONST(uint, kMortonBindingValues, 3u);
+OSR_CONST(uint, kMortonBindingCount, 4u);
+
+// Radix sort: each invocation owns a chunk of kRadixChunk consecutive keys and keeps its 256
+// digit counters in registers/private memory: no shared memory and no barriers, which lavapipe
+// runs fastest, and no assumption on the subgroup size. The histogram is digit-major
+// (hist[digit * chunkCount + chunk]) so that one exclusive scan yields every chunk's output
+// offset per digit, which keeps the scatter stable. param = bit shift, param2 = chunkCount.
+OSR_CONST(uint, kRadixBits, 8u);
+OSR_CONST(uint, kRadixBins, 256u);
+OSR_CONST(uint, kRadixChunk, 512u);
+OSR_CONST(uint, kRadixKeyBits, 30u);
+OSR_CONST(uint, kRadixBindingKeysIn, 0u);
+OSR_CONST(uint, kRadixBindingValuesIn, 1u);
+OSR_CONST(uint, kRadixBindingHist, 2u);
+OSR_CONST(uint, kRadixBindingKeysOut, 3u);
+OSR_CONST(uint, kRadixBindingValuesOut, 4u);
+OSR_CONST(uint, kRadixHistogramBindingCount, 3u);  // keys, values (unused), hist
+OSR_CONST(uint, kRadixScatterBindingCount, 5u);
+
+// Exclusive scan in three dispatches: per-segment sums, a serial scan of the sums by one
+// invocation, per-segment scans. triangleCount = element count, param = segment count.
+OSR_CONST(uint, kScanSegment, 1024u);
+OSR_CONST(uint, kScanBindingData, 0u);
+OSR_CONST(uint, kScanBindingPartials, 1u);
+OSR_CONST(uint, kScanBindingCount, 2u);
+
+// bvh_lbvh
+OSR_CONST(uint, kLbvhBindingKeys, 0u);
+OSR_CONST(uint, kLbvhBindingValues, 1u);
+OSR_CONST(uint, kLbvhBindingPrims, 2u);
+OSR_CONST(uint, kLbvhBindingInterior, 3u);
+OSR_CONST(uint, kLbvhBindingLeaves, 4u);
+OSR_CONST(uint, kLbvhBindingCount, 5u);
+
+// bvh_refit and bvh_treelet (param: treelet = smallest subtree, in triangles, restructured)
+OSR_CONST(uint, kClimbBindingInterior, 0u);
+OSR_CONST(uint, kClimbBindingLeaves, 1u);
+OSR_CONST(uint, kClimbBindingCounters, 2u);
+OSR_CONST(uint, kClimbBindingCount, 3u);
+OSR_CONST(uint, kClimbSpecFences, 1u);  // spec constant id: bool, memory fences around the counter
+OSR_CONST(uint, kTreeletMaxLeaves, 7u);  // 2^7 subsets per dynamic program
+// Spec constant id of bvh_treelet: leaves per treelet (3..kTreeletMaxLeaves).
+OSR_CONST(uint, kTreeletSpecLeaves, 0u);
+
+// bvh_emit
+OSR_CONST(uint, kEmitBindingInterior, 0u);
+OSR_CONST(uint, kEmitBindingLeaves, 1u);
+OSR_CONST(uint, kEmitBindingPrims, 2u);
+OSR_CONST(uint, kEmitBindingInfo, 3u);
+OSR_CONST(uint, kEmitBindingNodes, 4u);
+OSR_CONST(uint, kEmitBindingLeafTriangles, 5u);
+OSR_CONST(uint, kEmitBindingCount, 6u);
+
+// A float's bits mapped to a uint that orders like the float (atomicMin/Max on floats).
+OSR_BVH_FN uint bvhOrderedFromBits(uint bits) {
+  return (bits & 0x80000000u) != 0u ? ~bits : (bits | 0x80000000u);
+}
+OSR_BVH_FN uint bvhBitsFromOrdered(uint o) {
+  return (o & 0x80000000u) != 0u ? (o & 0x7fffffffu) : ~o;
+}
+
+// Spreads the low 10 bits of v to every third bit.
+OSR_BVH_FN uint bvhExpandBits(uint v) {
+  v = (v * 0x00010001u) & 0xFF0000FFu;
+  v = (v * 0x00000101u) & 0x0F00F00Fu;
+  v = (v * 0x00000011u) & 0xC30C30C3u;
+  v = (v * 0x00000005u) & 0x49249249u;
+  return v;
+}
+// 30-bit Morton code of a point given in units of the centroid bounds ([0,1]^3, clamped).
+OSR_BVH_FN uint bvhMorton(float x, float y, float z) {
+  x = x > 0.0f ? (x < 1.0f ? x : 1.0f) : 0.0f;  // also maps NaN to 0
+  y = y > 0.0f ? (y < 1.0f ? y : 1.0f) : 0.0f;
+  z = z > 0.0f ? (z < 1.0f ? z : 1.0f) : 0.0f;
+  uint qx = uint(x * 1023.0f);
+  uint qy = uint(y * 1023.0f);
+  uint qz = uint(z * 1023.0f);
+  return bvhExpandBits(qx) * 4u + bvhExpandBits(qy) * 2u + bvhExpandBits(qz);
+}
+
+OSR_NAMESPACE_END
+#endif

@@ -1,0 +1,146 @@
+#include "bvh/build_passes.h"
+
+#include <algorithm>
+#include <string>
+
+#include "common/error.h"
+#include "vk/timer.h"
+
+namespace osr::bvh {
+
+namespace bb = gpu::bvh_build;
+using bb::BuildPush;
+
+namespace {
+// See climbFence() in shaders/lib/bvh_build_nodes.glsl for why CPU devices run without fences.
+std::vector<vk::SpecConstant> climbSpec(const vk::Context& ctx, uint32_t treeletLeaves) {
+  std::vector<vk::SpecConstant> spec = {vk::specUint(bb::kClimbSpecFences, ctx.caps().isCpu() ? 0u : 1u)};
+  if (treeletLeaves) spec.push_back(vk::specUint(bb::kTreeletSpecLeaves, treeletLeaves));
+  return spec;
+}
+uint32_t groups(uint64_t items) { return vk::groupCount(std::max<uint64_t>(items, 1), bb::kWorkgroupSize); }
+}  // namespace
+
+BoundsPass::BoundsPass(const vk::Context& ctx)
+    : ctx_(ctx), pipeline_(ctx, shaders::Id::bvh_bounds, bb::kBoundsBindingCount, sizeof(BuildPush)) {}
+
+void BoundsPass::record(VkCommandBuffer cmd, const Args& a) const {
+  // The vertex buffer is bound as two chunks of at most maxStorageBufferRange each.
+  const uint64_t vertexBytes = sizeof(gpu::scene::Vertex);
+  uint64_t chunk = ctx_.caps().maxStorageBufferRange / vertexBytes * vertexBytes;
+  uint64_t size = a.vertices->size() / vertexBytes * vertexBytes;
+  if (size > 2 * chunk)
+    throw DeviceError("bvh: vertex buffer of " + std::to_string(size) + " bytes exceeds 2 x maxStorageBufferRange (" +
+                      std::to_string(ctx_.caps().maxStorageBufferRange) + " bytes)");
+  vk::BufferRange lo(*a.vertices, 0, std::min(size, chunk));
+  vk::BufferRange hi = size > chunk ? vk::BufferRange(*a.vertices, chunk, size - chunk)
+                                    : vk::BufferRange(*a.vertices, 0, vertexBytes);
+  BuildPush push{a.triangleCount, static_cast<uint32_t>(std::min(size, chunk) / vertexBytes), 0, 0};
+  pipeline_.bind(cmd, {vk::BufferRange(*a.triangles, 0, uint64_t(a.triangleCount) * 16), lo, hi, a.prims, a.info}, push);
+  pipeline_.dispatch(cmd, groups(a.triangleCount));
+  vk::computeBarrier(cmd);
+}
+
+MortonPass::MortonPass(const vk::Context& ctx)
+    : pipeline_(ctx, shaders::Id::bvh_morton, bb::kMortonBindingCount, sizeof(BuildPush)) {}
+
+void MortonPass::record(VkCommandBuffer cmd, const Args& a) const {
+  pipeline_.bind(cmd, {a.prims, a.info, a.keys, a.values}, BuildPush{a.triangleCount, 0, 0, 0});
+  pipeline_.dispatch(cmd, groups(a.triangleCount));
+  vk::computeBarrier(cmd);
+}
+
+ExclusiveScan::ExclusiveScan(const vk::Context& ctx)
+    : reduce_(ctx, shaders::Id::bvh_scan_reduce, bb::kScanBindingCount, sizeof(BuildPush)),
+      top_(ctx, shaders::Id::bvh_scan_top, bb::kScanBindingCount, sizeof(BuildPush)),
+      apply_(ctx, shaders::Id::bvh_scan_apply, bb::kScanBindingCount, sizeof(BuildPush)) {}
+
+uint64_t ExclusiveScan::partialsBytes(uint32_t count) {
+  return 4ull * std::max<uint64_t>(1, vk::groupCount(count, bb::kScanSegment));
+}
+
+void ExclusiveScan::record(VkCommandBuffer cmd, const Args& a) const {
+  uint32_t segments = vk::groupCount(a.count, bb::kScanSegment);
+  BuildPush push{a.count, segments, 0, 0};
+  reduce_.bind(cmd, {a.data, a.partials}, push);
+  reduce_.dispatch(cmd, groups(segments));
+  vk::computeBarrier(cmd);
+  top_.bind(cmd, {a.data, a.partials}, push);
+  top_.dispatch(cmd, 1);
+  vk::computeBarrier(cmd);
+  apply_.bind(cmd, {a.data, a.partials}, push);
+  apply_.dispatch(cmd, groups(segments));
+  vk::computeBarrier(cmd);
+}
+
+RadixSort::RadixSort(const vk::Context& ctx)
+    : histogram_(ctx, shaders::Id::bvh_radix_histogram, bb::kRadixHistogramBindingCount, sizeof(BuildPush)),
+      scatter_(ctx, shaders::Id::bvh_radix_scatter, bb::kRadixScatterBindingCount, sizeof(BuildPush)),
+      scan_(ctx) {}
+
+uint64_t RadixSort::histogramBytes(uint32_t count) {
+  return 4ull * bb::kRadixBins * std::max<uint64_t>(1, vk::groupCount(count, bb::kRadixChunk));
+}
+
+void RadixSort::record(VkCommandBuffer cmd, const Args& a, vk::GpuTimer* timer) const {
+  uint32_t chunks = vk::groupCount(a.count, bb::kRadixChunk);
+  uint32_t histWords = chunks * bb::kRadixBins;
+  vk::BufferRange keys[2] = {a.keys, a.keysTmp}, values[2] = {a.values, a.valuesTmp};
+  static_assert((bb::kRadixKeyBits + bb::kRadixBits - 1) / bb::kRadixBits % 2 == 0,
+                "an even number of rounds leaves the result in keys/values");
+  int src = 0;
+  for (uint32_t shift = 0; shift < bb::kRadixKeyBits; shift += bb::kRadixBits, src ^= 1) {
+    BuildPush push{a.count, shift, chunks, 0};
+    {
+      vk::TimedScope scope(timer, cmd, "bvh_radix_histogram");
+      histogram_.bind(cmd, {keys[src], values[src], a.histogram}, push);
+      histogram_.dispatch(cmd, groups(chunks));
+      vk::computeBarrier(cmd);
+    }
+    {
+      vk::TimedScope scope(timer, cmd, "bvh_scan");
+      scan_.record(cmd, {a.histogram, a.partials, histWords});
+    }
+    vk::TimedScope scope(timer, cmd, "bvh_radix_scatter");
+    scatter_.bind(cmd, {keys[src], values[src], a.histogram, keys[src ^ 1], values[src ^ 1]}, push);
+    scatter_.dispatch(cmd, groups(chunks));
+    vk::computeBarrier(cmd);
+  }
+}
+
+LbvhPass::LbvhPass(const vk::Context& ctx)
+    : pipeline_(ctx, shaders::Id::bvh_lbvh, bb::kLbvhBindingCount, sizeof(BuildPush)) {}
+
+void LbvhPass::record(VkCommandBuffer cmd, const Args& a) const {
+  pipeline_.bind(cmd, {a.keys, a.values, a.prims, a.interior, a.leaves}, BuildPush{a.triangleCount, 0, 0, 0});
+  pipeline_.dispatch(cmd, groups(a.triangleCount));
+  vk::computeBarrier(cmd);
+}
+
+ClimbPass::ClimbPass(const vk::Context& ctx, uint32_t treeletLeaves)
+    : pipeline_(ctx, treeletLeaves ? shaders::Id::bvh_treelet : shaders::Id::bvh_refit,
+                bb::kClimbBindingCount, sizeof(BuildPush), climbSpec(ctx, treeletLeaves)) {
+  if (treeletLeaves && (treeletLeaves < 3 || treeletLeaves > bb::kTreeletMaxLeaves))
+    throw InputError("bvh: treelet size " + std::to_string(treeletLeaves) + " outside 3.." +
+                     std::to_string(bb::kTreeletMaxLeaves));
+}
+
+void ClimbPass::record(VkCommandBuffer cmd, const Args& a) const {
+  vkCmdFillBuffer(cmd, a.counters->handle(), 0, VK_WHOLE_SIZE, 0);
+  vk::transferBarrier(cmd);
+  pipeline_.bind(cmd, {a.interior, a.leaves, *a.counters}, BuildPush{a.triangleCount, a.minTriangles, 0, 0});
+  pipeline_.dispatch(cmd, groups(a.triangleCount));
+  vk::computeBarrier(cmd);
+}
+
+EmitPass::EmitPass(const vk::Context& ctx)
+    : pipeline_(ctx, shaders::Id::bvh_emit, bb::kEmitBindingCount, sizeof(BuildPush)) {}
+
+void EmitPass::record(VkCommandBuffer cmd, const Args& a) const {
+  pipeline_.bind(cmd, {a.interior, a.leaves, a.prims, a.info, a.nodes, a.leafTriangles},
+                 BuildPush{a.triangleCount, 0, 0, 0});
+  pipeline_.dispatch(cmd, groups(std::max<uint32_t>(a.triangleCount - 1, 1)));
+  vk::computeBarrier(cmd);
+}
+
+}  // namespace osr::bvh

@@ -1,0 +1,129 @@
+// The passes of the GPU BVH build (shaders/bvh_*.comp; order and data in
+// shaders/shared/bvh_build.h). Each owns its pipeline and records bind + dispatch + barrier;
+// src/bvh/gpu_builder.cpp strings them together.
+#pragma once
+#include <vulkan/vulkan.h>
+
+#include "shaders/shared/bvh_build.h"
+#include "shaders/shared/scene.h"
+#include "vk/buffer.h"
+#include "vk/pipeline.h"
+#include "vk/timer.h"
+
+namespace osr::bvh {
+
+// bvh_bounds: vertex copies per triangle + centroid bounds (info must hold the empty box).
+class BoundsPass {
+ public:
+  explicit BoundsPass(const vk::Context& ctx);
+  struct Args {
+    const vk::Buffer* vertices = nullptr;   // scene Vertex buffer (split into two bindings)
+    const vk::Buffer* triangles = nullptr;  // scene Triangle buffer
+    vk::BufferRange prims;                  // out: BvhLeafTriangle[triangleCount]
+    vk::BufferRange info;                   // in/out: BvhBuildInfo
+    uint32_t triangleCount = 0;
+  };
+  void record(VkCommandBuffer cmd, const Args& args) const;
+
+ private:
+  const vk::Context& ctx_;
+  vk::ComputePipeline pipeline_;
+};
+
+// bvh_morton: keys = Morton codes of the centroids, values = triangle indices.
+class MortonPass {
+ public:
+  explicit MortonPass(const vk::Context& ctx);
+  struct Args {
+    vk::BufferRange prims, info, keys, values;
+    uint32_t triangleCount = 0;
+  };
+  void record(VkCommandBuffer cmd, const Args& args) const;
+
+ private:
+  vk::ComputePipeline pipeline_;
+};
+
+// bvh_scan_reduce + bvh_scan_top + bvh_scan_apply: in-place exclusive scan of uints.
+class ExclusiveScan {
+ public:
+  explicit ExclusiveScan(const vk::Context& ctx);
+  static uint64_t partialsBytes(uint32_t count);
+  struct Args {
+    vk::BufferRange data;      // uint[count], scanned in place
+    vk::BufferRange partials;  // scratch: partialsBytes(count)
+    uint32_t count = 0;
+  };
+  void record(VkCommandBuffer cmd, const Args& args) const;
+
+ private:
+  vk::ComputePipeline reduce_, top_, apply_;
+};
+
+// Stable LSD radix sort of 30-bit keys with uint values: 4 rounds of histogram, scan, scatter.
+// The result ends in keys/values (an even number of rounds through the ping-pong buffers).
+class RadixSort {
+ public:
+  explicit RadixSort(const vk::Context& ctx);
+  static uint64_t histogramBytes(uint32_t count);
+  struct Args {
+    vk::BufferRange keys, values;        // in/out
+    vk::BufferRange keysTmp, valuesTmp;  // scratch, same sizes
+    vk::BufferRange histogram;           // scratch: histogramBytes(count)
+    vk::BufferRange partials;            // scratch: ExclusiveScan::partialsBytes(histogram words)
+    uint32_t count = 0;
+  };
+  // `timer` (may be null) gets scopes "bvh_radix_histogram", "bvh_scan", "bvh_radix_scatter".
+  void record(VkCommandBuffer cmd, const Args& args, vk::GpuTimer* timer = nullptr) const;
+
+ private:
+  vk::ComputePipeline histogram_, scatter_;
+  ExclusiveScan scan_;
+};
+
+// bvh_lbvh: Karras 2012 hierarchy over sorted keys; initialises the leaves.
+class LbvhPass {
+ public:
+  explicit LbvhPass(const vk::Context& ctx);
+  struct Args {
+    vk::BufferRange keys, values, prims, interior, leaves;
+    uint32_t triangleCount = 0;
+  };
+  void record(VkCommandBuffer cmd, const Args& args) const;
+
+ private:
+  vk::ComputePipeline pipeline_;
+};
+
+// bvh_refit and bvh_treelet share the bottom-up climb; counters are zeroed by record().
+class ClimbPass {
+ public:
+  // treeletLeaves = 0: bvh_refit; 3..kTreeletMaxLeaves: bvh_treelet with that treelet size.
+  ClimbPass(const vk::Context& ctx, uint32_t treeletLeaves);
+  struct Args {
+    vk::BufferRange interior, leaves;
+    const vk::Buffer* counters = nullptr;  // uint per interior node
+    uint32_t triangleCount = 0;
+    uint32_t minTriangles = 0;  // treelet: smallest subtree restructured
+  };
+  void record(VkCommandBuffer cmd, const Args& args) const;
+
+ private:
+  vk::ComputePipeline pipeline_;
+};
+
+// bvh_emit: traversal nodes and leaf triangles (info.leafCounter must be 0).
+class EmitPass {
+ public:
+  explicit EmitPass(const vk::Context& ctx);
+  struct Args {
+    vk::BufferRange interior, leaves, prims, info, nodes, leafTriangles;
+    uint32_t triangleCount = 0;
+  };
+  void record(VkCommandBuffer cmd, const Args& args) const;
+
+ private:
+  vk::ComputePipeline pipeline_;
+};
+
+}  // namespace osr::bvh

@@ -1,0 +1,179 @@
+// buildGpu: the dispatch sequence of the device BVH build (shaders/shared/bvh_build.h lists the
+// passes). One command buffer, timed per pass; a readback of one node afterwards gives the SAH
+// cost and depth, and checks that every triangle was placed.
+#include <algorithm>
+#include <cstring>
+#include <memory>
+#include <string>
+
+#include "bvh/build_passes.h"
+#include "bvh/bvh.h"
+#include "bvh/gpu_builder.h"
+#include "common/error.h"
+
+namespace osr::bvh {
+
+namespace bb = gpu::bvh_build;
+
+namespace {
+
+uint32_t ordered(float f) {
+  uint32_t bits;
+  std::memcpy(&bits, &f, 4);
+  return bb::bvhOrderedFromBits(bits);
+}
+
+}  // namespace
+
+struct GpuBuilder::Passes {
+  BoundsPass bounds;
+  MortonPass morton;
+  RadixSort sort;
+  LbvhPass lbvh;
+  ClimbPass refit;
+  ClimbPass treelet;
+  EmitPass emit;
+  Passes(const vk::Context& ctx, uint32_t treeletLeaves)
+      : bounds(ctx), morton(ctx), sort(ctx), lbvh(ctx), refit(ctx, 0), treelet(ctx, treeletLeaves),
+        emit(ctx) {}
+};
+
+namespace {
+
+vk::Buffer scratch(const vk::Context& ctx, uint64_t bytes, const char* name) {
+  return vk::Buffer(ctx, std::max<uint64_t>(bytes, 16), vk::MemoryUse::DeviceLocal, name);
+}
+
+}  // namespace
+
+Bvh buildGpu(const vk::Context& ctx, const vk::Buffer& vertices, const vk::Buffer& triangles,
+             uint32_t triangleCount, BuildStats* stats) {
+  return GpuBuilder(ctx).build(vertices, triangles, triangleCount, stats);
+}
+
+Bvh buildGpu(const vk::Context& ctx, const vk::Buffer& vertices, const vk::Buffer& triangles,
+             uint32_t triangleCount, const GpuBuildOptions& options, BuildStats* stats) {
+  return GpuBuilder(ctx, options).build(vertices, triangles, triangleCount, stats);
+}
+
+GpuBuilder::GpuBuilder(const vk::Context& ctx, const GpuBuildOptions& options)
+    : ctx_(ctx), options_(options), passes_(std::make_unique<Passes>(ctx, options.treeletLeaves)) {}
+
+GpuBuilder::~GpuBuilder() = default;
+
+Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
+                      uint32_t triangleCount, BuildStats* stats) const {
+  const vk::Context& ctx = ctx_;
+  const GpuBuildOptions& options = options_;
+  Passes& passes = *passes_;
+  const uint32_t n = triangleCount;
+  if (n == 0) throw InputError("bvh: a scene with no triangles has no BVH");
+  if (n > maxTriangles(ctx))
+    throw DeviceError("bvh: " + std::to_string(n) + " triangles exceed the device limit of " +
+                      std::to_string(maxTriangles(ctx)) + " (maxStorageBufferRange " +
+                      std::to_string(ctx.caps().maxStorageBufferRange) + " bytes per binding)");
+  if (triangles.size() < uint64_t(n) * sizeof(gpu::scene::Triangle))
+    throw DeviceError("bvh: triangle buffer '" + triangles.name() + "' holds fewer than " +
+                      std::to_string(n) + " triangles");
+  const uint32_t interiorCount = std::max<uint32_t>(n - 1, 1);
+  const uint64_t nodeBytes = sizeof(bb::BvhBuildNode);
+
+  vk::Buffer prims = scratch(ctx, uint64_t(n) * sizeof(gpu::bvh::BvhLeafTriangle), "bvh prims");
+  vk::Buffer info = scratch(ctx, sizeof(bb::BvhBuildInfo), "bvh build info");
+  vk::Buffer keys = scratch(ctx, 4ull * n, "bvh keys"), keysTmp = scratch(ctx, 4ull * n, "bvh keys tmp");
+  vk::Buffer values = scratch(ctx, 4ull * n, "bvh values"), valuesTmp = scratch(ctx, 4ull * n, "bvh values tmp");
+  uint64_t histBytes = RadixSort::histogramBytes(n);
+  vk::Buffer hist = scratch(ctx, histBytes, "bvh radix histogram");
+  vk::Buffer partials = scratch(ctx, ExclusiveScan::partialsBytes(uint32_t(histBytes / 4)), "bvh scan partials");
+  vk::Buffer interior = scratch(ctx, interiorCount * nodeBytes, "bvh build interior");
+  vk::Buffer leaves = scratch(ctx, n * nodeBytes, "bvh build leaves");
+  vk::Buffer counters = scratch(ctx, 4ull * interiorCount, "bvh climb counters");
+
+  Bvh bvh;
+  bvh.nodeCount = interiorCount;
+  bvh.triangleCount = n;
+  bvh.nodes = vk::Buffer(ctx, uint64_t(interiorCount) * sizeof(gpu::bvh::BvhNode), vk::MemoryUse::DeviceLocal, "bvh nodes");
+  bvh.leafData = vk::Buffer(ctx, uint64_t(n) * sizeof(gpu::bvh::BvhLeafTriangle), vk::MemoryUse::DeviceLocal, "bvh leaf triangles");
+
+  vk::GpuTimer timer(ctx, 256);
+  bb::BvhBuildInfo initial{};
+  const float kBig = 3.0e38f;
+  initial.centroidMin = glm::uvec4(ordered(kBig), ordered(kBig), ordered(kBig), 0);
+  initial.centroidMax = glm::uvec4(ordered(-kBig), ordered(-kBig), ordered(-kBig), 0);
+
+  auto record = [&](VkCommandBuffer cmd, uint32_t treeletRounds) {
+    timer.reset(cmd);
+    vkCmdUpdateBuffer(cmd, info.handle(), 0, sizeof(initial), &initial);
+    vk::transferBarrier(cmd);
+    {
+      vk::TimedScope scope(&timer, cmd, "bvh_bounds");
+      passes.bounds.record(cmd, {&vertices, &triangles, prims, info, n});
+    }
+    {
+      vk::TimedScope scope(&timer, cmd, "bvh_morton");
+      passes.morton.record(cmd, {prims, info, keys, values, n});
+    }
+    passes.sort.record(cmd, {keys, values, keysTmp, valuesTmp, hist, partials, n}, &timer);
+    {
+      vk::TimedScope scope(&timer, cmd, "bvh_lbvh");
+      passes.lbvh.record(cmd, {keys, values, prims, interior, leaves, n});
+    }
+    if (n > 1) {
+      vk::TimedScope scope(&timer, cmd, "bvh_refit");
+      passes.refit.record(cmd, {interior, leaves, &counters, n, 0});
+    }
+    for (uint32_t round = 0; round < treeletRounds && n > 2; ++round) {
+      vk::TimedScope scope(&timer, cmd, "bvh_treelet");
+      // Karras & Aila grow the smallest restructured subtree each round: the bottom levels
+      // improve most in the first round, later rounds polish the upper tree at less cost.
+      passes.treelet.record(cmd, {interior, leaves, &counters, n, options.treeletLeaves << round});
+    }
+    vk::TimedScope scope(&timer, cmd, "bvh_emit");
+    passes.emit.record(cmd, {interior, leaves, prims, info, bvh.nodes, bvh.leafData, n});
+  };
+
+  uint32_t rounds = options.treeletRounds;
+  bb::BvhBuildNode root{};
+  bb::BvhBuildInfo done{};
+  for (;;) {
+    ctx.submitAndWait([&](VkCommandBuffer cmd) { record(cmd, rounds); });
+    root = n > 1 ? interior.downloadVector<bb::BvhBuildNode>(1)[0] : leaves.downloadVector<bb::BvhBuildNode>(1)[0];
+    done = info.downloadVector<bb::BvhBuildInfo>(1)[0];
+    uint32_t height = n > 1 ? (root.flags & bb::kHeightMask) : 1;
+    // The LBVH alone has at most 30 + ceil(log2 N) + 1 <= 53 levels (N <= 2^21 on 128 MiB
+    // bindings); restructuring can deepen it, so a tree past the traversal bound is rebuilt
+    // without that step.
+    if (height <= gpu::bvh::kBvhMaxDepth || rounds == 0) {
+      if (height > gpu::bvh::kBvhMaxDepth)
+        throw DeviceError("bvh: tree depth " + std::to_string(height) + " exceeds kBvhMaxDepth");
+      if (stats) stats->depth = height;
+      break;
+    }
+    rounds = 0;
+  }
+  if (done.leafCounter != n)
+    throw DeviceError("bvh: GPU build placed " + std::to_string(done.leafCounter) + " of " +
+                      std::to_string(n) + " triangles");
+  if (stats) {
+    std::vector<vk::PassTime> perScope = timer.results();
+    stats->passes.clear();
+    stats->totalMs = 0;
+    for (const auto& p : perScope) {
+      auto it = std::find_if(stats->passes.begin(), stats->passes.end(),
+                             [&](const vk::PassTime& q) { return q.name == p.name; });
+      if (it == stats->passes.end())
+        stats->passes.push_back(p);
+      else
+        it->ms += p.ms;
+      stats->totalMs += p.ms;
+    }
+    glm::vec3 d = root.hi - root.lo;
+    double area = 2.0 * (double(d.x) * d.y + double(d.y) * d.z + double(d.z) * d.x);
+    // One triangle: the root node over a single leaf (root.cost is that leaf's).
+    double cost = n > 1 ? root.cost : gpu::bvh::kSahNodeCost * area + root.cost;
+    stats->sahCost = area > 0 ? cost / area : 0.0;
+  }
+  return bvh;
+}
+
+}  // namespace osr::bvh

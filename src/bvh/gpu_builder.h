@@ -1,0 +1,37 @@
+// Options of the GPU build (bvh.h declares buildGpu with the defaults).
+#pragma once
+#include <cstdint>
+#include <memory>
+
+#include "bvh/bvh.h"
+#include "shaders/shared/bvh_build.h"
+
+namespace osr::bvh {
+
+struct GpuBuildOptions {
+  uint32_t treeletRounds = 3;                                // 0: plain LBVH
+  uint32_t treeletLeaves = gpu::bvh_build::kTreeletMaxLeaves;  // 3..7
+};
+
+Bvh buildGpu(const vk::Context& ctx, const vk::Buffer& vertices, const vk::Buffer& triangles,
+             uint32_t triangleCount, const GpuBuildOptions& options, BuildStats* stats = nullptr);
+
+// Keeps the build's pipelines between builds (creating them compiles every pass, which on
+// lavapipe costs far more than building a small scene). Same contract as buildGpu.
+class GpuBuilder {
+ public:
+  explicit GpuBuilder(const vk::Context& ctx, const GpuBuildOptions& options = {});
+  ~GpuBuilder();
+  GpuBuilder(const GpuBuilder&) = delete;
+  GpuBuilder& operator=(const GpuBuilder&) = delete;
+  Bvh build(const vk::Buffer& vertices, const vk::Buffer& triangles, uint32_t triangleCount,
+            BuildStats* stats = nullptr) const;
+
+ private:
+  struct Passes;
+  const vk::Context& ctx_;
+  GpuBuildOptions options_;
+  std::unique_ptr<Passes> passes_;
+};
+
+}  // namespace osr::bvh

@@ -1,0 +1,30 @@
+#include "scene/scene_probe.h"
+
+namespace osr::scene {
+
+namespace probe = osr::gpu::scene_probe;
+namespace env_probe = osr::gpu::scene_env_probe;
+
+// The two shaders must agree on everything this class assumes.
+static_assert(probe::kBindingQueries == 0 && probe::kBindingResults == 1 &&
+              probe::kBindingScene == 2);
+static_assert(env_probe::kBindingQueries == probe::kBindingQueries &&
+              env_probe::kBindingResults == probe::kBindingResults &&
+              env_probe::kBindingScene == probe::kBindingScene);
+static_assert(env_probe::kWorkgroupSize == probe::kWorkgroupSize &&
+              sizeof(env_probe::Push) == sizeof(probe::Push));
+
+SceneProbe::SceneProbe(const vk::Context& ctx, ProbeKind kind)
+    : pipeline_(ctx,
+                kind == ProbeKind::Surface ? shaders::Id::scene_probe
+                                           : shaders::Id::scene_env_probe,
+                probe::kBindingScene + gpu::kSceneBindingCount, sizeof(probe::Push)) {}
+
+void SceneProbe::record(VkCommandBuffer cmd, const Args& args) const {
+  auto buffers = args.scene->withBindings({*args.queries, *args.results});
+  pipeline_.bindSpan(cmd, buffers, probe::Push{args.count});
+  pipeline_.dispatch(cmd, vk::groupCount(args.count, probe::kWorkgroupSize));
+  vk::computeBarrier(cmd);
+}
+
+}  // namespace osr::scene

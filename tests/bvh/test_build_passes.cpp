@@ -1,0 +1,140 @@
+// The GPU build's passes against CPU twins: centroid bounds and Morton codes (bvhMorton, shared
+// with the shader), the exclusive scan, and the radix sort (std::stable_sort), on sizes that hit
+// chunk and segment tails.
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cstring>
+#include <numeric>
+#include <random>
+
+#include "bvh/build_passes.h"
+#include "bvh/synthetic_mesh.h"
+#include "common/vk_test.h"
+
+using namespace osr;
+namespace bb = gpu::bvh_build;
+
+namespace {
+vk::Buffer deviceBuffer(const vk::Context& ctx, uint64_t bytes, const char* name) {
+  return vk::Buffer(ctx, std::max<uint64_t>(bytes, 16), vk::MemoryUse::DeviceLocal, name);
+}
+float decode(uint32_t o) {
+  uint32_t bits = bb::bvhBitsFromOrdered(o);
+  float f;
+  std::memcpy(&f, &bits, 4);
+  return f;
+}
+}  // namespace
+
+TEST(BuildPasses, OrderedFloatEncodingOrdersLikeFloats) {
+  std::vector<float> v = {-3e38f, -1.0f, -1e-30f, -0.0f, 0.0f, 1e-30f, 2.5f, 3e38f};
+  for (size_t i = 0; i + 1 < v.size(); ++i) {
+    uint32_t a, b;
+    std::memcpy(&a, &v[i], 4);
+    std::memcpy(&b, &v[i + 1], 4);
+    EXPECT_LE(bb::bvhOrderedFromBits(a), bb::bvhOrderedFromBits(b)) << v[i] << " " << v[i + 1];
+    EXPECT_EQ(decode(bb::bvhOrderedFromBits(a)), v[i]);
+  }
+}
+
+TEST(BuildPasses, BoundsAndMortonMatchTheCpuTwin) {
+  auto& ctx = test::context();
+  for (uint32_t count : {1u, 63u, 1000u, 5001u}) {
+    bvh::SyntheticMesh m = bvh::makeSoup(count, count, {3, -2, 1}, 5.0f, 0.5f, 7);
+    vk::Buffer verts = deviceBuffer(ctx, m.vertices.size() * 32, "verts");
+    vk::Buffer tris = deviceBuffer(ctx, m.triangles.size() * 16, "tris");
+    verts.uploadVector(m.vertices);
+    tris.uploadVector(m.triangles);
+    vk::Buffer prims = deviceBuffer(ctx, count * 48ull, "prims");
+    vk::Buffer info = deviceBuffer(ctx, sizeof(bb::BvhBuildInfo), "info");
+    vk::Buffer keys = deviceBuffer(ctx, count * 4ull, "keys"), values = deviceBuffer(ctx, count * 4ull, "values");
+    bb::BvhBuildInfo init{};
+    float big = 3e38f, small = -3e38f;
+    uint32_t bigBits, smallBits;
+    std::memcpy(&bigBits, &big, 4);
+    std::memcpy(&smallBits, &small, 4);
+    init.centroidMin = glm::uvec4(bb::bvhOrderedFromBits(bigBits));
+    init.centroidMax = glm::uvec4(bb::bvhOrderedFromBits(smallBits));
+    info.upload(&init, sizeof(init));
+    bvh::BoundsPass bounds(ctx);
+    bvh::MortonPass morton(ctx);
+    ctx.submitAndWait([&](VkCommandBuffer cmd) {
+      bounds.record(cmd, {&verts, &tris, prims, info, count});
+      morton.record(cmd, {prims, info, keys, values, count});
+    });
+    // CPU twin.
+    glm::vec3 lo(big), hi(small);
+    std::vector<glm::vec3> centroids;
+    for (const auto& t : m.triangles) {
+      glm::vec3 p0 = m.vertices[t.v0].position, p1 = m.vertices[t.v1].position, p2 = m.vertices[t.v2].position;
+      glm::vec3 c = 0.5f * (glm::min(glm::min(p0, p1), p2) + glm::max(glm::max(p0, p1), p2));
+      centroids.push_back(c);
+      lo = glm::min(lo, c);
+      hi = glm::max(hi, c);
+    }
+    auto got = info.downloadVector<bb::BvhBuildInfo>(1)[0];
+    for (int k = 0; k < 3; ++k) {
+      EXPECT_EQ(decode(got.centroidMin[k]), lo[k]) << count;
+      EXPECT_EQ(decode(got.centroidMax[k]), hi[k]) << count;
+    }
+    auto gotKeys = keys.downloadVector<uint32_t>(count);
+    auto gotValues = values.downloadVector<uint32_t>(count);
+    glm::vec3 ext = hi - lo;
+    glm::vec3 scale(ext.x > 0 ? 1 / ext.x : 0, ext.y > 0 ? 1 / ext.y : 0, ext.z > 0 ? 1 / ext.z : 0);
+    uint32_t mismatches = 0;
+    for (uint32_t i = 0; i < count; ++i) {
+      glm::vec3 u = (centroids[i] - lo) * scale;
+      EXPECT_EQ(gotValues[i], i);
+      mismatches += gotKeys[i] != bb::bvhMorton(u.x, u.y, u.z);
+    }
+    EXPECT_EQ(mismatches, 0u) << count;
+  }
+}
+
+TEST(BuildPasses, ExclusiveScanMatchesCpu) {
+  auto& ctx = test::context();
+  bvh::ExclusiveScan scan(ctx);
+  std::mt19937 rng(5);
+  for (uint32_t count : {1u, 1023u, 1024u, 1025u, 300001u}) {
+    std::vector<uint32_t> data(count);
+    for (auto& d : data) d = rng() % 100;
+    vk::Buffer buf = deviceBuffer(ctx, count * 4ull, "scan data");
+    vk::Buffer partials = deviceBuffer(ctx, bvh::ExclusiveScan::partialsBytes(count), "scan partials");
+    buf.uploadVector(data);
+    ctx.submitAndWait([&](VkCommandBuffer cmd) { scan.record(cmd, {buf, partials, count}); });
+    std::vector<uint32_t> expected(count);
+    std::exclusive_scan(data.begin(), data.end(), expected.begin(), 0u);
+    EXPECT_EQ(buf.downloadVector<uint32_t>(count), expected) << count;
+  }
+}
+
+TEST(BuildPasses, RadixSortIsAStableSortOf30BitKeys) {
+  auto& ctx = test::context();
+  bvh::RadixSort sort(ctx);
+  std::mt19937 rng(6);
+  for (uint32_t count : {1u, 7u, 511u, 513u, 100003u}) {
+    std::vector<uint32_t> keys(count), values(count);
+    for (uint32_t i = 0; i < count; ++i) {
+      // Few distinct keys in the low half of the sizes: many duplicates test stability.
+      keys[i] = (i % 2 ? rng() % 64 : rng()) & ((1u << bb::kRadixKeyBits) - 1);
+      values[i] = i;
+    }
+    uint64_t bytes = count * 4ull;
+    vk::Buffer k = deviceBuffer(ctx, bytes, "k"), v = deviceBuffer(ctx, bytes, "v");
+    vk::Buffer kt = deviceBuffer(ctx, bytes, "kt"), vt = deviceBuffer(ctx, bytes, "vt");
+    uint64_t histBytes = bvh::RadixSort::histogramBytes(count);
+    vk::Buffer hist = deviceBuffer(ctx, histBytes, "hist");
+    vk::Buffer partials = deviceBuffer(ctx, bvh::ExclusiveScan::partialsBytes(uint32_t(histBytes / 4)), "partials");
+    k.uploadVector(keys);
+    v.uploadVector(values);
+    ctx.submitAndWait([&](VkCommandBuffer cmd) { sort.record(cmd, {k, v, kt, vt, hist, partials, count}); });
+    std::vector<uint32_t> order(count);
+    std::iota(order.begin(), order.end(), 0u);
+    std::stable_sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return keys[a] < keys[b]; });
+    std::vector<uint32_t> sortedKeys(count);
+    for (uint32_t i = 0; i < count; ++i) sortedKeys[i] = keys[order[i]];
+    EXPECT_EQ(k.downloadVector<uint32_t>(count), sortedKeys) << count;
+    EXPECT_EQ(v.downloadVector<uint32_t>(count), order) << count;
+  }
+}

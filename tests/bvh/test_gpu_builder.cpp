@@ -1,0 +1,104 @@
+// buildGpu end to end: structural invariants of the downloaded tree on every test mesh,
+// SAH within 1.1x of the CPU binned-SAH tree, treelet restructuring lowering the LBVH's SAH,
+// reported statistics matching the downloaded tree, closest hits equal to the brute-force loop,
+// and a clear refusal past the device limit.
+#include <gtest/gtest.h>
+
+#include "bvh/cpu_builder.h"
+#include "bvh/gpu_builder.h"
+#include "bvh/tree_stats.h"
+#include "bvh_test_util.h"
+#include "common/error.h"
+#include "common/vk_test.h"
+#include "trace_test_util.h"
+
+using namespace osr;
+
+namespace {
+
+struct DeviceMesh {
+  vk::Buffer vertices, triangles;
+  DeviceMesh(const vk::Context& ctx, const bvh::SyntheticMesh& m)
+      : vertices(ctx, m.vertices.size() * sizeof(gpu::scene::Vertex), vk::MemoryUse::DeviceLocal, "test vertices"),
+        triangles(ctx, m.triangles.size() * sizeof(gpu::scene::Triangle), vk::MemoryUse::DeviceLocal, "test triangles") {
+    vertices.uploadVector(m.vertices);
+    triangles.uploadVector(m.triangles);
+  }
+};
+
+}  // namespace
+
+// Compiles the build's pipelines once for the suite and frees them before the context goes.
+class GpuBuilder : public ::testing::Test {
+ protected:
+  static void TearDownTestSuite() { builder_.reset(); }
+  static bvh::Bvh build(const bvh::SyntheticMesh& m, bvh::BuildStats* stats = nullptr) {
+    auto& ctx = test::context();
+    if (!builder_) builder_ = std::make_unique<bvh::GpuBuilder>(ctx);
+    DeviceMesh dm(ctx, m);
+    return builder_->build(dm.vertices, dm.triangles, uint32_t(m.triangles.size()), stats);
+  }
+  static std::unique_ptr<bvh::GpuBuilder> builder_;
+};
+std::unique_ptr<bvh::GpuBuilder> GpuBuilder::builder_;
+
+TEST_F(GpuBuilder, InvariantsHoldOnEveryTestMesh) {
+  for (const auto& [name, mesh] : test::testMeshes()) {
+    bvh::BuildStats stats;
+    bvh::Bvh tree = build(mesh, &stats);
+    bvh::HostBvh host = bvh::download(tree);
+    EXPECT_EQ(bvh::checkInvariants(host, mesh.vertices, mesh.triangles), "") << name;
+    EXPECT_EQ(stats.depth, bvh::depth(host)) << name;
+    EXPECT_NEAR(stats.sahCost, bvh::sahCost(host), 1e-3 * bvh::sahCost(host)) << name;
+    EXPECT_FALSE(stats.passes.empty()) << name;
+  }
+}
+
+TEST_F(GpuBuilder, SahWithinTenPercentOfCpuBinnedSah) {
+  auto meshes = test::testMeshes();
+  meshes.push_back({"bumpy_sphere_80k", bvh::makeSphere({0, 0, 0}, 1.0f, 400, 100, 0.3f)});
+  for (const auto& [name, mesh] : meshes) {
+    if (mesh.triangles.size() < 100) continue;  // too few nodes for a ratio to mean much
+    double gpuSah = bvh::sahCost(bvh::download(build(mesh)));
+    double cpuSah = bvh::sahCost(bvh::buildCpu(mesh.vertices, mesh.triangles));
+    EXPECT_LE(gpuSah, 1.1 * cpuSah) << name << ": GPU " << gpuSah << " CPU " << cpuSah;
+    std::printf("%s: SAH gpu %.3f cpu %.3f ratio %.3f\n", name.c_str(), gpuSah, cpuSah, gpuSah / cpuSah);
+  }
+}
+
+TEST_F(GpuBuilder, TreeletRestructuringLowersSah) {
+  bvh::SyntheticMesh mesh = bvh::makeSphere({0, 0, 0}, 1.0f, 100, 50, 0.3f);
+  mesh.append(bvh::makeSoup(2000, 9, {0, 0, 0}, 1.5f, 0.1f));
+  bvh::GpuBuildOptions plain;
+  plain.treeletRounds = 0;
+  DeviceMesh dm(test::context(), mesh);
+  double lbvh = bvh::sahCost(bvh::download(
+      bvh::buildGpu(test::context(), dm.vertices, dm.triangles, uint32_t(mesh.triangles.size()), plain)));
+  bvh::HostBvh restructured = bvh::download(build(mesh));
+  EXPECT_EQ(bvh::checkInvariants(restructured, mesh.vertices, mesh.triangles), "");
+  EXPECT_LT(bvh::sahCost(restructured), 0.95 * lbvh);
+}
+
+TEST_F(GpuBuilder, ClosestHitsMatchBruteForce) {
+  auto& ctx = test::context();
+  for (const auto& [name, mesh] : test::testMeshes()) {
+    bvh::Bvh tree = build(mesh);
+    uint32_t count = mesh.triangles.size() > 100 ? 100000 : 20000;
+    auto rays = test::randomRays(mesh, count, 21);
+    auto hits = test::traceOnDevice(ctx, tree, rays, gpu::bvh_trace::kModeClosest);
+    EXPECT_EQ(test::compareClosest(name, mesh, rays, hits), 0u) << name;
+  }
+}
+
+TEST_F(GpuBuilder, RefusesScenesPastTheDeviceLimit) {
+  auto& ctx = test::context();
+  bvh::SyntheticMesh m = bvh::makeSoup(4, 1, {0, 0, 0}, 1, 1);
+  DeviceMesh dm(ctx, m);
+  try {
+    bvh::buildGpu(ctx, dm.vertices, dm.triangles, bvh::maxTriangles(ctx) + 1);
+    FAIL() << "expected a DeviceError";
+  } catch (const DeviceError& e) {
+    EXPECT_NE(std::string(e.what()).find("maxStorageBufferRange"), std::string::npos) << e.what();
+  }
+  EXPECT_THROW(bvh::buildGpu(ctx, dm.vertices, dm.triangles, 0), InputError);
+}

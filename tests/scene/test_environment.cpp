@@ -1,0 +1,208 @@
+// Environment maps: .exr and .hdr loading, bad files, the importance-sampling tables and the
+// sampling functions (C++ twins analytically; GLSL scene_env_probe against the twins).
+#include <gtest/gtest.h>
+#include <stb/stb_image_write.h>
+
+#include <ImfRgbaFile.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <random>
+
+#include "common/error.h"
+#include "common/vk_test.h"
+#include "scene/environment.h"
+#include "scene/scene_probe.h"
+#include "scene/scene_test_util.h"
+#include "scene/surface.h"
+
+using namespace osr;
+namespace envp = osr::gpu::scene_env_probe;
+
+namespace {
+
+constexpr float kPi = 3.14159265358979f;
+
+// 16 x 8 map: a smooth gradient plus one bright texel, so sampling has something to find.
+scene::Environment testEnvironment() {
+  scene::Environment env;
+  env.width = 16;
+  env.height = 8;
+  for (uint32_t y = 0; y < env.height; ++y)
+    for (uint32_t x = 0; x < env.width; ++x)
+      env.texels.push_back(glm::vec4(0.1f + 0.05f * x, 0.2f + 0.1f * y, 0.5f, 1.0f));
+  env.texels[3 * 16 + 5] = glm::vec4(40.0f, 30.0f, 20.0f, 1.0f);
+  return env;
+}
+
+std::string temp(const std::string& name) { return ::testing::TempDir() + name; }
+
+void expectInputError(const std::string& path, const std::string& part) {
+  test::expectInputError([](const std::string& p) { scene::loadEnvironment(p); }, path, part);
+}
+
+}  // namespace
+
+TEST(Environment, LoadsHdrAndExr) {
+  scene::Environment ref = testEnvironment();
+  std::vector<float> rgb;
+  for (const auto& t : ref.texels) rgb.insert(rgb.end(), {t.r, t.g, t.b});
+  std::string hdr = temp("env.hdr");
+  ASSERT_TRUE(stbi_write_hdr(hdr.c_str(), 16, 8, 3, rgb.data()));
+  std::string exr = temp("env.exr");
+  {
+    std::vector<Imf::Rgba> px;
+    for (const auto& t : ref.texels) px.emplace_back(t.r, t.g, t.b, 1.0f);
+    Imf::RgbaOutputFile out(exr.c_str(), 16, 8, Imf::WRITE_RGBA);
+    out.setFrameBuffer(px.data(), 1, 16);
+    out.writePixels(8);
+  }
+  for (const std::string& path : {hdr, exr}) {
+    scene::Environment env = scene::loadEnvironment(path);
+    ASSERT_EQ(env.width, 16u);
+    ASSERT_EQ(env.height, 8u);
+    // RGBE shares one exponent per texel (8-bit mantissas: ~1% of the largest channel), half
+    // keeps ~0.1%. Row 0 stays the top row.
+    for (size_t i = 0; i < env.texels.size(); ++i) {
+      float largest = std::max({ref.texels[i].r, ref.texels[i].g, ref.texels[i].b});
+      for (int k = 0; k < 3; ++k)
+        EXPECT_NEAR(env.texels[i][k], ref.texels[i][k], 0.01f * largest) << path << " texel " << i;
+    }
+  }
+}
+
+TEST(Environment, BadFiles) {
+  expectInputError(temp("none.exr"), "not found");
+  std::string junk = temp("junk.exr");
+  std::FILE* f = std::fopen(junk.c_str(), "wb");
+  std::fputs("this is not an image", f);
+  std::fclose(f);
+  expectInputError(junk, "OpenEXR");
+  std::string junkHdr = temp("junk.hdr");
+  std::rename(junk.c_str(), junkHdr.c_str());
+  expectInputError(junkHdr, ".hdr");
+  std::string png = test::dataPath("scene/checker.png");
+  expectInputError(png, ".exr or .hdr");
+}
+
+TEST(Environment, CdfTables) {
+  scene::Environment env = testEnvironment();
+  std::vector<float> cdf = scene::environmentCdf(env);
+  ASSERT_EQ(cdf.size(), 8u + 16u * 8u);
+  EXPECT_EQ(cdf[7], 1.0f);
+  for (uint32_t y = 0; y < 8; ++y) {
+    EXPECT_EQ(cdf[8 + y * 16 + 15], 1.0f);
+    for (uint32_t x = 1; x < 16; ++x) EXPECT_GE(cdf[8 + y * 16 + x], cdf[8 + y * 16 + x - 1]);
+  }
+  // A black map samples uniformly over the sphere instead of dividing by zero.
+  scene::Environment black = env;
+  for (auto& t : black.texels) t = glm::vec4(0.0f);
+  std::vector<float> u = scene::environmentCdf(black);
+  EXPECT_NEAR(u[8 + 3], 4.0f / 16.0f, 1e-6f);
+  EXPECT_EQ(u[7], 1.0f);
+}
+
+TEST(Environment, SamplingIsConsistentAndUnbiased) {
+  scene::Environment env = testEnvironment();
+  std::vector<float> cdf = scene::environmentCdf(env);
+  // Integral of luminance over the sphere, texel by texel (exact for piecewise constant).
+  double exact = 0.0;
+  for (uint32_t y = 0; y < 8; ++y) {
+    double solidAngle = (2.0 * kPi / 16) * (std::cos(y * kPi / 8) - std::cos((y + 1) * kPi / 8));
+    for (uint32_t x = 0; x < 16; ++x)
+      exact += scene::luminance(glm::vec3(env.texels[y * 16 + x])) * solidAngle;
+  }
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<float> u01(0.0f, 1.0f);
+  double estimate = 0.0;
+  const int n = 200000;
+  for (int i = 0; i < n; ++i) {
+    float pdf;
+    glm::vec3 radiance;
+    glm::vec3 dir = scene::sampleEnvironment(env, cdf, {u01(rng), u01(rng)}, pdf, radiance);
+    ASSERT_NEAR(glm::length(dir), 1.0f, 1e-5f);
+    ASSERT_GT(pdf, 0.0f);
+    if (i % 100 == 0) {
+      EXPECT_NEAR(scene::environmentPdf(env, cdf, dir), pdf, 2e-3f * pdf) << i;
+      EXPECT_EQ(scene::environmentRadiance(env, dir), radiance) << i;
+    }
+    estimate += scene::luminance(radiance) / pdf;
+  }
+  estimate /= n;
+  // Importance sampling ~ luminance: the estimator's variance is small; 1% is many sigmas.
+  EXPECT_NEAR(estimate, exact, 0.01 * exact);
+  // The pdf integrates to one over the sphere (uniform directions, MC).
+  double integral = 0.0;
+  for (int i = 0; i < n; ++i) {
+    float z = 1.0f - 2.0f * u01(rng), phi = 2.0f * kPi * u01(rng), r = std::sqrt(std::max(0.0f, 1 - z * z));
+    integral += scene::environmentPdf(env, cdf, {r * std::cos(phi), z, r * std::sin(phi)}) * 4.0f * kPi;
+  }
+  EXPECT_NEAR(integral / n, 1.0, 0.03);
+}
+
+TEST(Environment, DirectionMappingRoundTripsAndMatchesBlender) {
+  for (glm::vec2 uv : {glm::vec2(0.1f, 0.2f), glm::vec2(0.5f, 0.5f), glm::vec2(0.9f, 0.7f)}) {
+    glm::vec2 back = scene::environmentUv(scene::environmentDirection(uv));
+    EXPECT_NEAR(back.x, uv.x, 1e-5f);
+    EXPECT_NEAR(back.y, uv.y, 1e-5f);
+  }
+  // Image centre looks along +X (Blender's), the top row is +Y (up), u = 0.75 is +Z.
+  glm::vec3 c = scene::environmentDirection({0.5f, 0.5f});
+  EXPECT_NEAR(c.x, 1.0f, 1e-6f);
+  EXPECT_NEAR(scene::environmentDirection({0.3f, 0.0f}).y, 1.0f, 1e-6f);
+  EXPECT_NEAR(scene::environmentDirection({0.75f, 0.5f}).z, 1.0f, 1e-6f);
+}
+
+TEST(Environment, GpuMatchesCpu) {
+  auto& ctx = test::context();
+  scene::Scene s = scene::loadScene(test::referencePath("cornell/cornell.gltf"));
+  scene::Environment env = testEnvironment();
+  std::vector<float> cdf = scene::environmentCdf(env);
+  scene::GpuScene g(ctx, s, &env);
+  auto info = g.info.downloadVector<osr::gpu::scene::SceneInfo>(1)[0];
+  EXPECT_EQ(info.envWidth, 16u);
+  EXPECT_EQ(info.envHeight, 8u);
+  EXPECT_EQ(g.environmentCdf.downloadVector<float>(cdf.size()), cdf);
+  const uint32_t n = 3000;
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<float> u01(0.0f, 1.0f);
+  std::vector<envp::Query> queries(n);
+  for (auto& q : queries) {
+    float z = 1.0f - 2.0f * u01(rng), phi = 2.0f * kPi * u01(rng), r = std::sqrt(std::max(0.0f, 1 - z * z));
+    q.direction = {r * std::cos(phi), z, r * std::sin(phi)};
+    q.u = {u01(rng), u01(rng)};
+  }
+  vk::Buffer qb(ctx, n * sizeof(envp::Query), vk::MemoryUse::DeviceLocal, "env queries");
+  vk::Buffer rb(ctx, n * sizeof(envp::Result), vk::MemoryUse::DeviceLocal, "env results");
+  qb.uploadVector(queries);
+  scene::SceneProbe pass(ctx, scene::ProbeKind::Environment);
+  ctx.submitAndWait([&](VkCommandBuffer cmd) { pass.record(cmd, {&qb, &rb, n, &g}); });
+  auto results = rb.downloadVector<envp::Result>(n);
+  int mismatchedTexel = 0;
+  for (uint32_t i = 0; i < n; ++i) {
+    const auto& q = queries[i];
+    const auto& r = results[i];
+    glm::vec3 radiance = scene::environmentRadiance(env, q.direction);
+    float pdf = scene::environmentPdf(env, cdf, q.direction);
+    // A direction on a texel border may land on either side in float: allow a few.
+    if (glm::length(r.radiance - radiance) > 1e-5f || std::abs(r.pdf - pdf) > 1e-3f * pdf) {
+      ++mismatchedTexel;
+      continue;
+    }
+    float spdf;
+    glm::vec3 srad;
+    glm::vec3 sdir = scene::sampleEnvironment(env, cdf, q.u, spdf, srad);
+    EXPECT_LE(glm::length(r.sampledDirection - sdir), 1e-4f) << "query " << i;
+    EXPECT_NEAR(r.sampledPdf, spdf, 1e-3f * spdf) << "query " << i;
+    EXPECT_EQ(r.sampledRadiance, srad) << "query " << i;
+  }
+  EXPECT_LE(mismatchedTexel, 3);
+  // No environment: black, pdf 0.
+  scene::GpuScene none(ctx, s);
+  ctx.submitAndWait([&](VkCommandBuffer cmd) { pass.record(cmd, {&qb, &rb, n, &none}); });
+  results = rb.downloadVector<envp::Result>(n);
+  EXPECT_EQ(results[0].radiance, glm::vec3(0.0f));
+  EXPECT_EQ(results[0].pdf, 0.0f);
+  EXPECT_EQ(results[0].sampledPdf, 0.0f);
+}

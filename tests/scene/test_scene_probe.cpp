@@ -1,0 +1,105 @@
+// scene_probe.comp (lib/scene.glsl: surfaceAt, sampleTexture, osrAlphaCutout) against the C++
+// twins of src/scene/surface.cpp, at random hit records on scenes covering every texture slot,
+// wrap mode, normal mapping, alpha modes, node transforms and the reference scenes.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "common/vk_test.h"
+#include "scene/scene_probe.h"
+#include "scene/surface.h"
+
+using namespace osr;
+namespace probe = osr::gpu::scene_probe;
+
+static_assert(sizeof(probe::Query) == 16);
+static_assert(sizeof(probe::Result) == 128 && offsetof(probe::Result, uv) == 96 &&
+              offsetof(probe::Result, geometricNormal) == 16);
+
+namespace {
+
+struct Case {
+  const char* name;
+  std::string path;
+};
+
+void checkScene(const std::string& path, uint32_t count) {
+  auto& ctx = test::context();
+  scene::Scene s = scene::loadScene(path);
+  scene::GpuScene g(ctx, s);
+  std::mt19937 rng(1234);
+  std::uniform_real_distribution<float> u01(0.0f, 1.0f);
+  std::vector<probe::Query> queries(count);
+  for (uint32_t i = 0; i < count; ++i) {
+    float b1 = u01(rng), b2 = u01(rng);
+    if (b1 + b2 > 1.0f) {
+      b1 = 1.0f - b1;
+      b2 = 1.0f - b2;
+    }
+    // Every triangle at least once, then random ones; a few exact corners.
+    uint32_t tri = i < s.triangles.size() ? i : uint32_t(rng() % s.triangles.size());
+    if (i % 17 == 0) b1 = b2 = 0.0f;
+    queries[i] = {tri, b1, b2, 0};
+  }
+  vk::Buffer q(ctx, queries.size() * sizeof(probe::Query), vk::MemoryUse::DeviceLocal, "queries");
+  vk::Buffer r(ctx, queries.size() * sizeof(probe::Result), vk::MemoryUse::DeviceLocal, "results");
+  q.uploadVector(queries);
+  scene::SceneProbe pass(ctx, scene::ProbeKind::Surface);
+  ctx.submitAndWait([&](VkCommandBuffer cmd) { pass.record(cmd, {&q, &r, count, &g}); });
+  auto results = r.downloadVector<probe::Result>(count);
+
+  float scale = glm::length(s.boundsMax - s.boundsMin) + 1.0f;
+  int cutouts = 0;
+  for (uint32_t i = 0; i < count; ++i) {
+    const probe::Query& qu = queries[i];
+    const probe::Result& gpu = results[i];
+    scene::SurfaceSample cpu = scene::surfaceAt(s, qu.triangle, {qu.b1, qu.b2});
+    bool cpuCut = scene::alphaCutout(s, qu.triangle, {qu.b1, qu.b2});
+    std::string where = path + " query " + std::to_string(i) + " triangle " +
+                        std::to_string(qu.triangle) + " b=(" + std::to_string(qu.b1) + ", " +
+                        std::to_string(qu.b2) + ")";
+    auto near3 = [&](glm::vec3 a, glm::vec3 b, float tol, const char* what) {
+      EXPECT_LE(glm::length(a - b), tol) << where << " " << what << ": gpu (" << a.x << ", " << a.y
+                                         << ", " << a.z << ") cpu (" << b.x << ", " << b.y << ", "
+                                         << b.z << ")";
+    };
+    near3(gpu.position, cpu.position, 1e-5f * scale, "position");
+    near3(gpu.geometricNormal, cpu.geometricNormal, 1e-4f, "geometric normal");
+    near3(gpu.shadingNormal, cpu.shadingNormal, 2e-4f, "shading normal");
+    near3(gpu.baseColor, cpu.m.baseColor, 1e-4f, "base color");
+    near3(gpu.emission, cpu.m.emission, 1e-4f * (1.0f + glm::length(cpu.m.emission)), "emission");
+    near3(gpu.specularColor, cpu.m.specularColor, 1e-4f, "specular color");
+    EXPECT_LE(glm::length(gpu.uv - cpu.uv), 1e-5f * (1.0f + glm::length(cpu.uv))) << where << " uv";
+    EXPECT_EQ(gpu.material, cpu.material) << where;
+    EXPECT_NEAR(gpu.alpha, cpu.m.alpha, 1e-4f) << where;
+    EXPECT_NEAR(gpu.metallic, cpu.m.metallic, 1e-4f) << where;
+    EXPECT_NEAR(gpu.roughness, cpu.m.roughness, 1e-4f) << where;
+    EXPECT_NEAR(gpu.specular, cpu.m.specular, 1e-4f) << where;
+    EXPECT_NEAR(gpu.ior, cpu.m.ior, 1e-6f) << where;
+    EXPECT_NEAR(gpu.transmission, cpu.m.transmission, 1e-4f) << where;
+    EXPECT_EQ(gpu.doubleSided != 0, cpu.m.doubleSided) << where;
+    const auto& mat = s.materials[cpu.material];
+    if (std::abs(cpu.m.alpha - mat.alphaCutoff) > 1e-3f)
+      EXPECT_EQ(gpu.alphaCutout != 0, cpuCut) << where << " alpha " << cpu.m.alpha;
+    cutouts += cpuCut;
+  }
+  if (path.find("alpha_mask") != std::string::npos) {
+    // Both outcomes occur: the test can tell a cut from a hit.
+    EXPECT_GT(cutouts, int(count / 10));
+    EXPECT_LT(cutouts, int(count * 9 / 10));
+  }
+}
+
+}  // namespace
+
+TEST(SceneProbe, TexturedAllSlotsWrapModesAndNormalMap) { checkScene(test::dataPath("scene/textured.gltf"), 2000); }
+TEST(SceneProbe, AlphaMask) { checkScene(test::dataPath("scene/alpha_mask.gltf"), 2000); }
+TEST(SceneProbe, HierarchyAndMaterials) {
+  checkScene(test::dataPath("scene/hierarchy.gltf"), 500);
+  checkScene(test::dataPath("scene/materials.gltf"), 500);
+  checkScene(test::dataPath("scene/quad.glb"), 200);
+}
+TEST(SceneProbe, ReferenceScenes) {
+  checkScene(test::referencePath("cornell/cornell.gltf"), 1000);
+  checkScene(test::referencePath("room/room.gltf"), 5000);
+}

@@ -1,0 +1,381 @@
+#!/usr/bin/env python3
+"""Writes the small hand-made glTF files of tests/data/scene (one per loader feature and one per
+kind of bad input). The output is committed; rerun after changing this script:
+
+    /usr/bin/python3 tools/make_scene_test_data.py tests/data/scene
+"""
+import argparse
+import base64
+import json
+import math
+import struct
+import zlib
+from pathlib import Path
+from typing import Any
+
+FLOAT, UBYTE, USHORT, UINT = 5126, 5121, 5123, 5125
+REPEAT, CLAMP, MIRROR = 10497, 33071, 33648
+
+
+def png(width: int, height: int, texels: list[tuple[int, int, int, int]]) -> bytes:
+    """Minimal RGBA8 PNG encoder (filter 0 on every row)."""
+
+    def chunk(kind: bytes, data: bytes) -> bytes:
+        body = kind + data
+        return struct.pack(">I", len(data)) + body + struct.pack(">I", zlib.crc32(body))
+
+    rows = b""
+    for y in range(height):
+        rows += b"\x00" + b"".join(bytes(texels[y * width + x]) for x in range(width))
+    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, 8, 6, 0, 0, 0))
+            + chunk(b"IDAT", zlib.compress(rows)) + chunk(b"IEND", b""))
+
+
+def data_uri(data: bytes, mime: str) -> str:
+    return f"data:{mime};base64," + base64.b64encode(data).decode()
+
+
+class Gltf:
+    """Accumulates one buffer and the JSON that views it."""
+
+    def __init__(self) -> None:
+        self.bin = bytearray()
+        self.doc: dict[str, Any] = {"asset": {"version": "2.0", "generator": "osr-vk make_scene_test_data.py"},
+                                    "scene": 0, "scenes": [{"nodes": []}], "nodes": [], "meshes": [],
+                                    "accessors": [], "bufferViews": [], "buffers": []}
+
+    def view(self, data: bytes) -> int:
+        while len(self.bin) % 4:
+            self.bin.append(0)
+        self.doc["bufferViews"].append({"buffer": 0, "byteOffset": len(self.bin), "byteLength": len(data)})
+        self.bin += data
+        return len(self.doc["bufferViews"]) - 1
+
+    def accessor(self, values: list, kind: str, component: int = FLOAT) -> int:
+        fmt = {FLOAT: "f", UBYTE: "B", USHORT: "H", UINT: "I"}[component]
+        flat = [c for v in values for c in (v if isinstance(v, (list, tuple)) else [v])]
+        acc: dict[str, Any] = {"bufferView": self.view(struct.pack("<" + fmt * len(flat), *flat)),
+                               "componentType": component, "count": len(values), "type": kind}
+        if kind == "VEC3" and component == FLOAT and all(map(math.isfinite, flat)):
+            acc["min"] = [min(v[i] for v in values) for i in range(3)]
+            acc["max"] = [max(v[i] for v in values) for i in range(3)]
+        self.doc["accessors"].append(acc)
+        return len(self.doc["accessors"]) - 1
+
+    def mesh(self, positions: list, indices: list | None = None, normals: list | None = None,
+             uvs: list | None = None, material: int | None = None, index_type: int = USHORT,
+             mode: int | None = None) -> int:
+        prim: dict[str, Any] = {"attributes": {"POSITION": self.accessor(positions, "VEC3")}}
+        if normals is not None:
+            prim["attributes"]["NORMAL"] = self.accessor(normals, "VEC3")
+        if uvs is not None:
+            prim["attributes"]["TEXCOORD_0"] = self.accessor(uvs, "VEC2")
+        if indices is not None:
+            prim["indices"] = self.accessor(indices, "SCALAR", index_type)
+        if material is not None:
+            prim["material"] = material
+        if mode is not None:
+            prim["mode"] = mode
+        self.doc["meshes"].append({"primitives": [prim]})
+        return len(self.doc["meshes"]) - 1
+
+    def node(self, root: bool = True, **fields: Any) -> int:
+        self.doc["nodes"].append(fields)
+        index = len(self.doc["nodes"]) - 1
+        if root:
+            self.doc["scenes"][0]["nodes"].append(index)
+        return index
+
+    def add(self, key: str, item: dict) -> int:
+        self.doc.setdefault(key, []).append(item)
+        return len(self.doc[key]) - 1
+
+    def gltf(self, path: Path, external_bin: str | None = None) -> None:
+        if external_bin:
+            (path.parent / external_bin).write_bytes(bytes(self.bin))
+            uri = external_bin
+        else:
+            uri = data_uri(bytes(self.bin), "application/octet-stream")
+        self.doc["buffers"] = [{"byteLength": len(self.bin), "uri": uri}]
+        path.write_text(json.dumps(self.doc, indent=1) + "\n")
+
+    def glb(self, path: Path) -> None:
+        while len(self.bin) % 4:
+            self.bin.append(0)
+        self.doc["buffers"] = [{"byteLength": len(self.bin)}]
+        text = json.dumps(self.doc).encode()
+        text += b" " * (-len(text) % 4)
+        body = (struct.pack("<II", len(text), 0x4E4F534A) + text
+                + struct.pack("<II", len(self.bin), 0x004E4942) + bytes(self.bin))
+        path.write_bytes(struct.pack("<III", 0x46546C67, 2, 12 + len(body)) + body)
+
+
+# A unit quad in the z = 0 plane facing +Z, two triangles, uv (0,0) at the top left.
+QUAD_P = [(0, 0, 0), (1, 0, 0), (1, 1, 0), (0, 1, 0)]
+QUAD_N = [(0, 0, 1)] * 4
+QUAD_UV = [(0, 1), (1, 1), (1, 0), (0, 0)]
+QUAD_I = [0, 1, 2, 0, 2, 3]
+
+
+def checker(n: int, a: tuple, b: tuple) -> bytes:
+    return png(n, n, [a if (x + y) % 2 == 0 else b for y in range(n) for x in range(n)])
+
+
+def hierarchy(out: Path) -> None:
+    """Matrix parent, TRS child, mirrored node (det < 0), non-uniform scale on a slanted face."""
+    g = Gltf()
+    quad = g.mesh(QUAD_P, QUAD_I, QUAD_N)
+    # Slanted triangle: normal (0, 1, 1)/sqrt(2).
+    s = 1 / math.sqrt(2)
+    slant = g.mesh([(0, 0, 0), (1, 0, 0), (0, 1, -1)], [0, 1, 2], [(0, s, s)] * 3)
+    child = g.node(root=False, name="child", mesh=quad, translation=[0, 1, 0],
+                   rotation=[0, 0, math.sin(math.pi / 4), math.cos(math.pi / 4)])  # 90 deg about Z
+    # Column-major: uniform scale 2, translation (10, 0, 0).
+    g.node(name="parent", matrix=[2, 0, 0, 0, 0, 2, 0, 0, 0, 0, 2, 0, 10, 0, 0, 1], children=[child])
+    g.node(name="mirrored", mesh=quad, scale=[-1, 1, 1], translation=[0, 0, 5])
+    g.node(name="stretched", mesh=slant, scale=[1, 2, 1], translation=[0, 0, -5])
+    g.gltf(out / "hierarchy.gltf")
+
+
+def nonindexed(out: Path) -> None:
+    """Two triangles without indices and without normals (flat normals generated)."""
+    g = Gltf()
+    g.mesh([(0, 0, 0), (1, 0, 0), (0, 1, 0), (0, 0, 1), (0, 0, 2), (0, 1, 1)])
+    g.node(name="tris", mesh=0)
+    g.gltf(out / "nonindexed.gltf")
+
+
+def index_types(out: Path) -> None:
+    """The same quad indexed with u8, u16 and u32 indices; external .bin buffer."""
+    g = Gltf()
+    for i, kind in enumerate([UBYTE, USHORT, UINT]):
+        g.mesh(QUAD_P, QUAD_I, QUAD_N, index_type=kind)
+        g.node(name=f"quad{i}", mesh=i, translation=[2.0 * i, 0, 0])
+    g.gltf(out / "index_types.gltf", external_bin="index_types.bin")
+
+
+def textured(out: Path) -> None:
+    """Every texture slot: base colour from a PNG file, the others from data: URIs."""
+    red, blue = (255, 0, 0, 255), (0, 0, 255, 128)
+    (out / "checker.png").write_bytes(checker(4, red, blue))
+    g = Gltf()
+    g.doc["images"] = [
+        {"uri": "checker.png"},
+        {"uri": data_uri(png(2, 2, [(0, 64, 255, 255), (0, 128, 128, 255), (0, 255, 0, 255), (0, 32, 64, 255)]), "image/png")},
+        {"uri": data_uri(png(2, 1, [(200, 128, 255, 255), (128, 60, 200, 255)]), "image/png")},
+        {"uri": data_uri(png(1, 2, [(255, 128, 0, 255), (0, 128, 255, 255)]), "image/png")},
+        {"uri": data_uri(png(2, 2, [(255, 0, 0, 0), (128, 0, 0, 64), (64, 0, 0, 192), (0, 0, 0, 255)]), "image/png")},
+    ]
+    g.doc["samplers"] = [{"wrapS": REPEAT, "wrapT": REPEAT}, {"wrapS": CLAMP, "wrapT": MIRROR},
+                         {"wrapS": MIRROR, "wrapT": CLAMP}]
+    g.doc["textures"] = [{"source": 0, "sampler": 0}, {"source": 1, "sampler": 1},
+                         {"source": 2, "sampler": 2}, {"source": 3}, {"source": 4, "sampler": 1}]
+    g.doc["extensionsUsed"] = ["KHR_materials_specular", "KHR_materials_transmission"]
+    g.add("materials", {
+        "name": "textured",
+        "pbrMetallicRoughness": {"baseColorFactor": [1, 0.5, 1, 1], "baseColorTexture": {"index": 0},
+                                 "metallicFactor": 0.5, "roughnessFactor": 0.8,
+                                 "metallicRoughnessTexture": {"index": 1}},
+        "normalTexture": {"index": 2, "scale": 0.7},
+        "emissiveFactor": [1, 1, 1], "emissiveTexture": {"index": 3},
+        "extensions": {"KHR_materials_specular": {"specularFactor": 0.9, "specularTexture": {"index": 4},
+                                                  "specularColorFactor": [1, 0.5, 0.25],
+                                                  "specularColorTexture": {"index": 3}},
+                       "KHR_materials_transmission": {"transmissionFactor": 0.6,
+                                                      "transmissionTexture": {"index": 4}}}})
+    # uvs beyond [0, 1] exercise the wrap modes.
+    g.mesh(QUAD_P, QUAD_I, QUAD_N, [(-0.5, 1.75), (1.5, 1.75), (1.5, -0.75), (-0.5, -0.75)], material=0)
+    # A rotated copy: the normal map's tangent frame must follow the uv layout.
+    g.node(name="quad", mesh=0)
+    g.node(name="rotated", mesh=0, translation=[3, 0, 0], rotation=[0.3, 0.2, 0.1, math.sqrt(1 - 0.14)])
+    g.gltf(out / "textured.gltf")
+
+
+def alpha_mask(out: Path) -> None:
+    """MASK material with an alpha checker texture, next to an OPAQUE one with the same texture."""
+    g = Gltf()
+    g.doc["images"] = [{"uri": data_uri(checker(2, (255, 255, 255, 255), (255, 255, 255, 0)), "image/png")}]
+    g.doc["samplers"] = [{"wrapS": CLAMP, "wrapT": CLAMP}]
+    g.doc["textures"] = [{"source": 0, "sampler": 0}]
+    g.add("materials", {"name": "mask", "alphaMode": "MASK", "alphaCutoff": 0.4,
+                        "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}})
+    g.add("materials", {"name": "opaque", "pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}})
+    g.add("materials", {"name": "blend", "alphaMode": "BLEND",
+                        "pbrMetallicRoughness": {"baseColorFactor": [1, 1, 1, 0.3]}})
+    for m in range(3):
+        g.mesh(QUAD_P, QUAD_I, QUAD_N, QUAD_UV, material=m)
+        g.node(name=f"quad{m}", mesh=m, translation=[2.0 * m, 0, 0])
+    g.gltf(out / "alpha_mask.gltf")
+
+
+def lights(out: Path) -> None:
+    """KHR_lights_punctual: point, spot and directional on transformed nodes."""
+    g = Gltf()
+    g.doc["extensionsUsed"] = ["KHR_lights_punctual"]
+    g.doc["extensions"] = {"KHR_lights_punctual": {"lights": [
+        {"type": "point", "color": [1, 0.5, 0.25], "intensity": 683, "range": 10},
+        {"type": "spot", "intensity": 1366, "spot": {"innerConeAngle": 0.2, "outerConeAngle": 0.5}},
+        {"type": "directional", "color": [0.5, 0.5, 1], "intensity": 6.83}]}}
+    g.mesh(QUAD_P, QUAD_I, QUAD_N)
+    g.node(name="floor", mesh=0)
+    g.node(name="point", translation=[1, 2, 3], extensions={"KHR_lights_punctual": {"light": 0}})
+    # Rotated -90 deg about X: -Z points down (-Y).
+    r = math.sqrt(0.5)
+    g.node(name="spot", translation=[0, 4, 0], rotation=[-r, 0, 0, r],
+           extensions={"KHR_lights_punctual": {"light": 1}})
+    g.node(name="sun", extensions={"KHR_lights_punctual": {"light": 2}})
+    g.gltf(out / "lights.gltf")
+
+
+def cameras(out: Path) -> None:
+    """Two perspective cameras (one without aspect ratio) and an orthographic one (skipped)."""
+    g = Gltf()
+    g.doc["cameras"] = [
+        {"type": "perspective", "name": "wide", "perspective": {"yfov": 1.2, "aspectRatio": 1.5, "znear": 0.1}},
+        {"type": "perspective", "perspective": {"yfov": 0.5, "znear": 0.1}},
+        {"type": "orthographic", "orthographic": {"xmag": 1, "ymag": 1, "znear": 0.1, "zfar": 10}}]
+    g.mesh(QUAD_P, QUAD_I, QUAD_N)
+    g.node(name="quad", mesh=0)
+    g.node(name="cam0", camera=0, translation=[0, 0, 5])
+    # Scaled node: the camera keeps only the rigid part.
+    g.node(name="closeup", camera=1, translation=[0.5, 0.5, 2], scale=[3, 3, 3])
+    g.node(name="ortho", camera=2)
+    g.gltf(out / "cameras.gltf")
+
+
+def materials(out: Path) -> None:
+    """Factors of every supported extension, an unsupported extension, a lines primitive, and a
+    primitive without material (gets the default material)."""
+    g = Gltf()
+    g.doc["extensionsUsed"] = ["KHR_materials_specular", "KHR_materials_ior", "KHR_materials_transmission",
+                               "KHR_materials_emissive_strength", "KHR_materials_clearcoat"]
+    g.add("materials", {"name": "glass", "pbrMetallicRoughness": {"baseColorFactor": [0.9, 0.95, 1, 1],
+                                                                  "metallicFactor": 0, "roughnessFactor": 0.1},
+                        "extensions": {"KHR_materials_ior": {"ior": 1.33},
+                                       "KHR_materials_transmission": {"transmissionFactor": 1.0},
+                                       "KHR_materials_specular": {"specularFactor": 0.5,
+                                                                  "specularColorFactor": [0.2, 0.4, 0.6]},
+                                       "KHR_materials_clearcoat": {"clearcoatFactor": 1.0}}})
+    g.add("materials", {"name": "lamp", "emissiveFactor": [1, 0.5, 0.25], "doubleSided": True,
+                        "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 40}}})
+    g.add("materials", {"name": "dim", "emissiveFactor": [0.5, 0.5, 0.5]})
+    g.mesh(QUAD_P, QUAD_I, QUAD_N, material=0)
+    g.mesh(QUAD_P, QUAD_I, QUAD_N, material=1)
+    g.mesh(QUAD_P, QUAD_I, QUAD_N, material=2)
+    g.mesh(QUAD_P, [0, 1, 1, 2], mode=1)  # LINES: warned and skipped
+    g.mesh(QUAD_P, QUAD_I, QUAD_N)  # no material
+    g.node(name="glass", mesh=0)
+    g.node(name="lamp", mesh=1, translation=[0, 0, 1], scale=[2, 3, 1])  # area 6
+    g.node(name="dim", mesh=2, translation=[0, 0, 2])  # area 1, single-sided
+    g.node(name="lines", mesh=3)
+    g.node(name="plain", mesh=4, translation=[0, 0, 3])
+    g.gltf(out / "materials.gltf")
+
+
+def binary(out: Path) -> None:
+    """.glb with the image in a buffer view; also the source of the truncated copy."""
+    g = Gltf()
+    image = checker(2, (10, 20, 30, 255), (200, 210, 220, 255))
+    g.doc["images"] = [{"bufferView": g.view(image), "mimeType": "image/png"}]
+    g.doc["textures"] = [{"source": 0}]
+    g.add("materials", {"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}})
+    g.mesh(QUAD_P, QUAD_I, QUAD_N, QUAD_UV, material=0, index_type=UINT)
+    g.node(name="quad", mesh=0, translation=[0, 0, -1])
+    g.glb(out / "quad.glb")
+    data = (out / "quad.glb").read_bytes()
+    (out / "bad_truncated.glb").write_bytes(data[: len(data) // 2])
+
+
+def sparse_accessor(g: Gltf, base: int | None, indices: list[int], values: list) -> dict:
+    """Makes accessor `base` (or a new one without buffer view, 4 elements) sparse."""
+    flat = [c for v in values for c in v]
+    sparse = {"count": len(indices),
+              "indices": {"bufferView": g.view(struct.pack("<" + "B" * len(indices), *indices)),
+                          "componentType": UBYTE},
+              "values": {"bufferView": g.view(struct.pack("<" + "f" * len(flat), *flat))}}
+    if base is None:
+        g.doc["accessors"].append({"componentType": FLOAT, "count": 4, "type": "VEC3"})
+        base = len(g.doc["accessors"]) - 1
+    g.doc["accessors"][base]["sparse"] = sparse
+    g.doc["accessors"][base].pop("min", None)
+    g.doc["accessors"][base].pop("max", None)
+    return g.doc["accessors"][base]
+
+
+def sparse(out: Path) -> None:
+    """Sparse POSITION accessors: one over a buffer view, one over zeros (no buffer view)."""
+    g = Gltf()
+    g.mesh(QUAD_P, QUAD_I, QUAD_N)
+    sparse_accessor(g, g.doc["meshes"][0]["primitives"][0]["attributes"]["POSITION"], [2], [(1, 1, 1)])
+    g.mesh(QUAD_P, QUAD_I, QUAD_N)
+    sparse_accessor(g, None, [1, 2, 3], [(1, 0, 0), (1, 1, 0), (0, 1, 0)])
+    g.doc["meshes"][1]["primitives"][0]["attributes"]["POSITION"] = len(g.doc["accessors"]) - 1
+    g.node(name="over_view", mesh=0)
+    g.node(name="over_zeros", mesh=1, translation=[0, 0, 2])
+    g.gltf(out / "sparse.gltf")
+    bad = Gltf()
+    bad.mesh(QUAD_P, QUAD_I, QUAD_N)
+    sparse_accessor(bad, 0, [9], [(1, 1, 1)])
+    bad.node(mesh=0)
+    bad.gltf(out / "bad_sparse_index.gltf")
+
+
+def bad_inputs(out: Path) -> None:
+    """One file per kind of bad input the loader must refuse with one line."""
+    def quad_file(name: str, edit=None, positions=QUAD_P, indices=QUAD_I, **kw: Any) -> None:
+        g = Gltf()
+        g.mesh(positions, indices, QUAD_N, **kw)
+        g.node(name="quad", mesh=0)
+        if edit:
+            edit(g)
+        g.gltf(out / name)
+
+    good = Gltf()
+    good.mesh(QUAD_P, QUAD_I, QUAD_N)
+    good.node(mesh=0)
+    good.gltf(out / "bad_json.gltf")
+    text = (out / "bad_json.gltf").read_text()
+    (out / "bad_json.gltf").write_text(text[: len(text) // 3] + "\n")  # cut mid-object
+
+    def accessor_count(g: Gltf) -> None:
+        g.doc["accessors"][0]["count"] = 1000  # POSITION past its buffer view
+    quad_file("bad_accessor_range.gltf", accessor_count)
+
+    def view_length(g: Gltf) -> None:
+        g.doc["bufferViews"][0]["byteLength"] = 100000  # view past the buffer
+    quad_file("bad_buffer_view_range.gltf", view_length)
+
+    quad_file("bad_index.gltf", indices=[0, 1, 2, 0, 2, 7])
+    quad_file("bad_nan.gltf", positions=[(0, 0, 0), (1, 0, 0), (float("nan"), 1, 0), (0, 1, 0)])
+    quad_file("bad_inf.gltf", positions=[(0, 0, 0), (1, 0, 0), (1, float("inf"), 0), (0, 1, 0)])
+
+    def missing_image(g: Gltf) -> None:
+        g.doc["images"] = [{"uri": "no_such_image.png"}]
+        g.doc["textures"] = [{"source": 0}]
+        g.doc["materials"] = [{"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}}]
+        g.doc["meshes"][0]["primitives"][0]["material"] = 0
+    quad_file("bad_missing_texture.gltf", missing_image)
+
+    def no_triangles(g: Gltf) -> None:
+        g.doc["meshes"][0]["primitives"][0]["mode"] = 0  # POINTS only
+    quad_file("bad_no_triangles.gltf", no_triangles)
+
+    g = Gltf()
+    g.mesh(QUAD_P, QUAD_I, QUAD_N)
+    g.node(mesh=0)
+    g.gltf(out / "bad_missing_bin.gltf", external_bin="bad_missing_bin.bin")
+    (out / "bad_missing_bin.bin").unlink()
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("out", type=Path, help="output folder (tests/data/scene)")
+    args = parser.parse_args()
+    args.out.mkdir(parents=True, exist_ok=True)
+    for make in [hierarchy, nonindexed, index_types, textured, alpha_mask, lights, cameras, materials,
+                 binary, sparse, bad_inputs]:
+        make(args.out)
+
+
+if __name__ == "__main__":
+    main()
