@@ -105,7 +105,7 @@ int runPathtrace(const std::vector<std::string>& args) {
     scene::Scene sc = scene::loadScene(gltf);
     scene::Camera cam = scene::selectCamera(sc, "", 1.f);
     scene::GpuScene gs(ctx, sc);
-    bvh::Bvh tree = bvh::buildOnHost(ctx, gs.vertices, gs.triangles, gs.triangleCount);
+    bvh::Bvh tree = bvh::buildGpu(ctx, gs.vertices, gs.triangles, gs.triangleCount);
     render::RenderSettings s;
 
     // Verify: 4 spp at 32 x 32 against the reference's mean luminance.

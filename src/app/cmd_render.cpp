@@ -124,7 +124,7 @@ int runRender(const std::vector<std::string>& args) {
 
   vk::Context ctx(vkOptions);
   scene::GpuScene gpuScene(ctx, sc, env ? &*env : nullptr);
-  bvh::Bvh tree = bvh::buildOnHost(ctx, gpuScene.vertices, gpuScene.triangles, gpuScene.triangleCount);
+  bvh::Bvh tree = bvh::buildGpu(ctx, gpuScene.vertices, gpuScene.triangles, gpuScene.triangleCount);
   ProgressPrinter progress(quiet);
   render::RenderStats stats;
   render::FilmLayers film = render::render(

@@ -33,7 +33,7 @@ Comparison compareWithCycles(const std::string& name, uint32_t size, uint32_t sp
   scene::Scene sc = scene::loadScene(test::referencePath(name + "/" + name + ".gltf"));
   scene::Camera cam = scene::selectCamera(sc, "", 1.f);
   scene::GpuScene gs(ctx, sc);
-  bvh::Bvh tree = bvh::buildOnHost(ctx, gs.vertices, gs.triangles, gs.triangleCount);
+  bvh::Bvh tree = bvh::buildGpu(ctx, gs.vertices, gs.triangles, gs.triangleCount);
   app::RgbImage ref = app::readExrRgb(test::referencePath(name + "/" + name + "_cycles_4096spp.exr"));
   ref = app::downsample(ref, ref.width / int(size));
   render::RenderSettings s;

@@ -42,7 +42,7 @@ Rendered renderFile(const std::string& gltf, uint32_t size, uint32_t spp, uint32
   r.scene = scene::loadScene(gltf);
   r.camera = scene::selectCamera(r.scene, "", 1.f);
   scene::GpuScene gs(ctx, r.scene, env);
-  bvh::Bvh tree = bvh::buildOnHost(ctx, gs.vertices, gs.triangles, gs.triangleCount);
+  bvh::Bvh tree = bvh::buildGpu(ctx, gs.vertices, gs.triangles, gs.triangleCount);
   render::RenderSettings s;
   s.width = s.height = size;
   s.spp = spp;
