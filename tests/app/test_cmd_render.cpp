@@ -15,6 +15,7 @@
 
 #include "app/image_io.h"
 #include "common/vk_test.h"
+#include "render/gltf_writer.h"
 
 using namespace osr;
 namespace fs = std::filesystem;
@@ -110,5 +111,24 @@ TEST(CmdRender, BadInputIsOneLineExitTwoAndKeepsExistingOutput) {
   // No temporaries left behind next to the output.
   for (auto& e : fs::directory_iterator(d))
     EXPECT_EQ(e.path().filename().string().find(".tmp"), std::string::npos) << e.path();
+  fs::remove_all(d);
+}
+
+TEST(CmdRender, EnvironmentMapLightsAWhiteFurnace) {
+  fs::path d = tempDir();
+  std::string env = (d / "sky.exr").string(), gltf = (d / "ball.gltf").string(),
+              exr = (d / "ball.exr").string();
+  app::writeExr(env, {8, 4, {{"", {"R", "G", "B"}, std::vector<float>(8 * 4 * 3, 0.5f)}}},
+                app::ExrPixelType::Float);
+  test::GltfWriter g;
+  g.sphere({0, 0, 0}, 1.f, g.material(test::GltfWriter::diffuse(glm::vec3(1.f))));
+  g.camera({0, 0, 4}, {0, 0, 0}, 0.7f);
+  g.write(gltf);
+  Result r = run("--env " + env + " --width 8 --spp 128 --quiet --offline " + exr + " " + gltf);
+  ASSERT_EQ(r.code, 0) << r.out;
+  app::RgbImage img = app::readExrRgb(exr);
+  double sum = 0;
+  for (float v : img.rgb) sum += v;
+  EXPECT_NEAR(sum / img.rgb.size(), 0.5, 0.01);
   fs::remove_all(d);
 }

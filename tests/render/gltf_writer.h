@@ -4,6 +4,7 @@
 #include <glm/glm.hpp>
 #include <glm/gtc/quaternion.hpp>
 #include <nlohmann/json.hpp>
+#include <stb/stb_image_write.h>
 
 #include <cmath>
 #include <cstring>
@@ -24,7 +25,7 @@ class GltfWriter {
   }
   // Adds a mesh node of triangles (positions per vertex, counter-clockwise = front).
   void mesh(const std::vector<glm::vec3>& positions, const std::vector<uint32_t>& indices,
-            int mat) {
+            int mat, const std::vector<glm::vec2>& uvs = {}) {
     glm::vec3 lo(1e30f), hi(-1e30f);
     for (auto p : positions) lo = glm::min(lo, p), hi = glm::max(hi, p);
     size_t posOffset = append(positions.data(), positions.size() * 12);
@@ -35,13 +36,35 @@ class GltfWriter {
     accessors_.push_back({{"bufferView", idxView}, {"componentType", 5125}, {"count", indices.size()},
                           {"type", "SCALAR"}});
     int a = int(accessors_.size());
-    meshes_.push_back({{"primitives", {{{"attributes", {{"POSITION", a - 2}}}, {"indices", a - 1},
+    json attributes = {{"POSITION", a - 2}};
+    if (!uvs.empty()) {
+      int uvView = view(append(uvs.data(), uvs.size() * 8), uvs.size() * 8);
+      accessors_.push_back({{"bufferView", uvView}, {"componentType", 5126}, {"count", uvs.size()},
+                            {"type", "VEC2"}});
+      attributes["TEXCOORD_0"] = int(accessors_.size()) - 1;
+    }
+    meshes_.push_back({{"primitives", {{{"attributes", attributes}, {"indices", a - 1},
                                         {"material", mat}}}}});
     nodes_.push_back({{"mesh", int(meshes_.size()) - 1}});
   }
   // A quad p0, p1, p2, p3 (counter-clockwise seen from the front).
+  // uv (0,0), (1,0), (1,1), (0,1) at p0..p3.
   void quad(glm::vec3 p0, glm::vec3 p1, glm::vec3 p2, glm::vec3 p3, int mat) {
-    mesh({p0, p1, p2, p3}, {0, 1, 2, 0, 2, 3}, mat);
+    mesh({p0, p1, p2, p3}, {0, 1, 2, 0, 2, 3}, mat, {{0, 0}, {1, 0}, {1, 1}, {0, 1}});
+  }
+  // An RGBA8 texture (PNG data URI, clamp-to-edge); returns its texture index.
+  int texture(int w, int h, const std::vector<uint8_t>& rgba) {
+    std::vector<uint8_t> png;
+    stbi_write_png_to_func(
+        [](void* ctx, void* data, int size) {
+          auto* out = static_cast<std::vector<uint8_t>*>(ctx);
+          out->insert(out->end(), static_cast<uint8_t*>(data), static_cast<uint8_t*>(data) + size);
+        },
+        &png, w, h, 4, rgba.data(), w * 4);
+    images_.push_back({{"uri", "data:image/png;base64," + base64(png)}});
+    samplers_.push_back({{"wrapS", 33071}, {"wrapT", 33071}});
+    textures_.push_back({{"source", int(images_.size()) - 1}, {"sampler", int(samplers_.size()) - 1}});
+    return int(textures_.size()) - 1;
   }
   // A UV sphere with outward-facing triangles.
   void sphere(glm::vec3 c, float r, int mat, int rings = 24, int segments = 48) {
@@ -95,6 +118,11 @@ class GltfWriter {
     g["meshes"] = meshes_;
     g["nodes"] = nodes_;
     if (!cameras_.empty()) g["cameras"] = cameras_;
+    if (!textures_.empty()) {
+      g["images"] = images_;
+      g["samplers"] = samplers_;
+      g["textures"] = textures_;
+    }
     if (!lights_.empty()) g["extensions"] = {{"KHR_lights_punctual", {{"lights", lights_}}}};
     std::vector<int> all;
     for (size_t i = 0; i < nodes_.size(); ++i) all.push_back(int(i));
@@ -152,7 +180,8 @@ class GltfWriter {
   std::vector<uint8_t> data_;
   json views_ = json::array(), accessors_ = json::array(), materials_ = json::array(),
        meshes_ = json::array(), nodes_ = json::array(), cameras_ = json::array(),
-       lights_ = json::array();
+       lights_ = json::array(), images_ = json::array(), samplers_ = json::array(),
+       textures_ = json::array();
 };
 
 }  // namespace osr::test

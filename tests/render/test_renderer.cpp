@@ -263,3 +263,40 @@ TEST(Renderer, PreviewIsAlbedoTimesHeadlightCosine) {
     }
   fs::remove_all(d);
 }
+
+TEST(Renderer, AlphaMaskIsSeenThroughAndCastsNoShadowThroughHoles) {
+  fs::path d = tempDir();
+  GltfWriter g;
+  // Ground: red only. Masked quad at y = 1: green only, its texture opaque on the left half
+  // (u < 0.5) and a hole on the right. The sun shines straight down.
+  int ground = g.material(GltfWriter::diffuse({0.5f, 0.f, 0.f}));
+  auto masked = GltfWriter::diffuse({0.f, 0.5f, 0.f});
+  masked["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", g.texture(2, 1, {255, 255, 255, 255, 255, 255, 255, 0})}};
+  masked["alphaMode"] = "MASK";
+  masked["alphaCutoff"] = 0.5;
+  int quadMat = g.material(masked);
+  g.quad({-4, 0, -4}, {-4, 0, 4}, {4, 0, 4}, {4, 0, -4}, ground);
+  g.quad({-2, 1, 2}, {2, 1, 2}, {2, 1, -2}, {-2, 1, -2}, quadMat);  // u along +x, facing up
+  g.light({{"type", "directional"}, {"intensity", 683.0 * 2.0},
+           {"_rotation", {-std::sin(M_PI / 4), 0, 0, std::cos(M_PI / 4)}}});
+  g.camera({0.f, 3.f, 0.001f}, {0.f, 0.f, 0.f}, 0.5f);
+  std::string path = (d / "alpha.gltf").string();
+  g.write(path);
+  const uint32_t size = 16;
+  Rendered r = renderFile(path, size, 16);
+  const double radiance = 0.5 / M_PI * 2.0;  // albedo / pi * irradiance (lux / 683)
+  for (uint32_t py = 2; py < size - 2; ++py) {
+    // Left columns: the quad's green top; right columns: the red ground through the hole, lit
+    // through the hole (the shadow ray must skip the masked texels too).
+    for (uint32_t px : {2u, 5u}) {
+      const float* c = &r.film.combined[(py * size + px) * 3];
+      EXPECT_NEAR(c[1], radiance, 0.01) << px << "," << py;
+      EXPECT_NEAR(c[0], 0.f, 1e-6) << px << "," << py;
+    }
+    for (uint32_t px : {10u, 13u}) {
+      const float* c = &r.film.combined[(py * size + px) * 3];
+      EXPECT_NEAR(c[0], radiance, 0.01) << px << "," << py;
+    }
+  }
+  fs::remove_all(d);
+}
