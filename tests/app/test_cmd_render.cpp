@@ -14,6 +14,7 @@
 #include <fstream>
 
 #include "app/image_io.h"
+#include "app/cli_runner.h"
 #include "common/vk_test.h"
 #include "render/gltf_writer.h"
 
@@ -21,20 +22,8 @@ using namespace osr;
 namespace fs = std::filesystem;
 
 namespace {
-struct Result {
-  int code;
-  std::string out;  // stdout and stderr
-};
-Result run(const std::string& args) {
-  const char* env = std::getenv("OSR_BINARY_DIR");
-  std::string cmd = std::string(env ? env : OSR_BINARY_DIR) + "/osr-vk " + args + " 2>&1";
-  FILE* p = popen(cmd.c_str(), "r");
-  std::string out;
-  std::array<char, 512> buf;
-  while (fgets(buf.data(), buf.size(), p)) out += buf.data();
-  int status = pclose(p);
-  return {WEXITSTATUS(status), out};
-}
+using Result = test::CliResult;
+Result run(const std::string& args) { return test::runOsrVk(args); }
 std::string slurp(const std::string& path) {
   std::ifstream f(path, std::ios::binary);
   return std::string(std::istreambuf_iterator<char>(f), {});

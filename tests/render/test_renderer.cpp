@@ -68,6 +68,26 @@ void cameraRay(const scene::Camera& c, uint32_t size, float px, float py, glm::v
   d = glm::normalize(glm::mat3(c.worldFromCamera) * local);
 }
 
+// Expected value of a pixel that sees the ground plane y = 0 (|x|, |z| < 3.9): the 4x4
+// sub-pixel average of value(q, o, dir) at the ground points q. Returns a negative number when
+// a sub-ray misses the ground or value() flags it (returns < 0).
+template <class F>
+double groundPixel(const scene::Camera& c, uint32_t size, uint32_t px, uint32_t py, F value) {
+  double sum = 0;
+  for (int sy = 0; sy < 4; ++sy)
+    for (int sx = 0; sx < 4; ++sx) {
+      glm::vec3 o, dir;
+      cameraRay(c, size, px + (sx + 0.5f) / 4, py + (sy + 0.5f) / 4, o, dir);
+      float t = -o.y / dir.y;
+      glm::vec3 q = o + t * dir;
+      if (!(t > 0) || std::abs(q.x) > 3.9f || std::abs(q.z) > 3.9f) return -1;
+      double v = value(q, o, dir);
+      if (v < 0) return -1;
+      sum += v / 16;
+    }
+  return sum;
+}
+
 // Irradiance at p (normal n) from a uniformly emitting polygon of radiance 1 (Lambert's
 // formula: E = 1/2 sum over edges of the angle subtended times the cosine to n).
 double polygonIrradiance(glm::dvec3 p, glm::dvec3 n, const std::vector<glm::dvec3>& poly) {
@@ -149,23 +169,14 @@ TEST(Renderer, DiffusePlaneUnderSquareEmitterMatchesAnalyticIrradiance) {
   int n = 0;
   for (uint32_t py = 0; py < size; ++py)
     for (uint32_t px = 0; px < size; ++px) {
-      // Expected pixel value: 4x4 sub-pixel average of rho/pi * E on the plane; pixels where
-      // a sub-ray meets the emitter (its dark back) or misses the plane are skipped.
-      double expect = 0;
-      bool skip = false;
-      for (int sy = 0; sy < 4; ++sy)
-        for (int sx = 0; sx < 4; ++sx) {
-          glm::vec3 o, dir;
-          cameraRay(r.camera, size, px + (sx + 0.5f) / 4, py + (sy + 0.5f) / 4, o, dir);
-          float tl = (h - o.y) / dir.y;
-          glm::vec3 ql = o + tl * dir;
-          if (tl > 0 && std::abs(ql.x) <= half + 0.02f && std::abs(ql.z) <= half + 0.02f) skip = true;
-          float t = -o.y / dir.y;
-          glm::vec3 q = o + t * dir;
-          if (!(t > 0) || std::abs(q.x) > 3.9f || std::abs(q.z) > 3.9f) skip = true;
-          expect += rho / M_PI * le * polygonIrradiance(glm::dvec3(q), {0, 1, 0}, poly) / 16;
-        }
-      if (skip || expect < 0.02) continue;
+      // Expected: rho/pi * E on the plane; pixels where a sub-ray meets the emitter (its dark
+      // back) are skipped.
+      double expect = groundPixel(r.camera, size, px, py, [&](glm::vec3 q, glm::vec3 o, glm::vec3 dir) {
+        glm::vec3 ql = o + ((h - o.y) / dir.y) * dir;
+        if (std::abs(ql.x) <= half + 0.02f && std::abs(ql.z) <= half + 0.02f) return -1.0;
+        return rho / M_PI * le * polygonIrradiance(glm::dvec3(q), {0, 1, 0}, poly);
+      });
+      if (expect < 0.02) continue;
       float got = r.film.combined[(py * size + px) * 3 + 1];
       EXPECT_NEAR(got, expect, 0.08 * expect) << "pixel " << px << "," << py;
       EXPECT_NEAR(r.film.indirect[(py * size + px) * 3 + 1], 0.f, 1e-6);
@@ -198,25 +209,12 @@ TEST(Renderer, PointAndDirectionalLightsGiveAnalyticIrradiance) {
     const gpu::scene::PunctualLight l = r.scene.lights[0];
     for (uint32_t py = 0; py < size; ++py)
       for (uint32_t px = 0; px < size; ++px) {
-        double expect = 0;
-        bool skip = false;
-        for (int sy = 0; sy < 4; ++sy)
-          for (int sx = 0; sx < 4; ++sx) {
-            glm::vec3 o, dir;
-            cameraRay(r.camera, size, px + (sx + 0.5f) / 4, py + (sy + 0.5f) / 4, o, dir);
-            float t = -o.y / dir.y;
-            glm::vec3 q = o + t * dir;
-            if (!(t > 0) || std::abs(q.x) > 3.9f || std::abs(q.z) > 3.9f) skip = true;
-            double e;
-            if (directional) {
-              e = l.intensity.y * std::max(0.f, -l.direction.y);
-            } else {
-              glm::vec3 v = l.position - q;
-              e = l.intensity.y * std::max(0.f, v.y / glm::length(v)) / glm::dot(v, v);
-            }
-            expect += rho / M_PI * e / 16;
-          }
-        if (skip) continue;
+        double expect = groundPixel(r.camera, size, px, py, [&](glm::vec3 q, glm::vec3, glm::vec3) {
+          if (directional) return rho / M_PI * l.intensity.y * std::max(0.f, -l.direction.y);
+          glm::vec3 v = l.position - q;
+          return rho / M_PI * l.intensity.y * std::max(0.f, v.y / glm::length(v)) / glm::dot(v, v);
+        });
+        if (expect < 0) continue;
         float got = r.film.combined[(py * size + px) * 3 + 1];
         // Punctual lights: the only noise is the pixel jitter (256 samples vs a 4x4 quadrature).
         EXPECT_NEAR(got, expect, 0.02 * expect + 1e-4) << (directional ? "directional" : "point")
