@@ -2,8 +2,8 @@
 // pt_trace: one sample per pixel for a range of pixels, added to the film's running sums.
 // Inputs: Frame (camera, size, seed), the BVH, the scene; push: pixel range and sample index.
 // Output: FilmPixel sums (shared/pt.h). A megakernel: each invocation follows its path to the
-// end, because on lavapipe barriers between wavefront stages cost more than the divergence
-// they remove (see src/render/trace_pass.h for the measurement).
+// end: on lavapipe, barriers between wavefront stages are expected to cost more than the
+// divergence they remove (src/render/trace_pass.h has the reasoning; not measured).
 //
 // Path integrator (kIntegratorPath): camera rays jittered uniformly over the pixel (box
 // filter); at each surface next-event estimation towards one light chosen uniformly among
@@ -327,7 +327,7 @@ void main() {
   Sample s = kIntegrator == kIntegratorPreview ? tracePreview(origin, dir)
                                                : tracePath(origin, dir, rng);
   // A non-finite sample (never expected) would poison the pixel forever: drop its radiance
-  // and count it in the film's combined.w-independent slot normal.w for diagnosis.
+  // and count it in normal.w, which the host reports as dropped samples.
   vec3 l = s.direct + s.indirect;
   bool finite = !any(isnan(l)) && !any(isinf(l));
   FilmPixel f = gFilm[pixel];
