@@ -17,6 +17,8 @@ struct Benchmark {
 const Benchmark kBenchmarks[] = {
     {"fill", osr::bench::runFill},
     {"pathtrace", osr::bench::runPathtrace},
+    {"bvh", osr::bench::runBvh},
+    {"trace", osr::bench::runTrace},
 };
 }  // namespace
 

@@ -3,9 +3,11 @@
 // interior build node; traversal node i is build node i (root 0). Nodes that are collapsed, or
 // lie below a collapsed node, emit nothing (they are unreachable). Each child that is a leaf or
 // a collapsed subtree becomes a leaf: its triangles (at most kBvhMaxLeafTriangles, gathered by a
-// short walk) are copied into leaf entries allocated with an atomic counter.
+// short walk) are copied into leaf entries allocated with an atomic counter (once per subgroup).
 // Inputs: build nodes, prims, info.leafCounter = 0. Outputs: nodes, leaf triangles.
 #extension GL_GOOGLE_include_directive : require
+#extension GL_KHR_shader_subgroup_arithmetic : require
+#extension GL_KHR_shader_subgroup_ballot : require
 #include "shared/bvh_build.h"
 
 layout(local_size_x = kWorkgroupSize) in;
@@ -24,13 +26,16 @@ BvhBuildNode loadNode(uint u) {
   return gLeaves[u - interiorCount()];
 }
 
-// Child reference for build node u: an interior index, or a new leaf holding its triangles.
-uint emitChild(uint u, BvhBuildNode n) {
-  bool leaf = u >= interiorCount();
-  if (!leaf && (n.flags & kFlagCollapsed) == 0u) return u;
+bool becomesLeaf(uint u, BvhBuildNode n) {
+  return u >= interiorCount() || (n.flags & kFlagCollapsed) != 0u;
+}
+
+// Child reference for build node u: an interior index, or a leaf at `slot` holding its
+// triangles (slot allocated by the caller).
+uint emitChild(uint u, BvhBuildNode n, uint slot) {
+  if (!becomesLeaf(u, n)) return u;
   uint count = n.triangleCount;
-  uint slot = atomicAdd(gInfo.leafCounter, count);
-  if (leaf) {
+  if (u >= interiorCount()) {
     gLeafTriangles[slot] = gPrims[n.left];
   } else {
     // Depth-first over a subtree of at most kBvhMaxLeafTriangles leaves: the stack never holds
@@ -52,16 +57,27 @@ uint emitChild(uint u, BvhBuildNode n) {
   return kBvhLeafFlag | (count << kBvhLeafCountShift) | slot;
 }
 
+// Leaf entries for `count` triangles: one atomic per subgroup instead of one per invocation
+// (a single counter that every invocation hits serialises on lavapipe's two threads).
+uint allocateLeafEntries(uint count) {
+  uint offset = subgroupExclusiveAdd(count);
+  uint total = subgroupAdd(count);
+  uint base = 0u;
+  if (subgroupElect()) base = atomicAdd(gInfo.leafCounter, total);
+  return subgroupBroadcastFirst(base) + offset;
+}
+
 void main() {
   uint i = gl_GlobalInvocationID.x;
   uint n = gPush.triangleCount;
   if (n == 1u) {  // no interior node: a root with one leaf and one empty child
     if (i != 0u) return;
     BvhBuildNode leaf = gLeaves[0];
+    gInfo.leafCounter = 1u;
     BvhNode root;
     root.aMin = leaf.lo;
     root.aMax = leaf.hi;
-    root.a = emitChild(0u, leaf);
+    root.a = emitChild(0u, leaf, 0u);
     root.bMin = vec3(1e30);
     root.bMax = vec3(-1e30);
     root.b = kBvhEmptyChild;
@@ -72,22 +88,26 @@ void main() {
   }
   if (i >= n - 1u) return;
   BvhBuildNode node = gInterior[i];
-  if ((node.flags & kFlagCollapsed) != 0u) return;
+  bool live = (node.flags & kFlagCollapsed) == 0u;
   // Only subtrees of at most kBvhMaxLeafTriangles collapse, so only such ancestors matter.
-  for (uint p = node.parent; p != kInvalidNode;) {
+  for (uint p = node.parent; live && p != kInvalidNode;) {
     BvhBuildNode a = gInterior[p];
     if (a.triangleCount > kBvhMaxLeafTriangles) break;
-    if ((a.flags & kFlagCollapsed) != 0u) return;
+    if ((a.flags & kFlagCollapsed) != 0u) live = false;
     p = a.parent;
   }
   BvhBuildNode l = loadNode(node.left), r = loadNode(node.right);
+  uint countA = live && becomesLeaf(node.left, l) ? l.triangleCount : 0u;
+  uint countB = live && becomesLeaf(node.right, r) ? r.triangleCount : 0u;
+  uint slot = allocateLeafEntries(countA + countB);
+  if (!live) return;
   BvhNode out_;
   out_.aMin = l.lo;
   out_.aMax = l.hi;
-  out_.a = emitChild(node.left, l);
+  out_.a = emitChild(node.left, l, slot);
   out_.bMin = r.lo;
   out_.bMax = r.hi;
-  out_.b = emitChild(node.right, r);
+  out_.b = emitChild(node.right, r, slot + countA);
   out_._pad0 = 0u;
   out_._pad1 = 0u;
   gNodes[i] = out_;

@@ -1,13 +1,12 @@
 #version 460
-// bvh_treelet: one round of treelet restructuring (Karras & Aila 2013, "Fast Parallel
-// Construction of High-Quality Bounding Volume Hierarchies"). The climb is bvh_refit's: at each
-// interior node whose subtree holds at least `param` triangles, the second invocation to arrive
-// grows a treelet of up to kTreeletLeaves leaves below it (always expanding the largest-area
-// treelet leaf), finds by dynamic programming over all leaf subsets the topology of least SAH
-// cost (leaf collapse included, as in the paper), and rewrites the treelet's interior nodes if
-// that is cheaper. Everything below the node is final when it is processed, so no other
-// invocation touches the rewritten nodes; nothing waits.
-// Inputs/outputs: build nodes (refitted); counters zeroed. param = smallest subtree restructured.
+// bvh_treelet: treelet restructuring (Karras & Aila 2013, "Fast Parallel Construction of
+// High-Quality Bounding Volume Hierarchies") of the nodes of one height (param), from the
+// schedule of bvh_treelet_plan/scatter. Each node is first refitted from its children (whose
+// subtrees earlier heights may have restructured), then grows a treelet of up to
+// kTreeletLeaves leaves below it (always expanding the largest-area treelet leaf), finds by
+// dynamic programming over all leaf subsets the topology of least SAH cost (leaf collapse
+// included, as in the paper), and rewrites the treelet's interior nodes if that is cheaper.
+// Nodes of one height own disjoint subtrees, so no two invocations touch the same node.
 #extension GL_GOOGLE_include_directive : require
 #include "shared/bvh_build.h"
 
@@ -15,6 +14,7 @@ layout(local_size_x = kWorkgroupSize) in;
 layout(constant_id = kTreeletSpecLeaves) const uint kTreeletLeaves = kTreeletMaxLeaves;
 layout(push_constant) uniform PushBlock { BuildPush gPush; };
 #include "lib/bvh_build_nodes.glsl"
+#include "lib/bvh_treelet_schedule.glsl"
 
 const uint kSubsets = 1u << kTreeletMaxLeaves;
 
@@ -79,17 +79,20 @@ void restructure(uint root) {
         tris += leafTris[k];
       }
     float area = boxArea(slo, shi);
-    // Each unordered partition once: the side holding the lowest member of s.
+    // Each unordered partition once: p = the lowest member of s plus any proper subset q of
+    // the rest (q = rest itself would make p = s), enumerated by the usual (q - 1) & rest walk.
     uint lowest = s & (~s + 1u);
+    uint rest = s ^ lowest;
     float best = 3.0e38;
     uint bestP = 0u;
-    for (uint p = (s - 1u) & s; p != 0u; p = (p - 1u) & s) {
-      if ((p & lowest) == 0u) continue;
+    for (uint q = (rest - 1u) & rest;; q = (q - 1u) & rest) {
+      uint p = lowest | q;
       float c = cost[p] + cost[s ^ p];
       if (c < best) {
         best = c;
         bestP = p;
       }
+      if (q == 0u) break;
     }
     float c = kSahNodeCost * area + best;
     bool canCollapse = tris <= kBvhMaxLeafTriangles && !(s == full && root == 0u);
@@ -128,15 +131,10 @@ void restructure(uint root) {
 }
 
 void main() {
+  TreeletLevel level = gLevels[gPush.param];
   uint i = gl_GlobalInvocationID.x;
-  if (i >= gPush.triangleCount) return;
-  uint p = gLeaves[i].parent;
-  while (p != kInvalidNode) {
-    climbFence();
-    if (atomicAdd(gCounters[p], 1u) == 0u) break;
-    climbFence();
-    BvhBuildNode n = refitStored(p);
-    if (n.triangleCount >= gPush.param) restructure(p);
-    p = n.parent;
-  }
+  if (i >= level.count) return;
+  uint node = gNodeList[level.offset + i];
+  refitStored(node);
+  restructure(node);
 }

@@ -13,21 +13,22 @@ import zlib
 from pathlib import Path
 from typing import Any
 
-FLOAT, UBYTE, USHORT, UINT = 5126, 5121, 5123, 5125
+FLOAT, BYTE, UBYTE, SHORT, USHORT, UINT = 5126, 5120, 5121, 5122, 5123, 5125
 REPEAT, CLAMP, MIRROR = 10497, 33071, 33648
 
 
-def png(width: int, height: int, texels: list[tuple[int, int, int, int]]) -> bytes:
-    """Minimal RGBA8 PNG encoder (filter 0 on every row)."""
+def png(width: int, height: int, texels: list[tuple[int, int, int, int]], bits: int = 8) -> bytes:
+    """Minimal RGBA PNG encoder, 8 or 16 bits per channel (filter 0 on every row)."""
 
     def chunk(kind: bytes, data: bytes) -> bytes:
         body = kind + data
         return struct.pack(">I", len(data)) + body + struct.pack(">I", zlib.crc32(body))
 
+    fmt = ">4B" if bits == 8 else ">4H"
     rows = b""
     for y in range(height):
-        rows += b"\x00" + b"".join(bytes(texels[y * width + x]) for x in range(width))
-    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, 8, 6, 0, 0, 0))
+        rows += b"\x00" + b"".join(struct.pack(fmt, *texels[y * width + x]) for x in range(width))
+    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, bits, 6, 0, 0, 0))
             + chunk(b"IDAT", zlib.compress(rows)) + chunk(b"IEND", b""))
 
 
@@ -51,11 +52,20 @@ class Gltf:
         self.bin += data
         return len(self.doc["bufferViews"]) - 1
 
-    def accessor(self, values: list, kind: str, component: int = FLOAT) -> int:
-        fmt = {FLOAT: "f", UBYTE: "B", USHORT: "H", UINT: "I"}[component]
+    def accessor(self, values: list, kind: str, component: int = FLOAT, normalized: bool = False,
+                 stride: int = 0) -> int:
+        fmt = {FLOAT: "f", BYTE: "b", UBYTE: "B", SHORT: "h", USHORT: "H", UINT: "I"}[component]
         flat = [c for v in values for c in (v if isinstance(v, (list, tuple)) else [v])]
-        acc: dict[str, Any] = {"bufferView": self.view(struct.pack("<" + fmt * len(flat), *flat)),
+        data = struct.pack("<" + fmt * len(flat), *flat)
+        if stride:  # interleave padding: each element starts `stride` bytes after the last
+            size = len(data) // len(values)
+            data = b"".join(data[i * size:(i + 1) * size] + b"\xee" * (stride - size) for i in range(len(values)))
+        acc: dict[str, Any] = {"bufferView": self.view(data),
                                "componentType": component, "count": len(values), "type": kind}
+        if stride:
+            self.doc["bufferViews"][-1]["byteStride"] = stride
+        if normalized:
+            acc["normalized"] = True
         if kind == "VEC3" and component == FLOAT and all(map(math.isfinite, flat)):
             acc["min"] = [min(v[i] for v in values) for i in range(3)]
             acc["max"] = [max(v[i] for v in values) for i in range(3)]
@@ -320,6 +330,69 @@ def sparse(out: Path) -> None:
     bad.gltf(out / "bad_sparse_index.gltf")
 
 
+def texture16(out: Path) -> None:
+    """A 16-bit-per-channel PNG: rounded to RGBA8."""
+    g = Gltf()
+    g.doc["images"] = [{"uri": data_uri(png(2, 1, [(0x1234, 0xABCD, 0xFFFF, 0xFFFF), (0x00FF, 0x0100, 0x8000, 0x7FFF)], 16), "image/png")}]
+    g.doc["textures"] = [{"source": 0}]
+    g.add("materials", {"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}})
+    g.mesh(QUAD_P, QUAD_I, QUAD_N, QUAD_UV, material=0)
+    g.node(name="quad", mesh=0)
+    g.gltf(out / "texture16.gltf")
+
+
+def degenerate_attributes(out: Path) -> None:
+    """Loadable with warnings: a NaN uv, a zero normal, a texture whose image only an
+    unsupported extension names."""
+    g = Gltf()
+    g.doc["extensionsUsed"] = ["EXT_texture_webp"]
+    g.doc["images"] = [{"uri": "never_read.webp"}]
+    g.doc["textures"] = [{"extensions": {"EXT_texture_webp": {"source": 0}}}]
+    g.add("materials", {"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}})
+    g.mesh(QUAD_P, QUAD_I, [(0, 0, 1), (0, 0, 0), (0, 0, 1), (0, 0, 1)],
+           [(0, 1), (float("nan"), 1), (1, 0), (0, 0)], material=0)
+    g.node(name="quad", mesh=0)
+    g.gltf(out / "degenerate_attributes.gltf")
+
+
+def texture_transform(out: Path) -> None:
+    """KHR_texture_transform: offset + scale, the extension's rotated example, and a material whose
+    slots disagree (warned; the first slot's transform is used)."""
+    g = Gltf()
+    g.doc["extensionsUsed"] = ["KHR_texture_transform"]
+    g.doc["images"] = [{"uri": data_uri(checker(2, (255, 255, 255, 255), (0, 0, 0, 255)), "image/png")}]
+    g.doc["textures"] = [{"source": 0}]
+    shift = {"KHR_texture_transform": {"offset": [0.5, 0], "scale": [0.5, 0.5]}}
+    # "the lower left quadrant of the source image, rotated clockwise 90 degrees"
+    quadrant = {"KHR_texture_transform": {"offset": [0, 1], "rotation": 1.57079632679, "scale": [0.5, 0.5]}}
+    g.add("materials", {"pbrMetallicRoughness": {"baseColorTexture": {"index": 0, "extensions": shift}},
+                        "emissiveTexture": {"index": 0, "extensions": shift}})
+    g.add("materials", {"emissiveTexture": {"index": 0, "extensions": quadrant}})
+    g.add("materials", {"pbrMetallicRoughness": {"baseColorTexture": {"index": 0, "extensions": shift}},
+                        "normalTexture": {"index": 0}})
+    uv01 = [(0, 0), (1, 0), (1, 1), (0, 1)]
+    for m in range(3):
+        g.mesh(QUAD_P, QUAD_I, QUAD_N, uv01, material=m)
+        g.node(name=f"quad{m}", mesh=m, translation=[2.0 * m, 0, 0])
+    g.gltf(out / "texture_transform.gltf")
+
+
+def quantized(out: Path) -> None:
+    """KHR_mesh_quantization: int16 positions (scaled back by the node), int8 normalized
+    normals, uint16 normalized uvs, positions in a strided buffer view."""
+    g = Gltf()
+    g.doc["extensionsUsed"] = ["KHR_mesh_quantization"]
+    g.doc["extensionsRequired"] = ["KHR_mesh_quantization"]
+    prim = {"attributes": {
+        "POSITION": g.accessor([(0, 0, 0), (1000, 0, 0), (1000, 1000, 0), (0, 1000, 0)], "VEC3", SHORT, stride=8),
+        "NORMAL": g.accessor([(0, 0, 127)] * 4, "VEC3", BYTE, normalized=True, stride=4),
+        "TEXCOORD_0": g.accessor([(0, 65535), (65535, 65535), (65535, 0), (0, 0)], "VEC2", USHORT, normalized=True)},
+        "indices": g.accessor(QUAD_I, "SCALAR", UBYTE)}
+    g.doc["meshes"].append({"primitives": [prim]})
+    g.node(name="quad", mesh=0, scale=[0.001, 0.001, 0.001])
+    g.gltf(out / "quantized.gltf")
+
+
 def bad_inputs(out: Path) -> None:
     """One file per kind of bad input the loader must refuse with one line."""
     def quad_file(name: str, edit=None, positions=QUAD_P, indices=QUAD_I, **kw: Any) -> None:
@@ -373,7 +446,8 @@ def main() -> None:
     args = parser.parse_args()
     args.out.mkdir(parents=True, exist_ok=True)
     for make in [hierarchy, nonindexed, index_types, textured, alpha_mask, lights, cameras, materials,
-                 binary, sparse, bad_inputs]:
+                 binary, sparse, quantized, texture16, degenerate_attributes,
+                 texture_transform, bad_inputs]:
         make(args.out)
 
 

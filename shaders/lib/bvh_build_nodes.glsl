@@ -40,10 +40,11 @@ float boxArea(vec3 lo, vec3 hi) {
 }
 
 uint heightOf(BvhBuildNode n) { return n.flags & kHeightMask; }
+uint traversalHeightOf(BvhBuildNode n) { return (n.flags >> kTraversalHeightShift) & kHeightMask; }
 
 // Interior node n from its children: bounds, triangle count, SAH cost, collapse decision
 // (a subtree of at most kBvhMaxLeafTriangles becomes one leaf when that is not more costly;
-// never the root, which traversal needs as a node) and height.
+// never the root, which traversal needs as a node) and heights.
 BvhBuildNode refitNode(BvhBuildNode n, BvhBuildNode l, BvhBuildNode r, bool isRoot) {
   n.lo = min(l.lo, r.lo);
   n.hi = max(l.hi, r.hi);
@@ -53,7 +54,9 @@ BvhBuildNode refitNode(BvhBuildNode n, BvhBuildNode l, BvhBuildNode r, bool isRo
   float leafCost = kSahTriangleCost * area * float(n.triangleCount);
   bool collapse = !isRoot && n.triangleCount <= kBvhMaxLeafTriangles && leafCost <= interiorCost;
   n.cost = collapse ? leafCost : interiorCost;
-  n.flags = collapse ? kFlagCollapsed : (1u + max(heightOf(l), heightOf(r)));
+  uint height = 1u + max(heightOf(l), heightOf(r));
+  uint traversalHeight = collapse ? 0u : 1u + max(traversalHeightOf(l), traversalHeightOf(r));
+  n.flags = (collapse ? kFlagCollapsed : 0u) | (traversalHeight << kTraversalHeightShift) | height;
   return n;
 }
 

@@ -57,15 +57,23 @@ vec3 srgbToLinear(vec3 c) {
   return mix(hi, lo, lessThanEqual(c, vec3(0.04045)));
 }
 
+// i mod n in [0, n) for n > 0 and any i. Not `%`: GLSL leaves it undefined for negative
+// operands. The float quotient may be off by one period; the two corrections fix that.
+int scenePositiveMod(int i, int n) {
+  int m = i - n * int(floor(float(i) / float(n)));
+  if (m < 0) m += n;
+  if (m >= n) m -= n;
+  return m;
+}
+
 // Integer texel coordinate i wrapped into [0, size) by a glTF wrap mode.
 int sceneWrap(int i, int size, uint mode) {
   if (mode == kWrapClamp) return clamp(i, 0, size - 1);
   if (mode == kWrapMirror) {
-    int period = 2 * size;
-    int m = ((i % period) + period) % period;
-    return m < size ? m : period - 1 - m;
+    int m = scenePositiveMod(i, 2 * size);
+    return clamp(m < size ? m : 2 * size - 1 - m, 0, size - 1);
   }
-  return ((i % size) + size) % size;
+  return clamp(scenePositiveMod(i, size), 0, size - 1);
 }
 
 vec4 sceneTexel(TextureInfo info, int x, int y) {
@@ -79,8 +87,9 @@ vec4 sampleTexture(int texture, vec2 uv) {
   if (texture < 0) return vec4(1.0);
   TextureInfo info = gTextureInfos[texture];
   int w = int(info.width), h = int(info.height);
-  // Stay in a range where float keeps sub-texel precision; repeat/mirror are periodic in 2.
-  vec2 st = uv * vec2(w, h) - 0.5;
+  // Clamped so that the conversions to int below are defined (uv far outside [0, 1] or NaN
+  // still gives some texel of the texture, never a read outside it).
+  vec2 st = clamp(uv * vec2(w, h) - 0.5, vec2(-1e9), vec2(1e9));
   vec2 base = floor(st);
   vec2 f = st - base;
   int x0 = int(base.x), y0 = int(base.y);

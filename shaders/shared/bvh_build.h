@@ -8,7 +8,7 @@
 //                     stable LSD radix sort of (code, triangle), 8 bits per round
 //   bvh_lbvh          hierarchy from the sorted codes (Karras 2012)
 //   bvh_refit         bounds, triangle counts, SAH costs and heights bottom-up (atomic counters)
-//   bvh_treelet       treelet restructuring (Karras & Aila 2013), bottom-up, several rounds
+//   bvh_treelet_*     treelet restructuring (Karras & Aila 2013), level by level, several rounds
 //   bvh_emit          the traversal layout of shared/bvh.h, collapsing subtrees into leaves
 // Build nodes share one index space: interior nodes [0, N-1) (root 0), leaves [N-1, 2N-1) in
 // sorted order; they live in two bindings so that each stays under maxStorageBufferRange.
@@ -26,10 +26,12 @@
 OSR_NAMESPACE_BEGIN(bvh_build)
 OSR_CONST(uint, kWorkgroupSize, 64u);
 OSR_CONST(uint, kInvalidNode, 0xffffffffu);
-// BvhBuildNode.flags: height (interior levels down to the deepest leaf, as traversal counts
-// them: 0 for a leaf or a collapsed subtree) and whether the subtree becomes one leaf.
+// BvhBuildNode.flags: whether the subtree becomes one leaf; its height (interior levels down to
+// the deepest leaf, 0 for a leaf), which orders the treelet schedule; and its height as
+// traversal counts it (0 for a leaf or a collapsed subtree), which bounds the stack.
 OSR_CONST(uint, kFlagCollapsed, 0x80000000u);
-OSR_CONST(uint, kHeightMask, 0xffffu);
+OSR_CONST(uint, kHeightMask, 0x7fffu);
+OSR_CONST(uint, kTraversalHeightShift, 16u);
 
 struct BvhBuildNode {
   vec3 lo;
@@ -107,15 +109,40 @@ OSR_CONST(uint, kLbvhBindingInterior, 3u);
 OSR_CONST(uint, kLbvhBindingLeaves, 4u);
 OSR_CONST(uint, kLbvhBindingCount, 5u);
 
-// bvh_refit and bvh_treelet (param: treelet = smallest subtree, in triangles, restructured)
+// bvh_refit (climb) and the treelet passes (build nodes bound the same way)
 OSR_CONST(uint, kClimbBindingInterior, 0u);
 OSR_CONST(uint, kClimbBindingLeaves, 1u);
 OSR_CONST(uint, kClimbBindingCounters, 2u);
 OSR_CONST(uint, kClimbBindingCount, 3u);
 OSR_CONST(uint, kClimbSpecFences, 1u);  // spec constant id: bool, memory fences around the counter
-OSR_CONST(uint, kTreeletMaxLeaves, 7u);  // 2^7 subsets per dynamic program
-// Spec constant id of bvh_treelet: leaves per treelet (3..kTreeletMaxLeaves).
-OSR_CONST(uint, kTreeletSpecLeaves, 0u);
+
+// Treelet restructuring (Karras & Aila 2013) runs level-synchronously: the nodes to restructure
+// (interior, not collapsed, at least `minTriangles` below) are bucketed by height, then one
+// indirect dispatch per height processes a bucket with every SIMD lane busy. Nodes of one
+// height are disjoint subtrees, and everything below a node has a smaller height, so a node is
+// restructured after all of its descendants without any invocation waiting for another.
+//   bvh_treelet_count   levels[h].count per height        (param = minTriangles)
+//   bvh_treelet_plan    offsets, cursors, indirect dispatch arguments per height (1 invocation)
+//   bvh_treelet_scatter node lists per height             (param = minTriangles)
+//   bvh_treelet         restructures the nodes of one height (param = height)
+OSR_CONST(uint, kTreeletMaxLeaves, 7u);   // 2^7 subsets per dynamic program
+OSR_CONST(uint, kTreeletSpecLeaves, 0u);  // spec constant id: leaves per treelet (3..7)
+// Heights scheduled; a taller tree exceeds kBvhMaxDepth anyway and is rebuilt without treelets.
+OSR_CONST(uint, kTreeletMaxLevels, 128u);
+OSR_CONST(uint, kTreeletBindingSchedule, 3u);  // TreeletLevel[kTreeletMaxLevels], then DispatchArgs[kTreeletMaxLevels]
+OSR_CONST(uint, kTreeletBindingNodeList, 4u);  // uint per interior node
+OSR_CONST(uint, kTreeletBindingCount, 5u);
+struct TreeletLevel {
+  uint count;
+  uint offset;
+  uint cursor;
+  uint _pad0;
+};
+struct DispatchArgs {
+  uint x;
+  uint y;
+  uint z;
+};
 
 // bvh_emit
 OSR_CONST(uint, kEmitBindingInterior, 0u);

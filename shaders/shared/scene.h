@@ -68,7 +68,7 @@ struct TextureInfo {
 // An emissive triangle for light sampling, chosen with probability proportional to power.
 struct EmissiveTriangle {
   uint triangle;  // index into the triangle buffer
-  float power;    // luminance(emission) * area * pi (two-sided counts once per side emitting)
+  float power;    // luminance(emission x mean emissive texture) * area * pi, x2 if double-sided
   float cdf;      // inclusive prefix sum of power / total power
   float area;
 };
@@ -82,7 +82,7 @@ struct PunctualLight {
   uint type;
   vec3 direction;    // world space, direction the light points in (unit)
   float range;       // 0 = infinite
-  vec3 intensity;    // color * intensity: W/sr (point, spot) or lux (directional)
+  vec3 intensity;    // color * intensity / 683 lm/W: W/sr (point, spot), W/m^2 (directional)
   float cosInner;    // spot inner cone cosine
   float cosOuter;    // spot outer cone cosine
   float _pad0;

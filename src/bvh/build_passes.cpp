@@ -1,6 +1,7 @@
 #include "bvh/build_passes.h"
 
 #include <algorithm>
+#include <optional>
 #include <string>
 
 #include "common/error.h"
@@ -117,20 +118,57 @@ void LbvhPass::record(VkCommandBuffer cmd, const Args& a) const {
   vk::computeBarrier(cmd);
 }
 
-ClimbPass::ClimbPass(const vk::Context& ctx, uint32_t treeletLeaves)
-    : pipeline_(ctx, treeletLeaves ? shaders::Id::bvh_treelet : shaders::Id::bvh_refit,
-                bb::kClimbBindingCount, sizeof(BuildPush), climbSpec(ctx, treeletLeaves)) {
-  if (treeletLeaves && (treeletLeaves < 3 || treeletLeaves > bb::kTreeletMaxLeaves))
+RefitPass::RefitPass(const vk::Context& ctx)
+    : pipeline_(ctx, shaders::Id::bvh_refit, bb::kClimbBindingCount, sizeof(BuildPush), climbSpec(ctx, 0)) {}
+
+void RefitPass::record(VkCommandBuffer cmd, const Args& a) const {
+  vkCmdFillBuffer(cmd, a.counters->handle(), 0, VK_WHOLE_SIZE, 0);
+  vk::transferBarrier(cmd);
+  pipeline_.bind(cmd, {a.interior, a.leaves, *a.counters}, BuildPush{a.triangleCount, 0, 0, 0});
+  pipeline_.dispatch(cmd, groups(a.triangleCount));
+  vk::computeBarrier(cmd);
+}
+
+TreeletPass::TreeletPass(const vk::Context& ctx, uint32_t treeletLeaves)
+    : count_(ctx, shaders::Id::bvh_treelet_count, bb::kTreeletBindingCount, sizeof(BuildPush), climbSpec(ctx, 0)),
+      plan_(ctx, shaders::Id::bvh_treelet_plan, bb::kTreeletBindingCount, sizeof(BuildPush), climbSpec(ctx, 0)),
+      scatter_(ctx, shaders::Id::bvh_treelet_scatter, bb::kTreeletBindingCount, sizeof(BuildPush), climbSpec(ctx, 0)),
+      treelet_(ctx, shaders::Id::bvh_treelet, bb::kTreeletBindingCount, sizeof(BuildPush), climbSpec(ctx, treeletLeaves)) {
+  if (treeletLeaves < 3 || treeletLeaves > bb::kTreeletMaxLeaves)
     throw InputError("bvh: treelet size " + std::to_string(treeletLeaves) + " outside 3.." +
                      std::to_string(bb::kTreeletMaxLeaves));
 }
 
-void ClimbPass::record(VkCommandBuffer cmd, const Args& a) const {
-  vkCmdFillBuffer(cmd, a.counters->handle(), 0, VK_WHOLE_SIZE, 0);
+uint64_t TreeletPass::scheduleBytes() {
+  return bb::kTreeletMaxLevels * (sizeof(bb::TreeletLevel) + sizeof(bb::DispatchArgs));
+}
+
+void TreeletPass::record(VkCommandBuffer cmd, const Args& a, vk::GpuTimer* timer) const {
+  const uint32_t interior = a.triangleCount - 1;
+  std::optional<vk::TimedScope> scope;
+  scope.emplace(timer, cmd, "bvh_treelet_schedule");
+  vkCmdFillBuffer(cmd, a.schedule->handle(), 0, VK_WHOLE_SIZE, 0);
   vk::transferBarrier(cmd);
-  pipeline_.bind(cmd, {a.interior, a.leaves, *a.counters}, BuildPush{a.triangleCount, a.minTriangles, 0, 0});
-  pipeline_.dispatch(cmd, groups(a.triangleCount));
+  BuildPush push{a.triangleCount, a.minTriangles, 0, 0};
+  vk::BufferRange schedule(*a.schedule);
+  count_.bind(cmd, {a.interior, a.leaves, a.counters, schedule, a.nodeList}, push);
+  count_.dispatch(cmd, groups(interior));
   vk::computeBarrier(cmd);
+  plan_.bind(cmd, {a.interior, a.leaves, a.counters, schedule, a.nodeList}, push);
+  plan_.dispatch(cmd, 1);
+  vk::computeBarrier(cmd);
+  scatter_.bind(cmd, {a.interior, a.leaves, a.counters, schedule, a.nodeList}, push);
+  scatter_.dispatch(cmd, groups(interior));
+  vk::computeBarrier(cmd);
+  scope.reset();
+  scope.emplace(timer, cmd, "bvh_treelet");
+  // Height 0 holds no restructurable node (leaves and collapsed subtrees).
+  const uint64_t argsOffset = bb::kTreeletMaxLevels * sizeof(bb::TreeletLevel);
+  for (uint32_t h = 1; h < bb::kTreeletMaxLevels; ++h) {
+    treelet_.bind(cmd, {a.interior, a.leaves, a.counters, schedule, a.nodeList}, BuildPush{a.triangleCount, h, 0, 0});
+    treelet_.dispatchIndirect(cmd, *a.schedule, argsOffset + h * sizeof(bb::DispatchArgs));
+    vk::computeBarrier(cmd);
+  }
 }
 
 EmitPass::EmitPass(const vk::Context& ctx)

@@ -95,21 +95,41 @@ class LbvhPass {
   vk::ComputePipeline pipeline_;
 };
 
-// bvh_refit and bvh_treelet share the bottom-up climb; counters are zeroed by record().
-class ClimbPass {
+// bvh_refit: bottom-up bounds, counts, costs, heights; counters are zeroed by record().
+class RefitPass {
  public:
-  // treeletLeaves = 0: bvh_refit; 3..kTreeletMaxLeaves: bvh_treelet with that treelet size.
-  ClimbPass(const vk::Context& ctx, uint32_t treeletLeaves);
+  explicit RefitPass(const vk::Context& ctx);
   struct Args {
     vk::BufferRange interior, leaves;
     const vk::Buffer* counters = nullptr;  // uint per interior node
     uint32_t triangleCount = 0;
-    uint32_t minTriangles = 0;  // treelet: smallest subtree restructured
   };
   void record(VkCommandBuffer cmd, const Args& args) const;
 
  private:
   vk::ComputePipeline pipeline_;
+};
+
+// One round of treelet restructuring: bvh_treelet_count / _plan / _scatter, then bvh_treelet
+// once per height with an indirect dispatch (see shared/bvh_build.h).
+class TreeletPass {
+ public:
+  // treeletLeaves in 3..kTreeletMaxLeaves.
+  TreeletPass(const vk::Context& ctx, uint32_t treeletLeaves);
+  static uint64_t scheduleBytes();
+  struct Args {
+    vk::BufferRange interior, leaves, counters;
+    const vk::Buffer* schedule = nullptr;  // scheduleBytes()
+    vk::BufferRange nodeList;              // uint per interior node
+    uint32_t triangleCount = 0;
+    uint32_t minTriangles = 0;             // smallest subtree restructured
+  };
+  // `timer` (may be null) gets scopes "bvh_treelet_schedule" (count, plan, scatter) and
+  // "bvh_treelet" (the per-height dispatches).
+  void record(VkCommandBuffer cmd, const Args& args, vk::GpuTimer* timer = nullptr) const;
+
+ private:
+  vk::ComputePipeline count_, plan_, scatter_, treelet_;
 };
 
 // bvh_emit: traversal nodes and leaf triangles (info.leafCounter must be 0).

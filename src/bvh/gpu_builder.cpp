@@ -30,11 +30,11 @@ struct GpuBuilder::Passes {
   MortonPass morton;
   RadixSort sort;
   LbvhPass lbvh;
-  ClimbPass refit;
-  ClimbPass treelet;
+  RefitPass refit;
+  TreeletPass treelet;
   EmitPass emit;
   Passes(const vk::Context& ctx, uint32_t treeletLeaves)
-      : bounds(ctx), morton(ctx), sort(ctx), lbvh(ctx), refit(ctx, 0), treelet(ctx, treeletLeaves),
+      : bounds(ctx), morton(ctx), sort(ctx), lbvh(ctx), refit(ctx), treelet(ctx, treeletLeaves),
         emit(ctx) {}
 };
 
@@ -88,6 +88,8 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
   vk::Buffer interior = scratch(ctx, interiorCount * nodeBytes, "bvh build interior");
   vk::Buffer leaves = scratch(ctx, n * nodeBytes, "bvh build leaves");
   vk::Buffer counters = scratch(ctx, 4ull * interiorCount, "bvh climb counters");
+  vk::Buffer schedule = scratch(ctx, TreeletPass::scheduleBytes(), "bvh treelet schedule");
+  vk::Buffer nodeList = scratch(ctx, 4ull * interiorCount, "bvh treelet node list");
 
   Bvh bvh;
   bvh.nodeCount = interiorCount;
@@ -120,13 +122,13 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
     }
     if (n > 1) {
       vk::TimedScope scope(&timer, cmd, "bvh_refit");
-      passes.refit.record(cmd, {interior, leaves, &counters, n, 0});
+      passes.refit.record(cmd, {interior, leaves, &counters, n});
     }
     for (uint32_t round = 0; round < treeletRounds && n > 2; ++round) {
-      vk::TimedScope scope(&timer, cmd, "bvh_treelet");
       // Karras & Aila grow the smallest restructured subtree each round: the bottom levels
       // improve most in the first round, later rounds polish the upper tree at less cost.
-      passes.treelet.record(cmd, {interior, leaves, &counters, n, options.treeletLeaves << round});
+      passes.treelet.record(cmd, {interior, leaves, counters, &schedule, nodeList, n, options.treeletLeaves << round},
+                            &timer);
     }
     vk::TimedScope scope(&timer, cmd, "bvh_emit");
     passes.emit.record(cmd, {interior, leaves, prims, info, bvh.nodes, bvh.leafData, n});
@@ -139,7 +141,7 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
     ctx.submitAndWait([&](VkCommandBuffer cmd) { record(cmd, rounds); });
     root = n > 1 ? interior.downloadVector<bb::BvhBuildNode>(1)[0] : leaves.downloadVector<bb::BvhBuildNode>(1)[0];
     done = info.downloadVector<bb::BvhBuildInfo>(1)[0];
-    uint32_t height = n > 1 ? (root.flags & bb::kHeightMask) : 1;
+    uint32_t height = n > 1 ? (root.flags >> bb::kTraversalHeightShift) & bb::kHeightMask : 1;
     // The LBVH alone has at most 30 + ceil(log2 N) + 1 <= 53 levels (N <= 2^21 on 128 MiB
     // bindings); restructuring can deepen it, so a tree past the traversal bound is rebuilt
     // without that step.

@@ -50,7 +50,11 @@ namespace {
 // Extensions whose data the loader uses. Everything else is warned about once and ignored.
 const std::set<std::string> kSupportedExtensions = {
     "KHR_materials_emissive_strength", "KHR_materials_specular", "KHR_materials_ior",
-    "KHR_materials_transmission", "KHR_lights_punctual"};
+    "KHR_materials_transmission", "KHR_lights_punctual",
+    // Integer and normalized attribute types: every accessor is read through one converter.
+    "KHR_mesh_quantization",
+    // Baked into the vertex uvs, one transform per material (see Loader::noteUvTransform).
+    "KHR_texture_transform"};
 
 // Luminous efficacy used to turn glTF's photometric light units into the radiometric ones of
 // emissive radiance (the constant Blender's glTF I/O uses, PBR_WATTS_TO_LUMENS = 683 lm/W):
@@ -207,6 +211,8 @@ class Loader {
     std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)),
                                      std::istreambuf_iterator<char>());
     if (bytes.empty()) fail("file is empty");
+    // tinygltf takes 32-bit sizes.
+    if (bytes.size() >= (uint64_t(1) << 32)) fail("file is larger than 4 GiB, which tinygltf cannot read");
     std::string baseDir = fs::path(path_).parent_path().string();
     if (baseDir.empty()) baseDir = ".";
 
@@ -241,8 +247,8 @@ class Loader {
     if (b.size() < 20) fail("truncated .glb: " + std::to_string(b.size()) + " bytes, header needs 20");
     if (u32(4) != 2) fail("unsupported .glb version " + std::to_string(u32(4)));
     if (u32(8) != b.size())
-      fail("truncated .glb: header says " + std::to_string(u32(8)) + " bytes, file has " +
-           std::to_string(b.size()));
+      fail(std::string(u32(8) > b.size() ? "truncated" : "malformed") + " .glb: header says " +
+           std::to_string(u32(8)) + " bytes, file has " + std::to_string(b.size()));
     size_t at = 12;
     int chunk = 0;
     while (at < b.size()) {
@@ -278,6 +284,8 @@ class Loader {
     d.normalized = a.normalized;
     size_t elementBytes = componentBytes(a.componentType) * d.components;
     if (elementBytes == 0) fail(name + " has an invalid component type or type");
+    // Vertex indices are 32-bit; an accessor without a buffer view (zeros) is otherwise unbounded.
+    if (d.count > 0x7fffffffu) fail(name + " count " + std::to_string(d.count) + " is too large");
     if (a.bufferView >= 0) {
       const tinygltf::BufferView& view = bufferView(a.bufferView, name);
       d.stride = view.byteStride ? view.byteStride : elementBytes;
@@ -364,17 +372,67 @@ class Loader {
 
   // --- Materials and textures ---------------------------------------------------------------
 
+  // KHR_texture_transform of a texture reference (nullptr: none).
+  static const tinygltf::Value* transformOf(const tinygltf::ExtensionMap& extensions) {
+    auto it = extensions.find("KHR_texture_transform");
+    return it == extensions.end() ? nullptr : &it->second;
+  }
+
+  // Records a texture slot's KHR_texture_transform for the material being converted. The
+  // transform is baked into the vertex uvs, so all textured slots of a material must agree
+  // (true of exporters that write one uv mapping per material); the first one wins otherwise.
+  void noteUvTransform(const tinygltf::Value* ext, const std::string& what) {
+    glm::mat3 m(1.0f);
+    if (ext && ext->IsObject()) {
+      glm::vec2 offset(0.0f), scale(1.0f);
+      if (ext->Has("offset") && ext->Get("offset").IsArray() && ext->Get("offset").ArrayLen() == 2)
+        offset = {ext->Get("offset").Get(0).GetNumberAsDouble(), ext->Get("offset").Get(1).GetNumberAsDouble()};
+      if (ext->Has("scale") && ext->Get("scale").IsArray() && ext->Get("scale").ArrayLen() == 2)
+        scale = {ext->Get("scale").Get(0).GetNumberAsDouble(), ext->Get("scale").Get(1).GetNumberAsDouble()};
+      float r = float(number(*ext, "rotation", 0.0));
+      // The extension's matrix, translation * rotation * scale; rotation is counter-clockwise
+      // in uv space (v down): u' = cos u + sin v, v' = -sin u + cos v.
+      glm::mat3 t(1.0f), rot(1.0f), sc(1.0f);
+      t[2] = glm::vec3(offset, 1.0f);
+      rot[0] = glm::vec3(std::cos(r), -std::sin(r), 0.0f);
+      rot[1] = glm::vec3(std::sin(r), std::cos(r), 0.0f);
+      sc[0][0] = scale.x;
+      sc[1][1] = scale.y;
+      m = t * rot * sc;
+      for (int c = 0; c < 3; ++c)
+        for (int k = 0; k < 3; ++k)
+          if (!std::isfinite(m[c][k])) fail(what + ": KHR_texture_transform is not finite");
+    }
+    if (!uvTransformSet_) {
+      uvTransform_ = m;
+      uvTransformSet_ = true;
+    } else if (m != uvTransform_) {
+      warn(what + ": texture slots with different KHR_texture_transform, using the first one");
+    }
+  }
+
   // Our texture index for glTF texture `index`, created on first use.
-  int texture(int index, int texCoord, const std::string& what) {
+  int texture(int index, int texCoord, const std::string& what,
+              const tinygltf::Value* transform = nullptr) {
     if (index < 0) return gpu::kNoTexture;
     if (size_t(index) >= model_.textures.size())
       fail(what + ": texture " + std::to_string(index) + " does not exist");
+    if (transform && transform->IsObject() && transform->Has("texCoord"))
+      texCoord = int(number(*transform, "texCoord", 0));
+    noteUvTransform(transform, what);
     if (texCoord != 0) warn(what + ": TEXCOORD_" + std::to_string(texCoord) + " not supported, using TEXCOORD_0");
     auto found = textureMap_.find(index);
     if (found != textureMap_.end()) return found->second;
     const tinygltf::Texture& t = model_.textures[index];
-    if (t.source < 0 || size_t(t.source) >= model_.images.size())
-      fail(what + ": texture " + std::to_string(index) + " has no image");
+    if (t.source < 0) {
+      // Valid glTF when an extension (KHR_texture_basisu, EXT_texture_webp) names the image.
+      warn(what + ": texture " + std::to_string(index) + " has no PNG/JPEG source, ignored");
+      textureMap_[index] = gpu::kNoTexture;
+      return gpu::kNoTexture;
+    }
+    if (size_t(t.source) >= model_.images.size())
+      fail(what + ": texture " + std::to_string(index) + ": image " + std::to_string(t.source) +
+           " does not exist");
     const tinygltf::Image& image = model_.images[t.source];
     std::string imageName = "image " + std::to_string(t.source) +
                             (image.uri.empty() || image.uri.rfind("data:", 0) == 0
@@ -397,8 +455,8 @@ class Loader {
       uint32_t c[4] = {0, 0, 0, 255};
       for (int k = 0; k < comps; ++k) {
         const unsigned char* p = &image.image[(i * comps + k) * bytesPer];
-        // 16-bit channels keep their high byte (little-endian as stb returns them).
-        c[k] = bytesPer == 2 ? p[1] : p[0];
+        // 16-bit channels (native little-endian from stb) are rounded to 8 bits.
+        c[k] = bytesPer == 2 ? ((p[0] | (uint32_t(p[1]) << 8)) * 255u + 32767u) / 65535u : p[0];
       }
       if (comps == 1) c[1] = c[2] = c[0];
       if (comps == 2) {  // grey + alpha
@@ -426,8 +484,11 @@ class Loader {
   int extensionTexture(const tinygltf::Value& ext, const char* key, const std::string& what) {
     if (!ext.IsObject() || !ext.Has(key)) return gpu::kNoTexture;
     const tinygltf::Value& info = ext.Get(key);
+    const tinygltf::Value* transform = nullptr;
+    if (info.IsObject() && info.Has("extensions") && info.Get("extensions").Has("KHR_texture_transform"))
+      transform = &info.Get("extensions").Get("KHR_texture_transform");
     return texture(int(number(info, "index", -1)), int(number(info, "texCoord", 0)),
-                   what + " " + key);
+                   what + " " + key, transform);
   }
 
   gpu::Material material(int index) {
@@ -435,18 +496,24 @@ class Loader {
     std::string what = "material " + std::to_string(index) +
                        (src.name.empty() ? "" : " '" + src.name + "'");
     gpu::Material m = defaultMaterial();
+    uvTransform_ = glm::mat3(1.0f);
+    uvTransformSet_ = false;
     const auto& pbr = src.pbrMetallicRoughness;
     if (pbr.baseColorFactor.size() == 4)
       m.baseColor = glm::vec4(pbr.baseColorFactor[0], pbr.baseColorFactor[1],
                               pbr.baseColorFactor[2], pbr.baseColorFactor[3]);
     m.metallic = float(pbr.metallicFactor);
     m.roughness = float(pbr.roughnessFactor);
-    m.baseColorTexture = texture(pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord, what);
+    m.baseColorTexture = texture(pbr.baseColorTexture.index, pbr.baseColorTexture.texCoord, what,
+                                 transformOf(pbr.baseColorTexture.extensions));
     m.metallicRoughnessTexture =
-        texture(pbr.metallicRoughnessTexture.index, pbr.metallicRoughnessTexture.texCoord, what);
-    m.normalTexture = texture(src.normalTexture.index, src.normalTexture.texCoord, what);
+        texture(pbr.metallicRoughnessTexture.index, pbr.metallicRoughnessTexture.texCoord, what,
+                transformOf(pbr.metallicRoughnessTexture.extensions));
+    m.normalTexture = texture(src.normalTexture.index, src.normalTexture.texCoord, what,
+                              transformOf(src.normalTexture.extensions));
     m.normalScale = float(src.normalTexture.scale);
-    m.emissiveTexture = texture(src.emissiveTexture.index, src.emissiveTexture.texCoord, what);
+    m.emissiveTexture = texture(src.emissiveTexture.index, src.emissiveTexture.texCoord, what,
+                                transformOf(src.emissiveTexture.extensions));
     glm::vec3 emissive = toVec3(src.emissiveFactor, glm::vec3(0.0f));
     float strength = 1.0f;
     auto ext = [&](const char* name) -> const tinygltf::Value* {
@@ -488,6 +555,7 @@ class Loader {
       if (!std::isfinite(v)) fail(what + " has a non-finite factor");
     if (m.emission.r < 0 || m.emission.g < 0 || m.emission.b < 0)
       fail(what + " has a negative emission");
+    materialUv_.push_back(uvTransform_);
     return m;
   }
 
@@ -530,17 +598,32 @@ class Loader {
       for (size_t i = 0; i < model_.nodes.size(); ++i)
         if (!isChild[i]) roots.push_back(int(i));
     }
-    std::vector<bool> onPath(model_.nodes.size(), false);
-    for (int root : roots) visit(root, glm::mat4(1.0f), onPath);
+    // Depth-first with an explicit stack: a deep (hostile) hierarchy must not overflow the call
+    // stack. glTF node hierarchies are disjoint trees, so a node reached twice (a cycle or a
+    // second parent, which could also blow up exponentially) is refused.
+    std::vector<bool> reached(model_.nodes.size(), false);
+    std::vector<std::pair<int, glm::mat4>> stack;
+    for (auto it = roots.rbegin(); it != roots.rend(); ++it) stack.emplace_back(*it, glm::mat4(1.0f));
+    while (!stack.empty()) {
+      auto [index, worldFromParent] = stack.back();
+      stack.pop_back();
+      if (index < 0 || size_t(index) >= model_.nodes.size())
+        fail("node " + std::to_string(index) + " does not exist");
+      if (reached[index])
+        fail("node " + std::to_string(index) +
+             " is reached twice (a cycle or two parents; glTF node hierarchies are trees)");
+      reached[index] = true;
+      glm::mat4 worldFromNode = worldFromParent * localTransform(model_.nodes[index], index);
+      visit(index, worldFromNode);
+      const std::vector<int>& children = model_.nodes[index].children;
+      for (auto it = children.rbegin(); it != children.rend(); ++it)
+        stack.emplace_back(*it, worldFromNode);
+    }
   }
 
-  void visit(int index, const glm::mat4& worldFromParent, std::vector<bool>& onPath) {
-    if (index < 0 || size_t(index) >= model_.nodes.size())
-      fail("node " + std::to_string(index) + " does not exist");
-    if (onPath[index]) fail("node " + std::to_string(index) + " is its own ancestor (cycle)");
-    onPath[index] = true;
+  // Everything a node carries: meshes, a camera, a light.
+  void visit(int index, const glm::mat4& worldFromNode) {
     const tinygltf::Node& node = model_.nodes[index];
-    glm::mat4 worldFromNode = worldFromParent * localTransform(node, index);
     if (node.skin >= 0) warn("skins not supported: meshes drawn in their bind pose");
     if (!node.weights.empty()) warn("morph targets not supported: base mesh drawn");
     if (node.mesh >= 0) {
@@ -555,8 +638,6 @@ class Loader {
     if (node.camera >= 0) camera(node, index, worldFromNode);
     auto light = node.extensions.find("KHR_lights_punctual");
     if (light != node.extensions.end()) punctualLight(light->second, index, worldFromNode);
-    for (int child : node.children) visit(child, worldFromNode, onPath);
-    onPath[index] = false;
   }
 
   void primitive(const tinygltf::Primitive& prim, const std::string& what,
@@ -622,6 +703,8 @@ class Loader {
            std::to_string(indices.size() % 3) + " ignored");
     size_t triangleCount = indices.size() / 3;
     if (triangleCount == 0) return;
+    if (scene_.vertices.size() + std::max<size_t>(pos.count, 3 * triangleCount) > 0xffffffffu)
+      fail(what + ": the scene has more than 2^32 vertices");
 
     // Normals transform with the inverse transpose; a mirroring transform (det < 0) would
     // turn counter-clockwise front faces clockwise, so the winding is flipped to keep them.
@@ -638,7 +721,15 @@ class Loader {
         fail(what + " POSITION " + std::to_string(i) + " is not finite after the node transform");
       return w;
     };
-    auto uvAt = [&](uint32_t i) { return hasUv ? uv.vec2(i) : glm::vec2(0.0f); };
+    // The material's KHR_texture_transform, baked in (identity for the default material).
+    glm::mat3 uvFromFile = materialIndex < materialUv_.size() ? materialUv_[materialIndex] : glm::mat3(1.0f);
+    auto uvAt = [&](uint32_t i) {
+      glm::vec2 t = hasUv ? uv.vec2(i) : glm::vec2(0.0f);
+      t = glm::vec2(uvFromFile * glm::vec3(t, 1.0f));
+      if (std::isfinite(t.x) && std::isfinite(t.y)) return t;
+      warn(what + ": non-finite TEXCOORD_0 replaced by (0, 0)");
+      return glm::vec2(0.0f);
+    };
 
     if (hasNormals) {
       uint32_t base = uint32_t(scene_.vertices.size());
@@ -648,7 +739,9 @@ class Loader {
         gpu::Vertex v{};
         v.position = worldPosition(i);
         // A zero or broken normal falls back to the face normal in the shader (length 0).
-        v.normal = len > 0.0f && std::isfinite(len) ? n / len : glm::vec3(0.0f);
+        bool valid = len > 0.0f && std::isfinite(len);
+        if (!valid) warn(what + ": zero or non-finite NORMAL replaced by the face normal");
+        v.normal = valid ? n / len : glm::vec3(0.0f);
         glm::vec2 t = uvAt(i);
         v.u = t.x;
         v.v = t.y;
@@ -804,6 +897,9 @@ class Loader {
   std::set<std::string> warned_;
   std::map<int, int> textureMap_;
   std::map<int, glm::vec3> meanCache_;
+  std::vector<glm::mat3> materialUv_;  // per glTF material: its KHR_texture_transform
+  glm::mat3 uvTransform_{1.0f};        // of the material being converted
+  bool uvTransformSet_ = false;
   int defaultMaterialIndex_ = -1;
 };
 
@@ -812,7 +908,12 @@ class Loader {
 Scene loadScene(const std::string& path) {
   Scene scene;
   scene.path = path;
-  Loader(path, scene).run();
+  try {
+    Loader(path, scene).run();
+  } catch (const std::bad_alloc&) {
+    // Counts in a file can ask for any amount of memory; that is the file's fault.
+    throw InputError(path + ": out of memory loading the scene");
+  }
   return scene;
 }
 

@@ -40,7 +40,8 @@ struct Environment {
 
 struct Scene {
   std::string path;
-  std::vector<gpu::Vertex> vertices;  // world space
+  // World space; uv is TEXCOORD_0 with the material's KHR_texture_transform applied.
+  std::vector<gpu::Vertex> vertices;
   std::vector<gpu::Triangle> triangles;
   std::vector<gpu::Material> materials;  // always >= 1: the last one may be the default
   std::vector<Texture> textures;

@@ -11,14 +11,20 @@ namespace {
 
 constexpr float kPi = 3.14159265358979f;
 
+int positiveMod(int i, int n) {
+  int m = i - n * int(std::floor(float(i) / float(n)));
+  if (m < 0) m += n;
+  if (m >= n) m -= n;
+  return m;
+}
+
 int wrap(int i, int size, uint32_t mode) {
   if (mode == gpu::kWrapClamp) return std::clamp(i, 0, size - 1);
   if (mode == gpu::kWrapMirror) {
-    int period = 2 * size;
-    int m = ((i % period) + period) % period;
-    return m < size ? m : period - 1 - m;
+    int m = positiveMod(i, 2 * size);
+    return std::clamp(m < size ? m : 2 * size - 1 - m, 0, size - 1);
   }
-  return ((i % size) + size) % size;
+  return std::clamp(positiveMod(i, size), 0, size - 1);
 }
 
 glm::vec4 texel(const Texture& t, int x, int y) {
@@ -46,6 +52,7 @@ glm::vec4 sampleTexture(const Scene& scene, int texture, glm::vec2 uv) {
   const Texture& t = scene.textures[texture];
   int w = int(t.width), h = int(t.height);
   glm::vec2 st = uv * glm::vec2(w, h) - 0.5f;
+  for (int k = 0; k < 2; ++k) st[k] = std::isnan(st[k]) ? 0.0f : std::clamp(st[k], -1e9f, 1e9f);
   glm::vec2 base = glm::floor(st);
   glm::vec2 f = st - base;
   int x0 = int(base.x), y0 = int(base.y);

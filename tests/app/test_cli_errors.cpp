@@ -26,13 +26,24 @@ Outcome runOsr(const std::string& args) {
   return {WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status), ss.str()};
 }
 
+bool placeholderRender(const Outcome& r) {
+  return r.err.find("unknown option '--offline'") != std::string::npos;
+}
+
 // Runs the render command on `scene`. The full command wants an output (--offline); while the
 // render command is still the placeholder, which knows no options, the scene alone is enough.
-Outcome renderScene(const std::string& scene) {
+Outcome renderScene(const std::string& scene, const std::string& options = "") {
   std::string out = ::testing::TempDir() + "osr_cli_test.exr";
-  Outcome r = runOsr("--offline '" + out + "' '" + scene + "'");
-  if (r.err.find("unknown option '--offline'") != std::string::npos) r = runOsr("'" + scene + "'");
+  Outcome r = runOsr("--offline '" + out + "' " + options + " '" + scene + "'");
+  if (placeholderRender(r) && options.empty()) r = runOsr("'" + scene + "'");
   return r;
+}
+
+void expectOneLine(const Outcome& r, const std::string& start) {
+  EXPECT_EQ(r.exitCode, 2) << r.err;
+  ASSERT_FALSE(r.err.empty());
+  EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << "more than one line: " << r.err;
+  EXPECT_EQ(r.err.rfind(start, 0), 0u) << r.err;
 }
 
 }  // namespace
@@ -59,4 +70,15 @@ TEST(CliErrors, UnknownOptionExitsTwo) {
   Outcome r = runOsr("--no-such-option " + osr::test::referencePath("cornell/cornell.gltf"));
   EXPECT_EQ(r.exitCode, 2) << r.err;
   EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << r.err;
+}
+
+// --camera and --env reach the scene code once the render command takes them.
+TEST(CliErrors, BadCameraAndEnvironment) {
+  std::string cornell = osr::test::referencePath("cornell/cornell.gltf");
+  Outcome camera = renderScene(cornell, "--camera nope");
+  if (placeholderRender(camera)) GTEST_SKIP() << "render command not built yet";
+  expectOneLine(camera, "osr-vk: " + cornell + ": no camera named 'nope'");
+  expectOneLine(renderScene(cornell, "--camera 3"), "osr-vk: " + cornell + ": camera 3 does not exist");
+  std::string env = ::testing::TempDir() + "no_such_env.exr";
+  expectOneLine(renderScene(cornell, "--env '" + env + "'"), "osr-vk: " + env + ": file not found");
 }

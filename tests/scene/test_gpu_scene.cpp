@@ -47,19 +47,31 @@ TEST(GpuScene, RefusesBuffersPastMaxStorageBufferRange) {
   auto& ctx = test::context();
   uint64_t limit = ctx.caps().maxStorageBufferRange;
   if (limit > (512ull << 20)) GTEST_SKIP() << "device allows " << (limit >> 20) << " MiB buffers";
-  scene::Scene s = scene::loadScene(test::referencePath("cornell/cornell.gltf"));
-  scene::Texture big;
-  big.width = 4096;
-  big.height = uint32_t(limit / 4 / 4096 + 1);
-  big.texels.resize(size_t(big.width) * big.height);
-  s.textures.push_back(std::move(big));
-  try {
-    scene::GpuScene g(ctx, s);
-    FAIL() << "expected a DeviceError";
-  } catch (const DeviceError& e) {
-    std::string msg = e.what();
-    EXPECT_NE(msg.find("maxStorageBufferRange"), std::string::npos) << msg;
-    EXPECT_NE(msg.find("cornell.gltf"), std::string::npos) << msg;
-    EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
+  auto expectRefused = [&](const scene::Scene& s, const char* what) {
+    try {
+      scene::GpuScene g(ctx, s);
+      ADD_FAILURE() << what << ": expected a DeviceError";
+    } catch (const DeviceError& e) {
+      std::string msg = e.what();
+      EXPECT_NE(msg.find("maxStorageBufferRange"), std::string::npos) << msg;
+      EXPECT_NE(msg.find("cornell.gltf"), std::string::npos) << msg;
+      EXPECT_NE(msg.find(what), std::string::npos) << msg;
+      EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
+    }
+  };
+  const scene::Scene base = scene::loadScene(test::referencePath("cornell/cornell.gltf"));
+  {
+    scene::Scene s = base;
+    scene::Texture big;
+    big.width = 4096;
+    big.height = uint32_t(limit / 4 / 4096 + 1);
+    big.texels.resize(size_t(big.width) * big.height);
+    s.textures.push_back(std::move(big));
+    expectRefused(s, "textures");
+  }
+  {
+    scene::Scene s = base;
+    s.vertices.resize(limit / sizeof(gs::Vertex) + 1);
+    expectRefused(s, "vertex");
   }
 }

@@ -2,6 +2,9 @@
 // its refusal of bad input (InputError naming the file).
 #include <gtest/gtest.h>
 
+#include <fstream>
+#include <nlohmann/json.hpp>
+
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -188,6 +191,49 @@ TEST(Loader, TexturesFromFilesAndDataUris) {
   EXPECT_NEAR(s.emissivePower, lum * 3.14159265f * 2.0f, 1e-4f);
 }
 
+TEST(Loader, SixteenBitTexturesRoundTo8Bits) {
+  scene::Scene s = scene::loadScene(data("texture16.gltf"));
+  ASSERT_EQ(s.textures.size(), 1u);
+  ASSERT_EQ(s.textures[0].texels.size(), 2u);
+  EXPECT_EQ(s.textures[0].texels[0], 0xFFFFAB12u);
+  EXPECT_EQ(s.textures[0].texels[1], 0x7F800101u);  // 0x00FF and 0x0100 round to 1
+}
+
+TEST(Loader, DegenerateAttributesWarnAndFallBack) {
+  scene::Scene s = scene::loadScene(data("degenerate_attributes.gltf"));
+  EXPECT_TRUE(hasWarning(s, "EXT_texture_webp"));
+  EXPECT_TRUE(hasWarning(s, "no PNG/JPEG source"));
+  EXPECT_TRUE(hasWarning(s, "TEXCOORD_0"));
+  EXPECT_TRUE(hasWarning(s, "NORMAL"));
+  EXPECT_EQ(s.materials[0].baseColorTexture, gs::kNoTexture);
+  EXPECT_TRUE(s.textures.empty());
+  const gs::Vertex& v1 = s.vertices[s.triangles[0].v1];
+  EXPECT_EQ(v1.u, 0.0f);
+  EXPECT_EQ(v1.normal, glm::vec3(0.0f));  // the shaders use the face normal for it
+}
+
+TEST(Loader, TextureTransformIsBakedIntoUvs) {
+  scene::Scene s = scene::loadScene(data("texture_transform.gltf"));
+  ASSERT_EQ(s.triangles.size(), 6u);
+  auto uv = [&](uint32_t tri, int corner) {
+    const gs::Vertex& v = s.vertices[(&s.triangles[tri].v0)[corner]];
+    return glm::vec2(v.u, v.v);
+  };
+  auto near2 = [](glm::vec2 a, glm::vec2 b) { return glm::length(a - b) < 1e-5f; };
+  // Quad uvs (0,0), (1,0), (1,1) on triangle 0. Offset (0.5, 0), scale 0.5:
+  EXPECT_TRUE(near2(uv(0, 0), {0.5f, 0.0f}));
+  EXPECT_TRUE(near2(uv(0, 1), {1.0f, 0.0f}));
+  EXPECT_TRUE(near2(uv(0, 2), {1.0f, 0.5f}));
+  // The extension's example: lower-left quadrant (u < 0.5, v > 0.5 with v down), rotated.
+  EXPECT_TRUE(near2(uv(2, 0), {0.0f, 1.0f}));
+  EXPECT_TRUE(near2(uv(2, 1), {0.0f, 0.5f}));
+  EXPECT_TRUE(near2(uv(2, 2), {0.5f, 0.5f}));
+  // Slots that disagree: warned, the first (base colour) transform used.
+  EXPECT_TRUE(hasWarning(s, "different KHR_texture_transform"));
+  EXPECT_TRUE(near2(uv(4, 1), {1.0f, 0.0f}));
+  EXPECT_FALSE(hasWarning(s, "unsupported extension KHR_texture_transform"));
+}
+
 TEST(Loader, AlphaModes) {
   scene::Scene s = scene::loadScene(data("alpha_mask.gltf"));
   ASSERT_EQ(s.materials.size(), 3u);
@@ -224,6 +270,9 @@ TEST(Loader, MaterialExtensionsWarningsAndEmissivePower) {
   scene::Scene s = scene::loadScene(data("materials.gltf"));
   EXPECT_EQ(s.triangles.size(), 8u);  // the LINES primitive is skipped
   EXPECT_TRUE(hasWarning(s, "KHR_materials_clearcoat"));
+  int clearcoat = 0;  // named in extensionsUsed and by a material: warned once
+  for (const auto& w : s.warnings) clearcoat += w.find("KHR_materials_clearcoat") != std::string::npos;
+  EXPECT_EQ(clearcoat, 1);
   EXPECT_TRUE(hasWarning(s, "mode 1"));
   ASSERT_EQ(s.materials.size(), 4u);  // three + the default for the primitive without one
   const gs::Material& glass = s.materials[0];
@@ -267,6 +316,18 @@ TEST(Loader, SparseAccessors) {
   const gs::Triangle& t = s.triangles[2];
   expectNear(s.vertices[t.v0].position, {0, 0, 2});
   expectNear(s.vertices[t.v2].position, {1, 1, 2});
+}
+
+TEST(Loader, QuantizedAttributes) {
+  scene::Scene s = scene::loadScene(data("quantized.gltf"));
+  EXPECT_TRUE(s.warnings.empty());  // KHR_mesh_quantization is supported
+  ASSERT_EQ(s.triangles.size(), 2u);
+  const gs::Triangle& t = s.triangles[0];
+  expectNear(s.vertices[t.v1].position, {1, 0, 0});  // int16 1000 x node scale 0.001
+  expectNear(s.vertices[t.v2].position, {1, 1, 0});
+  expectNear(s.vertices[t.v0].normal, {0, 0, 1});  // int8 127 normalized
+  EXPECT_NEAR(s.vertices[t.v0].v, 1.0f, 1e-6f);    // uint16 65535 normalized
+  EXPECT_NEAR(s.vertices[t.v2].u, 1.0f, 1e-6f);
 }
 
 // ---- Bad input: InputError, one line, starting with the file name ----------------------------
@@ -338,4 +399,52 @@ TEST(LoaderBadInput, EveryTruncationOfAGlb) {
     }
   }
   EXPECT_GT(refused, 0);
+}
+
+namespace {
+
+// nonindexed.gltf (one mesh, buffer in a data: URI) with its node list replaced.
+std::string withNodes(const std::string& name, const nlohmann::json& nodes, const nlohmann::json& roots) {
+  std::ifstream in(data("nonindexed.gltf"));
+  nlohmann::json doc = nlohmann::json::parse(in);
+  doc["nodes"] = nodes;
+  doc["scenes"][0]["nodes"] = roots;
+  std::string path = ::testing::TempDir() + name;
+  std::ofstream(path) << doc.dump();
+  return path;
+}
+
+}  // namespace
+
+TEST(Loader, DeepHierarchyNeedsNoDeepStack) {
+  // 100k nested nodes (a recursive walk would need tens of MiB of stack), each translating by
+  // 2^-17 in x, which float sums exactly; the mesh at the bottom.
+  const int depth = 100000;
+  const double step = 1.0 / 131072;
+  nlohmann::json nodes = nlohmann::json::array();
+  for (int i = 0; i < depth - 1; ++i)
+    nodes.push_back({{"children", {i + 1}}, {"translation", {step, 0, 0}}});
+  nodes.push_back({{"mesh", 0}});
+  scene::Scene s = scene::loadScene(withNodes("deep.gltf", nodes, {0}));
+  EXPECT_EQ(s.vertices[0].position.x, float((depth - 1) * step));
+}
+
+TEST(LoaderBadInput, NodeCyclesAndSecondParents) {
+  nlohmann::json cycle = {{{"children", {1}}}, {{"children", {0}}, {"mesh", 0}}};
+  expectInputError(withNodes("cycle.gltf", cycle, {0}), "reached twice");
+  nlohmann::json shared = {{{"children", {2}}}, {{"children", {2}}}, {{"mesh", 0}}};
+  expectInputError(withNodes("shared.gltf", shared, {0, 1}), "reached twice");
+  expectInputError(withNodes("dangling.gltf", {{{"children", {7}}}}, {0}), "node 7 does not exist");
+}
+
+TEST(LoaderBadInput, HugeCountWithoutBufferView) {
+  std::ifstream in(data("nonindexed.gltf"));
+  nlohmann::json doc = nlohmann::json::parse(in);
+  doc["accessors"][0].erase("bufferView");  // zeros: nothing bounds the count but the count
+  doc["accessors"][0].erase("min");
+  doc["accessors"][0].erase("max");
+  doc["accessors"][0]["count"] = 1ll << 40;
+  std::string path = ::testing::TempDir() + "huge_count.gltf";
+  std::ofstream(path) << doc.dump();
+  expectInputError(path, "too large");
 }

@@ -23,9 +23,9 @@ struct Case {
   std::string path;
 };
 
-void checkScene(const std::string& path, uint32_t count) {
+void checkScene(const scene::Scene& s, uint32_t count) {
+  const std::string& path = s.path;
   auto& ctx = test::context();
-  scene::Scene s = scene::loadScene(path);
   scene::GpuScene g(ctx, s);
   std::mt19937 rng(1234);
   std::uniform_real_distribution<float> u01(0.0f, 1.0f);
@@ -79,8 +79,9 @@ void checkScene(const std::string& path, uint32_t count) {
     EXPECT_NEAR(gpu.transmission, cpu.m.transmission, 1e-4f) << where;
     EXPECT_EQ(gpu.doubleSided != 0, cpu.m.doubleSided) << where;
     const auto& mat = s.materials[cpu.material];
-    if (std::abs(cpu.m.alpha - mat.alphaCutoff) > 1e-3f)
+    if (std::abs(cpu.m.alpha - mat.alphaCutoff) > 1e-3f) {
       EXPECT_EQ(gpu.alphaCutout != 0, cpuCut) << where << " alpha " << cpu.m.alpha;
+    }
     cutouts += cpuCut;
   }
   if (path.find("alpha_mask") != std::string::npos) {
@@ -90,7 +91,34 @@ void checkScene(const std::string& path, uint32_t count) {
   }
 }
 
+void checkScene(const std::string& path, uint32_t count) { checkScene(scene::loadScene(path), count); }
+
 }  // namespace
+
+// Negative and far-out uvs (thousands of periods) under each wrap mode: the GLSL wrap must not
+// rely on `%` of negative numbers (undefined in GLSL) and must agree with the C++ twin.
+TEST(SceneProbe, FarUvsUnderEveryWrapMode) {
+  scene::Scene s;
+  s.path = "far uvs (in memory)";
+  for (uint32_t mode = 0; mode < 9; ++mode) {
+    scene::Texture t;
+    t.width = 5;
+    t.height = 3;
+    t.wrap = (mode % 3) | ((mode / 3) << 2);
+    for (uint32_t i = 0; i < 15; ++i) t.texels.push_back(0xff000000u | (i * 17u) | ((255u - i * 13u) << 8));
+    s.textures.push_back(t);
+    gpu::scene::Material m = scene::defaultMaterial();
+    m.baseColorTexture = int(mode);
+    s.materials.push_back(m);
+    float o = -3000.0f + 700.0f * mode;
+    uint32_t v = uint32_t(s.vertices.size());
+    s.vertices.push_back({{0, 0, 0}, o, {0, 0, 1}, -o});
+    s.vertices.push_back({{1, 0, 0}, o + 7.3f, {0, 0, 1}, -o});
+    s.vertices.push_back({{0, 1, 0}, o, {0, 0, 1}, -o - 5.1f});
+    s.triangles.push_back({v, v + 1, v + 2, mode});
+  }
+  checkScene(s, 3000);
+}
 
 TEST(SceneProbe, TexturedAllSlotsWrapModesAndNormalMap) { checkScene(test::dataPath("scene/textured.gltf"), 2000); }
 TEST(SceneProbe, AlphaMask) { checkScene(test::dataPath("scene/alpha_mask.gltf"), 2000); }
@@ -98,6 +126,9 @@ TEST(SceneProbe, HierarchyAndMaterials) {
   checkScene(test::dataPath("scene/hierarchy.gltf"), 500);
   checkScene(test::dataPath("scene/materials.gltf"), 500);
   checkScene(test::dataPath("scene/quad.glb"), 200);
+  checkScene(test::dataPath("scene/degenerate_attributes.gltf"), 200);
+  checkScene(test::dataPath("scene/texture16.gltf"), 200);
+  checkScene(test::dataPath("scene/texture_transform.gltf"), 200);
 }
 TEST(SceneProbe, ReferenceScenes) {
   checkScene(test::referencePath("cornell/cornell.gltf"), 1000);

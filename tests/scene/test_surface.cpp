@@ -62,6 +62,16 @@ TEST(Surface, WrapModes) {
     expectNear4(scene::sampleTexture(mirror, 0, -uv), scene::sampleTexture(mirror, 0, uv), where);
     expectNear4(scene::sampleTexture(mirror, 0, uv + glm::vec2(2, 4)), scene::sampleTexture(mirror, 0, uv), where);
   }
+  // Far outside [0, 1]: still a texel of the texture (values stay in [0, 1]).
+  for (const scene::Scene* sc : {&repeat, &clamp, &mirror})
+    for (float far : {1e20f, -1e20f, 12345.678f, -7777.25f}) {
+      glm::vec4 v = scene::sampleTexture(*sc, 0, {far, -far});
+      EXPECT_TRUE(glm::all(glm::greaterThanEqual(v, glm::vec4(0.0f))) && glm::all(glm::lessThanEqual(v, glm::vec4(1.0f))));
+    }
+  // Repeat at a large integer offset is still periodic (uvs exact in float, so only the wrap
+  // arithmetic could differ).
+  expectNear4(scene::sampleTexture(repeat, 0, glm::vec2(0.125f, 0.3125f) + glm::vec2(-4096, 4096)),
+              scene::sampleTexture(repeat, 0, {0.125f, 0.3125f}), "large offset");
   // Clamp: beyond the edge is the edge texel.
   expectNear4(scene::sampleTexture(clamp, 0, {-3.0f, 5.0f}), texelValue(clamp, 0, 1), "clamp corner");
   expectNear4(scene::sampleTexture(clamp, 0, {7.0f, -1.0f}), texelValue(clamp, 2, 0), "clamp corner");

@@ -1,0 +1,107 @@
+// bvh: GPU build time per pass and in total, Mtriangles/s, SAH of the GPU tree and of the CPU
+// binned-SAH tree, and Embree (2 threads, same cores, same run) as the peer. Every GPU tree is
+// checked for the structural invariants before it is timed.
+#include <chrono>
+#include <cstdio>
+#include <limits>
+
+#include "app/args.h"
+#include "bench/benchmarks.h"
+#include "bench/bvh_scenes.h"
+#include "bench/embree_peer.h"
+#include "bench/json.h"
+#include "bvh/cpu_builder.h"
+#include "bvh/gpu_builder.h"
+#include "bvh/tree_stats.h"
+#include "vk/buffer.h"
+
+namespace osr::bench {
+
+namespace {
+double msSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+}  // namespace
+
+int runBvh(const std::vector<std::string>& argv) {
+  app::Args args(argv, "osr-bench bvh");
+  std::string only = args.value("--scene").value_or("");
+  int repeat = int(args.integer("--repeat", 1, 100).value_or(3));
+  bvh::GpuBuildOptions options;
+  options.treeletRounds = uint32_t(args.integer("--treelet-rounds", 0, 8).value_or(options.treeletRounds));
+  options.treeletLeaves = uint32_t(
+      args.integer("--treelet-leaves", 3, gpu::bvh_build::kTreeletMaxLeaves).value_or(options.treeletLeaves));
+  args.finish();
+  vk::Context ctx;
+  bvh::GpuBuilder builder(ctx, options);
+  for (const BvhBenchScene& s : bvhBenchScenes(only)) {
+    const auto& m = s.mesh;
+    const uint32_t n = uint32_t(m.triangles.size());
+    vk::Buffer vertices(ctx, m.vertices.size() * sizeof(gpu::scene::Vertex), vk::MemoryUse::DeviceLocal, "bench vertices");
+    vk::Buffer triangles(ctx, m.triangles.size() * sizeof(gpu::scene::Triangle), vk::MemoryUse::DeviceLocal, "bench triangles");
+    vertices.uploadVector(m.vertices);
+    triangles.uploadVector(m.triangles);
+
+    // Verify, then time the best of `repeat` builds (GPU timestamps; wall time alongside).
+    bvh::BuildStats stats;
+    bvh::HostBvh gpuTree = bvh::download(builder.build(vertices, triangles, n, &stats));
+    std::string problem = bvh::checkInvariants(gpuTree, m.vertices, m.triangles);
+    if (!problem.empty()) {
+      std::fprintf(stderr, "osr-bench bvh: %s: GPU tree invalid: %s\n", s.name.c_str(), problem.c_str());
+      return 1;
+    }
+    double sahGpu = bvh::sahCost(gpuTree);
+    bvh::BuildStats best;
+    best.totalMs = std::numeric_limits<double>::infinity();
+    double bestWall = best.totalMs;
+    for (int r = 0; r < repeat; ++r) {
+      auto start = std::chrono::steady_clock::now();
+      builder.build(vertices, triangles, n, &stats);
+      bestWall = std::min(bestWall, msSince(start));
+      if (stats.totalMs < best.totalMs) best = stats;
+    }
+    auto cpuStart = std::chrono::steady_clock::now();
+    bvh::HostBvh cpuTree = bvh::buildCpu(m.vertices, m.triangles);
+    double cpuMs = msSince(cpuStart);
+    double sahCpu = bvh::sahCost(cpuTree);
+
+    JsonLine line;
+    line.str("bench", "bvh").str("scene", s.name).integer("triangles", n).str("device", ctx.caps().deviceName);
+    line.num("build_ms", best.totalMs).num("mtris_per_s", n / (best.totalMs * 1e3));
+    line.num("sah_gpu", sahGpu).num("sah_cpu", sahCpu).num("sah_ratio", sahGpu / sahCpu);
+    line.integer("treelet_rounds", options.treeletRounds).integer("treelet_leaves", options.treeletLeaves);
+    line.integer("depth", bvh::depth(gpuTree)).num("wall_ms", bestWall).num("cpu_build_ms", cpuMs);
+    for (const auto& p : best.passes) line.num(("pass_" + p.name + "_ms").c_str(), p.ms);
+#ifdef OSR_HAVE_EMBREE
+    EmbreePeer peer(m, 2);
+    double embreeMs = std::numeric_limits<double>::infinity();
+    EmbreePeer::BinaryBvh binary;
+    binary.ms = embreeMs;
+    for (int r = 0; r < repeat; ++r) {
+      embreeMs = std::min(embreeMs, peer.buildScene());
+      auto b = peer.buildBinaryBvh();
+      if (b.ms < binary.ms) binary = b;
+    }
+    line.num("build_ratio_vs_embree", best.totalMs / embreeMs);
+    line.print();
+    JsonLine()
+        .str("bench", "bvh")
+        .str("peer", "embree")
+        .str("scene", s.name)
+        .integer("triangles", n)
+        .str("device", "Embree 3 on the CPU, 2 threads")
+        .num("build_ms", embreeMs)
+        .num("mtris_per_s", n / (embreeMs * 1e3))
+        .num("sah_embree", binary.sah)
+        .num("sah_cpu", sahCpu)
+        .num("bvh_build_ms", binary.ms)
+        .integer("depth", binary.depth)
+        .print();
+#else
+    line.print();
+#endif
+  }
+  return 0;
+}
+
+}  // namespace osr::bench

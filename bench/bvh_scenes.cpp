@@ -1,0 +1,40 @@
+#include "bench/bvh_scenes.h"
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include "common/error.h"
+
+namespace osr::bench {
+
+std::vector<BvhBenchScene> bvhBenchScenes(const std::string& only) {
+  std::vector<BvhBenchScene> out;
+  if (only.empty() || only == "generated_1m") {
+    // A displaced sphere (1,000,000 triangles) around a cloud of 50,000 small triangles: long
+    // thin triangles near the poles, a dense interior, and rays that cross both.
+    BvhBenchScene s;
+    s.name = "generated_1m";
+    s.mesh = bvh::makeSphere({0, 0, 0}, 1.0f, 1000, 500, 0.15f);
+    s.mesh.append(bvh::makeSoup(50000, 1, {0, 0, 0}, 0.5f, 0.02f));
+    // Inside the sphere looking at the cloud, so primary rays hit both.
+    s.worldFromCamera = glm::inverse(glm::lookAt(glm::vec3(0.1f, 0.2f, 0.9f), glm::vec3(0), glm::vec3(0, 1, 0)));
+    s.yfov = 1.2f;
+    out.push_back(std::move(s));
+  }
+  for (const char* name : {"cornell", "room"}) {
+    if (!only.empty() && only != name) continue;
+    std::string path = std::string(OSR_SOURCE_DIR) + "/scenes/" + name + "/" + name + ".gltf";
+    scene::Scene sc = scene::loadScene(path);
+    scene::Camera cam = scene::selectCamera(sc, "", 1.0f);
+    BvhBenchScene s;
+    s.name = name;
+    s.mesh.vertices = std::move(sc.vertices);
+    s.mesh.triangles = std::move(sc.triangles);
+    s.worldFromCamera = cam.worldFromCamera;
+    s.yfov = cam.yfov;
+    out.push_back(std::move(s));
+  }
+  if (out.empty()) throw InputError("osr-bench: unknown scene '" + only + "' (generated_1m, cornell, room)");
+  return out;
+}
+
+}  // namespace osr::bench

@@ -1,0 +1,18 @@
+#version 460
+// bvh_treelet_count: number of nodes per height that this treelet round restructures
+// (treeletLevel). Inputs: refitted build nodes, schedule zeroed. Output: gLevels[h].count.
+// param = minTriangles.
+#extension GL_GOOGLE_include_directive : require
+#include "shared/bvh_build.h"
+
+layout(local_size_x = kWorkgroupSize) in;
+layout(push_constant) uniform PushBlock { BuildPush gPush; };
+#include "lib/bvh_build_nodes.glsl"
+#include "lib/bvh_treelet_schedule.glsl"
+
+void main() {
+  uint i = gl_GlobalInvocationID.x;
+  if (i >= interiorCount()) return;
+  int h = treeletLevel(i, gPush.param);
+  if (h >= 0) atomicAdd(gLevels[h].count, 1u);
+}

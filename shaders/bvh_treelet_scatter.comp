@@ -1,0 +1,17 @@
+#version 460
+// bvh_treelet_scatter: appends each node this round restructures to its height's list (order
+// within a height does not matter: those subtrees are disjoint). param = minTriangles.
+#extension GL_GOOGLE_include_directive : require
+#include "shared/bvh_build.h"
+
+layout(local_size_x = kWorkgroupSize) in;
+layout(push_constant) uniform PushBlock { BuildPush gPush; };
+#include "lib/bvh_build_nodes.glsl"
+#include "lib/bvh_treelet_schedule.glsl"
+
+void main() {
+  uint i = gl_GlobalInvocationID.x;
+  if (i >= interiorCount()) return;
+  int h = treeletLevel(i, gPush.param);
+  if (h >= 0) gNodeList[atomicAdd(gLevels[h].cursor, 1u)] = i;
+}
