@@ -202,7 +202,19 @@ void addLight(inout Sample s, uint bounces, vec3 l) {
   if (bounces <= 1u) s.direct += l; else s.indirect += l;
 }
 
-Sample tracePath(vec3 origin, vec3 dir, inout Rng rng) {
+// The state of one path between bounces.
+struct PathState {
+  vec3 origin;
+  vec3 dir;
+  vec3 beta;       // throughput
+  float prevPdf;   // BSDF pdf of the direction that led here (0: camera ray or delta lobe)
+  vec3 prevPos;
+  uint bounce;     // surfaces met so far
+  Rng rng;
+  Sample s;
+};
+
+Sample emptySample() {
   Sample s;
   s.direct = vec3(0.0);
   s.indirect = vec3(0.0);
@@ -210,98 +222,106 @@ Sample tracePath(vec3 origin, vec3 dir, inout Rng rng) {
   s.normal = vec3(0.0);
   s.depth = 0.0;
   s.hit = false;
-  vec3 beta = vec3(1.0);
-  float prevPdf = 0.0;   // BSDF pdf of the direction that led here (0: camera or delta)
-  vec3 prevPos = origin;
-  for (uint bounce = 0u;; ++bounce) {
-    Hit hit;
-    if (!bvhClosestHit(origin, dir, 0.0, kInfinity, hit)) {
-      if (gSceneInfo.envWidth > 0u) {
-        vec3 le = environmentRadiance(dir);
-        float w = prevPdf > 0.0 ? powerHeuristic(prevPdf, environmentLightPdf(dir)) : 1.0;
-        addLight(s, bounce, beta * w * le);
-      }
-      break;
-    }
-    SurfaceSample surf = surfaceAt(hit.triangle, hit.barycentrics);
-    vec3 wo = -dir;
-    vec3 ng = surf.geometricNormal;
-    vec3 ns = surf.shadingNormal;
-    if (dot(ns, ng) < 0.0) ns = -ns;  // vertex normals disagreeing with the winding
-    bool front = dot(ng, wo) > 0.0;
-    if (!front) {
-      ng = -ng;
-      ns = -ns;
-    }
-    if (bounce == 0u) {
-      s.hit = true;
-      s.albedo = surf.m.baseColor;
-      s.normal = ns;
-      s.depth = dot(surf.position - gFrame.cameraOrigin.xyz, -gFrame.cameraBack.xyz);
-    }
-    // Emission (front faces, and back faces of double-sided materials).
-    if ((front || surf.m.doubleSided) && any(greaterThan(surf.m.emission, vec3(0.0)))) {
-      float w = 1.0;
-      if (prevPdf > 0.0)
-        w = powerHeuristic(prevPdf, emissivePdf(hit.triangle, prevPos, surf.position, ng));
-      addLight(s, bounce, beta * w * surf.m.emission);
-    }
-    // Shading frame facing wo; where the shading normal puts wo below the horizon, use the
-    // geometric normal rather than shade a direction the BSDF has no value for.
-    if (dot(ns, wo) <= 1e-4) ns = ng;
-    vec3 t, b;
-    frameFromNormal(ns, t, b);
-    vec3 woLocal = toLocal(wo, t, b, ns);
-    BsdfParams bp = bsdfParams(surf.m, front);
-
-    // Next-event estimation.
-    LightSample ls;
-    if (sampleLight(surf.position, rngNext3(rng), ls)) {
-      vec3 wiLocal = toLocal(ls.wi, t, b, ns);
-      // Reject directions on different sides by the shading and geometric normals (light
-      // leaks through shading-normal interpolation).
-      if ((dot(ls.wi, ng) > 0.0) == (wiLocal.z > 0.0)) {
-        float bsdfPdf;
-        vec3 f = bsdfEval(bp, woLocal, wiLocal, bsdfPdf);
-        if (any(greaterThan(f, vec3(0.0)))) {
-          vec3 o = offsetRayOrigin(surf.position, dot(ls.wi, ng) > 0.0 ? ng : -ng);
-          float tMax = ls.distance == kInfinity ? kInfinity : ls.distance * (1.0 - 1e-4);
-          if (!bvhAnyHit(o, ls.wi, 0.0, tMax)) {
-            float w = ls.delta ? 1.0 : powerHeuristic(ls.pdf, bsdfPdf);
-            addLight(s, bounce + 1u, beta * f * ls.radiance * (w / ls.pdf));
-          }
-        }
-      }
-    }
-
-    // Continue the path by sampling the BSDF.
-    BsdfSample bs;
-    if (!bsdfSample(bp, woLocal, rngNext3(rng), bs)) break;
-    vec3 wi = toWorld(bs.wi, t, b, ns);
-    if ((dot(wi, ng) > 0.0) != (bs.wi.z > 0.0)) break;
-    beta *= bs.weight;
-    prevPdf = bs.delta ? 0.0 : bs.pdf;
-    prevPos = surf.position;
-    origin = offsetRayOrigin(surf.position, dot(wi, ng) > 0.0 ? ng : -ng);
-    dir = wi;
-    if (bounce >= 3u) {
-      float survive = min(maxComponent(beta), 0.95);
-      if (rngNext(rng) >= survive) break;
-      beta /= survive;
-    }
-    if (!(maxComponent(beta) > 0.0)) break;
-  }
   return s;
 }
 
+// Starts sample `sampleIndex` of `pixel`: its random stream and jittered camera ray.
+PathState startPath(uint pixel, uint sampleIndex) {
+  PathState p;
+  p.rng = rngInit(pixel, sampleIndex, gFrame.seed);
+  cameraRay(pixel % gFrame.width, pixel / gFrame.width, rngNext2(p.rng), p.origin, p.dir);
+  p.beta = vec3(1.0);
+  p.prevPdf = 0.0;
+  p.prevPos = p.origin;
+  p.bounce = 0u;
+  p.s = emptySample();
+  return p;
+}
+
+// One bounce: finds the next surface, adds its emission and next-event estimate, samples the
+// BSDF for the continuation. Returns true when the path has ended.
+bool pathStep(inout PathState p) {
+  Hit hit;
+  if (!bvhClosestHit(p.origin, p.dir, 0.0, kInfinity, hit)) {
+    if (gSceneInfo.envWidth > 0u) {
+      vec3 le = environmentRadiance(p.dir);
+      float w = p.prevPdf > 0.0 ? powerHeuristic(p.prevPdf, environmentLightPdf(p.dir)) : 1.0;
+      addLight(p.s, p.bounce, p.beta * w * le);
+    }
+    return true;
+  }
+  SurfaceSample surf = surfaceAt(hit.triangle, hit.barycentrics);
+  vec3 wo = -p.dir;
+  vec3 ng = surf.geometricNormal;
+  vec3 ns = surf.shadingNormal;
+  if (dot(ns, ng) < 0.0) ns = -ns;  // vertex normals disagreeing with the winding
+  bool front = dot(ng, wo) > 0.0;
+  if (!front) {
+    ng = -ng;
+    ns = -ns;
+  }
+  if (p.bounce == 0u) {
+    p.s.hit = true;
+    p.s.albedo = surf.m.baseColor;
+    p.s.normal = ns;
+    p.s.depth = dot(surf.position - gFrame.cameraOrigin.xyz, -gFrame.cameraBack.xyz);
+  }
+  // Emission (front faces, and back faces of double-sided materials).
+  if ((front || surf.m.doubleSided) && any(greaterThan(surf.m.emission, vec3(0.0)))) {
+    float w = 1.0;
+    if (p.prevPdf > 0.0)
+      w = powerHeuristic(p.prevPdf, emissivePdf(hit.triangle, p.prevPos, surf.position, ng));
+    addLight(p.s, p.bounce, p.beta * w * surf.m.emission);
+  }
+  // Shading frame facing wo; where the shading normal puts wo below the horizon, use the
+  // geometric normal rather than shade a direction the BSDF has no value for.
+  if (dot(ns, wo) <= 1e-4) ns = ng;
+  vec3 t, b;
+  frameFromNormal(ns, t, b);
+  vec3 woLocal = toLocal(wo, t, b, ns);
+  BsdfParams bp = bsdfParams(surf.m, front);
+
+  // Next-event estimation.
+  LightSample ls;
+  if (sampleLight(surf.position, rngNext3(p.rng), ls)) {
+    vec3 wiLocal = toLocal(ls.wi, t, b, ns);
+    // Reject directions on different sides by the shading and geometric normals (light
+    // leaks through shading-normal interpolation).
+    if ((dot(ls.wi, ng) > 0.0) == (wiLocal.z > 0.0)) {
+      float bsdfPdf;
+      vec3 f = bsdfEval(bp, woLocal, wiLocal, bsdfPdf);
+      if (any(greaterThan(f, vec3(0.0)))) {
+        vec3 o = offsetRayOrigin(surf.position, dot(ls.wi, ng) > 0.0 ? ng : -ng);
+        float tMax = ls.distance == kInfinity ? kInfinity : ls.distance * (1.0 - 1e-4);
+        if (!bvhAnyHit(o, ls.wi, 0.0, tMax)) {
+          float w = ls.delta ? 1.0 : powerHeuristic(ls.pdf, bsdfPdf);
+          addLight(p.s, p.bounce + 1u, p.beta * f * ls.radiance * (w / ls.pdf));
+        }
+      }
+    }
+  }
+
+  // Continue the path by sampling the BSDF.
+  BsdfSample bs;
+  if (!bsdfSample(bp, woLocal, rngNext3(p.rng), bs)) return true;
+  vec3 wi = toWorld(bs.wi, t, b, ns);
+  if ((dot(wi, ng) > 0.0) != (bs.wi.z > 0.0)) return true;
+  p.beta *= bs.weight;
+  p.prevPdf = bs.delta ? 0.0 : bs.pdf;
+  p.prevPos = surf.position;
+  p.origin = offsetRayOrigin(surf.position, dot(wi, ng) > 0.0 ? ng : -ng);
+  p.dir = wi;
+  if (p.bounce >= 3u) {
+    float survive = min(maxComponent(p.beta), 0.95);
+    if (rngNext(p.rng) >= survive) return true;
+    p.beta /= survive;
+  }
+  p.bounce += 1u;
+  return !(maxComponent(p.beta) > 0.0);
+}
+
 Sample tracePreview(vec3 origin, vec3 dir) {
-  Sample s;
-  s.direct = vec3(0.0);
-  s.indirect = vec3(0.0);
-  s.albedo = vec3(0.0);
-  s.normal = vec3(0.0);
-  s.depth = 0.0;
-  s.hit = false;
+  Sample s = emptySample();
   Hit hit;
   if (!bvhClosestHit(origin, dir, 0.0, kInfinity, hit)) return s;
   SurfaceSample surf = surfaceAt(hit.triangle, hit.barycentrics);
@@ -315,22 +335,12 @@ Sample tracePreview(vec3 origin, vec3 dir) {
   return s;
 }
 
-void main() {
-  uint local = gl_GlobalInvocationID.x;
-  if (local >= gPush.pixelCount) return;
-  uint pixel = gPush.pixelOffset + local;
-  uint x = pixel % gFrame.width;
-  uint y = pixel / gFrame.width;
-  Rng rng = rngInit(pixel, gPush.sampleIndex, gFrame.seed);
-  vec3 origin, dir;
-  cameraRay(x, y, rngNext2(rng), origin, dir);
-  Sample s = kIntegrator == kIntegratorPreview ? tracePreview(origin, dir)
-                                               : tracePath(origin, dir, rng);
+// Adds one finished sample to the pixel's running sums (kept in registers until the end).
+void accumulate(inout FilmPixel f, Sample s) {
   // A non-finite sample (never expected) would poison the pixel forever: drop its radiance
   // and count it in normal.w, which the host reports as dropped samples.
   vec3 l = s.direct + s.indirect;
   bool finite = !any(isnan(l)) && !any(isinf(l));
-  FilmPixel f = gFilm[pixel];
   f.combined += vec4(finite ? l : vec3(0.0), 1.0);
   f.direct.rgb += finite ? s.direct : vec3(0.0);
   f.indirect.rgb += finite ? s.indirect : vec3(0.0);
@@ -338,5 +348,32 @@ void main() {
   f.normal.rgb += s.normal;
   f.normal.w += finite ? 0.0 : 1.0;
   f.depth += s.hit ? vec4(s.depth, 1.0, 0.0, 0.0) : vec4(0.0);
+}
+
+void main() {
+  uint local = gl_GlobalInvocationID.x;
+  if (local >= gPush.pixelCount) return;
+  uint pixel = gPush.pixelOffset + local;
+  FilmPixel f = gFilm[pixel];
+  if (kIntegrator == kIntegratorPreview) {
+    for (uint i = 0u; i < gPush.sampleCount; ++i) {
+      PathState p = startPath(pixel, gPush.sampleIndex + i);
+      accumulate(f, tracePreview(p.origin, p.dir));
+    }
+  } else {
+    // One flat loop over bounces of successive samples, so that a lane whose path ends starts
+    // its next sample at once instead of idling until the longest path of its SIMD group ends
+    // (path regeneration, Novak et al. 2010). Sample i uses the random stream of sample index
+    // sampleIndex + i: the image does not depend on how samples are split into dispatches.
+    uint i = 0u;
+    PathState p = startPath(pixel, gPush.sampleIndex);
+    while (true) {
+      if (pathStep(p)) {
+        accumulate(f, p.s);
+        if (++i == gPush.sampleCount) break;
+        p = startPath(pixel, gPush.sampleIndex + i);
+      }
+    }
+  }
   gFilm[pixel] = f;
 }

@@ -50,12 +50,13 @@ struct Frame {
   float _pad2;
 };
 
-// One dispatch: pixels [pixelOffset, pixelOffset + pixelCount), sample number sampleIndex.
+// One dispatch: pixels [pixelOffset, pixelOffset + pixelCount), samples with indices
+// [sampleIndex, sampleIndex + sampleCount).
 struct Push {
   uint pixelOffset;
   uint pixelCount;
   uint sampleIndex;
-  uint _pad0;
+  uint sampleCount;
 };
 
 OSR_NAMESPACE_END

@@ -56,7 +56,7 @@ FilmLayers render(const vk::Context& ctx, const scene::GpuScene& scene, const bv
     }
     const double t0 = elapsed();
     ctx.submitAndWait([&](VkCommandBuffer cmd) {
-      for (uint32_t i = 0; i < n; ++i) pass.record(cmd, {&film, &frame, &bvh, &scene, done + i});
+      pass.record(cmd, {&film, &frame, &bvh, &scene, done, n});
     });
     const double dt = elapsed() - t0;
     done += n;

@@ -1,5 +1,5 @@
 // The progressive render loop: samples are added to the film in batches (one submission per
-// batch, one dispatch per sample and pixel chunk) until the sample count or the time budget
+// batch, dispatches of a few samples over chunks of pixels) until the sample count or the time budget
 // runs out, whichever comes first. The same seed gives the same image.
 #pragma once
 #include <functional>

@@ -19,11 +19,16 @@ void TracePass::record(VkCommandBuffer cmd, const Args& a) const {
   for (const vk::BufferRange& r : a.bvh->bindings()) buffers.push_back(r);
   for (const vk::BufferRange& r : a.scene->bindings()) buffers.push_back(r);
   const uint32_t pixels = a.film->pixelCount();
-  for (uint32_t first = 0; first < pixels; first += kMaxPixelsPerDispatch) {
-    pt::Push push{first, std::min(kMaxPixelsPerDispatch, pixels - first), a.sampleIndex, 0};
-    pipeline_.bindSpan(cmd, buffers, push);
-    pipeline_.dispatch(cmd, vk::groupCount(push.pixelCount, pt::kPtWorkgroupSize));
-    vk::computeBarrier(cmd);
+  for (uint32_t done = 0; done < a.sampleCount;) {
+    const uint32_t samples = std::min(kMaxSamplesPerDispatch, a.sampleCount - done);
+    for (uint32_t first = 0; first < pixels; first += kMaxPixelsPerDispatch) {
+      pt::Push push{first, std::min(kMaxPixelsPerDispatch, pixels - first), a.sampleIndex + done,
+                    samples};
+      pipeline_.bindSpan(cmd, buffers, push);
+      pipeline_.dispatch(cmd, vk::groupCount(push.pixelCount, pt::kPtWorkgroupSize));
+      vk::computeBarrier(cmd);
+    }
+    done += samples;
   }
 }
 

@@ -20,15 +20,18 @@ class TracePass {
   TracePass(const vk::Context& ctx, uint32_t integrator);
 
   static constexpr uint32_t kMaxPixelsPerDispatch = 1u << 20;
+  static constexpr uint32_t kMaxSamplesPerDispatch = 8;
 
   struct Args {
     const Film* film = nullptr;
     const vk::Buffer* frame = nullptr;  // gpu::pt::Frame
     const bvh::Bvh* bvh = nullptr;
     const scene::GpuScene* scene = nullptr;
-    uint32_t sampleIndex = 0;
+    uint32_t sampleIndex = 0;  // first sample
+    uint32_t sampleCount = 1;
   };
-  // Records one sample for every pixel (several dispatches for large films), with barriers.
+  // Records samples [sampleIndex, sampleIndex + sampleCount) for every pixel, in dispatches of
+  // bounded size, with barriers.
   void record(VkCommandBuffer cmd, const Args& args) const;
 
  private:
