@@ -211,8 +211,23 @@ struct PathState {
   vec3 prevPos;
   uint bounce;     // surfaces met so far
   Rng rng;
+  uint pixel;
+  uint sampleIndex;
   Sample s;
 };
+
+// Stratified 2-D sample for dimension pair `pair` of this path's sample (see sobolOwen2).
+vec2 stratified2(PathState p, uint pair) {
+  return sobolOwen2(p.sampleIndex, pcgHash(p.pixel ^ pcgHash(gFrame.seed + pair * 0x9e3779b9u)));
+}
+
+// The three numbers of the light sample (which = 0) or the BSDF sample (which = 1): stratified
+// over the pixel's samples at the first surface, independent after it.
+vec3 bounceRandom3(inout PathState p, uint which) {
+  if (p.bounce != 0u) return rngNext3(p.rng);
+  vec2 choice = stratified2(p, 1u);
+  return vec3(which == 0u ? choice.x : choice.y, stratified2(p, 2u + which));
+}
 
 Sample emptySample() {
   Sample s;
@@ -229,7 +244,9 @@ Sample emptySample() {
 PathState startPath(uint pixel, uint sampleIndex) {
   PathState p;
   p.rng = rngInit(pixel, sampleIndex, gFrame.seed);
-  cameraRay(pixel % gFrame.width, pixel / gFrame.width, rngNext2(p.rng), p.origin, p.dir);
+  p.pixel = pixel;
+  p.sampleIndex = sampleIndex;
+  cameraRay(pixel % gFrame.width, pixel / gFrame.width, stratified2(p, 0u), p.origin, p.dir);
   p.beta = vec3(1.0);
   p.prevPdf = 0.0;
   p.prevPos = p.origin;
@@ -283,7 +300,7 @@ bool pathStep(inout PathState p) {
 
   // Next-event estimation.
   LightSample ls;
-  if (sampleLight(surf.position, rngNext3(p.rng), ls)) {
+  if (sampleLight(surf.position, bounceRandom3(p, 0u), ls)) {
     vec3 wiLocal = toLocal(ls.wi, t, b, ns);
     // Reject directions on different sides by the shading and geometric normals (light
     // leaks through shading-normal interpolation).
@@ -303,7 +320,7 @@ bool pathStep(inout PathState p) {
 
   // Continue the path by sampling the BSDF.
   BsdfSample bs;
-  if (!bsdfSample(bp, woLocal, rngNext3(p.rng), bs)) return true;
+  if (!bsdfSample(bp, woLocal, bounceRandom3(p, 1u), bs)) return true;
   vec3 wi = toWorld(bs.wi, t, b, ns);
   if ((dot(wi, ng) > 0.0) != (bs.wi.z > 0.0)) return true;
   p.beta *= bs.weight;
