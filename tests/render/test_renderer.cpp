@@ -1,6 +1,6 @@
 // The path tracer on scenes with known answers: white furnaces (diffuse albedo 1 and a smooth
 // dielectric inside a uniform environment give the environment's radiance), a diffuse plane
-// under a square emitter, a point light and a directional light (analytic irradiance), a fixed
+// under a square emitter, point, spot and directional lights (analytic irradiance), a fixed
 // seed reproduces the image bit for bit, and combined = direct + indirect.
 #include <gtest/gtest.h>
 
@@ -68,22 +68,23 @@ void cameraRay(const scene::Camera& c, uint32_t size, float px, float py, glm::v
   d = glm::normalize(glm::mat3(c.worldFromCamera) * local);
 }
 
-// Expected value of a pixel that sees the ground plane y = 0 (|x|, |z| < 3.9): the 4x4
+// Expected value of a pixel that sees the ground plane y = 0 (|x|, |z| < 3.9): the n x n
 // sub-pixel average of value(q, o, dir) at the ground points q. Returns a negative number when
 // a sub-ray misses the ground or value() flags it (returns < 0).
 template <class F>
-double groundPixel(const scene::Camera& c, uint32_t size, uint32_t px, uint32_t py, F value) {
+double groundPixel(const scene::Camera& c, uint32_t size, uint32_t px, uint32_t py, F value,
+                   int n = 4) {
   double sum = 0;
-  for (int sy = 0; sy < 4; ++sy)
-    for (int sx = 0; sx < 4; ++sx) {
+  for (int sy = 0; sy < n; ++sy)
+    for (int sx = 0; sx < n; ++sx) {
       glm::vec3 o, dir;
-      cameraRay(c, size, px + (sx + 0.5f) / 4, py + (sy + 0.5f) / 4, o, dir);
+      cameraRay(c, size, px + (sx + 0.5f) / n, py + (sy + 0.5f) / n, o, dir);
       float t = -o.y / dir.y;
       glm::vec3 q = o + t * dir;
       if (!(t > 0) || std::abs(q.x) > 3.9f || std::abs(q.z) > 3.9f) return -1;
       double v = value(q, o, dir);
       if (v < 0) return -1;
-      sum += v / 16;
+      sum += v / (n * n);
     }
   return sum;
 }
@@ -188,16 +189,22 @@ TEST(Renderer, DiffusePlaneUnderSquareEmitterMatchesAnalyticIrradiance) {
   fs::remove_all(d);
 }
 
-TEST(Renderer, PointAndDirectionalLightsGiveAnalyticIrradiance) {
+TEST(Renderer, PunctualLightsGiveAnalyticIrradiance) {
   fs::path d = tempDir();
   const float rho = 0.5f;
-  for (bool directional : {false, true}) {
+  for (const char* type : {"point", "directional", "spot"}) {
+    const bool directional = std::string(type) == "directional", spot = std::string(type) == "spot";
     GltfWriter g;
     int plane = g.material(GltfWriter::diffuse(glm::vec3(rho)));
     g.quad({-4, 0, -4}, {-4, 0, 4}, {4, 0, 4}, {4, 0, -4}, plane);
     if (directional)  // pointing down and towards -z, 60 degrees from the normal
       g.light({{"type", "directional"}, {"intensity", 683.0 * 2.0},
                {"_rotation", {-std::sin(M_PI / 6 + M_PI / 4), 0, 0, std::cos(M_PI / 6 + M_PI / 4)}}});
+    else if (spot)  // straight down from (0.2, 1.2, 0): glTF lights point along local -Z
+      g.light({{"type", "spot"}, {"intensity", 683.0 * 3.0},
+               {"spot", {{"innerConeAngle", 0.3}, {"outerConeAngle", 0.6}}},
+               {"_translation", {0.2, 1.2, 0.0}},
+               {"_rotation", {-std::sin(M_PI / 4), 0, 0, std::cos(M_PI / 4)}}});
     else
       g.light({{"type", "point"}, {"intensity", 683.0 * 3.0}, {"_translation", {0.3, 1.0, -0.2}}});
     g.camera({0.f, 2.5f, 2.5f}, {0.f, 0.f, 0.f}, 0.9f);
@@ -212,13 +219,19 @@ TEST(Renderer, PointAndDirectionalLightsGiveAnalyticIrradiance) {
         double expect = groundPixel(r.camera, size, px, py, [&](glm::vec3 q, glm::vec3, glm::vec3) {
           if (directional) return rho / M_PI * l.intensity.y * std::max(0.f, -l.direction.y);
           glm::vec3 v = l.position - q;
-          return rho / M_PI * l.intensity.y * std::max(0.f, v.y / glm::length(v)) / glm::dot(v, v);
-        });
+          double falloff = 1.0;
+          if (spot) {  // glTF's smooth cone falloff, squared
+            double cd = glm::dot(l.direction, -glm::normalize(v));
+            double a = glm::clamp((cd - std::cos(0.6)) / (std::cos(0.3) - std::cos(0.6)), 0.0, 1.0);
+            falloff = a * a;
+          }
+          return rho / M_PI * l.intensity.y * falloff * std::max(0.f, v.y / glm::length(v)) /
+                 glm::dot(v, v);
+        }, 16);
         if (expect < 0) continue;
         float got = r.film.combined[(py * size + px) * 3 + 1];
-        // Punctual lights: the only noise is the pixel jitter (256 samples vs a 4x4 quadrature).
-        EXPECT_NEAR(got, expect, 0.02 * expect + 1e-4) << (directional ? "directional" : "point")
-                                                       << " pixel " << px << "," << py;
+        // Punctual lights: the only noise is the pixel jitter (256 samples vs a 16x16 quadrature).
+        EXPECT_NEAR(got, expect, 0.02 * expect + 1e-4) << type << " pixel " << px << "," << py;
       }
     if (directional) {
       EXPECT_NEAR(-r.scene.lights[0].direction.y, std::cos(M_PI / 3), 1e-4);
