@@ -135,6 +135,7 @@ int runPathtrace(const std::vector<std::string>& args) {
         .integer("height", size)
         .integer("spp", stats.samples)
         .num("seconds", stats.seconds)
+        .num("gpu_ms", stats.gpuMs)
         .num("spp_per_s", sppPerS)
         .num("mpaths_per_s", mpaths)
         .str("device", ctx.caps().deviceName)

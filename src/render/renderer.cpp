@@ -5,6 +5,7 @@
 #include <cmath>
 
 #include "render/trace_pass.h"
+#include "vk/timer.h"
 
 namespace osr::render {
 
@@ -37,6 +38,8 @@ FilmLayers render(const vk::Context& ctx, const scene::GpuScene& scene, const bv
   pt::Frame f = makeFrame(camera, settings);
   frame.upload(&f, sizeof f);
   TracePass pass(ctx, settings.integrator);
+  vk::GpuTimer timer(ctx, 1);
+  double gpuMs = 0.0;
   ctx.submitAndWait([&](VkCommandBuffer cmd) { film.recordClear(cmd); });
 
   using Clock = std::chrono::steady_clock;
@@ -56,8 +59,11 @@ FilmLayers render(const vk::Context& ctx, const scene::GpuScene& scene, const bv
     }
     const double t0 = elapsed();
     ctx.submitAndWait([&](VkCommandBuffer cmd) {
+      timer.reset(cmd);
+      vk::TimedScope scope(&timer, cmd, "pt_trace");
       pass.record(cmd, {&film, &frame, &bvh, &scene, done, n});
     });
+    gpuMs += timer.totalMs("pt_trace");
     const double dt = elapsed() - t0;
     done += n;
     secondsPerSample = dt / n;
@@ -79,6 +85,7 @@ FilmLayers render(const vk::Context& ctx, const scene::GpuScene& scene, const bv
   if (stats) {
     stats->samples = done;
     stats->seconds = elapsed();
+    stats->gpuMs = gpuMs;
   }
   return film.resolve();
 }

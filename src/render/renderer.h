@@ -32,6 +32,7 @@ struct Progress {
 struct RenderStats {
   uint32_t samples = 0;
   double seconds = 0.0;  // wall time of the sample loop (excludes setup and resolve)
+  double gpuMs = 0.0;    // GPU timestamps around the pt_trace dispatches (0 without timestamps)
 };
 
 // Renders `camera`'s view of the uploaded scene. onProgress (optional) is called after each
