@@ -12,6 +12,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <tuple>
 
 #include "app/image_io.h"
 #include "app/cli_runner.h"
@@ -52,6 +53,23 @@ TEST(CmdRender, PreviewWritesAllLayersQuietly) {
   EXPECT_EQ(img.width, 8);
   EXPECT_EQ(img.height, 6);
   EXPECT_EQ(slurp(png).substr(1, 3), "PNG");
+  fs::remove_all(d);
+}
+
+TEST(CmdRender, SizeFollowsTheCameraAspectAndCamerasAreSelectable) {
+  fs::path d = tempDir();
+  std::string exr = (d / "c.exr").string();
+  // cornell's camera has aspect 1: --height alone gives a square image.
+  for (auto [args, w, h] : {std::tuple{"--height 6 --camera Camera", 6, 6},
+                            std::tuple{"--width 10 --camera 0", 10, 10},
+                            std::tuple{"--width 12 --height 4", 12, 4}}) {
+    Result r = run(std::string("--mode preview --spp 1 --quiet ") + args + " --offline " + exr + " " +
+                   kCornell);
+    ASSERT_EQ(r.code, 0) << args << ": " << r.out;
+    app::RgbImage img = app::readExrRgb(exr);
+    EXPECT_EQ(img.width, w) << args;
+    EXPECT_EQ(img.height, h) << args;
+  }
   fs::remove_all(d);
 }
 
