@@ -50,7 +50,9 @@ FilmLayers render(const vk::Context& ctx, const scene::GpuScene& scene, const bv
   double secondsPerSample = 0.0;
   while (done < settings.spp) {
     double now = elapsed();
-    if (settings.timeLimitS > 0.0 && done > 0 && now >= settings.timeLimitS) break;
+    // Stop when one more sample would end nearer past the budget than we are before it.
+    if (settings.timeLimitS > 0.0 && done > 0 && now + 0.5 * secondsPerSample >= settings.timeLimitS)
+      break;
     uint32_t n = std::min(batch, settings.spp - done);
     if (settings.timeLimitS > 0.0 && secondsPerSample > 0.0) {
       // Do not plan past the time budget (at least one sample per batch).
