@@ -1,5 +1,7 @@
 #include "bench/bvh_scenes.h"
 
+#include <sys/resource.h>
+
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "common/error.h"
@@ -35,6 +37,13 @@ std::vector<BvhBenchScene> bvhBenchScenes(const std::string& only) {
   }
   if (out.empty()) throw InputError("osr-bench: unknown scene '" + only + "' (generated_1m, cornell, room)");
   return out;
+}
+
+double processCpuMs() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  auto ms = [](const timeval& t) { return t.tv_sec * 1e3 + t.tv_usec * 1e-3; };
+  return ms(usage.ru_utime) + ms(usage.ru_stime);
 }
 
 }  // namespace osr::bench

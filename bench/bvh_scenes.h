@@ -21,4 +21,9 @@ struct BvhBenchScene {
 // `only` empty: all scenes; else the one with that name (InputError when unknown).
 std::vector<BvhBenchScene> bvhBenchScenes(const std::string& only);
 
+// CPU time of the whole process (every thread: lavapipe's workers, Embree's) in ms. On a
+// machine shared with other jobs, wall time swings with their load; the CPU time a phase
+// consumes does much less, so the benchmarks report both.
+double processCpuMs();
+
 }  // namespace osr::bench

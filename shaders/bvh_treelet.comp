@@ -18,55 +18,65 @@ layout(push_constant) uniform PushBlock { BuildPush gPush; };
 
 const uint kSubsets = 1u << kTreeletMaxLeaves;
 
+// Treelet leaf slots: the node and the fields the dynamic program and the rewrite need, kept in
+// registers so that each node is read once (memory traffic, not arithmetic, dominates here).
+struct Slot {
+  uint node;
+  vec3 lo;
+  vec3 hi;
+  float cost;
+  uint triangles;
+  uint flags;
+};
+
+Slot makeSlot(uint u) {
+  BvhBuildNode n = loadNode(u);
+  Slot s;
+  s.node = u;
+  s.lo = n.lo;
+  s.hi = n.hi;
+  s.cost = n.cost;
+  s.triangles = n.triangleCount;
+  s.flags = n.flags;
+  return s;
+}
+
+const uint kCollapseBit = 0x80000000u;  // in split[]: the subset becomes one leaf
+
 void restructure(uint root) {
-  uint leaves[kTreeletMaxLeaves];
-  float leafArea[kTreeletMaxLeaves];
+  Slot slots[kTreeletMaxLeaves];
   uint interior[kTreeletMaxLeaves - 1u];
   BvhBuildNode rn = gInterior[root];
-  leaves[0] = rn.left;
-  leaves[1] = rn.right;
-  BvhBuildNode l0 = loadNode(rn.left), l1 = loadNode(rn.right);
-  leafArea[0] = boxArea(l0.lo, l0.hi);
-  leafArea[1] = boxArea(l1.lo, l1.hi);
+  slots[0] = makeSlot(rn.left);
+  slots[1] = makeSlot(rn.right);
   interior[0] = root;
   uint nl = 2u, ni = 1u;
   while (nl < kTreeletLeaves) {
     int best = -1;
     float bestArea = -1.0;
-    for (uint k = 0u; k < nl; ++k)
-      if (!isLeafNode(leaves[k]) && leafArea[k] > bestArea) {
+    for (uint k = 0u; k < nl; ++k) {
+      float a = boxArea(slots[k].lo, slots[k].hi);
+      if (!isLeafNode(slots[k].node) && a > bestArea) {
         best = int(k);
-        bestArea = leafArea[k];
+        bestArea = a;
       }
+    }
     if (best < 0) break;
-    BvhBuildNode e = gInterior[leaves[best]];
-    interior[ni++] = leaves[best];
-    BvhBuildNode a = loadNode(e.left), b = loadNode(e.right);
-    leaves[best] = e.left;
-    leafArea[best] = boxArea(a.lo, a.hi);
-    leaves[nl] = e.right;
-    leafArea[nl] = boxArea(b.lo, b.hi);
-    ++nl;
+    uint expanded = slots[best].node;
+    BvhBuildNode e = gInterior[expanded];
+    interior[ni++] = expanded;
+    slots[best] = makeSlot(e.left);
+    slots[nl++] = makeSlot(e.right);
   }
   if (nl < 3u) return;  // two leaves have one topology only
 
-  vec3 lo[kTreeletMaxLeaves], hi[kTreeletMaxLeaves];
-  float leafCost[kTreeletMaxLeaves];
-  uint leafTris[kTreeletMaxLeaves];
-  for (uint k = 0u; k < nl; ++k) {
-    BvhBuildNode n = loadNode(leaves[k]);
-    lo[k] = n.lo;
-    hi[k] = n.hi;
-    leafCost[k] = n.cost;
-    leafTris[k] = n.triangleCount;
-  }
   float cost[kSubsets];
   uint split[kSubsets];
   uint full = (1u << nl) - 1u;
   // Subsets in increasing order: every proper subset of s is smaller than s.
   for (uint s = 1u; s <= full; ++s) {
     if (bitCount(s) == 1) {
-      cost[s] = leafCost[findLSB(s)];
+      cost[s] = slots[findLSB(s)].cost;
       split[s] = 0u;
       continue;
     }
@@ -74,9 +84,9 @@ void restructure(uint root) {
     uint tris = 0u;
     for (uint k = 0u; k < nl; ++k)
       if ((s & (1u << k)) != 0u) {
-        slo = min(slo, lo[k]);
-        shi = max(shi, hi[k]);
-        tris += leafTris[k];
+        slo = min(slo, slots[k].lo);
+        shi = max(shi, slots[k].hi);
+        tris += slots[k].triangles;
       }
     float area = boxArea(slo, shi);
     // Each unordered partition once: p = the lowest member of s plus any proper subset q of
@@ -94,40 +104,76 @@ void restructure(uint root) {
       }
       if (q == 0u) break;
     }
-    float c = kSahNodeCost * area + best;
-    bool canCollapse = tris <= kBvhMaxLeafTriangles && !(s == full && root == 0u);
-    if (canCollapse) c = min(c, kSahTriangleCost * area * float(tris));
-    cost[s] = c;
-    split[s] = bestP;
+    // Same rule as refitNode: collapse when not more costly (never the tree's root).
+    float interiorCost = kSahNodeCost * area + best;
+    float leafCost = kSahTriangleCost * area * float(tris);
+    bool collapse = tris <= kBvhMaxLeafTriangles && !(s == full && root == 0u) && leafCost <= interiorCost;
+    cost[s] = collapse ? leafCost : interiorCost;
+    split[s] = bestP | (collapse ? kCollapseBit : 0u);
   }
   // Keep the old topology unless the new one is measurably cheaper (ties would churn).
   if (!(cost[full] < rn.cost * 0.9999)) return;
 
   // Assign subsets to the treelet's interior nodes top-down: node interior[k] gets subset
-  // subsetOf[k]; its children are leaves or interior nodes assigned after it.
+  // subsetOf[k]; its children are leaf slots or interior nodes assigned after it. A child is
+  // recorded as slot index j (< kTreeletMaxLeaves) or kTreeletMaxLeaves + interior index.
   uint subsetOf[kTreeletMaxLeaves - 1u];
+  uint childOf[kTreeletMaxLeaves - 1u][2];
+  uint parentOf[kTreeletMaxLeaves - 1u];
   subsetOf[0] = full;
+  parentOf[0] = rn.parent;
   uint next = 1u;
   for (uint k = 0u; k < ni; ++k) {
     uint s = subsetOf[k];
-    uint node = interior[k];
-    uint parts[2] = uint[2](split[s], s ^ split[s]);
-    uint child[2];
+    uint p = split[s] & ~kCollapseBit;
+    uint parts[2] = uint[2](p, s ^ p);
     for (int c = 0; c < 2; ++c) {
       if (bitCount(parts[c]) == 1) {
-        child[c] = leaves[findLSB(parts[c])];
+        uint j = uint(findLSB(parts[c]));
+        childOf[k][c] = j;
+        setParent(slots[j].node, interior[k]);
       } else {
-        child[c] = interior[next];
+        childOf[k][c] = kTreeletMaxLeaves + next;
         subsetOf[next] = parts[c];
+        parentOf[next] = interior[k];
         ++next;
       }
-      setParent(child[c], node);
     }
-    gInterior[node].left = child[0];
-    gInterior[node].right = child[1];
   }
-  // Bounds, costs and heights bottom-up: children were assigned after their parents.
-  for (int k = int(ni) - 1; k >= 0; --k) refitStored(interior[k]);
+  // Write each interior node once, bottom-up (children were assigned after their parents):
+  // bounds, count and cost from the subset, heights from the children.
+  uint flagsOf[kTreeletMaxLeaves - 1u];
+  for (int k = int(ni) - 1; k >= 0; --k) {
+    uint s = subsetOf[k];
+    BvhBuildNode n;
+    n.lo = vec3(3.0e38);
+    n.hi = vec3(-3.0e38);
+    n.triangleCount = 0u;
+    for (uint j = 0u; j < nl; ++j)
+      if ((s & (1u << j)) != 0u) {
+        n.lo = min(n.lo, slots[j].lo);
+        n.hi = max(n.hi, slots[j].hi);
+        n.triangleCount += slots[j].triangles;
+      }
+    n.cost = cost[s];
+    uint height = 0u, traversalHeight = 0u;
+    uint ids[2];
+    for (int c = 0; c < 2; ++c) {
+      uint child = childOf[k][c];
+      uint childFlags = child < kTreeletMaxLeaves ? slots[child].flags : flagsOf[child - kTreeletMaxLeaves];
+      ids[c] = child < kTreeletMaxLeaves ? slots[child].node : interior[child - kTreeletMaxLeaves];
+      height = max(height, childFlags & kHeightMask);
+      traversalHeight = max(traversalHeight, (childFlags >> kTraversalHeightShift) & kHeightMask);
+    }
+    bool collapse = (split[s] & kCollapseBit) != 0u;
+    n.flags = (collapse ? kFlagCollapsed : 0u) | ((collapse ? 0u : traversalHeight + 1u) << kTraversalHeightShift) |
+              (height + 1u);
+    n.left = ids[0];
+    n.right = ids[1];
+    n.parent = parentOf[k];
+    flagsOf[k] = n.flags;
+    gInterior[interior[k]] = n;
+  }
 }
 
 void main() {

@@ -15,6 +15,7 @@ from typing import Any
 
 FLOAT, BYTE, UBYTE, SHORT, USHORT, UINT = 5126, 5120, 5121, 5122, 5123, 5125
 REPEAT, CLAMP, MIRROR = 10497, 33071, 33648
+NEAREST = 9728
 
 
 def png(width: int, height: int, texels: list[tuple[int, int, int, int]], bits: int = 8) -> bytes:
@@ -177,7 +178,7 @@ def textured(out: Path) -> None:
         {"uri": data_uri(png(2, 2, [(255, 0, 0, 0), (128, 0, 0, 64), (64, 0, 0, 192), (0, 0, 0, 255)]), "image/png")},
     ]
     g.doc["samplers"] = [{"wrapS": REPEAT, "wrapT": REPEAT}, {"wrapS": CLAMP, "wrapT": MIRROR},
-                         {"wrapS": MIRROR, "wrapT": CLAMP}]
+                         {"wrapS": MIRROR, "wrapT": CLAMP, "magFilter": NEAREST}]
     g.doc["textures"] = [{"source": 0, "sampler": 0}, {"source": 1, "sampler": 1},
                          {"source": 2, "sampler": 2}, {"source": 3}, {"source": 4, "sampler": 1}]
     g.doc["extensionsUsed"] = ["KHR_materials_specular", "KHR_materials_transmission"]

@@ -93,9 +93,10 @@ bool osrBvhTriangle(OsrBvhRay r, vec3 v0, vec3 v1, vec3 v2, float tMin, float tF
   float by = B[ky] - r.shear.y * B[kz];
   float cx = C[kx] - r.shear.x * C[kz];
   float cy = C[ky] - r.shear.y * C[kz];
-  float U = cx * by - cy * bx;
-  float V = ax * cy - ay * cx;
-  float W = bx * ay - by * ax;
+  // precise: unfused, so a shared edge gives exactly opposite values in its two triangles.
+  precise float U = cx * by - cy * bx;
+  precise float V = ax * cy - ay * cx;
+  precise float W = bx * ay - by * ax;
   t = 0.0;
   bary = vec2(0.0);
   if ((U < 0.0 || V < 0.0 || W < 0.0) && (U > 0.0 || V > 0.0 || W > 0.0)) return false;

@@ -80,7 +80,7 @@ vec4 sceneTexel(TextureInfo info, int x, int y) {
   return unpackUnorm4x8(gTexels[info.offset + uint(y) * info.width + uint(x)]);
 }
 
-// Bilinear lookup with the texture's wrap modes; texel centres at (i + 0.5) / size, uv (0,0)
+// Bilinear (or nearest, kTextureNearest) lookup with the texture's wrap modes; texel centres at (i + 0.5) / size, uv (0,0)
 // is the first texel of row 0 (glTF). Raw RGBA in [0, 1]: the caller decodes sRGB. A
 // texture index of kNoTexture returns white, so `factor * sampleTexture(...)` needs no branch.
 vec4 sampleTexture(int texture, vec2 uv) {
@@ -90,6 +90,8 @@ vec4 sampleTexture(int texture, vec2 uv) {
   // Clamped so that the conversions to int below are defined (uv far outside [0, 1] or NaN
   // still gives some texel of the texture, never a read outside it).
   vec2 st = clamp(uv * vec2(w, h) - 0.5, vec2(-1e9), vec2(1e9));
+  // Nearest: the texel containing uv, i.e. the bilinear lookup at a texel centre.
+  if ((info.wrap & kTextureNearest) != 0u) st = floor(st + 0.5);
   vec2 base = floor(st);
   vec2 f = st - base;
   int x0 = int(base.x), y0 = int(base.y);

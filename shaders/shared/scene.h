@@ -56,6 +56,8 @@ struct Material {
 OSR_CONST(uint, kWrapRepeat, 0u);
 OSR_CONST(uint, kWrapClamp, 1u);
 OSR_CONST(uint, kWrapMirror, 2u);
+// Also in TextureInfo.wrap: the sampler's magFilter is NEAREST (default: bilinear).
+OSR_CONST(uint, kTextureNearest, 16u);
 
 // A texture's texels are RGBA8 (one uint each, R in the low byte) in the shared texel buffer.
 struct TextureInfo {

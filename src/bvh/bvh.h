@@ -32,8 +32,10 @@ struct BuildStats {
 };
 
 // Builds on the device by compute passes from the scene's Vertex and Triangle buffers (world
-// space positions). triangleCount >= 1. Throws DeviceError when the scene exceeds what the
-// device's maxStorageBufferRange allows, naming the limit.
+// space positions; vertex indices in range, as the scene loader guarantees). triangleCount >= 1.
+// Throws DeviceError when the scene exceeds what the device's maxStorageBufferRange allows,
+// naming the limit. Compiles the build's pipelines on each call: to build repeatedly, keep a
+// GpuBuilder (bvh/gpu_builder.h), which also takes options (treelet rounds and size).
 Bvh buildGpu(const vk::Context& ctx, const vk::Buffer& vertices, const vk::Buffer& triangles,
              uint32_t triangleCount, BuildStats* stats = nullptr);
 

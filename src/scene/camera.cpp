@@ -44,8 +44,8 @@ Camera selectCamera(const Scene& scene, const std::string& selector, float aspec
     if (c.name == selector) return c;
   std::string names;
   for (const Camera& c : scene.cameras) names += (names.empty() ? "" : ", ") + ("'" + c.name + "'");
-  throw InputError(scene.path + ": no camera named '" + selector + "' (cameras: " +
-                   (names.empty() ? "none" : names) + ")");
+  throw InputError(scene.path + ": no camera named '" + selector +
+                   "' (cameras: " + (names.empty() ? "none" : names) + ")");
 }
 
 }  // namespace osr::scene

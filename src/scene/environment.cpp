@@ -2,10 +2,9 @@
 // importance-sampling CDFs for the device.
 #include "scene/environment.h"
 
-#include <stb/stb_image.h>
-
 #include <ImfArray.h>
 #include <ImfRgbaFile.h>
+#include <stb/stb_image.h>
 
 #include <algorithm>
 #include <cmath>
@@ -19,7 +18,8 @@ namespace {
 
 std::string lowerExtension(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();
-  std::transform(ext.begin(), ext.end(), ext.begin(), [](unsigned char c) { return std::tolower(c); });
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return std::tolower(c); });
   return ext;
 }
 
@@ -64,7 +64,8 @@ Environment loadEnvironment(const std::string& path) {
     float* data = stbi_loadf(path.c_str(), &w, &h, &comp, 3);
     if (!data)
       throw InputError(path + ": cannot read .hdr image (" +
-                       std::string(stbi_failure_reason() ? stbi_failure_reason() : "unknown") + ")");
+                       std::string(stbi_failure_reason() ? stbi_failure_reason() : "unknown") +
+                       ")");
     env.width = uint32_t(w);
     env.height = uint32_t(h);
     env.texels.resize(size_t(w) * h);

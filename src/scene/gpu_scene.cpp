@@ -15,11 +15,12 @@ vk::Buffer upload(const vk::Context& ctx, const std::vector<T>& data, const std:
   uint64_t bytes = uint64_t(std::max<size_t>(data.size(), 1)) * sizeof(T);
   uint64_t limit = ctx.caps().maxStorageBufferRange;
   if (bytes > limit)
-    throw DeviceError(scenePath + ": scene too large for the device: the " + what + " buffer needs " +
-                      std::to_string((bytes + (1 << 20) - 1) >> 20) + " MiB (" +
-                      std::to_string(data.size()) + " elements), more than the device's "
-                      "maxStorageBufferRange of " + std::to_string(limit >> 20) + " MiB (" +
-                      ctx.caps().deviceName + ")");
+    throw DeviceError(scenePath + ": scene too large for the device: the " + what +
+                      " buffer needs " + std::to_string((bytes + (1 << 20) - 1) >> 20) + " MiB (" +
+                      std::to_string(data.size()) +
+                      " elements), more than the device's "
+                      "maxStorageBufferRange of " +
+                      std::to_string(limit >> 20) + " MiB (" + ctx.caps().deviceName + ")");
   vk::Buffer buffer(ctx, bytes, vk::MemoryUse::DeviceLocal, "scene " + what);
   if (data.empty()) {
     T zero{};

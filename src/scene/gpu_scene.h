@@ -37,7 +37,8 @@ class GpuScene {
   std::array<vk::BufferRange, gpu::kSceneBindingCount> bindings() const;
   // A pass's own buffers (slots 0..n-1) followed by the scene's (OSR_SCENE_BINDING = n), ready for
   // ComputePipeline::bindSpan.
-  std::vector<vk::BufferRange> withBindings(std::initializer_list<vk::BufferRange> passBuffers) const;
+  std::vector<vk::BufferRange> withBindings(
+      std::initializer_list<vk::BufferRange> passBuffers) const;
   // Total bytes uploaded.
   uint64_t bytes() const;
 };

@@ -18,6 +18,7 @@
 #include <set>
 
 #include "common/error.h"
+#include "scene/emissive.h"
 #include "scene/scene.h"
 
 namespace osr::scene {
@@ -67,7 +68,9 @@ std::string oneLine(const std::string& text) {
   std::string out;
   bool space = false;
   for (char c : text) {
-    if (static_cast<unsigned char>(c) >= 0x80 || (c != '\n' && c != '\r' && (c < 0x20 || c == 0x7f))) c = '?';
+    if (static_cast<unsigned char>(c) >= 0x80 ||
+        (c != '\n' && c != '\r' && (c < 0x20 || c == 0x7f)))
+      c = '?';
     if (c == '\n' || c == '\r') {
       space = !out.empty();
       continue;
@@ -83,26 +86,38 @@ std::string oneLine(const std::string& text) {
 size_t componentBytes(int componentType) {
   switch (componentType) {
     case TINYGLTF_COMPONENT_TYPE_BYTE:
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return 1;
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+      return 1;
     case TINYGLTF_COMPONENT_TYPE_SHORT:
-    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: return 2;
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT:
+      return 2;
     case TINYGLTF_COMPONENT_TYPE_INT:
     case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT:
-    case TINYGLTF_COMPONENT_TYPE_FLOAT: return 4;
-    default: return 0;
+    case TINYGLTF_COMPONENT_TYPE_FLOAT:
+      return 4;
+    default:
+      return 0;
   }
 }
 
 int componentCount(int type) {
   switch (type) {
-    case TINYGLTF_TYPE_SCALAR: return 1;
-    case TINYGLTF_TYPE_VEC2: return 2;
-    case TINYGLTF_TYPE_VEC3: return 3;
-    case TINYGLTF_TYPE_VEC4: return 4;
-    case TINYGLTF_TYPE_MAT2: return 4;
-    case TINYGLTF_TYPE_MAT3: return 9;
-    case TINYGLTF_TYPE_MAT4: return 16;
-    default: return 0;
+    case TINYGLTF_TYPE_SCALAR:
+      return 1;
+    case TINYGLTF_TYPE_VEC2:
+      return 2;
+    case TINYGLTF_TYPE_VEC3:
+      return 3;
+    case TINYGLTF_TYPE_VEC4:
+      return 4;
+    case TINYGLTF_TYPE_MAT2:
+      return 4;
+    case TINYGLTF_TYPE_MAT3:
+      return 9;
+    case TINYGLTF_TYPE_MAT4:
+      return 16;
+    default:
+      return 0;
   }
 }
 
@@ -124,7 +139,8 @@ struct AccessorData {
         std::memcpy(&f, p, 4);
         return f;
       }
-      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: return normalized ? *p / 255.0 : *p;
+      case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE:
+        return normalized ? *p / 255.0 : *p;
       case TINYGLTF_COMPONENT_TYPE_BYTE: {
         double v = static_cast<int8_t>(*p);
         return normalized ? std::max(v / 127.0, -1.0) : v;
@@ -153,7 +169,8 @@ struct AccessorData {
     return 0.0;
   }
   uint32_t index(size_t element) const { return static_cast<uint32_t>(component(element, 0)); }
-  std::shared_ptr<std::vector<uint8_t>> owned;  // densified sparse accessor, when `data` points here
+  std::shared_ptr<std::vector<uint8_t>>
+      owned;  // densified sparse accessor, when `data` points here
   glm::vec2 vec2(size_t i) const { return {component(i, 0), component(i, 1)}; }
   glm::vec3 vec3(size_t i) const { return {component(i, 0), component(i, 1), component(i, 2)}; }
 };
@@ -175,7 +192,8 @@ class Loader {
   void run() {
     parse();
     checkExtensions();
-    for (size_t i = 0; i < model_.materials.size(); ++i) scene_.materials.push_back(material(int(i)));
+    for (size_t i = 0; i < model_.materials.size(); ++i)
+      scene_.materials.push_back(material(int(i)));
     traverseScenes();
     if (scene_.triangles.empty()) fail("the scene has no triangles");
     if (defaultMaterialIndex_ >= 0 || scene_.materials.empty()) {
@@ -183,7 +201,7 @@ class Loader {
       scene_.materials.push_back(defaultMaterial());
     }
     finishBounds();
-    collectEmissive();
+    collectEmissive(scene_);
     for (const std::string& w : scene_.warnings)
       std::fprintf(stderr, "osr-vk: warning: %s: %s\n", path_.c_str(), w.c_str());
   }
@@ -212,7 +230,8 @@ class Loader {
                                      std::istreambuf_iterator<char>());
     if (bytes.empty()) fail("file is empty");
     // tinygltf takes 32-bit sizes.
-    if (bytes.size() >= (uint64_t(1) << 32)) fail("file is larger than 4 GiB, which tinygltf cannot read");
+    if (bytes.size() >= (uint64_t(1) << 32))
+      fail("file is larger than 4 GiB, which tinygltf cannot read");
     std::string baseDir = fs::path(path_).parent_path().string();
     if (baseDir.empty()) baseDir = ".";
 
@@ -244,7 +263,8 @@ class Loader {
       std::memcpy(&v, b.data() + at, 4);
       return v;
     };
-    if (b.size() < 20) fail("truncated .glb: " + std::to_string(b.size()) + " bytes, header needs 20");
+    if (b.size() < 20)
+      fail("truncated .glb: " + std::to_string(b.size()) + " bytes, header needs 20");
     if (u32(4) != 2) fail("unsupported .glb version " + std::to_string(u32(4)));
     if (u32(8) != b.size())
       fail(std::string(u32(8) > b.size() ? "truncated" : "malformed") + " .glb: header says " +
@@ -252,7 +272,8 @@ class Loader {
     size_t at = 12;
     int chunk = 0;
     while (at < b.size()) {
-      if (at + 8 > b.size()) fail("truncated .glb: chunk " + std::to_string(chunk) + " header cut off");
+      if (at + 8 > b.size())
+        fail("truncated .glb: chunk " + std::to_string(chunk) + " header cut off");
       uint64_t length = u32(at);
       if (at + 8 + length > b.size())
         fail("truncated .glb: chunk " + std::to_string(chunk) + " of " + std::to_string(length) +
@@ -270,6 +291,10 @@ class Loader {
       for (const auto& [name, value] : m.extensions) names.insert(name);
     for (const std::string& name : names)
       if (!kSupportedExtensions.count(name)) warn("unsupported extension " + name + " ignored");
+    // Compressed geometry cannot be ignored: its accessors have no data to fall back on.
+    for (const std::string& name : model_.extensionsRequired)
+      if (name == "KHR_draco_mesh_compression" || name == "EXT_meshopt_compression")
+        fail("requires " + name + " (compressed geometry), which is not supported");
   }
 
   AccessorData accessor(int index, const std::string& what) const {
@@ -338,7 +363,8 @@ class Loader {
         indexType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
         indexType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT)
       fail(sparseName + " indices are not unsigned integers");
-    const tinygltf::BufferView& iv = bufferView(a.sparse.indices.bufferView, sparseName + " indices");
+    const tinygltf::BufferView& iv =
+        bufferView(a.sparse.indices.bufferView, sparseName + " indices");
     const tinygltf::BufferView& vv = bufferView(a.sparse.values.bufferView, sparseName + " values");
     if (a.sparse.indices.byteOffset < 0 || a.sparse.values.byteOffset < 0)
       fail(sparseName + " has a negative byte offset");
@@ -351,7 +377,8 @@ class Loader {
       for (size_t i = 0; i < d.count; ++i)
         std::memcpy(owned->data() + i * elementBytes, d.data + i * d.stride, elementBytes);
     AccessorData indices;
-    indices.data = model_.buffers[iv.buffer].data.data() + iv.byteOffset + a.sparse.indices.byteOffset;
+    indices.data =
+        model_.buffers[iv.buffer].data.data() + iv.byteOffset + a.sparse.indices.byteOffset;
     indices.stride = indexBytes;
     indices.componentType = indexType;
     indices.components = 1;
@@ -386,9 +413,11 @@ class Loader {
     if (ext && ext->IsObject()) {
       glm::vec2 offset(0.0f), scale(1.0f);
       if (ext->Has("offset") && ext->Get("offset").IsArray() && ext->Get("offset").ArrayLen() == 2)
-        offset = {ext->Get("offset").Get(0).GetNumberAsDouble(), ext->Get("offset").Get(1).GetNumberAsDouble()};
+        offset = {ext->Get("offset").Get(0).GetNumberAsDouble(),
+                  ext->Get("offset").Get(1).GetNumberAsDouble()};
       if (ext->Has("scale") && ext->Get("scale").IsArray() && ext->Get("scale").ArrayLen() == 2)
-        scale = {ext->Get("scale").Get(0).GetNumberAsDouble(), ext->Get("scale").Get(1).GetNumberAsDouble()};
+        scale = {ext->Get("scale").Get(0).GetNumberAsDouble(),
+                 ext->Get("scale").Get(1).GetNumberAsDouble()};
       float r = float(number(*ext, "rotation", 0.0));
       // The extension's matrix, translation * rotation * scale; rotation is counter-clockwise
       // in uv space (v down): u' = cos u + sin v, v' = -sin u + cos v.
@@ -420,7 +449,8 @@ class Loader {
     if (transform && transform->IsObject() && transform->Has("texCoord"))
       texCoord = int(number(*transform, "texCoord", 0));
     noteUvTransform(transform, what);
-    if (texCoord != 0) warn(what + ": TEXCOORD_" + std::to_string(texCoord) + " not supported, using TEXCOORD_0");
+    if (texCoord != 0)
+      warn(what + ": TEXCOORD_" + std::to_string(texCoord) + " not supported, using TEXCOORD_0");
     auto found = textureMap_.find(index);
     if (found != textureMap_.end()) return found->second;
     const tinygltf::Texture& t = model_.textures[index];
@@ -434,10 +464,10 @@ class Loader {
       fail(what + ": texture " + std::to_string(index) + ": image " + std::to_string(t.source) +
            " does not exist");
     const tinygltf::Image& image = model_.images[t.source];
-    std::string imageName = "image " + std::to_string(t.source) +
-                            (image.uri.empty() || image.uri.rfind("data:", 0) == 0
-                                 ? std::string()
-                                 : " '" + image.uri + "'");
+    std::string imageName =
+        "image " + std::to_string(t.source) +
+        (image.uri.empty() || image.uri.rfind("data:", 0) == 0 ? std::string()
+                                                               : " '" + image.uri + "'");
     if (image.image.empty() || image.width <= 0 || image.height <= 0)
       fail("missing texture image: " + imageName + " of texture " + std::to_string(index) +
            " could not be loaded");
@@ -473,6 +503,8 @@ class Loader {
     if (t.sampler >= 0 && size_t(t.sampler) < model_.samplers.size()) {
       const tinygltf::Sampler& s = model_.samplers[t.sampler];
       tex.wrap = wrapMode(s.wrapS) | (wrapMode(s.wrapT) << 2);
+      // Magnification decides: without mipmaps, minification is the path tracer's many samples.
+      if (s.magFilter == TINYGLTF_TEXTURE_FILTER_NEAREST) tex.wrap |= gpu::kTextureNearest;
     }
     int ours = int(scene_.textures.size());
     scene_.textures.push_back(std::move(tex));
@@ -485,7 +517,8 @@ class Loader {
     if (!ext.IsObject() || !ext.Has(key)) return gpu::kNoTexture;
     const tinygltf::Value& info = ext.Get(key);
     const tinygltf::Value* transform = nullptr;
-    if (info.IsObject() && info.Has("extensions") && info.Get("extensions").Has("KHR_texture_transform"))
+    if (info.IsObject() && info.Has("extensions") &&
+        info.Get("extensions").Has("KHR_texture_transform"))
       transform = &info.Get("extensions").Get("KHR_texture_transform");
     return texture(int(number(info, "index", -1)), int(number(info, "texCoord", 0)),
                    what + " " + key, transform);
@@ -493,8 +526,8 @@ class Loader {
 
   gpu::Material material(int index) {
     const tinygltf::Material& src = model_.materials[index];
-    std::string what = "material " + std::to_string(index) +
-                       (src.name.empty() ? "" : " '" + src.name + "'");
+    std::string what =
+        "material " + std::to_string(index) + (src.name.empty() ? "" : " '" + src.name + "'");
     gpu::Material m = defaultMaterial();
     uvTransform_ = glm::mat3(1.0f);
     uvTransformSet_ = false;
@@ -548,9 +581,9 @@ class Loader {
       m.alphaCutoff = 0.5f;
       warn(what + ": alphaMode BLEND is rendered as MASK with cutoff 0.5");
     }
-    const float values[] = {m.baseColor.r, m.baseColor.g, m.baseColor.b, m.baseColor.a,
-                            m.metallic, m.roughness, m.emission.r, m.emission.g, m.emission.b,
-                            m.specular, m.ior, m.transmission, m.alphaCutoff};
+    const float values[] = {m.baseColor.r, m.baseColor.g,  m.baseColor.b, m.baseColor.a, m.metallic,
+                            m.roughness,   m.emission.r,   m.emission.g,  m.emission.b,  m.specular,
+                            m.ior,         m.transmission, m.alphaCutoff};
     for (float v : values)
       if (!std::isfinite(v)) fail(what + " has a non-finite factor");
     if (m.emission.r < 0 || m.emission.g < 0 || m.emission.b < 0)
@@ -570,8 +603,8 @@ class Loader {
     if (!node.matrix.empty()) fail("node " + std::to_string(index) + ": matrix needs 16 numbers");
     glm::mat4 t(1.0f), r(1.0f), s(1.0f);
     if (node.translation.size() == 3)
-      t = glm::translate(glm::mat4(1.0f), glm::vec3(node.translation[0], node.translation[1],
-                                                   node.translation[2]));
+      t = glm::translate(glm::mat4(1.0f),
+                         glm::vec3(node.translation[0], node.translation[1], node.translation[2]));
     if (node.rotation.size() == 4) {
       // glTF stores quaternions as (x, y, z, w); glm's constructor takes (w, x, y, z).
       glm::quat q(float(node.rotation[3]), float(node.rotation[0]), float(node.rotation[1]),
@@ -603,7 +636,8 @@ class Loader {
     // second parent, which could also blow up exponentially) is refused.
     std::vector<bool> reached(model_.nodes.size(), false);
     std::vector<std::pair<int, glm::mat4>> stack;
-    for (auto it = roots.rbegin(); it != roots.rend(); ++it) stack.emplace_back(*it, glm::mat4(1.0f));
+    for (auto it = roots.rbegin(); it != roots.rend(); ++it)
+      stack.emplace_back(*it, glm::mat4(1.0f));
     while (!stack.empty()) {
       auto [index, worldFromParent] = stack.back();
       stack.pop_back();
@@ -628,7 +662,8 @@ class Loader {
     if (!node.weights.empty()) warn("morph targets not supported: base mesh drawn");
     if (node.mesh >= 0) {
       if (size_t(node.mesh) >= model_.meshes.size())
-        fail("node " + std::to_string(index) + ": mesh " + std::to_string(node.mesh) + " does not exist");
+        fail("node " + std::to_string(index) + ": mesh " + std::to_string(node.mesh) +
+             " does not exist");
       const tinygltf::Mesh& mesh = model_.meshes[node.mesh];
       for (size_t p = 0; p < mesh.primitives.size(); ++p)
         primitive(mesh.primitives[p],
@@ -699,8 +734,8 @@ class Loader {
       for (size_t i = 0; i < pos.count; ++i) indices[i] = uint32_t(i);
     }
     if (indices.size() % 3 != 0)
-      warn(what + ": index count not a multiple of 3, last " +
-           std::to_string(indices.size() % 3) + " ignored");
+      warn(what + ": index count not a multiple of 3, last " + std::to_string(indices.size() % 3) +
+           " ignored");
     size_t triangleCount = indices.size() / 3;
     if (triangleCount == 0) return;
     if (scene_.vertices.size() + std::max<size_t>(pos.count, 3 * triangleCount) > 0xffffffffu)
@@ -722,7 +757,8 @@ class Loader {
       return w;
     };
     // The material's KHR_texture_transform, baked in (identity for the default material).
-    glm::mat3 uvFromFile = materialIndex < materialUv_.size() ? materialUv_[materialIndex] : glm::mat3(1.0f);
+    glm::mat3 uvFromFile =
+        materialIndex < materialUv_.size() ? materialUv_[materialIndex] : glm::mat3(1.0f);
     auto uvAt = [&](uint32_t i) {
       glm::vec2 t = hasUv ? uv.vec2(i) : glm::vec2(0.0f);
       t = glm::vec2(uvFromFile * glm::vec3(t, 1.0f));
@@ -783,7 +819,7 @@ class Loader {
       return;
     }
     Camera cam;
-    cam.name = !c.name.empty() ? c.name
+    cam.name = !c.name.empty()      ? c.name
                : !node.name.empty() ? node.name
                                     : "camera " + std::to_string(node.camera);
     // Rigid part only: a scaled camera node must not scale the rays.
@@ -822,8 +858,17 @@ class Loader {
       out.type = gpu::kLightPoint;
     } else if (l.type == "spot") {
       out.type = gpu::kLightSpot;
-      out.cosInner = std::cos(float(l.spot.innerConeAngle));
-      out.cosOuter = std::cos(float(l.spot.outerConeAngle));
+      // The spec asks 0 <= inner < outer <= pi/2; out-of-range cones are clamped into it.
+      float outer = float(l.spot.outerConeAngle), inner = float(l.spot.innerConeAngle);
+      if (!std::isfinite(outer) || !std::isfinite(inner))
+        fail("light " + std::to_string(index) + ": spot cone angles are not finite");
+      float outerOk = std::clamp(outer, 1e-4f, 1.5707964f);
+      float innerOk = std::clamp(inner, 0.0f, outerOk * 0.9999f);
+      if (!(outerOk == outer && innerOk == inner))
+        warn("light " + std::to_string(index) +
+             ": spot cone angles outside 0 <= inner < outer <= pi/2, clamped");
+      out.cosInner = std::cos(innerOk);
+      out.cosOuter = std::cos(outerOk);
     } else if (l.type == "directional") {
       out.type = gpu::kLightDirectional;
     } else {
@@ -848,55 +893,11 @@ class Loader {
     scene_.boundsMax = hi;
   }
 
-  // Mean linear colour of an sRGB texture: the emissive texture's share of a triangle's power.
-  glm::vec3 meanLinear(int textureIndex) {
-    auto cached = meanCache_.find(textureIndex);
-    if (cached != meanCache_.end()) return cached->second;
-    const Texture& t = scene_.textures[textureIndex];
-    glm::dvec3 sum(0.0);
-    for (uint32_t texel : t.texels)
-      for (int k = 0; k < 3; ++k) {
-        double c = ((texel >> (8 * k)) & 255u) / 255.0;
-        sum[k] += c <= 0.04045 ? c / 12.92 : std::pow((c + 0.055) / 1.055, 2.4);
-      }
-    glm::vec3 mean = t.texels.empty() ? glm::vec3(1.0f) : glm::vec3(sum / double(t.texels.size()));
-    meanCache_[textureIndex] = mean;
-    return mean;
-  }
-
-  void collectEmissive() {
-    double total = 0.0;
-    for (uint32_t i = 0; i < scene_.triangles.size(); ++i) {
-      const gpu::Triangle& t = scene_.triangles[i];
-      const gpu::Material& m = scene_.materials[t.material];
-      glm::vec3 emission = m.emission;
-      if (m.emissiveTexture != gpu::kNoTexture) emission *= meanLinear(m.emissiveTexture);
-      float lum = luminance(emission);
-      if (!(lum > 0.0f)) continue;
-      glm::vec3 p0 = scene_.vertices[t.v0].position, p1 = scene_.vertices[t.v1].position,
-                p2 = scene_.vertices[t.v2].position;
-      float area = 0.5f * glm::length(glm::cross(p1 - p0, p2 - p0));
-      if (!(area > 0.0f)) continue;
-      float sides = (m.flags & gpu::kMaterialDoubleSided) ? 2.0f : 1.0f;
-      float power = lum * area * 3.14159265f * sides;
-      scene_.emissive.push_back({i, power, 0.0f, area});
-      total += power;
-    }
-    double running = 0.0;
-    for (gpu::EmissiveTriangle& e : scene_.emissive) {
-      running += e.power;
-      e.cdf = float(running / total);
-    }
-    if (!scene_.emissive.empty()) scene_.emissive.back().cdf = 1.0f;
-    scene_.emissivePower = float(total);
-  }
-
   const std::string& path_;
   Scene& scene_;
   tinygltf::Model model_;
   std::set<std::string> warned_;
   std::map<int, int> textureMap_;
-  std::map<int, glm::vec3> meanCache_;
   std::vector<glm::mat3> materialUv_;  // per glTF material: its KHR_texture_transform
   glm::mat3 uvTransform_{1.0f};        // of the material being converted
   bool uvTransformSet_ = false;

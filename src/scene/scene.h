@@ -16,7 +16,7 @@ namespace gpu = osr::gpu::scene;
 // One texture: RGBA8 texels, R in the low byte, row 0 first (glTF's uv (0,0) is its top-left).
 struct Texture {
   uint32_t width = 0, height = 0;
-  uint32_t wrap = 0;  // kWrap* for S in bits 0-1, T in bits 2-3
+  uint32_t wrap = 0;  // kWrap* for S in bits 0-1, T in bits 2-3, | kTextureNearest
   std::vector<uint32_t> texels;
   std::string name;
 };
@@ -75,6 +75,8 @@ Camera selectCamera(const Scene& scene, const std::string& selector, float aspec
 Camera defaultCamera(const Scene& scene, float aspect);
 
 // Rec. 709 luminance of linear RGB (the weight used for emissive power).
-inline float luminance(glm::vec3 c) { return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b; }
+inline float luminance(glm::vec3 c) {
+  return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b;
+}
 
 }  // namespace osr::scene

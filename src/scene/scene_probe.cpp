@@ -15,10 +15,9 @@ static_assert(env_probe::kWorkgroupSize == probe::kWorkgroupSize &&
               sizeof(env_probe::Push) == sizeof(probe::Push));
 
 SceneProbe::SceneProbe(const vk::Context& ctx, ProbeKind kind)
-    : pipeline_(ctx,
-                kind == ProbeKind::Surface ? shaders::Id::scene_probe
-                                           : shaders::Id::scene_env_probe,
-                probe::kBindingScene + gpu::kSceneBindingCount, sizeof(probe::Push)) {}
+    : pipeline_(
+          ctx, kind == ProbeKind::Surface ? shaders::Id::scene_probe : shaders::Id::scene_env_probe,
+          probe::kBindingScene + gpu::kSceneBindingCount, sizeof(probe::Push)) {}
 
 void SceneProbe::record(VkCommandBuffer cmd, const Args& args) const {
   auto buffers = args.scene->withBindings({*args.queries, *args.results});

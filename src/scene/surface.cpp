@@ -53,6 +53,7 @@ glm::vec4 sampleTexture(const Scene& scene, int texture, glm::vec2 uv) {
   int w = int(t.width), h = int(t.height);
   glm::vec2 st = uv * glm::vec2(w, h) - 0.5f;
   for (int k = 0; k < 2; ++k) st[k] = std::isnan(st[k]) ? 0.0f : std::clamp(st[k], -1e9f, 1e9f);
+  if (t.wrap & gpu::kTextureNearest) st = glm::floor(st + 0.5f);
   glm::vec2 base = glm::floor(st);
   glm::vec2 f = st - base;
   int x0 = int(base.x), y0 = int(base.y);
@@ -107,8 +108,8 @@ SurfaceSample surfaceAt(const Scene& scene, uint32_t triangle, glm::vec2 b) {
       float tLength = glm::length(tangent);
       if (tLength > 1e-20f) {
         tangent /= tLength;
-        glm::vec3 bitangent =
-            glm::cross(nn, tangent) * (glm::dot(glm::cross(nn, tangent), dpdv) < 0.0f ? -1.0f : 1.0f);
+        glm::vec3 bitangent = glm::cross(nn, tangent) *
+                              (glm::dot(glm::cross(nn, tangent), dpdv) < 0.0f ? -1.0f : 1.0f);
         glm::vec3 tn = glm::vec3(sampleTexture(scene, mat.normalTexture, s.uv)) * 2.0f - 1.0f;
         tn.x *= mat.normalScale;
         tn.y *= mat.normalScale;
@@ -152,7 +153,10 @@ uint32_t search(const std::vector<float>& cdf, uint32_t first, uint32_t count, f
   uint32_t lo = 0, hi = count - 1;
   while (lo < hi) {
     uint32_t mid = (lo + hi) / 2;
-    if (cdf[first + mid] > u) hi = mid; else lo = mid + 1;
+    if (cdf[first + mid] > u)
+      hi = mid;
+    else
+      lo = mid + 1;
   }
   return lo;
 }

@@ -30,7 +30,8 @@ struct SurfaceSample {
 };
 
 glm::vec3 srgbToLinear(glm::vec3 c);
-// Bilinear, wrap modes, raw RGBA in [0, 1]; kNoTexture gives white (sampleTexture in GLSL).
+// Bilinear (nearest with kTextureNearest), wrap modes, raw RGBA in [0, 1]; kNoTexture gives
+// white (sampleTexture in GLSL).
 glm::vec4 sampleTexture(const Scene& scene, int texture, glm::vec2 uv);
 // Barycentrics (b1, b2) weight v1 and v2; v0 gets 1 - b1 - b2.
 SurfaceSample surfaceAt(const Scene& scene, uint32_t triangle, glm::vec2 b);

@@ -49,12 +49,18 @@ void expectOneLine(const Outcome& r, const std::string& start) {
 }  // namespace
 
 TEST(CliErrors, BadScenesExitTwoWithOneLine) {
-  const char* files[] = {"no_such_file.gltf",         "bad_truncated.glb",
-                         "bad_json.gltf",             "bad_accessor_range.gltf",
-                         "bad_buffer_view_range.gltf", "bad_index.gltf",
-                         "bad_nan.gltf",              "bad_inf.gltf",
-                         "bad_missing_texture.gltf",  "bad_no_triangles.gltf",
-                         "bad_missing_bin.gltf",      "bad_sparse_index.gltf"};
+  const char* files[] = {"no_such_file.gltf",
+                         "bad_truncated.glb",
+                         "bad_json.gltf",
+                         "bad_accessor_range.gltf",
+                         "bad_buffer_view_range.gltf",
+                         "bad_index.gltf",
+                         "bad_nan.gltf",
+                         "bad_inf.gltf",
+                         "bad_missing_texture.gltf",
+                         "bad_no_triangles.gltf",
+                         "bad_missing_bin.gltf",
+                         "bad_sparse_index.gltf"};
   for (const char* name : files) {
     std::string path = osr::test::dataPath(std::string("scene/") + name);
     Outcome r = renderScene(path);
@@ -78,7 +84,8 @@ TEST(CliErrors, BadCameraAndEnvironment) {
   Outcome camera = renderScene(cornell, "--camera nope");
   if (placeholderRender(camera)) GTEST_SKIP() << "render command not built yet";
   expectOneLine(camera, "osr-vk: " + cornell + ": no camera named 'nope'");
-  expectOneLine(renderScene(cornell, "--camera 3"), "osr-vk: " + cornell + ": camera 3 does not exist");
+  expectOneLine(renderScene(cornell, "--camera 3"),
+                "osr-vk: " + cornell + ": camera 3 does not exist");
   std::string env = ::testing::TempDir() + "no_such_env.exr";
   expectOneLine(renderScene(cornell, "--env '" + env + "'"), "osr-vk: " + env + ": file not found");
 }

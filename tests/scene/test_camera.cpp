@@ -15,9 +15,9 @@ using test::hasWarning;
 
 namespace {
 
-std::string data(const std::string& name) { return test::dataPath("scene/" + name); }
-
-
+std::string data(const std::string& name) {
+  return test::dataPath("scene/" + name);
+}
 
 }  // namespace
 

@@ -1,9 +1,8 @@
 // Environment maps: .exr and .hdr loading, bad files, the importance-sampling tables and the
 // sampling functions (C++ twins analytically; GLSL scene_env_probe against the twins).
+#include <ImfRgbaFile.h>
 #include <gtest/gtest.h>
 #include <stb/stb_image_write.h>
-
-#include <ImfRgbaFile.h>
 
 #include <algorithm>
 #include <cmath>
@@ -36,7 +35,9 @@ scene::Environment testEnvironment() {
   return env;
 }
 
-std::string temp(const std::string& name) { return ::testing::TempDir() + name; }
+std::string temp(const std::string& name) {
+  return ::testing::TempDir() + name;
+}
 
 void expectInputError(const std::string& path, const std::string& part) {
   test::expectInputError([](const std::string& p) { scene::loadEnvironment(p); }, path, part);
@@ -135,8 +136,10 @@ TEST(Environment, SamplingIsConsistentAndUnbiased) {
   // The pdf integrates to one over the sphere (uniform directions, MC).
   double integral = 0.0;
   for (int i = 0; i < n; ++i) {
-    float z = 1.0f - 2.0f * u01(rng), phi = 2.0f * kPi * u01(rng), r = std::sqrt(std::max(0.0f, 1 - z * z));
-    integral += scene::environmentPdf(env, cdf, {r * std::cos(phi), z, r * std::sin(phi)}) * 4.0f * kPi;
+    float z = 1.0f - 2.0f * u01(rng), phi = 2.0f * kPi * u01(rng),
+          r = std::sqrt(std::max(0.0f, 1 - z * z));
+    integral +=
+        scene::environmentPdf(env, cdf, {r * std::cos(phi), z, r * std::sin(phi)}) * 4.0f * kPi;
   }
   EXPECT_NEAR(integral / n, 1.0, 0.03);
 }
@@ -169,7 +172,8 @@ TEST(Environment, GpuMatchesCpu) {
   std::uniform_real_distribution<float> u01(0.0f, 1.0f);
   std::vector<envp::Query> queries(n);
   for (auto& q : queries) {
-    float z = 1.0f - 2.0f * u01(rng), phi = 2.0f * kPi * u01(rng), r = std::sqrt(std::max(0.0f, 1 - z * z));
+    float z = 1.0f - 2.0f * u01(rng), phi = 2.0f * kPi * u01(rng),
+          r = std::sqrt(std::max(0.0f, 1 - z * z));
     q.direction = {r * std::cos(phi), z, r * std::sin(phi)};
     q.u = {u01(rng), u01(rng)};
   }

@@ -15,8 +15,10 @@ namespace gs = osr::gpu::scene;
 static_assert(sizeof(gs::Vertex) == 32 && offsetof(gs::Vertex, normal) == 16);
 static_assert(sizeof(gs::Triangle) == 16);
 static_assert(sizeof(gs::Material) == 112);
-static_assert(offsetof(gs::Material, emission) == 16 && offsetof(gs::Material, specularColor) == 32);
-static_assert(offsetof(gs::Material, baseColorTexture) == 64 && offsetof(gs::Material, flags) == 92);
+static_assert(offsetof(gs::Material, emission) == 16 &&
+              offsetof(gs::Material, specularColor) == 32);
+static_assert(offsetof(gs::Material, baseColorTexture) == 64 &&
+              offsetof(gs::Material, flags) == 92);
 static_assert(sizeof(gs::TextureInfo) == 16 && sizeof(gs::EmissiveTriangle) == 16);
 static_assert(sizeof(gs::PunctualLight) == 64 && offsetof(gs::PunctualLight, intensity) == 32);
 static_assert(sizeof(gs::SceneInfo) == 64 && offsetof(gs::SceneInfo, boundsMin) == 32);

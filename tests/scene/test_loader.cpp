@@ -2,12 +2,13 @@
 // its refusal of bad input (InputError naming the file).
 #include <gtest/gtest.h>
 
-#include <fstream>
-#include <nlohmann/json.hpp>
-
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <fstream>
+#include <iterator>
+#include <nlohmann/json.hpp>
+#include <random>
 
 #include "common/error.h"
 #include "common/vk_test.h"
@@ -37,7 +38,8 @@ TEST(Loader, Cornell) {
   EXPECT_NE(findEmissive(s, glm::vec3(17.0f, 0.78f * 17.0f, 0.5f * 17.0f)), nullptr);
   ASSERT_FALSE(s.emissive.empty());
   EXPECT_FLOAT_EQ(s.emissive.back().cdf, 1.0f);
-  for (size_t i = 1; i < s.emissive.size(); ++i) EXPECT_GE(s.emissive[i].cdf, s.emissive[i - 1].cdf);
+  for (size_t i = 1; i < s.emissive.size(); ++i)
+    EXPECT_GE(s.emissive[i].cdf, s.emissive[i - 1].cdf);
   ASSERT_EQ(s.cameras.size(), 1u);
   EXPECT_EQ(s.cameras[0].name, "Camera");
   EXPECT_NEAR(s.cameras[0].yfov, 0.6806784f, 1e-6f);
@@ -81,28 +83,50 @@ TEST(Loader, Room) {
   EXPECT_GE(extent.x, 5.0f);
   EXPECT_GE(extent.y, 2.8f);
   EXPECT_LE(std::max({extent.x, extent.y, extent.z}), 8.0f);
-  // Metals from the README: copper sphere (roughness 0.25) and mirror (0.05).
-  int metals = 0;
-  for (const auto& m : s.materials) metals += m.metallic > 0.99f;
-  EXPECT_GE(metals, 2);
-  EXPECT_GT(s.emissive.size(), 0u);
+  // Metals from the README: copper sphere (roughness 0.25) and mirror (0.05); metallicFactor
+  // absent in the file means 1, roughnessFactor absent means 1.
+  ASSERT_EQ(s.materials.size(), 8u);
+  EXPECT_EQ(s.materials[6].metallic, 1.0f);
+  EXPECT_FLOAT_EQ(s.materials[6].roughness, 0.25f);
+  EXPECT_EQ(s.materials[7].metallic, 1.0f);
+  EXPECT_FLOAT_EQ(s.materials[7].roughness, 0.05f);
+  EXPECT_EQ(s.materials[1].metallic, 0.0f);
+  EXPECT_EQ(s.materials[1].roughness, 1.0f);
+  // Emissive triangles are exactly those of the sky and lamp materials (2 and 3), with power
+  // luminance x area x pi x 2 (double-sided) each.
+  size_t emissiveTriangles = 0;
+  for (const auto& t : s.triangles) emissiveTriangles += t.material == 2 || t.material == 3;
+  EXPECT_EQ(s.emissive.size(), emissiveTriangles);
+  double total = 0.0;
+  for (const auto& e : s.emissive) {
+    const gs::Triangle& t = s.triangles[e.triangle];
+    glm::vec3 p0 = s.vertices[t.v0].position, p1 = s.vertices[t.v1].position,
+              p2 = s.vertices[t.v2].position;
+    float area = 0.5f * glm::length(glm::cross(p1 - p0, p2 - p0));
+    EXPECT_NEAR(e.area, area, 1e-6f);
+    EXPECT_NEAR(e.power,
+                scene::luminance(s.materials[t.material].emission) * area * 3.14159265f * 2.0f,
+                1e-4f * e.power);
+    total += e.power;
+  }
+  EXPECT_NEAR(s.emissivePower, total, 1e-4 * total);
 }
 
 namespace {
 
-std::string data(const std::string& name) { return test::dataPath("scene/" + name); }
+std::string data(const std::string& name) {
+  return test::dataPath("scene/" + name);
+}
 
 void expectInputError(const std::string& path, const std::string& part) {
   test::expectInputError([](const std::string& p) { scene::loadScene(p); }, path, part);
 }
-
 
 glm::vec3 faceNormal(const scene::Scene& s, const gs::Triangle& t) {
   glm::vec3 p0 = s.vertices[t.v0].position, p1 = s.vertices[t.v1].position,
             p2 = s.vertices[t.v2].position;
   return glm::normalize(glm::cross(p1 - p0, p2 - p0));
 }
-
 
 }  // namespace
 
@@ -175,7 +199,8 @@ TEST(Loader, TexturesFromFilesAndDataUris) {
   EXPECT_EQ(mr.width, 2u);
   EXPECT_EQ(mr.texels[1], 0xFF808000u);
   EXPECT_EQ(mr.wrap, gs::kWrapClamp | (gs::kWrapMirror << 2));
-  EXPECT_EQ(s.textures[m.normalTexture].wrap, gs::kWrapMirror | (gs::kWrapClamp << 2));
+  EXPECT_EQ(s.textures[m.normalTexture].wrap,
+            gs::kWrapMirror | (gs::kWrapClamp << 2) | gs::kTextureNearest);  // magFilter NEAREST
   EXPECT_EQ(m.emissiveTexture, m.specularColorTexture);
   EXPECT_EQ(m.specularTexture, m.transmissionTexture);
   EXPECT_NE(m.emissiveTexture, m.specularTexture);
@@ -271,7 +296,8 @@ TEST(Loader, MaterialExtensionsWarningsAndEmissivePower) {
   EXPECT_EQ(s.triangles.size(), 8u);  // the LINES primitive is skipped
   EXPECT_TRUE(hasWarning(s, "KHR_materials_clearcoat"));
   int clearcoat = 0;  // named in extensionsUsed and by a material: warned once
-  for (const auto& w : s.warnings) clearcoat += w.find("KHR_materials_clearcoat") != std::string::npos;
+  for (const auto& w : s.warnings)
+    clearcoat += w.find("KHR_materials_clearcoat") != std::string::npos;
   EXPECT_EQ(clearcoat, 1);
   EXPECT_TRUE(hasWarning(s, "mode 1"));
   ASSERT_EQ(s.materials.size(), 4u);  // three + the default for the primitive without one
@@ -404,7 +430,8 @@ TEST(LoaderBadInput, EveryTruncationOfAGlb) {
 namespace {
 
 // nonindexed.gltf (one mesh, buffer in a data: URI) with its node list replaced.
-std::string withNodes(const std::string& name, const nlohmann::json& nodes, const nlohmann::json& roots) {
+std::string withNodes(const std::string& name, const nlohmann::json& nodes,
+                      const nlohmann::json& roots) {
   std::ifstream in(data("nonindexed.gltf"));
   nlohmann::json doc = nlohmann::json::parse(in);
   doc["nodes"] = nodes;
@@ -447,4 +474,114 @@ TEST(LoaderBadInput, HugeCountWithoutBufferView) {
   std::string path = ::testing::TempDir() + "huge_count.gltf";
   std::ofstream(path) << doc.dump();
   expectInputError(path, "too large");
+}
+
+TEST(Loader, SpotConesOutOfRangeAreClamped) {
+  std::ifstream in(data("lights.gltf"));
+  nlohmann::json doc = nlohmann::json::parse(in);
+  doc["extensions"]["KHR_lights_punctual"]["lights"][1]["spot"] = {{"innerConeAngle", 1.0},
+                                                                   {"outerConeAngle", 0.5}};
+  std::string path = ::testing::TempDir() + "bad_cone.gltf";
+  std::ofstream(path) << doc.dump();
+  scene::Scene s = scene::loadScene(path);
+  EXPECT_TRUE(hasWarning(s, "clamped"));
+  EXPECT_NEAR(s.lights[1].cosOuter, std::cos(0.5f), 1e-6f);
+  EXPECT_GT(s.lights[1].cosInner, s.lights[1].cosOuter);
+}
+
+TEST(LoaderBadInput, RequiredGeometryCompression) {
+  std::ifstream in(data("nonindexed.gltf"));
+  nlohmann::json doc = nlohmann::json::parse(in);
+  doc["extensionsUsed"] = {"KHR_draco_mesh_compression"};
+  doc["extensionsRequired"] = {"KHR_draco_mesh_compression"};
+  std::string path = ::testing::TempDir() + "draco.gltf";
+  std::ofstream(path) << doc.dump();
+  expectInputError(path, "KHR_draco_mesh_compression");
+}
+
+namespace {
+
+// Every JSON pointer below `at`, for the mutation test.
+void collectPointers(const nlohmann::json& j, const nlohmann::json::json_pointer& at,
+                     std::vector<nlohmann::json::json_pointer>& out) {
+  if (j.is_object()) {
+    for (auto it = j.begin(); it != j.end(); ++it) {
+      if (it.key() == "uri") continue;  // keep the embedded data
+      out.push_back(at / it.key());
+      collectPointers(it.value(), at / it.key(), out);
+    }
+  } else if (j.is_array()) {
+    for (size_t i = 0; i < j.size(); ++i) {
+      out.push_back(at / i);
+      collectPointers(j[i], at / i, out);
+    }
+  }
+}
+
+// Loads `path`: either a scene or an InputError; anything else (another exception, a crash)
+// fails the test.
+void loadOrInputError(const std::string& path, const std::string& what) {
+  try {
+    scene::loadScene(path);
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()).find('\n'), std::string::npos) << what << ": " << e.what();
+  } catch (const std::exception& e) {
+    ADD_FAILURE() << what << ": " << e.what();
+  }
+}
+
+}  // namespace
+
+// Random edits of valid files (values replaced by wrong types, out-of-range indices, huge or
+// negative numbers; keys removed): the loader answers with a scene or one InputError line.
+TEST(LoaderBadInput, RandomMutationsNeverCrash) {
+  const char* files[] = {"hierarchy.gltf", "materials.gltf",         "lights.gltf",
+                         "cameras.gltf",   "alpha_mask.gltf",        "sparse.gltf",
+                         "quantized.gltf", "texture_transform.gltf", "texture16.gltf"};
+  const nlohmann::json replacements[] = {-1,
+                                         0,
+                                         1,
+                                         3,
+                                         99,
+                                         4294967301ll,
+                                         -2147483648ll,
+                                         1e30,
+                                         -0.5,
+                                         "x",
+                                         nullptr,
+                                         nlohmann::json::array(),
+                                         nlohmann::json::object(),
+                                         {1, 2},
+                                         true};
+  std::mt19937 rng(2024);
+  std::string path = ::testing::TempDir() + "mutated.gltf";
+  for (int iteration = 0; iteration < 400; ++iteration) {
+    const char* file = files[rng() % std::size(files)];
+    std::ifstream in(data(file));
+    nlohmann::json doc = nlohmann::json::parse(in);
+    std::vector<nlohmann::json::json_pointer> pointers;
+    collectPointers(doc, nlohmann::json::json_pointer(), pointers);
+    std::string edits;
+    for (int e = 1 + int(rng() % 3); e > 0; --e) {
+      const auto& p = pointers[rng() % pointers.size()];
+      if (!doc.contains(p)) continue;  // under a value an earlier edit replaced
+      if (rng() % 5 == 0 && !p.empty()) {
+        nlohmann::json& parent = doc[p.parent_pointer()];
+        if (parent.is_object()) parent.erase(p.back());
+        edits += " erase " + p.to_string();
+      } else {
+        doc[p] = replacements[rng() % std::size(replacements)];
+        edits += " set " + p.to_string() + "=" + doc[p].dump();
+      }
+    }
+    std::ofstream(path) << doc.dump();
+    loadOrInputError(path, std::string(file) + edits);
+  }
+  // Byte flips anywhere in a .glb (header, JSON, binary chunk).
+  std::vector<unsigned char> glb = readFile(data("quad.glb"));
+  for (int iteration = 0; iteration < 300; ++iteration) {
+    std::vector<unsigned char> bytes = glb;
+    for (int e = 1 + int(rng() % 6); e > 0; --e) bytes[rng() % bytes.size()] = uint8_t(rng());
+    loadOrInputError(tempFile("mutated.glb", bytes), "glb mutation " + std::to_string(iteration));
+  }
 }

@@ -59,9 +59,9 @@ void checkScene(const scene::Scene& s, uint32_t count) {
                         std::to_string(qu.triangle) + " b=(" + std::to_string(qu.b1) + ", " +
                         std::to_string(qu.b2) + ")";
     auto near3 = [&](glm::vec3 a, glm::vec3 b, float tol, const char* what) {
-      EXPECT_LE(glm::length(a - b), tol) << where << " " << what << ": gpu (" << a.x << ", " << a.y
-                                         << ", " << a.z << ") cpu (" << b.x << ", " << b.y << ", "
-                                         << b.z << ")";
+      EXPECT_LE(glm::length(a - b), tol)
+          << where << " " << what << ": gpu (" << a.x << ", " << a.y << ", " << a.z << ") cpu ("
+          << b.x << ", " << b.y << ", " << b.z << ")";
     };
     near3(gpu.position, cpu.position, 1e-5f * scale, "position");
     near3(gpu.geometricNormal, cpu.geometricNormal, 1e-4f, "geometric normal");
@@ -91,26 +91,29 @@ void checkScene(const scene::Scene& s, uint32_t count) {
   }
 }
 
-void checkScene(const std::string& path, uint32_t count) { checkScene(scene::loadScene(path), count); }
+void checkScene(const std::string& path, uint32_t count) {
+  checkScene(scene::loadScene(path), count);
+}
 
 }  // namespace
 
-// Negative and far-out uvs (thousands of periods) under each wrap mode: the GLSL wrap must not
-// rely on `%` of negative numbers (undefined in GLSL) and must agree with the C++ twin.
+// Negative and far-out uvs (thousands of periods) under each wrap mode and filter: the GLSL wrap
+// must not rely on `%` of negative numbers (undefined in GLSL) and must agree with the C++ twin.
 TEST(SceneProbe, FarUvsUnderEveryWrapMode) {
   scene::Scene s;
   s.path = "far uvs (in memory)";
-  for (uint32_t mode = 0; mode < 9; ++mode) {
+  for (uint32_t mode = 0; mode < 18; ++mode) {  // 3 x 3 wrap modes, bilinear and nearest
     scene::Texture t;
     t.width = 5;
     t.height = 3;
-    t.wrap = (mode % 3) | ((mode / 3) << 2);
-    for (uint32_t i = 0; i < 15; ++i) t.texels.push_back(0xff000000u | (i * 17u) | ((255u - i * 13u) << 8));
+    t.wrap = (mode % 3) | (((mode / 3) % 3) << 2) | (mode >= 9 ? gpu::scene::kTextureNearest : 0u);
+    for (uint32_t i = 0; i < 15; ++i)
+      t.texels.push_back(0xff000000u | (i * 17u) | ((255u - i * 13u) << 8));
     s.textures.push_back(t);
     gpu::scene::Material m = scene::defaultMaterial();
     m.baseColorTexture = int(mode);
     s.materials.push_back(m);
-    float o = -3000.0f + 700.0f * mode;
+    float o = -3000.0f + 350.0f * mode;
     uint32_t v = uint32_t(s.vertices.size());
     s.vertices.push_back({{0, 0, 0}, o, {0, 0, 1}, -o});
     s.vertices.push_back({{1, 0, 0}, o + 7.3f, {0, 0, 1}, -o});
@@ -120,8 +123,12 @@ TEST(SceneProbe, FarUvsUnderEveryWrapMode) {
   checkScene(s, 3000);
 }
 
-TEST(SceneProbe, TexturedAllSlotsWrapModesAndNormalMap) { checkScene(test::dataPath("scene/textured.gltf"), 2000); }
-TEST(SceneProbe, AlphaMask) { checkScene(test::dataPath("scene/alpha_mask.gltf"), 2000); }
+TEST(SceneProbe, TexturedAllSlotsWrapModesAndNormalMap) {
+  checkScene(test::dataPath("scene/textured.gltf"), 2000);
+}
+TEST(SceneProbe, AlphaMask) {
+  checkScene(test::dataPath("scene/alpha_mask.gltf"), 2000);
+}
 TEST(SceneProbe, HierarchyAndMaterials) {
   checkScene(test::dataPath("scene/hierarchy.gltf"), 500);
   checkScene(test::dataPath("scene/materials.gltf"), 500);

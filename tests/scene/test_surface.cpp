@@ -11,7 +11,9 @@ namespace gs = osr::gpu::scene;
 
 namespace {
 
-uint32_t rgba(uint32_t r, uint32_t g, uint32_t b, uint32_t a) { return r | (g << 8) | (b << 16) | (a << 24); }
+uint32_t rgba(uint32_t r, uint32_t g, uint32_t b, uint32_t a) {
+  return r | (g << 8) | (b << 16) | (a << 24);
+}
 
 // A scene with one 3x2 texture of distinct texels under the given wrap modes.
 scene::Scene textureScene(uint32_t wrapS, uint32_t wrapT) {
@@ -41,13 +43,16 @@ TEST(Surface, TexelCentresAreExact) {
     scene::Scene s = textureScene(wrap, wrap);
     for (int y = 0; y < 2; ++y)
       for (int x = 0; x < 3; ++x)
-        expectNear4(scene::sampleTexture(s, 0, {(x + 0.5f) / 3, (y + 0.5f) / 2}), texelValue(s, x, y),
-                    "wrap " + std::to_string(wrap) + " texel " + std::to_string(x) + "," + std::to_string(y));
+        expectNear4(scene::sampleTexture(s, 0, {(x + 0.5f) / 3, (y + 0.5f) / 2}),
+                    texelValue(s, x, y),
+                    "wrap " + std::to_string(wrap) + " texel " + std::to_string(x) + "," +
+                        std::to_string(y));
   }
   scene::Scene s = textureScene(0, 0);
   EXPECT_EQ(scene::sampleTexture(s, gs::kNoTexture, {0.3f, 0.3f}), glm::vec4(1.0f));
   // Halfway between two texel centres: their mean.
-  expectNear4(scene::sampleTexture(s, 0, {1.0f / 3, 0.25f}), 0.5f * (texelValue(s, 0, 0) + texelValue(s, 1, 0)), "mid");
+  expectNear4(scene::sampleTexture(s, 0, {1.0f / 3, 0.25f}),
+              0.5f * (texelValue(s, 0, 0) + texelValue(s, 1, 0)), "mid");
 }
 
 TEST(Surface, WrapModes) {
@@ -57,26 +62,50 @@ TEST(Surface, WrapModes) {
   for (glm::vec2 uv : {glm::vec2(0.1f, 0.2f), glm::vec2(0.77f, 0.9f), glm::vec2(0.4f, 0.05f)}) {
     std::string where = "uv " + std::to_string(uv.x) + "," + std::to_string(uv.y);
     // Repeat: period 1.
-    expectNear4(scene::sampleTexture(repeat, 0, uv + glm::vec2(3, -2)), scene::sampleTexture(repeat, 0, uv), where);
+    expectNear4(scene::sampleTexture(repeat, 0, uv + glm::vec2(3, -2)),
+                scene::sampleTexture(repeat, 0, uv), where);
     // Mirror: symmetric about 0 and period 2.
     expectNear4(scene::sampleTexture(mirror, 0, -uv), scene::sampleTexture(mirror, 0, uv), where);
-    expectNear4(scene::sampleTexture(mirror, 0, uv + glm::vec2(2, 4)), scene::sampleTexture(mirror, 0, uv), where);
+    expectNear4(scene::sampleTexture(mirror, 0, uv + glm::vec2(2, 4)),
+                scene::sampleTexture(mirror, 0, uv), where);
   }
   // Far outside [0, 1]: still a texel of the texture (values stay in [0, 1]).
   for (const scene::Scene* sc : {&repeat, &clamp, &mirror})
     for (float far : {1e20f, -1e20f, 12345.678f, -7777.25f}) {
       glm::vec4 v = scene::sampleTexture(*sc, 0, {far, -far});
-      EXPECT_TRUE(glm::all(glm::greaterThanEqual(v, glm::vec4(0.0f))) && glm::all(glm::lessThanEqual(v, glm::vec4(1.0f))));
+      EXPECT_TRUE(glm::all(glm::greaterThanEqual(v, glm::vec4(0.0f))) &&
+                  glm::all(glm::lessThanEqual(v, glm::vec4(1.0f))));
     }
   // Repeat at a large integer offset is still periodic (uvs exact in float, so only the wrap
   // arithmetic could differ).
   expectNear4(scene::sampleTexture(repeat, 0, glm::vec2(0.125f, 0.3125f) + glm::vec2(-4096, 4096)),
               scene::sampleTexture(repeat, 0, {0.125f, 0.3125f}), "large offset");
   // Clamp: beyond the edge is the edge texel.
-  expectNear4(scene::sampleTexture(clamp, 0, {-3.0f, 5.0f}), texelValue(clamp, 0, 1), "clamp corner");
-  expectNear4(scene::sampleTexture(clamp, 0, {7.0f, -1.0f}), texelValue(clamp, 2, 0), "clamp corner");
+  expectNear4(scene::sampleTexture(clamp, 0, {-3.0f, 5.0f}), texelValue(clamp, 0, 1),
+              "clamp corner");
+  expectNear4(scene::sampleTexture(clamp, 0, {7.0f, -1.0f}), texelValue(clamp, 2, 0),
+              "clamp corner");
   // Repeat blends across the seam: u = 0 is halfway between the last and the first column.
-  expectNear4(scene::sampleTexture(repeat, 0, {0.0f, 0.25f}), 0.5f * (texelValue(repeat, 2, 0) + texelValue(repeat, 0, 0)), "seam");
+  expectNear4(scene::sampleTexture(repeat, 0, {0.0f, 0.25f}),
+              0.5f * (texelValue(repeat, 2, 0) + texelValue(repeat, 0, 0)), "seam");
+}
+
+TEST(Surface, NearestFilter) {
+  for (uint32_t wrap : {gs::kWrapRepeat, gs::kWrapClamp, gs::kWrapMirror}) {
+    scene::Scene s = textureScene(wrap, wrap);
+    s.textures[0].wrap |= gs::kTextureNearest;
+    for (int y = 0; y < 2; ++y)
+      for (int x = 0; x < 3; ++x)
+        for (glm::vec2 f :
+             {glm::vec2(0.01f, 0.02f), glm::vec2(0.49f, 0.6f), glm::vec2(0.98f, 0.97f)})
+          expectNear4(scene::sampleTexture(s, 0, {(x + f.x) / 3, (y + f.y) / 2}),
+                      texelValue(s, x, y),
+                      "nearest, wrap " + std::to_string(wrap) + " texel " + std::to_string(x) +
+                          "," + std::to_string(y));
+  }
+  scene::Scene s = textureScene(gs::kWrapRepeat, gs::kWrapRepeat);
+  s.textures[0].wrap |= gs::kTextureNearest;
+  expectNear4(scene::sampleTexture(s, 0, {-0.1f, 0.1f}), texelValue(s, 2, 0), "nearest repeat");
 }
 
 TEST(Surface, SrgbToLinear) {
@@ -92,7 +121,8 @@ namespace {
 // One triangle in the z = 0 plane with uv = (x, y): tangent +X, bitangent +Y, normal +Z.
 scene::Scene flatTriangle() {
   scene::Scene s;
-  s.vertices = {{{0, 0, 0}, 0, {0, 0, 1}, 0}, {{2, 0, 0}, 1, {0, 0, 1}, 0}, {{0, 2, 0}, 0, {0, 0, 1}, 1}};
+  s.vertices = {
+      {{0, 0, 0}, 0, {0, 0, 1}, 0}, {{2, 0, 0}, 1, {0, 0, 1}, 0}, {{0, 2, 0}, 0, {0, 0, 1}, 1}};
   s.triangles = {{0, 1, 2, 0}};
   s.materials = {scene::defaultMaterial()};
   return s;
@@ -159,7 +189,7 @@ TEST(Surface, AlphaCutoutOfTheMaskFile) {
   // Quad triangle 0 has uv = (b1 + b2, 1 - b2) over a 2x2 clamped checker: texel (1, 1) opaque,
   // texel (1, 0) transparent. Mask material (cutoff 0.4) is triangles 0-1, opaque 2-3, blend
   // (alpha 0.3 < 0.5) 4-5.
-  glm::vec2 opaque(0.5f, 0.25f);      // uv (0.75, 0.75)
+  glm::vec2 opaque(0.5f, 0.25f);       // uv (0.75, 0.75)
   glm::vec2 transparent(0.0f, 0.75f);  // uv (0.75, 0.25)
   EXPECT_FALSE(scene::alphaCutout(s, 0, opaque));
   EXPECT_TRUE(scene::alphaCutout(s, 0, transparent));
