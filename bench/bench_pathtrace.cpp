@@ -32,7 +32,9 @@ std::string scenePath(const std::string& name, const std::string& file) {
   return std::string(OSR_SOURCE_DIR) + "/scenes/" + name + "/" + file;
 }
 
-bool haveBlender() { return std::system("command -v blender >/dev/null 2>&1") == 0; }
+bool haveBlender() {
+  return std::system("command -v blender >/dev/null 2>&1") == 0;
+}
 
 // Renders the glTF with Cycles (CPU, box filter 1 px, 64 bounces, no denoising or adaptive
 // sampling, as scenes/README.md describes the references) and returns the render time in
@@ -116,9 +118,10 @@ int runPathtrace(const std::vector<std::string>& args) {
     double ours = app::meanLuminance({32, 32, check.combined});
     double ratio = ours / app::meanLuminance(ref);
     if (!std::isfinite(ours) || check.droppedSamples || std::abs(ratio - 1.0) > 0.1) {
-      std::fprintf(stderr, "osr-bench: pathtrace %s: verification failed (mean luminance %.4g "
-                   "of the reference's, %llu dropped samples)\n", name.c_str(), ratio,
-                   static_cast<unsigned long long>(check.droppedSamples));
+      std::fprintf(stderr,
+                   "osr-bench: pathtrace %s: verification failed (mean luminance %.4g "
+                   "of the reference's, %llu dropped samples)\n",
+                   name.c_str(), ratio, static_cast<unsigned long long>(check.droppedSamples));
       return 1;
     }
 

@@ -1,9 +1,9 @@
 // The path tracer's passes (pt_trace.comp): film layout, per-frame constants, bindings.
 #ifndef OSR_SHARED_PT_H
 #define OSR_SHARED_PT_H
-#include "shared/types.h"
 #include "shared/bvh.h"
 #include "shared/scene.h"
+#include "shared/types.h"
 OSR_NAMESPACE_BEGIN(pt)
 
 OSR_CONST(uint, kPtWorkgroupSize, 64);
@@ -12,8 +12,8 @@ OSR_CONST(uint, kPtWorkgroupSize, 64);
 OSR_CONST(uint, kPtBindingFilm, 0u);
 OSR_CONST(uint, kPtBindingFrame, 1u);
 OSR_CONST(uint, kPtBvhBinding, 2u);
-OSR_CONST(uint, kPtSceneBinding, 4u);  // kPtBvhBinding + kBvhBindingCount
-OSR_CONST(uint, kPtBindingCount, 14u); // kPtSceneBinding + kSceneBindingCount
+OSR_CONST(uint, kPtSceneBinding, 4u);   // kPtBvhBinding + kBvhBindingCount
+OSR_CONST(uint, kPtBindingCount, 14u);  // kPtSceneBinding + kSceneBindingCount
 
 // Specialization constant 0 of pt_trace.comp: what a sample computes.
 OSR_CONST(uint, kPtSpecIntegrator, 0u);
@@ -36,16 +36,16 @@ struct FilmPixel {
 
 // Per-render constants (one small buffer).
 struct Frame {
-  vec4 cameraRight;    // worldFromCamera columns: +X
-  vec4 cameraUp;       // +Y
-  vec4 cameraBack;     // +Z (the camera looks down -Z)
+  vec4 cameraRight;  // worldFromCamera columns: +X
+  vec4 cameraUp;     // +Y
+  vec4 cameraBack;   // +Z (the camera looks down -Z)
   vec4 cameraOrigin;
   uint width;
   uint height;
   uint seed;
   uint _pad0;
   float tanHalfFovY;
-  float aspect;        // width / height of the image
+  float aspect;  // width / height of the image
   float _pad1;
   float _pad2;
 };

@@ -28,10 +28,11 @@ int runCompare(const std::vector<std::string>& args) {
     std::snprintf(buf, sizeof buf, "%.6g", v);
     return std::string(buf);
   };
-  std::printf("{\"relmse\": %s, \"psnr\": %s, \"ssim\": %s, \"lum_ratio\": %s, "
-              "\"relmse_epsilon\": %g, \"tonemap\": \"%s\"}\n",
-              num(m.relmse).c_str(), num(m.psnr).c_str(), num(m.ssim).c_str(),
-              num(m.lumRatio).c_str(), kRelMseEpsilon, kToneMapDescription);
+  std::printf(
+      "{\"relmse\": %s, \"psnr\": %s, \"ssim\": %s, \"lum_ratio\": %s, "
+      "\"relmse_epsilon\": %g, \"tonemap\": \"%s\"}\n",
+      num(m.relmse).c_str(), num(m.psnr).c_str(), num(m.ssim).c_str(), num(m.lumRatio).c_str(),
+      kRelMseEpsilon, kToneMapDescription);
   return 0;
 }
 

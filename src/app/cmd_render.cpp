@@ -29,9 +29,8 @@ LayeredImage toLayers(const render::FilmLayers& f) {
   img.width = f.width;
   img.height = f.height;
   const std::vector<std::string> rgb = {"R", "G", "B"}, xyz = {"X", "Y", "Z"};
-  img.layers = {{"", rgb, f.combined},       {"direct", rgb, f.direct},
-                {"indirect", rgb, f.indirect}, {"albedo", rgb, f.albedo},
-                {"normal", xyz, f.normal},     {"depth", {"Z"}, f.depth}};
+  img.layers = {{"", rgb, f.combined},     {"direct", rgb, f.direct}, {"indirect", rgb, f.indirect},
+                {"albedo", rgb, f.albedo}, {"normal", xyz, f.normal}, {"depth", {"Z"}, f.depth}};
   return img;
 }
 
@@ -137,9 +136,10 @@ int runRender(const std::vector<std::string>& args) {
     writeExr(*exrPath, toLayers(film), exrFloat ? ExrPixelType::Float : ExrPixelType::Half);
   if (pngPath) writePng(*pngPath, {film.width, film.height, film.combined}, exposure);
   if (!quiet)
-    std::fprintf(stderr, "osr-vk: %ux%u, %u spp in %.2f s (%.3g Mpaths/s)\n", rs.width, rs.height,
-                 stats.samples, stats.seconds,
-                 double(rs.width) * rs.height * stats.samples / std::max(stats.seconds, 1e-9) * 1e-6);
+    std::fprintf(
+        stderr, "osr-vk: %ux%u, %u spp in %.2f s (%.3g Mpaths/s)\n", rs.width, rs.height,
+        stats.samples, stats.seconds,
+        double(rs.width) * rs.height * stats.samples / std::max(stats.seconds, 1e-9) * 1e-6);
   return 0;
 }
 

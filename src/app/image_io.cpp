@@ -5,15 +5,15 @@
 #include <ImfHeader.h>
 #include <ImfInputFile.h>
 #include <ImfOutputFile.h>
+#include <half.h>
 #include <unistd.h>
 
 #include <algorithm>
 #include <cerrno>
-#include <cstring>
 #include <cmath>
 #include <cstdio>
+#include <cstring>
 #include <filesystem>
-#include <half.h>
 
 #define STB_IMAGE_WRITE_IMPLEMENTATION
 #include <stb/stb_image_write.h>
@@ -66,19 +66,19 @@ void writeExr(const std::string& path, const LayeredImage& image, ExrPixelType t
     if (layer.data.size() != size_t(w) * h * nc)
       throw std::logic_error("writeExr: layer '" + layer.name + "' has the wrong size");
     for (size_t c = 0; c < nc; ++c) {
-      std::string name = layer.name.empty() ? layer.channelNames[c]
-                                            : layer.name + "." + layer.channelNames[c];
+      std::string name =
+          layer.name.empty() ? layer.channelNames[c] : layer.name + "." + layer.channelNames[c];
       header.channels().insert(name, Imf::Channel(pt));
       if (pt == Imf::HALF) {
         auto& plane = halfPlanes.emplace_back(size_t(w) * h);
         for (size_t i = 0; i < plane.size(); ++i) plane[i] = half(layer.data[i * nc + c]);
-        fb.insert(name, Imf::Slice(Imf::HALF, reinterpret_cast<char*>(plane.data()),
-                                   sizeof(half), sizeof(half) * w));
+        fb.insert(name, Imf::Slice(Imf::HALF, reinterpret_cast<char*>(plane.data()), sizeof(half),
+                                   sizeof(half) * w));
       } else {
         auto& plane = floatPlanes.emplace_back(size_t(w) * h);
         for (size_t i = 0; i < plane.size(); ++i) plane[i] = layer.data[i * nc + c];
-        fb.insert(name, Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(plane.data()),
-                                   sizeof(float), sizeof(float) * w));
+        fb.insert(name, Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(plane.data()), sizeof(float),
+                                   sizeof(float) * w));
       }
     }
   }

@@ -21,7 +21,8 @@ double ssimPlane(const std::vector<double>& x, const std::vector<double>& y, int
   constexpr double kSigma = 1.5, kC1 = 0.01 * 0.01, kC2 = 0.03 * 0.03;
   double kernel[2 * kRadius + 1];
   double ksum = 0.0;
-  for (int i = -kRadius; i <= kRadius; ++i) ksum += kernel[i + kRadius] = std::exp(-i * i / (2 * kSigma * kSigma));
+  for (int i = -kRadius; i <= kRadius; ++i)
+    ksum += kernel[i + kRadius] = std::exp(-i * i / (2 * kSigma * kSigma));
   for (double& k : kernel) k /= ksum;
   // Blur with clamp-to-edge borders.
   auto blur = [&](const std::vector<double>& in) {

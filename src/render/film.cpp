@@ -11,8 +11,8 @@ Film::Film(const vk::Context& ctx, uint32_t width, uint32_t height)
   const uint64_t bytes = uint64_t(width) * height * sizeof(pt::FilmPixel);
   // One binding covers the whole film: refuse rather than truncate past the device limit.
   if (bytes > ctx.caps().maxStorageBufferRange)
-    throw InputError("film: " + std::to_string(width) + "x" + std::to_string(height) +
-                     " needs " + std::to_string(bytes >> 20) +
+    throw InputError("film: " + std::to_string(width) + "x" + std::to_string(height) + " needs " +
+                     std::to_string(bytes >> 20) +
                      " MiB, over the device's maxStorageBufferRange of " +
                      std::to_string(ctx.caps().maxStorageBufferRange >> 20) + " MiB");
   buffer_ = vk::Buffer(ctx, bytes, vk::MemoryUse::DeviceLocal, "pt film");

@@ -51,7 +51,8 @@ FilmLayers render(const vk::Context& ctx, const scene::GpuScene& scene, const bv
   while (done < settings.spp) {
     double now = elapsed();
     // Stop when one more sample would end nearer past the budget than we are before it.
-    if (settings.timeLimitS > 0.0 && done > 0 && now + 0.5 * secondsPerSample >= settings.timeLimitS)
+    if (settings.timeLimitS > 0.0 && done > 0 &&
+        now + 0.5 * secondsPerSample >= settings.timeLimitS)
       break;
     uint32_t n = std::min(batch, settings.spp - done);
     if (settings.timeLimitS > 0.0 && secondsPerSample > 0.0) {

@@ -1,6 +1,6 @@
 // The progressive render loop: samples are added to the film in batches (one submission per
-// batch, dispatches of a few samples over chunks of pixels) until the sample count or the time budget
-// runs out, whichever comes first. The same seed gives the same image.
+// batch, dispatches of a few samples over chunks of pixels) until the sample count or the time
+// budget runs out, whichever comes first. The same seed gives the same image.
 #pragma once
 #include <functional>
 #include <string>
@@ -15,8 +15,8 @@ namespace osr::render {
 struct RenderSettings {
   uint32_t width = 512;
   uint32_t height = 512;
-  uint32_t spp = 64;           // upper bound on samples per pixel
-  double timeLimitS = 0.0;     // 0: no limit; otherwise stop starting batches past it
+  uint32_t spp = 64;        // upper bound on samples per pixel
+  double timeLimitS = 0.0;  // 0: no limit; otherwise stop starting batches past it
   uint32_t seed = 0;
   uint32_t integrator = 0;     // gpu::pt::kIntegratorPath or kIntegratorPreview
   double batchTargetS = 0.25;  // aim for submissions this long (progress, time limit)

@@ -3,8 +3,8 @@
 // Megakernel, not wavefront: on lavapipe (2 CPU threads, SIMD width 8) a wavefront split pays
 // a barrier and a full write/read of the path state per bounce, while the divergence it
 // removes costs little. This is the brief's first guess; a wavefront variant has not been
-// built to measure against (a GPU may prefer it). Dispatches are one sample over at most kMaxPixelsPerDispatch pixels, short enough for
-// a desktop GPU's watchdog.
+// built to measure against (a GPU may prefer it). Dispatches are one sample over at most
+// kMaxPixelsPerDispatch pixels, short enough for a desktop GPU's watchdog.
 #pragma once
 #include "bvh/bvh.h"
 #include "render/film.h"

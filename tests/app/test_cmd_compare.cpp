@@ -6,8 +6,8 @@
 #include <filesystem>
 #include <fstream>
 
-#include "app/image_io.h"
 #include "app/cli_runner.h"
+#include "app/image_io.h"
 #include "common/vk_test.h"
 
 using namespace osr;
@@ -15,14 +15,17 @@ namespace fs = std::filesystem;
 
 namespace {
 using Result = test::CliResult;
-Result run(const std::string& args) { return test::runOsrVk(args); }
+Result run(const std::string& args) {
+  return test::runOsrVk(args);
+}
 }  // namespace
 
 TEST(CmdCompare, PrintsOneJsonLine) {
   std::string ref = test::referencePath("cornell/cornell_cycles_4096spp.exr");
   Result r = run("compare " + ref + " " + ref);
   EXPECT_EQ(r.code, 0) << r.out;
-  EXPECT_EQ(r.out.find("{\"relmse\": 0, \"psnr\": null, \"ssim\": 1, \"lum_ratio\": 1"), 0u) << r.out;
+  EXPECT_EQ(r.out.find("{\"relmse\": 0, \"psnr\": null, \"ssim\": 1, \"lum_ratio\": 1"), 0u)
+      << r.out;
   EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1);
 }
 
@@ -34,9 +37,9 @@ TEST(CmdCompare, BadInputExitsTwoWithOneLine) {
                 app::ExrPixelType::Half);
   { std::ofstream(junk) << "not an exr"; }
   std::string ref = test::referencePath("cornell/cornell_cycles_4096spp.exr");
-  for (std::string args : {"compare " + small + " " + ref, "compare " + junk + " " + ref,
-                           "compare " + ref, "compare " + ref + " " + (d / "nope.exr").string(),
-                           "compare --bogus " + ref + " " + ref}) {
+  for (std::string args :
+       {"compare " + small + " " + ref, "compare " + junk + " " + ref, "compare " + ref,
+        "compare " + ref + " " + (d / "nope.exr").string(), "compare --bogus " + ref + " " + ref}) {
     Result r = run(args);
     EXPECT_EQ(r.code, 2) << args << ": " << r.out;
     EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << args << ": " << r.out;

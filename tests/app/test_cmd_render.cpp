@@ -1,11 +1,10 @@
 // `osr-vk [options] scene.gltf` as a user runs it: the layers of the EXR, --quiet, --time, and
 // bad input (unknown flags, negative spp, unwritable output, unreadable environment map, bad
 // mode): one stderr line, exit 2, and an existing output file left untouched.
-#include <gtest/gtest.h>
-
 #include <ImfChannelList.h>
 #include <ImfHeader.h>
 #include <ImfInputFile.h>
+#include <gtest/gtest.h>
 
 #include <array>
 #include <chrono>
@@ -14,8 +13,8 @@
 #include <fstream>
 #include <tuple>
 
-#include "app/image_io.h"
 #include "app/cli_runner.h"
+#include "app/image_io.h"
 #include "common/vk_test.h"
 #include "render/gltf_writer.h"
 
@@ -24,7 +23,9 @@ namespace fs = std::filesystem;
 
 namespace {
 using Result = test::CliResult;
-Result run(const std::string& args) { return test::runOsrVk(args); }
+Result run(const std::string& args) {
+  return test::runOsrVk(args);
+}
 std::string slurp(const std::string& path) {
   std::ifstream f(path, std::ios::binary);
   return std::string(std::istreambuf_iterator<char>(f), {});
@@ -46,8 +47,8 @@ TEST(CmdRender, PreviewWritesAllLayersQuietly) {
   EXPECT_EQ(r.out, "");
   Imf::InputFile f(exr.c_str());
   const Imf::ChannelList& ch = f.header().channels();
-  for (const char* name : {"R", "G", "B", "direct.R", "indirect.B", "albedo.G", "normal.X",
-                           "normal.Z", "depth.Z"})
+  for (const char* name :
+       {"R", "G", "B", "direct.R", "indirect.B", "albedo.G", "normal.X", "normal.Z", "depth.Z"})
     EXPECT_NE(ch.findChannel(name), nullptr) << name;
   app::RgbImage img = app::readExrRgb(exr);
   EXPECT_EQ(img.width, 8);
@@ -60,11 +61,11 @@ TEST(CmdRender, SizeFollowsTheCameraAspectAndCamerasAreSelectable) {
   fs::path d = tempDir();
   std::string exr = (d / "c.exr").string();
   // cornell's camera has aspect 1: --height alone gives a square image.
-  for (auto [args, w, h] : {std::tuple{"--height 6 --camera Camera", 6, 6},
-                            std::tuple{"--width 10 --camera 0", 10, 10},
-                            std::tuple{"--width 12 --height 4", 12, 4}}) {
-    Result r = run(std::string("--mode preview --spp 1 --quiet ") + args + " --offline " + exr + " " +
-                   kCornell);
+  for (auto [args, w, h] :
+       {std::tuple{"--height 6 --camera Camera", 6, 6}, std::tuple{"--width 10 --camera 0", 10, 10},
+        std::tuple{"--width 12 --height 4", 12, 4}}) {
+    Result r = run(std::string("--mode preview --spp 1 --quiet ") + args + " --offline " + exr +
+                   " " + kCornell);
     ASSERT_EQ(r.code, 0) << args << ": " << r.out;
     app::RgbImage img = app::readExrRgb(exr);
     EXPECT_EQ(img.width, w) << args;
@@ -81,7 +82,7 @@ TEST(CmdRender, TimeLimitStopsTheRenderWithProgress) {
   double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   ASSERT_EQ(r.code, 0) << r.out;
   EXPECT_LT(s, 30.0);
-  EXPECT_NE(r.out.find("spp"), std::string::npos) << r.out;       // progress line
+  EXPECT_NE(r.out.find("spp"), std::string::npos) << r.out;  // progress line
   EXPECT_NE(r.out.find("remaining"), std::string::npos) << r.out;
   EXPECT_TRUE(fs::exists(exr));
   fs::remove_all(d);

@@ -72,9 +72,9 @@ TEST(ImageIo, FailuresAreInputErrorsAndKeepExistingFiles) {
   { std::ofstream(existing) << "precious"; }
   EXPECT_THROW(app::readExrRgb(existing), InputError);  // not an EXR
   EXPECT_THROW(app::readExrRgb((d / "missing.exr").string()), InputError);
-  EXPECT_THROW(app::writeExr((d / "no_dir" / "x.exr").string(), testImage(2, 2),
-                             app::ExrPixelType::Half),
-               InputError);
+  EXPECT_THROW(
+      app::writeExr((d / "no_dir" / "x.exr").string(), testImage(2, 2), app::ExrPixelType::Half),
+      InputError);
   EXPECT_THROW(app::checkWritable((d / "no_dir" / "x.exr").string()), InputError);
   EXPECT_THROW(app::checkWritable(d.string()), InputError);
   app::checkWritable(existing);

@@ -8,7 +8,9 @@
 using namespace osr;
 
 namespace {
-app::RgbImage constant(int w, int h, float v) { return {w, h, std::vector<float>(size_t(w) * h * 3, v)}; }
+app::RgbImage constant(int w, int h, float v) {
+  return {w, h, std::vector<float>(size_t(w) * h * 3, v)};
+}
 double toneMapped(double x) {
   x = x / (1 + x);
   return x <= 0.0031308 ? 12.92 * x : 1.055 * std::pow(x, 1 / 2.4) - 0.055;

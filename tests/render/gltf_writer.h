@@ -1,14 +1,14 @@
 // Test helper: writes small glTF 2.0 scenes (one data-URI buffer) so render tests load
 // known geometry, materials, lights and cameras through the real loader.
 #pragma once
-#include <glm/glm.hpp>
-#include <glm/gtc/quaternion.hpp>
-#include <nlohmann/json.hpp>
 #include <stb/stb_image_write.h>
 
 #include <cmath>
 #include <cstring>
 #include <fstream>
+#include <glm/glm.hpp>
+#include <glm/gtc/quaternion.hpp>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
 
@@ -24,27 +24,36 @@ class GltfWriter {
     return int(materials_.size()) - 1;
   }
   // Adds a mesh node of triangles (positions per vertex, counter-clockwise = front).
-  void mesh(const std::vector<glm::vec3>& positions, const std::vector<uint32_t>& indices,
-            int mat, const std::vector<glm::vec2>& uvs = {}) {
+  void mesh(const std::vector<glm::vec3>& positions, const std::vector<uint32_t>& indices, int mat,
+            const std::vector<glm::vec2>& uvs = {}) {
     glm::vec3 lo(1e30f), hi(-1e30f);
     for (auto p : positions) lo = glm::min(lo, p), hi = glm::max(hi, p);
     size_t posOffset = append(positions.data(), positions.size() * 12);
     size_t idxOffset = append(indices.data(), indices.size() * 4);
-    int posView = view(posOffset, positions.size() * 12), idxView = view(idxOffset, indices.size() * 4);
-    accessors_.push_back({{"bufferView", posView}, {"componentType", 5126}, {"count", positions.size()},
-                          {"type", "VEC3"}, {"min", {lo.x, lo.y, lo.z}}, {"max", {hi.x, hi.y, hi.z}}});
-    accessors_.push_back({{"bufferView", idxView}, {"componentType", 5125}, {"count", indices.size()},
+    int posView = view(posOffset, positions.size() * 12),
+        idxView = view(idxOffset, indices.size() * 4);
+    accessors_.push_back({{"bufferView", posView},
+                          {"componentType", 5126},
+                          {"count", positions.size()},
+                          {"type", "VEC3"},
+                          {"min", {lo.x, lo.y, lo.z}},
+                          {"max", {hi.x, hi.y, hi.z}}});
+    accessors_.push_back({{"bufferView", idxView},
+                          {"componentType", 5125},
+                          {"count", indices.size()},
                           {"type", "SCALAR"}});
     int a = int(accessors_.size());
     json attributes = {{"POSITION", a - 2}};
     if (!uvs.empty()) {
       int uvView = view(append(uvs.data(), uvs.size() * 8), uvs.size() * 8);
-      accessors_.push_back({{"bufferView", uvView}, {"componentType", 5126}, {"count", uvs.size()},
+      accessors_.push_back({{"bufferView", uvView},
+                            {"componentType", 5126},
+                            {"count", uvs.size()},
                             {"type", "VEC2"}});
       attributes["TEXCOORD_0"] = int(accessors_.size()) - 1;
     }
-    meshes_.push_back({{"primitives", {{{"attributes", attributes}, {"indices", a - 1},
-                                        {"material", mat}}}}});
+    meshes_.push_back(
+        {{"primitives", {{{"attributes", attributes}, {"indices", a - 1}, {"material", mat}}}}});
     nodes_.push_back({{"mesh", int(meshes_.size()) - 1}});
   }
   // A quad p0, p1, p2, p3 (counter-clockwise seen from the front).
@@ -63,7 +72,8 @@ class GltfWriter {
         &png, w, h, 4, rgba.data(), w * 4);
     images_.push_back({{"uri", "data:image/png;base64," + base64(png)}});
     samplers_.push_back({{"wrapS", 33071}, {"wrapT", 33071}});
-    textures_.push_back({{"source", int(images_.size()) - 1}, {"sampler", int(samplers_.size()) - 1}});
+    textures_.push_back(
+        {{"source", int(images_.size()) - 1}, {"sampler", int(samplers_.size()) - 1}});
     return int(textures_.size()) - 1;
   }
   // A UV sphere with outward-facing triangles.
@@ -73,7 +83,8 @@ class GltfWriter {
     for (int i = 0; i <= rings; ++i)
       for (int j = 0; j <= segments; ++j) {
         float th = float(M_PI) * i / rings, ph = 2 * float(M_PI) * j / segments;
-        p.push_back(c + r * glm::vec3(std::sin(th) * std::cos(ph), std::cos(th), std::sin(th) * std::sin(ph)));
+        p.push_back(c + r * glm::vec3(std::sin(th) * std::cos(ph), std::cos(th),
+                                      std::sin(th) * std::sin(ph)));
       }
     for (int i = 0; i < rings; ++i)
       for (int j = 0; j < segments; ++j) {
@@ -108,8 +119,9 @@ class GltfWriter {
   void write(const std::string& path) const {
     json g;
     g["asset"] = {{"version", "2.0"}};
-    g["extensionsUsed"] = {"KHR_materials_specular", "KHR_materials_ior", "KHR_materials_transmission",
-                           "KHR_materials_emissive_strength", "KHR_lights_punctual"};
+    g["extensionsUsed"] = {"KHR_materials_specular", "KHR_materials_ior",
+                           "KHR_materials_transmission", "KHR_materials_emissive_strength",
+                           "KHR_lights_punctual"};
     g["buffers"] = {{{"byteLength", data_.size()},
                      {"uri", "data:application/octet-stream;base64," + base64(data_)}}};
     g["bufferViews"] = views_;
@@ -133,24 +145,29 @@ class GltfWriter {
 
   // Lambertian as Blender's exporter writes it: specular colour 0, roughness 1.
   static json diffuse(glm::vec3 c) {
-    return {{"pbrMetallicRoughness", {{"baseColorFactor", {c.x, c.y, c.z, 1.0}}, {"metallicFactor", 0.0}}},
+    return {{"pbrMetallicRoughness",
+             {{"baseColorFactor", {c.x, c.y, c.z, 1.0}}, {"metallicFactor", 0.0}}},
             {"doubleSided", true},
             {"extensions", {{"KHR_materials_specular", {{"specularColorFactor", {0, 0, 0}}}}}}};
   }
   static json emitter(glm::vec3 radiance, bool doubleSided) {
     float s = std::max(radiance.x, std::max(radiance.y, radiance.z));
-    return {{"pbrMetallicRoughness", {{"baseColorFactor", {0, 0, 0, 1.0}}, {"metallicFactor", 0.0}}},
-            {"emissiveFactor", {radiance.x / s, radiance.y / s, radiance.z / s}},
-            {"doubleSided", doubleSided},
-            {"extensions", {{"KHR_materials_emissive_strength", {{"emissiveStrength", s}}},
-                            {"KHR_materials_specular", {{"specularColorFactor", {0, 0, 0}}}}}}};
+    return {
+        {"pbrMetallicRoughness", {{"baseColorFactor", {0, 0, 0, 1.0}}, {"metallicFactor", 0.0}}},
+        {"emissiveFactor", {radiance.x / s, radiance.y / s, radiance.z / s}},
+        {"doubleSided", doubleSided},
+        {"extensions",
+         {{"KHR_materials_emissive_strength", {{"emissiveStrength", s}}},
+          {"KHR_materials_specular", {{"specularColorFactor", {0, 0, 0}}}}}}};
   }
   static json glass(float ior) {
-    return {{"pbrMetallicRoughness", {{"baseColorFactor", {1, 1, 1, 1.0}}, {"metallicFactor", 0.0},
-                                      {"roughnessFactor", 0.0}}},
-            {"doubleSided", true},
-            {"extensions", {{"KHR_materials_transmission", {{"transmissionFactor", 1.0}}},
-                            {"KHR_materials_ior", {{"ior", ior}}}}}};
+    return {
+        {"pbrMetallicRoughness",
+         {{"baseColorFactor", {1, 1, 1, 1.0}}, {"metallicFactor", 0.0}, {"roughnessFactor", 0.0}}},
+        {"doubleSided", true},
+        {"extensions",
+         {{"KHR_materials_transmission", {{"transmissionFactor", 1.0}}},
+          {"KHR_materials_ior", {{"ior", ior}}}}}};
   }
 
  private:
@@ -168,7 +185,8 @@ class GltfWriter {
     static const char* k = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
     std::string out;
     for (size_t i = 0; i < d.size(); i += 3) {
-      uint32_t v = d[i] << 16 | (i + 1 < d.size() ? d[i + 1] << 8 : 0) | (i + 2 < d.size() ? d[i + 2] : 0);
+      uint32_t v =
+          d[i] << 16 | (i + 1 < d.size() ? d[i + 1] << 8 : 0) | (i + 2 < d.size() ? d[i + 2] : 0);
       out += k[v >> 18 & 63];
       out += k[v >> 12 & 63];
       out += i + 1 < d.size() ? k[v >> 6 & 63] : '=';

@@ -1,7 +1,7 @@
 // shaders/lib/bsdf.glsl through pt_bsdf_probe.comp: sampling and evaluation agree (the sampled
 // albedo estimate equals the albedo integrated numerically from bsdfEval, bsdfEval's pdf
-// integrates to the fraction of valid samples, so sampling draws the density it reports), a Lambertian material is exactly baseColor / pi, and a smooth white dielectric
-// conserves energy.
+// integrates to the fraction of valid samples, so sampling draws the density it reports), a
+// Lambertian material is exactly baseColor / pi, and a smooth white dielectric conserves energy.
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -20,8 +20,8 @@ constexpr uint32_t kTheta = 192, kPhi = 384;
 constexpr uint32_t kSamples = 1u << 16;
 
 probe::ProbeCase makeCase(glm::vec3 base, float metallic, float roughness, float thetaDeg,
-                          float transmission = 0.f, float eta = 1.5f, glm::vec3 specColor = {1, 1, 1},
-                          float specular = 1.f) {
+                          float transmission = 0.f, float eta = 1.5f,
+                          glm::vec3 specColor = {1, 1, 1}, float specular = 1.f) {
   probe::ProbeCase c{};
   c.params.baseColor = base;
   c.params.metallic = metallic;
@@ -37,7 +37,8 @@ probe::ProbeCase makeCase(glm::vec3 base, float metallic, float roughness, float
 
 std::string describe(const probe::ProbeCase& c) {
   char buf[200];
-  std::snprintf(buf, sizeof buf, "base (%g %g %g) metallic %g roughness %g transmission %g eta %g wo.z %g",
+  std::snprintf(buf, sizeof buf,
+                "base (%g %g %g) metallic %g roughness %g transmission %g eta %g wo.z %g",
                 c.params.baseColor.x, c.params.baseColor.y, c.params.baseColor.z, c.params.metallic,
                 c.params.roughness, c.params.transmission, c.params.eta, c.wo.z);
   return buf;
@@ -69,11 +70,12 @@ std::vector<Quadrature> integrate(const render::BsdfProbe& p,
 struct Sampled {
   glm::dvec3 mean{0.0};
   glm::dvec3 stderr_{0.0};
-  double validFraction = 0.0;       // valid continuous samples
+  double validFraction = 0.0;  // valid continuous samples
   bool finite = true;
 };
 
-std::vector<Sampled> sample(const render::BsdfProbe& p, const std::vector<probe::ProbeCase>& cases) {
+std::vector<Sampled> sample(const render::BsdfProbe& p,
+                            const std::vector<probe::ProbeCase>& cases) {
   probe::ProbePush push{probe::kProbeSample, 0, 0, 0, kSamples, 7};
   auto out = p.run(cases, push);
   std::vector<Sampled> s(cases.size());
@@ -137,8 +139,9 @@ TEST(BsdfProbe, LambertianIsBaseColorOverPi) {
   render::BsdfProbe p(test::context());
   // What Blender's exporter writes for a Diffuse BSDF: specular colour 0, roughness 1.
   glm::vec3 base(0.63f, 0.065f, 0.05f);
-  std::vector<probe::ProbeCase> cases = {makeCase(base, 0.f, 1.f, 0.f, 0.f, 1.45f, glm::vec3(0.f)),
-                                         makeCase(base, 0.f, 1.f, 70.f, 0.f, 1.45f, glm::vec3(0.f))};
+  std::vector<probe::ProbeCase> cases = {
+      makeCase(base, 0.f, 1.f, 0.f, 0.f, 1.45f, glm::vec3(0.f)),
+      makeCase(base, 0.f, 1.f, 70.f, 0.f, 1.45f, glm::vec3(0.f))};
   probe::ProbePush push{probe::kProbeEval, 0, 32, 64, 0, 0};
   auto out = p.run(cases, push);
   for (const auto& o : out) {

@@ -34,7 +34,8 @@ Comparison compareWithCycles(const std::string& name, uint32_t size, uint32_t sp
   scene::Camera cam = scene::selectCamera(sc, "", 1.f);
   scene::GpuScene gs(ctx, sc);
   bvh::Bvh tree = bvh::buildGpu(ctx, gs.vertices, gs.triangles, gs.triangleCount);
-  app::RgbImage ref = app::readExrRgb(test::referencePath(name + "/" + name + "_cycles_4096spp.exr"));
+  app::RgbImage ref =
+      app::readExrRgb(test::referencePath(name + "/" + name + "_cycles_4096spp.exr"));
   ref = app::downsample(ref, ref.width / int(size));
   render::RenderSettings s;
   s.width = s.height = size;
@@ -54,9 +55,10 @@ Comparison compareWithCycles(const std::string& name, uint32_t size, uint32_t sp
   c.noise = noise / double(m.rgb.size());
   c.relmse = app::relMse(m, ref);
   c.lumRatio = app::meanLuminance(m) / app::meanLuminance(ref);
-  std::printf("%s %ux%u, 2 x %u spp: relmse %.5f, estimated noise %.5f, relmse - noise %.5f, "
-              "lum_ratio %.4f\n",
-              name.c_str(), size, size, sppEach, c.relmse, c.noise, c.relmse - c.noise, c.lumRatio);
+  std::printf(
+      "%s %ux%u, 2 x %u spp: relmse %.5f, estimated noise %.5f, relmse - noise %.5f, "
+      "lum_ratio %.4f\n",
+      name.c_str(), size, size, sppEach, c.relmse, c.noise, c.relmse - c.noise, c.lumRatio);
   return c;
 }
 

@@ -61,7 +61,8 @@ scene::Environment uniformEnvironment(float radiance) {
 }
 
 // The camera ray through image point (px, py) in pixels, as pt_trace.comp builds it.
-void cameraRay(const scene::Camera& c, uint32_t size, float px, float py, glm::vec3& o, glm::vec3& d) {
+void cameraRay(const scene::Camera& c, uint32_t size, float px, float py, glm::vec3& o,
+               glm::vec3& d) {
   float t = std::tan(0.5f * c.yfov);
   glm::vec3 local((px / size * 2 - 1) * t, (1 - py / size * 2) * t, -1.f);
   o = glm::vec3(c.worldFromCamera[3]);
@@ -159,7 +160,8 @@ TEST(Renderer, DiffusePlaneUnderSquareEmitterMatchesAnalyticIrradiance) {
   int light = g.material(GltfWriter::emitter(glm::vec3(le), false));
   g.quad({-4, 0, -4}, {-4, 0, 4}, {4, 0, 4}, {4, 0, -4}, plane);
   // Facing down (-Y): counter-clockwise seen from below.
-  std::vector<glm::dvec3> poly = {{-half, h, -half}, {half, h, -half}, {half, h, half}, {-half, h, half}};
+  std::vector<glm::dvec3> poly = {
+      {-half, h, -half}, {half, h, -half}, {half, h, half}, {-half, h, half}};
   g.quad(poly[0], poly[1], poly[2], poly[3], light);
   g.camera({0.f, 2.5f, 2.5f}, {0.f, 0.f, 0.f}, 0.9f);
   std::string path = (d / "plane.gltf").string();
@@ -172,11 +174,12 @@ TEST(Renderer, DiffusePlaneUnderSquareEmitterMatchesAnalyticIrradiance) {
     for (uint32_t px = 0; px < size; ++px) {
       // Expected: rho/pi * E on the plane; pixels where a sub-ray meets the emitter (its dark
       // back) are skipped.
-      double expect = groundPixel(r.camera, size, px, py, [&](glm::vec3 q, glm::vec3 o, glm::vec3 dir) {
-        glm::vec3 ql = o + ((h - o.y) / dir.y) * dir;
-        if (std::abs(ql.x) <= half + 0.02f && std::abs(ql.z) <= half + 0.02f) return -1.0;
-        return rho / M_PI * le * polygonIrradiance(glm::dvec3(q), {0, 1, 0}, poly);
-      });
+      double expect =
+          groundPixel(r.camera, size, px, py, [&](glm::vec3 q, glm::vec3 o, glm::vec3 dir) {
+            glm::vec3 ql = o + ((h - o.y) / dir.y) * dir;
+            if (std::abs(ql.x) <= half + 0.02f && std::abs(ql.z) <= half + 0.02f) return -1.0;
+            return rho / M_PI * le * polygonIrradiance(glm::dvec3(q), {0, 1, 0}, poly);
+          });
       if (expect < 0.02) continue;
       float got = r.film.combined[(py * size + px) * 3 + 1];
       EXPECT_NEAR(got, expect, 0.08 * expect) << "pixel " << px << "," << py;
@@ -198,10 +201,13 @@ TEST(Renderer, PunctualLightsGiveAnalyticIrradiance) {
     int plane = g.material(GltfWriter::diffuse(glm::vec3(rho)));
     g.quad({-4, 0, -4}, {-4, 0, 4}, {4, 0, 4}, {4, 0, -4}, plane);
     if (directional)  // pointing down and towards -z, 60 degrees from the normal
-      g.light({{"type", "directional"}, {"intensity", 683.0 * 2.0},
-               {"_rotation", {-std::sin(M_PI / 6 + M_PI / 4), 0, 0, std::cos(M_PI / 6 + M_PI / 4)}}});
+      g.light(
+          {{"type", "directional"},
+           {"intensity", 683.0 * 2.0},
+           {"_rotation", {-std::sin(M_PI / 6 + M_PI / 4), 0, 0, std::cos(M_PI / 6 + M_PI / 4)}}});
     else if (spot)  // straight down from (0.2, 1.2, 0): glTF lights point along local -Z
-      g.light({{"type", "spot"}, {"intensity", 683.0 * 3.0},
+      g.light({{"type", "spot"},
+               {"intensity", 683.0 * 3.0},
                {"spot", {{"innerConeAngle", 0.3}, {"outerConeAngle", 0.6}}},
                {"_translation", {0.2, 1.2, 0.0}},
                {"_rotation", {-std::sin(M_PI / 4), 0, 0, std::cos(M_PI / 4)}}});
@@ -216,18 +222,22 @@ TEST(Renderer, PunctualLightsGiveAnalyticIrradiance) {
     const gpu::scene::PunctualLight l = r.scene.lights[0];
     for (uint32_t py = 0; py < size; ++py)
       for (uint32_t px = 0; px < size; ++px) {
-        double expect = groundPixel(r.camera, size, px, py, [&](glm::vec3 q, glm::vec3, glm::vec3) {
-          if (directional) return rho / M_PI * l.intensity.y * std::max(0.f, -l.direction.y);
-          glm::vec3 v = l.position - q;
-          double falloff = 1.0;
-          if (spot) {  // glTF's smooth cone falloff, squared
-            double cd = glm::dot(l.direction, -glm::normalize(v));
-            double a = glm::clamp((cd - std::cos(0.6)) / (std::cos(0.3) - std::cos(0.6)), 0.0, 1.0);
-            falloff = a * a;
-          }
-          return rho / M_PI * l.intensity.y * falloff * std::max(0.f, v.y / glm::length(v)) /
-                 glm::dot(v, v);
-        }, 16);
+        double expect = groundPixel(
+            r.camera, size, px, py,
+            [&](glm::vec3 q, glm::vec3, glm::vec3) {
+              if (directional) return rho / M_PI * l.intensity.y * std::max(0.f, -l.direction.y);
+              glm::vec3 v = l.position - q;
+              double falloff = 1.0;
+              if (spot) {  // glTF's smooth cone falloff, squared
+                double cd = glm::dot(l.direction, -glm::normalize(v));
+                double a =
+                    glm::clamp((cd - std::cos(0.6)) / (std::cos(0.3) - std::cos(0.6)), 0.0, 1.0);
+                falloff = a * a;
+              }
+              return rho / M_PI * l.intensity.y * falloff * std::max(0.f, v.y / glm::length(v)) /
+                     glm::dot(v, v);
+            },
+            16);
         if (expect < 0) continue;
         float got = r.film.combined[(py * size + px) * 3 + 1];
         // Punctual lights: the only noise is the pixel jitter (256 samples vs a 16x16 quadrature).
@@ -282,13 +292,15 @@ TEST(Renderer, AlphaMaskIsSeenThroughAndCastsNoShadowThroughHoles) {
   // (u < 0.5) and a hole on the right. The sun shines straight down.
   int ground = g.material(GltfWriter::diffuse({0.5f, 0.f, 0.f}));
   auto masked = GltfWriter::diffuse({0.f, 0.5f, 0.f});
-  masked["pbrMetallicRoughness"]["baseColorTexture"] = {{"index", g.texture(2, 1, {255, 255, 255, 255, 255, 255, 255, 0})}};
+  masked["pbrMetallicRoughness"]["baseColorTexture"] = {
+      {"index", g.texture(2, 1, {255, 255, 255, 255, 255, 255, 255, 0})}};
   masked["alphaMode"] = "MASK";
   masked["alphaCutoff"] = 0.5;
   int quadMat = g.material(masked);
   g.quad({-4, 0, -4}, {-4, 0, 4}, {4, 0, 4}, {4, 0, -4}, ground);
   g.quad({-2, 1, 2}, {2, 1, 2}, {2, 1, -2}, {-2, 1, -2}, quadMat);  // u along +x, facing up
-  g.light({{"type", "directional"}, {"intensity", 683.0 * 2.0},
+  g.light({{"type", "directional"},
+           {"intensity", 683.0 * 2.0},
            {"_rotation", {-std::sin(M_PI / 4), 0, 0, std::cos(M_PI / 4)}}});
   g.camera({0.f, 3.f, 0.001f}, {0.f, 0.f, 0.f}, 0.5f);
   std::string path = (d / "alpha.gltf").string();
