@@ -16,6 +16,7 @@ struct Benchmark {
 };
 const Benchmark kBenchmarks[] = {
     {"fill", osr::bench::runFill},
+    {"pathtrace", osr::bench::runPathtrace},
     {"bvh", osr::bench::runBvh},
     {"trace", osr::bench::runTrace},
     {"unet", osr::bench::runUnet},

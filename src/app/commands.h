@@ -12,5 +12,7 @@ int runRender(const std::vector<std::string>& args);
 int runListDevices(const std::vector<std::string>& args);
 // osr-vk unet --weights FILE --in maps.f32 --out pred.f32
 int runUnet(const std::vector<std::string>& args);
+// osr-vk compare a.exr b.exr
+int runCompare(const std::vector<std::string>& args);
 
 }  // namespace osr::app

@@ -14,11 +14,17 @@ constexpr const char* kUsage =
     "usage: osr-vk [options] scene.gltf|scene.glb\n"
     "       osr-vk --list-devices\n"
     "       osr-vk unet --weights FILE --in maps.f32 --out pred.f32 [--precision fp32|fp16]\n"
+    "       osr-vk compare a.exr b.exr   relmse, psnr, ssim, lum_ratio as one JSON line\n"
     "\n"
     "render options:\n"
     "  --offline out.exr     render without a window and write a multi-layer OpenEXR\n"
     "  --png out.png         also write a tone-mapped PNG preview\n"
-    "  --mode preview        integrator (preview: albedo x headlight cosine)\n"
+    "  --mode path|preview   integrator (default path; preview: albedo x headlight cosine)\n"
+    "  --spp N               samples per pixel (default 64; preview 4)\n"
+    "  --time SECONDS        stop after this long (with --spp: whichever ends first)\n"
+    "  --seed N              random seed (same seed, same image)\n"
+    "  --exposure EV         PNG exposure (default: automatic)\n"
+    "  --exr-float           32-bit float EXR channels (default half)\n"
     "  --width N --height N  image size (default 512 wide, camera aspect)\n"
     "  --camera N|name       glTF camera to use (default: first, or one framing the scene)\n"
     "  --env file.exr|.hdr   equirectangular environment light\n"
@@ -47,6 +53,7 @@ int main(int argc, char** argv) {
     static const Command kCommands[] = {
         {"--list-devices", osr::app::runListDevices},
         {"unet", osr::app::runUnet},
+        {"compare", osr::app::runCompare},
     };
     for (const Command& c : kCommands)
       if (args[0] == c.name) return c.run({args.begin() + 1, args.end()});

@@ -9,7 +9,10 @@
 namespace osr::bvh {
 
 struct GpuBuildOptions {
-  uint32_t treeletRounds = 3;                                // 0: plain LBVH
+  // 0: plain LBVH. One round (7-leaf treelets over every node of >= 7 triangles) keeps most of
+  // the quality: on the 1.05M-triangle bench mesh SAH/CPU-SAH is 1.047 with one round vs 1.033
+  // with three, for less than half of the build time on lavapipe.
+  uint32_t treeletRounds = 1;
   uint32_t treeletLeaves = gpu::bvh_build::kTreeletMaxLeaves;  // 3..7
 };
 

@@ -1,0 +1,166 @@
+#include "app/image_io.h"
+
+#include <ImfChannelList.h>
+#include <ImfFrameBuffer.h>
+#include <ImfHeader.h>
+#include <ImfInputFile.h>
+#include <ImfOutputFile.h>
+#include <half.h>
+#include <unistd.h>
+
+#include <algorithm>
+#include <cerrno>
+#include <cmath>
+#include <cstdio>
+#include <cstring>
+#include <filesystem>
+
+#define STB_IMAGE_WRITE_IMPLEMENTATION
+#include <stb/stb_image_write.h>
+
+#include "common/error.h"
+
+namespace osr::app {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string tempNameFor(const std::string& path) {
+  return path + ".tmp" + std::to_string(::getpid());
+}
+
+// Renames the finished temporary over the target; on failure removes the temporary.
+void commit(const std::string& tmp, const std::string& path) {
+  std::error_code ec;
+  fs::rename(tmp, path, ec);
+  if (ec) {
+    fs::remove(tmp, ec);
+    throw InputError(path + ": cannot write (" + ec.message() + ")");
+  }
+}
+
+}  // namespace
+
+void checkWritable(const std::string& path) {
+  std::error_code ec;
+  if (fs::is_directory(path, ec)) throw InputError(path + ": is a directory");
+  std::string tmp = tempNameFor(path);
+  FILE* f = std::fopen(tmp.c_str(), "wb");
+  if (!f) throw InputError(path + ": cannot write (" + std::strerror(errno) + ")");
+  std::fclose(f);
+  fs::remove(tmp, ec);
+}
+
+void writeExr(const std::string& path, const LayeredImage& image, ExrPixelType type) {
+  const int w = image.width, h = image.height;
+  const Imf::PixelType pt = type == ExrPixelType::Half ? Imf::HALF : Imf::FLOAT;
+  Imf::Header header(w, h);
+  header.compression() = Imf::ZIP_COMPRESSION;
+  Imf::FrameBuffer fb;
+  // OpenEXR reads half channels from half memory: convert once into owned planes.
+  std::vector<std::vector<half>> halfPlanes;
+  std::vector<std::vector<float>> floatPlanes;
+  for (const ImageLayer& layer : image.layers) {
+    const size_t nc = layer.channelNames.size();
+    if (layer.data.size() != size_t(w) * h * nc)
+      throw std::logic_error("writeExr: layer '" + layer.name + "' has the wrong size");
+    for (size_t c = 0; c < nc; ++c) {
+      std::string name =
+          layer.name.empty() ? layer.channelNames[c] : layer.name + "." + layer.channelNames[c];
+      header.channels().insert(name, Imf::Channel(pt));
+      if (pt == Imf::HALF) {
+        auto& plane = halfPlanes.emplace_back(size_t(w) * h);
+        for (size_t i = 0; i < plane.size(); ++i) plane[i] = half(layer.data[i * nc + c]);
+        fb.insert(name, Imf::Slice(Imf::HALF, reinterpret_cast<char*>(plane.data()), sizeof(half),
+                                   sizeof(half) * w));
+      } else {
+        auto& plane = floatPlanes.emplace_back(size_t(w) * h);
+        for (size_t i = 0; i < plane.size(); ++i) plane[i] = layer.data[i * nc + c];
+        fb.insert(name, Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(plane.data()), sizeof(float),
+                                   sizeof(float) * w));
+      }
+    }
+  }
+  const std::string tmp = tempNameFor(path);
+  try {
+    Imf::OutputFile file(tmp.c_str(), header);
+    file.setFrameBuffer(fb);
+    file.writePixels(h);
+  } catch (const std::exception& e) {
+    std::error_code ec;
+    fs::remove(tmp, ec);
+    throw InputError(path + ": cannot write OpenEXR (" + e.what() + ")");
+  }
+  commit(tmp, path);
+}
+
+RgbImage readExrRgb(const std::string& path) {
+  try {
+    Imf::InputFile file(path.c_str());
+    const Imath::Box2i dw = file.header().dataWindow();
+    RgbImage img;
+    img.width = dw.max.x - dw.min.x + 1;
+    img.height = dw.max.y - dw.min.y + 1;
+    img.rgb.assign(size_t(img.width) * img.height * 3, 0.f);
+    const Imf::ChannelList& ch = file.header().channels();
+    bool rgb = ch.findChannel("R") && ch.findChannel("G") && ch.findChannel("B");
+    bool grey = ch.findChannel("Y");
+    if (!rgb && !grey) throw InputError(path + ": no R, G, B (or Y) channels in the default layer");
+    Imf::FrameBuffer fb;
+    char* base = reinterpret_cast<char*>(img.rgb.data()) -
+                 (size_t(dw.min.x) + size_t(dw.min.y) * img.width) * 3 * sizeof(float);
+    const char* names[3] = {"R", "G", "B"};
+    // A grey image reads Y into the R slot once, then copies it to G and B.
+    for (int c = 0; c < (rgb ? 3 : 1); ++c)
+      fb.insert(rgb ? names[c] : "Y", Imf::Slice(Imf::FLOAT, base + c * sizeof(float),
+                                                 3 * sizeof(float), 3 * sizeof(float) * img.width));
+    file.setFrameBuffer(fb);
+    file.readPixels(dw.min.y, dw.max.y);
+    if (!rgb)
+      for (size_t i = 0; i < img.rgb.size(); i += 3) img.rgb[i + 1] = img.rgb[i + 2] = img.rgb[i];
+    return img;
+  } catch (const InputError&) {
+    throw;
+  } catch (const std::exception& e) {
+    throw InputError(path + ": cannot read OpenEXR (" + e.what() + ")");
+  }
+}
+
+double autoExposureEv(const RgbImage& image) {
+  double sumLog = 0.0;
+  size_t n = 0;
+  for (size_t i = 0; i + 2 < image.rgb.size(); i += 3) {
+    double y = 0.2126 * image.rgb[i] + 0.7152 * image.rgb[i + 1] + 0.0722 * image.rgb[i + 2];
+    if (!std::isfinite(y) || y < 0.0) continue;
+    sumLog += std::log(1e-4 + y);
+    ++n;
+  }
+  if (n == 0) return 0.0;
+  double logAverage = std::exp(sumLog / double(n));
+  return std::log2(0.18 / logAverage);
+}
+
+namespace {
+uint8_t srgb8(float linear) {
+  if (!std::isfinite(linear)) linear = 0.f;
+  float x = std::clamp(linear, 0.f, 1.f);
+  float s = x <= 0.0031308f ? 12.92f * x : 1.055f * std::pow(x, 1.f / 2.4f) - 0.055f;
+  return static_cast<uint8_t>(std::lround(s * 255.f));
+}
+}  // namespace
+
+void writePng(const std::string& path, const RgbImage& image, std::optional<double> exposureEv) {
+  const float scale = float(std::exp2(exposureEv ? *exposureEv : autoExposureEv(image)));
+  std::vector<uint8_t> px(image.rgb.size());
+  for (size_t i = 0; i < px.size(); ++i) px[i] = srgb8(image.rgb[i] * scale);
+  const std::string tmp = tempNameFor(path);
+  if (!stbi_write_png(tmp.c_str(), image.width, image.height, 3, px.data(), image.width * 3)) {
+    std::error_code ec;
+    fs::remove(tmp, ec);
+    throw InputError(path + ": cannot write PNG");
+  }
+  commit(tmp, path);
+}
+
+}  // namespace osr::app

@@ -1,0 +1,51 @@
+// Image files of osr-vk: multi-layer OpenEXR out (combined RGB as the default layer plus named
+// layers), OpenEXR RGB in (for compare and tests), and a tone-mapped 8-bit PNG preview.
+// Writers go through a temporary file in the target's directory and a rename, so a failure
+// never leaves a half-written file or destroys an existing one.
+#pragma once
+#include <optional>
+#include <string>
+#include <vector>
+
+namespace osr::app {
+
+// One layer: `name` "" is the default layer (channels R, G, B); others are written as
+// "<name>.<channel>". channelNames has 1 or 3 entries; data is interleaved, row-major,
+// top row first: width * height * channelNames.size() floats.
+struct ImageLayer {
+  std::string name;
+  std::vector<std::string> channelNames;
+  std::vector<float> data;
+};
+
+struct LayeredImage {
+  int width = 0;
+  int height = 0;
+  std::vector<ImageLayer> layers;
+};
+
+// RGB float image, interleaved, top row first.
+struct RgbImage {
+  int width = 0;
+  int height = 0;
+  std::vector<float> rgb;
+};
+
+enum class ExrPixelType { Half, Float };
+
+// Throws InputError ("<path>: ...") when the file cannot be written.
+void writeExr(const std::string& path, const LayeredImage& image, ExrPixelType type);
+// Reads the default layer's R, G, B (or Y as grey). Throws InputError naming the file.
+RgbImage readExrRgb(const std::string& path);
+
+// Automatic exposure (EV) that maps the log-average luminance to middle grey (0.18; Reinhard
+// et al. 2002's key value), ignoring non-finite pixels.
+double autoExposureEv(const RgbImage& image);
+// PNG preview: sRGB OETF of clamp(x * 2^ev, 0, 1); auto exposure when ev is empty.
+void writePng(const std::string& path, const RgbImage& image, std::optional<double> exposureEv);
+
+// Fails early (InputError) if `path` cannot be created: its directory is missing or not
+// writable, or the path is a directory. Leaves no file behind.
+void checkWritable(const std::string& path);
+
+}  // namespace osr::app

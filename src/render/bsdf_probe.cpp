@@ -1,0 +1,41 @@
+#include "render/bsdf_probe.h"
+
+#include <algorithm>
+
+namespace osr::render {
+
+namespace probe = gpu::bsdf;
+
+BsdfProbe::BsdfProbe(const vk::Context& ctx)
+    : ctx_(ctx), pipeline_(ctx, shaders::Id::pt_bsdf_probe, 2, sizeof(probe::ProbePush)) {}
+
+void BsdfProbe::record(VkCommandBuffer cmd, const Args& a) const {
+  uint64_t perCase = a.push.mode == probe::kProbeEval
+                         ? uint64_t(a.push.thetaCount) * a.push.phiCount
+                         : a.push.samplesPerCase;
+  uint64_t items = perCase * a.push.caseCount;
+  uint32_t groups = vk::groupCount(items, probe::kProbeWorkgroupSize);
+  // 2-D dispatch: at most 65535 groups per dimension on every device.
+  uint32_t x = std::min<uint32_t>(groups, 65535u);
+  uint32_t y = (groups + x - 1) / x;
+  pipeline_.bind(cmd, {*a.cases, *a.out}, a.push);
+  pipeline_.dispatch(cmd, x, y);
+  vk::computeBarrier(cmd);
+}
+
+std::vector<probe::ProbeOut> BsdfProbe::run(const std::vector<probe::ProbeCase>& cases,
+                                            probe::ProbePush push) const {
+  push.caseCount = static_cast<uint32_t>(cases.size());
+  uint64_t perCase = push.mode == probe::kProbeEval ? uint64_t(push.thetaCount) * push.phiCount
+                                                    : push.samplesPerCase;
+  uint64_t count = perCase * cases.size();
+  vk::Buffer caseBuf(ctx_, cases.size() * sizeof(probe::ProbeCase), vk::MemoryUse::DeviceLocal,
+                     "bsdf probe cases");
+  caseBuf.uploadVector(cases);
+  vk::Buffer outBuf(ctx_, count * sizeof(probe::ProbeOut), vk::MemoryUse::DeviceLocal,
+                    "bsdf probe out");
+  ctx_.submitAndWait([&](VkCommandBuffer cmd) { record(cmd, {&caseBuf, &outBuf, push}); });
+  return outBuf.downloadVector<probe::ProbeOut>(count);
+}
+
+}  // namespace osr::render

@@ -1,0 +1,41 @@
+// pt_trace.comp as a pass: one sample for a range of pixels, added to the film.
+//
+// Megakernel, not wavefront: on lavapipe (2 CPU threads, SIMD width 8) a wavefront split pays
+// a barrier and a full write/read of the path state per bounce, while the divergence it
+// removes costs little. This is the brief's first guess; a wavefront variant has not been
+// built to measure against (a GPU may prefer it). Dispatches are one sample over at most
+// kMaxPixelsPerDispatch pixels, short enough for a desktop GPU's watchdog.
+#pragma once
+#include "bvh/bvh.h"
+#include "render/film.h"
+#include "scene/gpu_scene.h"
+#include "shaders/shared/pt.h"
+#include "vk/pipeline.h"
+
+namespace osr::render {
+
+class TracePass {
+ public:
+  // integrator: gpu::pt::kIntegratorPath or kIntegratorPreview.
+  TracePass(const vk::Context& ctx, uint32_t integrator);
+
+  static constexpr uint32_t kMaxPixelsPerDispatch = 1u << 20;
+  static constexpr uint32_t kMaxSamplesPerDispatch = 8;
+
+  struct Args {
+    const Film* film = nullptr;
+    const vk::Buffer* frame = nullptr;  // gpu::pt::Frame
+    const bvh::Bvh* bvh = nullptr;
+    const scene::GpuScene* scene = nullptr;
+    uint32_t sampleIndex = 0;  // first sample
+    uint32_t sampleCount = 1;
+  };
+  // Records samples [sampleIndex, sampleIndex + sampleCount) for every pixel, in dispatches of
+  // bounded size, with barriers.
+  void record(VkCommandBuffer cmd, const Args& args) const;
+
+ private:
+  vk::ComputePipeline pipeline_;
+};
+
+}  // namespace osr::render

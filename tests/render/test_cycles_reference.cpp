@@ -1,0 +1,79 @@
+// The path tracer against Blender Cycles renders of the same scenes (scenes/*/..._cycles_4096spp
+// .exr, 256 x 256; see scenes/README.md for how they were made).
+//
+// CI budget: rendering 256 x 256 at 1024 spp takes many minutes on 2 lavapipe cores, so the test
+// renders at 64 x 64, which with a box pixel filter is exactly the 4x4 box average of the
+// 256 x 256 image, and compares with the reference averaged the same way. The tolerance stays
+// the (relMSE <= 0.01 cornell, 0.02 room; mean luminance within 2%), applied to the
+// error that is not our Monte Carlo noise: two independent renders A and B (different seeds)
+// give the mean M = (A + B) / 2, whose noise term in relMSE is estimated without bias by
+// sum (A - B)^2 / (4 (ref^2 + eps)) / n and subtracted. The raw relMSE is bounded too.
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "app/image_io.h"
+#include "app/image_metrics.h"
+#include "bvh/bvh.h"
+#include "common/vk_test.h"
+#include "render/renderer.h"
+#include "scene/gpu_scene.h"
+#include "scene/scene.h"
+
+using namespace osr;
+
+namespace {
+
+struct Comparison {
+  double relmse = 0, noise = 0, lumRatio = 0;
+};
+
+Comparison compareWithCycles(const std::string& name, uint32_t size, uint32_t sppEach) {
+  auto& ctx = test::context();
+  scene::Scene sc = scene::loadScene(test::referencePath(name + "/" + name + ".gltf"));
+  scene::Camera cam = scene::selectCamera(sc, "", 1.f);
+  scene::GpuScene gs(ctx, sc);
+  bvh::Bvh tree = bvh::buildGpu(ctx, gs.vertices, gs.triangles, gs.triangleCount);
+  app::RgbImage ref =
+      app::readExrRgb(test::referencePath(name + "/" + name + "_cycles_4096spp.exr"));
+  ref = app::downsample(ref, ref.width / int(size));
+  render::RenderSettings s;
+  s.width = s.height = size;
+  s.spp = sppEach;
+  s.seed = 11;
+  render::FilmLayers a = render::render(ctx, gs, tree, cam, s);
+  s.seed = 12;
+  render::FilmLayers b = render::render(ctx, gs, tree, cam, s);
+  app::RgbImage m{int(size), int(size), a.combined};
+  double noise = 0;
+  for (size_t i = 0; i < m.rgb.size(); ++i) {
+    double d = double(a.combined[i]) - b.combined[i];
+    noise += d * d / (4.0 * (double(ref.rgb[i]) * ref.rgb[i] + app::kRelMseEpsilon));
+    m.rgb[i] = 0.5f * (a.combined[i] + b.combined[i]);
+  }
+  Comparison c;
+  c.noise = noise / double(m.rgb.size());
+  c.relmse = app::relMse(m, ref);
+  c.lumRatio = app::meanLuminance(m) / app::meanLuminance(ref);
+  std::printf(
+      "%s %ux%u, 2 x %u spp: relmse %.5f, estimated noise %.5f, relmse - noise %.5f, "
+      "lum_ratio %.4f\n",
+      name.c_str(), size, size, sppEach, c.relmse, c.noise, c.relmse - c.noise, c.lumRatio);
+  return c;
+}
+
+}  // namespace
+
+TEST(CyclesReference, Cornell) {
+  Comparison c = compareWithCycles("cornell", 64, 32);
+  EXPECT_LE(c.relmse - c.noise, 0.01);
+  EXPECT_LE(c.relmse, 0.01 + 3 * c.noise);
+  EXPECT_NEAR(c.lumRatio, 1.0, 0.02);
+}
+
+TEST(CyclesReference, Room) {
+  Comparison c = compareWithCycles("room", 32, 64);
+  EXPECT_LE(c.relmse - c.noise, 0.02);
+  EXPECT_LE(c.relmse, 0.02 + 3 * c.noise);
+  EXPECT_NEAR(c.lumRatio, 1.0, 0.02);
+}

@@ -1,0 +1,325 @@
+// The path tracer on scenes with known answers: white furnaces (diffuse albedo 1 and a smooth
+// dielectric inside a uniform environment give the environment's radiance), a diffuse plane
+// under a square emitter, point, spot and directional lights (analytic irradiance), a fixed
+// seed reproduces the image bit for bit, and combined = direct + indirect.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <filesystem>
+
+#include "app/image_io.h"
+#include "bvh/bvh.h"
+#include "common/vk_test.h"
+#include "render/gltf_writer.h"
+#include "render/renderer.h"
+#include "scene/gpu_scene.h"
+#include "scene/scene.h"
+#include "shaders/shared/pt.h"
+
+using namespace osr;
+namespace fs = std::filesystem;
+using test::GltfWriter;
+
+namespace {
+
+fs::path tempDir() {
+  fs::path d = fs::temp_directory_path() / ("osr_test_renderer_" + std::to_string(::getpid()));
+  fs::create_directories(d);
+  return d;
+}
+
+struct Rendered {
+  render::FilmLayers film;
+  scene::Scene scene;
+  scene::Camera camera;
+};
+
+Rendered renderFile(const std::string& gltf, uint32_t size, uint32_t spp, uint32_t seed = 1,
+                    const scene::Environment* env = nullptr,
+                    uint32_t integrator = gpu::pt::kIntegratorPath) {
+  auto& ctx = test::context();
+  Rendered r;
+  r.scene = scene::loadScene(gltf);
+  r.camera = scene::selectCamera(r.scene, "", 1.f);
+  scene::GpuScene gs(ctx, r.scene, env);
+  bvh::Bvh tree = bvh::buildGpu(ctx, gs.vertices, gs.triangles, gs.triangleCount);
+  render::RenderSettings s;
+  s.width = s.height = size;
+  s.spp = spp;
+  s.seed = seed;
+  s.integrator = integrator;
+  r.film = render::render(ctx, gs, tree, r.camera, s);
+  return r;
+}
+
+scene::Environment uniformEnvironment(float radiance) {
+  scene::Environment env;
+  env.width = 8;
+  env.height = 4;
+  env.texels.assign(32, glm::vec4(radiance, radiance, radiance, 1.f));
+  return env;
+}
+
+// The camera ray through image point (px, py) in pixels, as pt_trace.comp builds it.
+void cameraRay(const scene::Camera& c, uint32_t size, float px, float py, glm::vec3& o,
+               glm::vec3& d) {
+  float t = std::tan(0.5f * c.yfov);
+  glm::vec3 local((px / size * 2 - 1) * t, (1 - py / size * 2) * t, -1.f);
+  o = glm::vec3(c.worldFromCamera[3]);
+  d = glm::normalize(glm::mat3(c.worldFromCamera) * local);
+}
+
+// Expected value of a pixel that sees the ground plane y = 0 (|x|, |z| < 3.9): the n x n
+// sub-pixel average of value(q, o, dir) at the ground points q. Returns a negative number when
+// a sub-ray misses the ground or value() flags it (returns < 0).
+template <class F>
+double groundPixel(const scene::Camera& c, uint32_t size, uint32_t px, uint32_t py, F value,
+                   int n = 4) {
+  double sum = 0;
+  for (int sy = 0; sy < n; ++sy)
+    for (int sx = 0; sx < n; ++sx) {
+      glm::vec3 o, dir;
+      cameraRay(c, size, px + (sx + 0.5f) / n, py + (sy + 0.5f) / n, o, dir);
+      float t = -o.y / dir.y;
+      glm::vec3 q = o + t * dir;
+      if (!(t > 0) || std::abs(q.x) > 3.9f || std::abs(q.z) > 3.9f) return -1;
+      double v = value(q, o, dir);
+      if (v < 0) return -1;
+      sum += v / (n * n);
+    }
+  return sum;
+}
+
+// Irradiance at p (normal n) from a uniformly emitting polygon of radiance 1 (Lambert's
+// formula: E = 1/2 sum over edges of the angle subtended times the cosine to n).
+double polygonIrradiance(glm::dvec3 p, glm::dvec3 n, const std::vector<glm::dvec3>& poly) {
+  double e = 0.0;
+  for (size_t i = 0; i < poly.size(); ++i) {
+    glm::dvec3 a = glm::normalize(poly[i] - p), b = glm::normalize(poly[(i + 1) % poly.size()] - p);
+    glm::dvec3 c = glm::cross(a, b);
+    double len = glm::length(c);
+    if (len > 0) e += std::acos(glm::clamp(glm::dot(a, b), -1.0, 1.0)) * glm::dot(c / len, n);
+  }
+  return 0.5 * std::abs(e);
+}
+
+double mean(const std::vector<float>& v) {
+  double s = 0;
+  for (float x : v) s += x;
+  return s / double(v.size());
+}
+
+}  // namespace
+
+TEST(Renderer, WhiteFurnaceDiffuseAndSmoothDielectric) {
+  fs::path d = tempDir();
+  GltfWriter g;
+  int white = g.material(GltfWriter::diffuse(glm::vec3(1.f)));
+  int glass = g.material(GltfWriter::glass(1.5f));
+  // An open box (five faces: many bounces inside), a diffuse sphere in it, a glass sphere.
+  g.quad({-1, 0, -1}, {1, 0, -1}, {1, 0, 1}, {-1, 0, 1}, white);
+  g.quad({-1, 0, -1}, {-1, 2, -1}, {1, 2, -1}, {1, 0, -1}, white);
+  g.quad({-1, 0, -1}, {-1, 0, 1}, {-1, 2, 1}, {-1, 2, -1}, white);
+  g.quad({1, 0, -1}, {1, 2, -1}, {1, 2, 1}, {1, 0, 1}, white);
+  g.quad({-1, 2, -1}, {-1, 2, 1}, {1, 2, 1}, {1, 2, -1}, white);
+  g.sphere({-0.4f, 0.5f, 0.f}, 0.45f, white);
+  g.sphere({0.5f, 0.6f, 0.3f}, 0.4f, glass);
+  g.camera({0.3f, 1.2f, 4.f}, {0.f, 0.9f, 0.f}, 0.8f);
+  std::string path = (d / "furnace.gltf").string();
+  g.write(path);
+  const float kEnv = 0.5f;
+  scene::Environment env = uniformEnvironment(kEnv);
+  Rendered r = renderFile(path, 32, 64, 1, &env);
+  ASSERT_EQ(r.film.samples, 64u);
+  EXPECT_EQ(r.film.droppedSamples, 0u);
+  // Image mean: 32*32*64 paths; per-pixel means: 64 paths each (loose, catches local bias).
+  EXPECT_NEAR(mean(r.film.combined), kEnv, 0.01 * kEnv);
+  // 4x4-pixel blocks (1024 paths each): within 5 standard errors (estimated from the spread
+  // of the block's 48 pixel values) plus 1%.
+  for (int by = 0; by < 8; ++by)
+    for (int bx = 0; bx < 8; ++bx) {
+      double s = 0, s2 = 0;
+      for (int y = 0; y < 4; ++y)
+        for (int x = 0; x < 4; ++x)
+          for (int c = 0; c < 3; ++c) {
+            double v = r.film.combined[((by * 4 + y) * 32 + bx * 4 + x) * 3 + c];
+            s += v;
+            s2 += v * v;
+          }
+      double m = s / 48, stderr_ = std::sqrt(std::max(0.0, s2 / 48 - m * m) / 16);
+      EXPECT_NEAR(m, kEnv, 5 * stderr_ + 0.01 * kEnv) << "block " << bx << "," << by;
+    }
+  fs::remove_all(d);
+}
+
+TEST(Renderer, DiffusePlaneUnderSquareEmitterMatchesAnalyticIrradiance) {
+  fs::path d = tempDir();
+  GltfWriter g;
+  const float rho = 0.6f, le = 5.f, h = 0.8f, half = 0.25f;
+  int plane = g.material(GltfWriter::diffuse(glm::vec3(rho)));
+  int light = g.material(GltfWriter::emitter(glm::vec3(le), false));
+  g.quad({-4, 0, -4}, {-4, 0, 4}, {4, 0, 4}, {4, 0, -4}, plane);
+  // Facing down (-Y): counter-clockwise seen from below.
+  std::vector<glm::dvec3> poly = {
+      {-half, h, -half}, {half, h, -half}, {half, h, half}, {-half, h, half}};
+  g.quad(poly[0], poly[1], poly[2], poly[3], light);
+  g.camera({0.f, 2.5f, 2.5f}, {0.f, 0.f, 0.f}, 0.9f);
+  std::string path = (d / "plane.gltf").string();
+  g.write(path);
+  const uint32_t size = 32;
+  Rendered r = renderFile(path, size, 256);
+  double sumRatio = 0;
+  int n = 0;
+  for (uint32_t py = 0; py < size; ++py)
+    for (uint32_t px = 0; px < size; ++px) {
+      // Expected: rho/pi * E on the plane; pixels where a sub-ray meets the emitter (its dark
+      // back) are skipped.
+      double expect =
+          groundPixel(r.camera, size, px, py, [&](glm::vec3 q, glm::vec3 o, glm::vec3 dir) {
+            glm::vec3 ql = o + ((h - o.y) / dir.y) * dir;
+            if (std::abs(ql.x) <= half + 0.02f && std::abs(ql.z) <= half + 0.02f) return -1.0;
+            return rho / M_PI * le * polygonIrradiance(glm::dvec3(q), {0, 1, 0}, poly);
+          });
+      if (expect < 0.02) continue;
+      float got = r.film.combined[(py * size + px) * 3 + 1];
+      EXPECT_NEAR(got, expect, 0.08 * expect) << "pixel " << px << "," << py;
+      EXPECT_NEAR(r.film.indirect[(py * size + px) * 3 + 1], 0.f, 1e-6);
+      sumRatio += got / expect;
+      ++n;
+    }
+  ASSERT_GT(n, 300);
+  EXPECT_NEAR(sumRatio / n, 1.0, 0.005);
+  fs::remove_all(d);
+}
+
+TEST(Renderer, PunctualLightsGiveAnalyticIrradiance) {
+  fs::path d = tempDir();
+  const float rho = 0.5f;
+  for (const char* type : {"point", "directional", "spot"}) {
+    const bool directional = std::string(type) == "directional", spot = std::string(type) == "spot";
+    GltfWriter g;
+    int plane = g.material(GltfWriter::diffuse(glm::vec3(rho)));
+    g.quad({-4, 0, -4}, {-4, 0, 4}, {4, 0, 4}, {4, 0, -4}, plane);
+    if (directional)  // pointing down and towards -z, 60 degrees from the normal
+      g.light(
+          {{"type", "directional"},
+           {"intensity", 683.0 * 2.0},
+           {"_rotation", {-std::sin(M_PI / 6 + M_PI / 4), 0, 0, std::cos(M_PI / 6 + M_PI / 4)}}});
+    else if (spot)  // straight down from (0.2, 1.2, 0): glTF lights point along local -Z
+      g.light({{"type", "spot"},
+               {"intensity", 683.0 * 3.0},
+               {"spot", {{"innerConeAngle", 0.3}, {"outerConeAngle", 0.6}}},
+               {"_translation", {0.2, 1.2, 0.0}},
+               {"_rotation", {-std::sin(M_PI / 4), 0, 0, std::cos(M_PI / 4)}}});
+    else
+      g.light({{"type", "point"}, {"intensity", 683.0 * 3.0}, {"_translation", {0.3, 1.0, -0.2}}});
+    g.camera({0.f, 2.5f, 2.5f}, {0.f, 0.f, 0.f}, 0.9f);
+    std::string path = (d / "punctual.gltf").string();
+    g.write(path);
+    const uint32_t size = 24;
+    Rendered r = renderFile(path, size, 256);
+    ASSERT_EQ(r.scene.lights.size(), 1u);
+    const gpu::scene::PunctualLight l = r.scene.lights[0];
+    for (uint32_t py = 0; py < size; ++py)
+      for (uint32_t px = 0; px < size; ++px) {
+        double expect = groundPixel(
+            r.camera, size, px, py,
+            [&](glm::vec3 q, glm::vec3, glm::vec3) {
+              if (directional) return rho / M_PI * l.intensity.y * std::max(0.f, -l.direction.y);
+              glm::vec3 v = l.position - q;
+              double falloff = 1.0;
+              if (spot) {  // glTF's smooth cone falloff, squared
+                double cd = glm::dot(l.direction, -glm::normalize(v));
+                double a =
+                    glm::clamp((cd - std::cos(0.6)) / (std::cos(0.3) - std::cos(0.6)), 0.0, 1.0);
+                falloff = a * a;
+              }
+              return rho / M_PI * l.intensity.y * falloff * std::max(0.f, v.y / glm::length(v)) /
+                     glm::dot(v, v);
+            },
+            16);
+        if (expect < 0) continue;
+        float got = r.film.combined[(py * size + px) * 3 + 1];
+        // Punctual lights: the only noise is the pixel jitter (256 samples vs a 16x16 quadrature).
+        EXPECT_NEAR(got, expect, 0.02 * expect + 1e-4) << type << " pixel " << px << "," << py;
+      }
+    if (directional) {
+      EXPECT_NEAR(-r.scene.lights[0].direction.y, std::cos(M_PI / 3), 1e-4);
+    }
+  }
+  fs::remove_all(d);
+}
+
+TEST(Renderer, FixedSeedIsDeterministicAndLayersAddUp) {
+  std::string cornell = test::referencePath("cornell/cornell.gltf");
+  Rendered a = renderFile(cornell, 16, 4, 7);
+  Rendered b = renderFile(cornell, 16, 4, 7);
+  Rendered c = renderFile(cornell, 16, 4, 8);
+  EXPECT_EQ(a.film.combined, b.film.combined);
+  EXPECT_EQ(a.film.depth, b.film.depth);
+  EXPECT_NE(a.film.combined, c.film.combined);
+  for (size_t i = 0; i < a.film.combined.size(); ++i)
+    ASSERT_NEAR(a.film.combined[i], a.film.direct[i] + a.film.indirect[i],
+                1e-5f * (1 + a.film.combined[i]));
+  EXPECT_GT(mean(a.film.indirect), 0.05 * mean(a.film.combined));  // the box interreflects
+}
+
+TEST(Renderer, PreviewIsAlbedoTimesHeadlightCosine) {
+  fs::path d = tempDir();
+  GltfWriter g;
+  glm::vec3 albedo(0.2f, 0.5f, 0.8f);
+  g.quad({-4, 0, -4}, {-4, 0, 4}, {4, 0, 4}, {4, 0, -4}, g.material(GltfWriter::diffuse(albedo)));
+  g.camera({0.f, 2.f, 2.f}, {0.f, 0.f, 0.f}, 0.5f);
+  std::string path = (d / "preview.gltf").string();
+  g.write(path);
+  Rendered r = renderFile(path, 8, 64, 1, nullptr, gpu::pt::kIntegratorPreview);
+  for (uint32_t py = 0; py < 8; ++py)
+    for (uint32_t px = 0; px < 8; ++px) {
+      glm::vec3 o, dir;
+      cameraRay(r.camera, 8, px + 0.5f, py + 0.5f, o, dir);
+      for (int c = 0; c < 3; ++c)
+        EXPECT_NEAR(r.film.combined[(py * 8 + px) * 3 + c], albedo[c] * std::abs(dir.y), 0.01);
+      EXPECT_NEAR(r.film.normal[(py * 8 + px) * 3 + 1], 1.f, 1e-5);
+      EXPECT_NEAR(r.film.albedo[(py * 8 + px) * 3 + 2], albedo[2], 1e-5);
+    }
+  fs::remove_all(d);
+}
+
+TEST(Renderer, AlphaMaskIsSeenThroughAndCastsNoShadowThroughHoles) {
+  fs::path d = tempDir();
+  GltfWriter g;
+  // Ground: red only. Masked quad at y = 1: green only, its texture opaque on the left half
+  // (u < 0.5) and a hole on the right. The sun shines straight down.
+  int ground = g.material(GltfWriter::diffuse({0.5f, 0.f, 0.f}));
+  auto masked = GltfWriter::diffuse({0.f, 0.5f, 0.f});
+  masked["pbrMetallicRoughness"]["baseColorTexture"] = {
+      {"index", g.texture(2, 1, {255, 255, 255, 255, 255, 255, 255, 0})}};
+  masked["alphaMode"] = "MASK";
+  masked["alphaCutoff"] = 0.5;
+  int quadMat = g.material(masked);
+  g.quad({-4, 0, -4}, {-4, 0, 4}, {4, 0, 4}, {4, 0, -4}, ground);
+  g.quad({-2, 1, 2}, {2, 1, 2}, {2, 1, -2}, {-2, 1, -2}, quadMat);  // u along +x, facing up
+  g.light({{"type", "directional"},
+           {"intensity", 683.0 * 2.0},
+           {"_rotation", {-std::sin(M_PI / 4), 0, 0, std::cos(M_PI / 4)}}});
+  g.camera({0.f, 3.f, 0.001f}, {0.f, 0.f, 0.f}, 0.5f);
+  std::string path = (d / "alpha.gltf").string();
+  g.write(path);
+  const uint32_t size = 16;
+  Rendered r = renderFile(path, size, 16);
+  const double radiance = 0.5 / M_PI * 2.0;  // albedo / pi * irradiance (lux / 683)
+  for (uint32_t py = 2; py < size - 2; ++py) {
+    // Left columns: the quad's green top; right columns: the red ground through the hole, lit
+    // through the hole (the shadow ray must skip the masked texels too).
+    for (uint32_t px : {2u, 5u}) {
+      const float* c = &r.film.combined[(py * size + px) * 3];
+      EXPECT_NEAR(c[1], radiance, 0.01) << px << "," << py;
+      EXPECT_NEAR(c[0], 0.f, 1e-6) << px << "," << py;
+    }
+    for (uint32_t px : {10u, 13u}) {
+      const float* c = &r.film.combined[(py * size + px) * 3];
+      EXPECT_NEAR(c[0], radiance, 0.01) << px << "," << py;
+    }
+  }
+  fs::remove_all(d);
+}
