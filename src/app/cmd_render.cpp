@@ -10,6 +10,7 @@
 #include <optional>
 
 #include "app/args.h"
+#include "app/device_options.h"
 #include "app/commands.h"
 #include "app/image_io.h"
 #include "bvh/bvh.h"
@@ -76,9 +77,7 @@ int runRender(const std::vector<std::string>& args) {
   auto envPath = a.value("--env");
   bool exrFloat = a.flag("--exr-float");
   bool quiet = a.flag("--quiet");
-  vk::ContextOptions vkOptions;
-  vkOptions.device = a.value("--device").value_or("");
-  vkOptions.validation = a.flag("--validation");
+  vk::ContextOptions vkOptions = readDeviceOptions(a);
   auto files = a.positional();
   a.finish();
   if (files.size() != 1) throw InputError("render: expected exactly one scene file");

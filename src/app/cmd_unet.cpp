@@ -5,6 +5,7 @@
 #include <fstream>
 
 #include "app/args.h"
+#include "app/device_options.h"
 #include "app/commands.h"
 #include "common/error.h"
 #include "nn_kernels/unet.h"
@@ -20,9 +21,7 @@ int runUnet(const std::vector<std::string>& args) {
   auto inPath = a.value("--in");
   auto outPath = a.value("--out");
   auto precision = a.value("--precision");
-  vk::ContextOptions options;
-  options.device = a.value("--device").value_or("");
-  options.validation = a.flag("--validation");
+  vk::ContextOptions options = readDeviceOptions(a);
   const bool quiet = a.flag("--quiet");
   a.finish();
   if (!weightsPath || !inPath || !outPath)
