@@ -69,6 +69,8 @@ OsrBvhRay osrBvhMakeRay(vec3 origin, vec3 dir) {
   return r;
 }
 
+const float kOsrBvhExitScale = 1.00000036;  // 1 + 2 * gamma(3)
+
 // True when the ray overlaps [bmin, bmax] within [tMin, tFar]; tEnter = entry distance.
 bool osrBvhBox(OsrBvhRay r, vec3 bmin, vec3 bmax, float tMin, float tFar, out float tEnter) {
   vec3 t0 = bmin * r.invDir - r.originScaled;
@@ -76,7 +78,7 @@ bool osrBvhBox(OsrBvhRay r, vec3 bmin, vec3 bmax, float tMin, float tFar, out fl
   vec3 lo = min(t0, t1);
   vec3 hi = max(t0, t1);
   tEnter = max(max(lo.x, lo.y), max(lo.z, tMin));
-  float tExit = min(min(hi.x, hi.y), min(hi.z, tFar)) * 1.00000036;  // 1 + 2 * gamma(3)
+  float tExit = min(min(hi.x, hi.y), min(hi.z, tFar)) * kOsrBvhExitScale;
   return tEnter <= tExit;
 }
 
@@ -120,6 +122,7 @@ bool osrBvhTraverse(vec3 origin, vec3 dir, float tMin, float tMax, bool anyHit, 
   bool found = false;
   float tFar = tMax;
   uint stack[kBvhMaxDepth];
+  float stackEnter[kBvhMaxDepth];  // entry distance of each pushed child
   uint sp = 0u;
   uint node = 0u;
   for (;;) {
@@ -127,33 +130,38 @@ bool osrBvhTraverse(vec3 origin, vec3 dir, float tMin, float tMax, bool anyHit, 
     float ta, tb;
     bool ha = osrBvhBox(r, n.aMin, n.aMax, tMin, tFar, ta);
     bool hb = osrBvhBox(r, n.bMin, n.bMax, tMin, tFar, tb);
-    // Leaf children are intersected at once; only interior children continue the walk.
-    for (int side = 0; side < 2; ++side) {
-      uint ref = side == 0 ? n.a : n.b;
-      bool entered = side == 0 ? ha : hb;
-      if (!entered || (ref & kBvhLeafFlag) == 0u) continue;
-      if (side == 0) ha = false; else hb = false;
-      uint first = ref & kBvhLeafFirstMask;
-      uint count = (ref >> kBvhLeafCountShift) & kBvhLeafCountMask;
-      for (uint i = first; i < first + count; ++i) {
-        BvhLeafTriangle tri = gBvhLeafTriangles[i];
-        float t;
-        vec2 bary;
-        if (!osrBvhTriangle(r, tri.v0.xyz, tri.v1.xyz, tri.v2.xyz, tMin, tFar, t, bary)) continue;
-        uint id = floatBitsToUint(tri.v0.w);
+    // Leaf children are intersected at once, both in one loop: a SIMD group then runs
+    // max(countA + countB) iterations rather than max(countA) + max(countB) (lavapipe runs a
+    // loop body for all lanes while any lane needs it). Only interior children continue the walk.
+    bool leafA = ha && (n.a & kBvhLeafFlag) != 0u;
+    bool leafB = hb && (n.b & kBvhLeafFlag) != 0u;
+    uint countA = leafA ? (n.a >> kBvhLeafCountShift) & kBvhLeafCountMask : 0u;
+    uint countB = leafB ? (n.b >> kBvhLeafCountShift) & kBvhLeafCountMask : 0u;
+    uint firstA = n.a & kBvhLeafFirstMask;
+    // Entry k < countA is firstA + k, later ones continue at firstB.
+    uint skip = (n.b & kBvhLeafFirstMask) - firstA - countA;
+    ha = ha && !leafA;
+    hb = hb && !leafB;
+    for (uint k = 0u; k < countA + countB; ++k) {
+      uint i = firstA + k + (k < countA ? 0u : skip);
+      BvhLeafTriangle tri = gBvhLeafTriangles[i];
+      float t;
+      vec2 bary;
+      if (!osrBvhTriangle(r, tri.v0.xyz, tri.v1.xyz, tri.v2.xyz, tMin, tFar, t, bary)) continue;
+      uint id = floatBitsToUint(tri.v0.w);
 #ifdef OSR_BVH_ALPHA_TEST
-        if (osrAlphaCutout(id, bary)) continue;
+      if (osrAlphaCutout(id, bary)) continue;
 #endif
-        found = true;
-        hit.t = t;
-        hit.triangle = id;
-        hit.barycentrics = bary;
-        if (anyHit) return true;
-        tFar = t;
-      }
+      found = true;
+      hit.t = t;
+      hit.triangle = id;
+      hit.barycentrics = bary;
+      if (anyHit) return true;
+      tFar = t;
     }
     if (ha && hb) {
       bool aFirst = ta <= tb;
+      stackEnter[sp] = aFirst ? tb : ta;
       stack[sp++] = aFirst ? n.b : n.a;
       node = aFirst ? n.a : n.b;
     } else if (ha) {
@@ -161,6 +169,11 @@ bool osrBvhTraverse(vec3 origin, vec3 dir, float tMin, float tMax, bool anyHit, 
     } else if (hb) {
       node = n.b;
     } else {
+      // Nodes pushed before a closer hit was found are dropped without fetching them: the
+      // boxes of their children lie inside theirs, so their entry distances are no smaller
+      // (slab distances are monotone in the plane) and osrBvhBox would reject them all now.
+      // The hits are exactly those of the full walk.
+      while (sp > 0u && stackEnter[sp - 1u] > tFar * kOsrBvhExitScale) --sp;
       if (sp == 0u) break;
       node = stack[--sp];
     }
