@@ -20,6 +20,10 @@
 #include "lib/scene.glsl"
 #define OSR_BVH_BINDING kPtBvhBinding
 #define OSR_BVH_ALPHA_TEST
+// Off for scenes without alpha-tested materials (GpuScene::alphaTested): on lavapipe the
+// cutout's material and texture reads would otherwise run at every candidate hit.
+layout(constant_id = kPtSpecAlphaTest) const bool kAlphaTest = true;
+#define OSR_BVH_ALPHA_ENABLED kAlphaTest
 #include "lib/bvh_traverse.glsl"
 #include "lib/rng.glsl"
 #include "lib/sampling.glsl"

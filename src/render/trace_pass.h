@@ -16,8 +16,9 @@ namespace osr::render {
 
 class TracePass {
  public:
-  // integrator: gpu::pt::kIntegratorPath or kIntegratorPreview.
-  TracePass(const vk::Context& ctx, uint32_t integrator);
+  // integrator: gpu::pt::kIntegratorPath or kIntegratorPreview. alphaTest: the scene has
+  // alpha-tested materials (scene::GpuScene::alphaTested); false compiles the test out.
+  TracePass(const vk::Context& ctx, uint32_t integrator, bool alphaTest = true);
 
   static constexpr uint32_t kMaxPixelsPerDispatch = 1u << 20;
   static constexpr uint32_t kMaxSamplesPerDispatch = 8;

@@ -82,6 +82,8 @@ GpuScene::GpuScene(const vk::Context& ctx, const Scene& scene, const Environment
   environmentCdf = upload(ctx, envCdf, "environment cdf", env ? env->path : path);
   triangleCount = si.triangleCount;
   vertexCount = uint32_t(scene.vertices.size());
+  for (const gpu::Material& m : scene.materials)
+    alphaTested |= (m.flags & (gpu::kMaterialAlphaMask | gpu::kMaterialAlphaBlend)) != 0;
 }
 
 std::array<vk::BufferRange, gpu::kSceneBindingCount> GpuScene::bindings() const {
