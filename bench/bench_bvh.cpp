@@ -31,6 +31,8 @@ int runBvh(const std::vector<std::string>& argv) {
   options.treeletRounds = uint32_t(args.integer("--treelet-rounds", 0, 8).value_or(options.treeletRounds));
   options.treeletLeaves = uint32_t(
       args.integer("--treelet-leaves", 3, gpu::bvh_build::kTreeletMaxLeaves).value_or(options.treeletLeaves));
+  options.treeletMinTriangles =
+      uint32_t(args.integer("--treelet-min-triangles", 3, 1 << 20).value_or(options.treeletMinTriangles));
   args.finish();
   vk::Context ctx;
   bvh::GpuBuilder builder(ctx, options);
@@ -72,6 +74,7 @@ int runBvh(const std::vector<std::string>& argv) {
     line.num("build_ms", best.totalMs).num("mtris_per_s", n / (best.totalMs * 1e3));
     line.num("sah_gpu", sahGpu).num("sah_cpu", sahCpu).num("sah_ratio", sahGpu / sahCpu);
     line.integer("treelet_rounds", options.treeletRounds).integer("treelet_leaves", options.treeletLeaves);
+    line.integer("treelet_min_triangles", options.treeletMinTriangles);
     line.integer("depth", bvh::depth(gpuTree)).num("wall_ms", bestWall).num("cpu_time_ms", bestCpu).num("cpu_build_ms", cpuMs);
     for (const auto& p : best.passes) line.num(("pass_" + p.name + "_ms").c_str(), p.ms);
 #ifdef OSR_HAVE_EMBREE

@@ -96,11 +96,12 @@ void main() {
     if ((a.flags & kFlagCollapsed) != 0u) live = false;
     p = a.parent;
   }
-  BvhBuildNode l = loadNode(node.left), r = loadNode(node.right);
-  uint countA = live && becomesLeaf(node.left, l) ? l.triangleCount : 0u;
-  uint countB = live && becomesLeaf(node.right, r) ? r.triangleCount : 0u;
-  uint slot = allocateLeafEntries(countA + countB);
+  // Unreachable nodes stop here: the subgroup allocation below only counts the live lanes.
   if (!live) return;
+  BvhBuildNode l = loadNode(node.left), r = loadNode(node.right);
+  uint countA = becomesLeaf(node.left, l) ? l.triangleCount : 0u;
+  uint countB = becomesLeaf(node.right, r) ? r.triangleCount : 0u;
+  uint slot = allocateLeafEntries(countA + countB);
   BvhNode out_;
   out_.aMin = l.lo;
   out_.aMax = l.hi;

@@ -167,30 +167,34 @@ bool osrBvhTraverse(vec3 origin, vec3 dir, float tMin, float tMax, bool anyHit, 
     float ta, tb;
     bool ha = osrBvhBox(r, n.aMin, n.aMax, tMin, tFar, ta);
     bool hb = osrBvhBox(r, n.bMin, n.bMax, tMin, tFar, tb);
-    // Leaf children are intersected at once; only interior children continue the walk.
-    for (int side = 0; side < 2; ++side) {
-      uint ref = side == 0 ? n.a : n.b;
-      bool entered = side == 0 ? ha : hb;
-      if (!entered || (ref & kBvhLeafFlag) == 0u) continue;
-      if (side == 0) ha = false; else hb = false;
-      uint first = ref & kBvhLeafFirstMask;
-      uint count = (ref >> kBvhLeafCountShift) & kBvhLeafCountMask;
-      for (uint i = first; i < first + count; ++i) {
-        BvhLeafTriangle tri = osrBvhLeafTriangle(i);
-        float t;
-        vec2 bary;
-        if (!osrBvhTriangle(r, tri.v0.xyz, tri.v1.xyz, tri.v2.xyz, tMin, tFar, t, bary)) continue;
-        uint id = floatBitsToUint(tri.v0.w);
+    // Leaf children are intersected at once, both in one loop: a SIMD group then runs
+    // max(countA + countB) iterations rather than max(countA) + max(countB) (lavapipe runs a
+    // loop body for all lanes while any lane needs it). Only interior children continue the walk.
+    bool leafA = ha && (n.a & kBvhLeafFlag) != 0u;
+    bool leafB = hb && (n.b & kBvhLeafFlag) != 0u;
+    uint countA = leafA ? (n.a >> kBvhLeafCountShift) & kBvhLeafCountMask : 0u;
+    uint countB = leafB ? (n.b >> kBvhLeafCountShift) & kBvhLeafCountMask : 0u;
+    uint firstA = n.a & kBvhLeafFirstMask;
+    // Entry k < countA is firstA + k, later ones continue at firstB.
+    uint skip = (n.b & kBvhLeafFirstMask) - firstA - countA;
+    ha = ha && !leafA;
+    hb = hb && !leafB;
+    for (uint k = 0u; k < countA + countB; ++k) {
+      uint i = firstA + k + (k < countA ? 0u : skip);
+      BvhLeafTriangle tri = osrBvhLeafTriangle(i);
+      float t;
+      vec2 bary;
+      if (!osrBvhTriangle(r, tri.v0.xyz, tri.v1.xyz, tri.v2.xyz, tMin, tFar, t, bary)) continue;
+      uint id = floatBitsToUint(tri.v0.w);
 #ifdef OSR_BVH_ALPHA_TEST
-        if (OSR_BVH_ALPHA_ENABLED && osrAlphaCutout(id, bary)) continue;
+      if (OSR_BVH_ALPHA_ENABLED && osrAlphaCutout(id, bary)) continue;
 #endif
-        found = true;
-        hit.t = t;
-        hit.triangle = id;
-        hit.barycentrics = bary;
-        if (anyHit) return true;
-        tFar = t;
-      }
+      found = true;
+      hit.t = t;
+      hit.triangle = id;
+      hit.barycentrics = bary;
+      if (anyHit) return true;
+      tFar = t;
     }
     if (ha && hb) {
       bool aFirst = ta <= tb;

@@ -128,7 +128,7 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
     for (uint32_t round = 0; round < treeletRounds && n > 2; ++round) {
       // Karras & Aila grow the smallest restructured subtree each round: the bottom levels
       // improve most in the first round, later rounds polish the upper tree at less cost.
-      passes.treelet.record(cmd, {interior, leaves, counters, &schedule, nodeList, n, options.treeletLeaves << round},
+      passes.treelet.record(cmd, {interior, leaves, counters, &schedule, nodeList, n, options.treeletMinTriangles << round},
                             &timer);
     }
     vk::TimedScope scope(&timer, cmd, "bvh_emit");
