@@ -17,13 +17,12 @@
 #include "shared/bsdf.h"
 
 #define OSR_SCENE_BINDING kPtSceneBinding
+// The scene's features (GpuScene::features): code for absent ones is compiled out.
+layout(constant_id = kPtSpecSceneFeatures) const uint kSceneFeatures = kSceneFeatureAll;
+#define OSR_SCENE_FEATURES kSceneFeatures
 #include "lib/scene.glsl"
 #define OSR_BVH_BINDING kPtBvhBinding
 #define OSR_BVH_ALPHA_TEST
-// Off for scenes without alpha-tested materials (GpuScene::alphaTested): on lavapipe the
-// cutout's material and texture reads would otherwise run at every candidate hit.
-layout(constant_id = kPtSpecAlphaTest) const bool kAlphaTest = true;
-#define OSR_BVH_ALPHA_ENABLED kAlphaTest
 #include "lib/bvh_traverse.glsl"
 #include "lib/rng.glsl"
 #include "lib/sampling.glsl"
@@ -128,7 +127,7 @@ bool sampleLight(vec3 p, vec3 u, out LightSample ls) {
     }
     slot -= 1u;
   }
-  if (slot < gSceneInfo.lightCount) {
+  if (sceneHas(kSceneFeaturePunctual) && slot < gSceneInfo.lightCount) {
     PunctualLight l = gLights[slot];
     ls.delta = true;
     ls.pdf = pSlot;
@@ -158,7 +157,8 @@ bool sampleLight(vec3 p, vec3 u, out LightSample ls) {
     ls.radiance = l.intensity * atten;
     return atten > 0.0;
   }
-  // Environment.
+  // Environment (the last slot exists only with a map).
+  if (!sceneHas(kSceneFeatureEnvironment)) return false;
   float envPdf;
   vec3 envRadiance;
   ls.wi = sampleEnvironment(u.yz, envPdf, envRadiance);
@@ -264,7 +264,7 @@ PathState startPath(uint pixel, uint sampleIndex) {
 bool pathStep(inout PathState p) {
   Hit hit;
   if (!bvhClosestHit(p.origin, p.dir, 0.0, kInfinity, hit)) {
-    if (gSceneInfo.envWidth > 0u) {
+    if (sceneHas(kSceneFeatureEnvironment) && gSceneInfo.envWidth > 0u) {
       vec3 le = environmentRadiance(p.dir);
       float w = p.prevPdf > 0.0 ? powerHeuristic(p.prevPdf, environmentLightPdf(p.dir)) : 1.0;
       addLight(p.s, p.bounce, p.beta * w * le);

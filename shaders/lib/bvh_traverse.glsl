@@ -4,8 +4,7 @@
 // bindings, see shared/bvh.h) before including this file; the pipeline sets specialization
 // constant kBvhSpecTexelFetch (bvh::Bvh::spec). If OSR_BVH_ALPHA_TEST is
 // defined, hits for which `bool osrAlphaCutout(uint triangle, vec2 barycentrics)` returns true
-// are skipped (the includer provides it, normally through shaders/lib/scene.glsl) while the
-// boolean OSR_BVH_ALPHA_ENABLED (default true; e.g. a specialization constant) holds.
+// are skipped (the includer provides it, normally through shaders/lib/scene.glsl).
 //
 // Ray-triangle test: watertight (Woop, Benthin, Wald 2013, "Watertight Ray/Triangle
 // Intersection"), so rays through shared edges and vertices never slip between triangles.
@@ -71,9 +70,6 @@ struct Hit {
 
 #ifdef OSR_BVH_ALPHA_TEST
 bool osrAlphaCutout(uint triangle, vec2 barycentrics);
-#ifndef OSR_BVH_ALPHA_ENABLED
-#define OSR_BVH_ALPHA_ENABLED true
-#endif
 #endif
 
 // Per-ray constants of the watertight test and the slab test.
@@ -187,7 +183,7 @@ bool osrBvhTraverse(vec3 origin, vec3 dir, float tMin, float tMax, bool anyHit, 
       if (!osrBvhTriangle(r, tri.v0.xyz, tri.v1.xyz, tri.v2.xyz, tMin, tFar, t, bary)) continue;
       uint id = floatBitsToUint(tri.v0.w);
 #ifdef OSR_BVH_ALPHA_TEST
-      if (OSR_BVH_ALPHA_ENABLED && osrAlphaCutout(id, bary)) continue;
+      if (osrAlphaCutout(id, bary)) continue;
 #endif
       found = true;
       hit.t = t;

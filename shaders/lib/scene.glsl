@@ -14,6 +14,12 @@
 
 #include "shared/scene.h"
 
+#ifndef OSR_SCENE_FEATURES
+#define OSR_SCENE_FEATURES kSceneFeatureAll
+#endif
+// False only where the includer's OSR_SCENE_FEATURES lacks `feature` (see shared/scene.h).
+bool sceneHas(uint feature) { return (OSR_SCENE_FEATURES & feature) != 0u; }
+
 layout(std430, binding = OSR_SCENE_BINDING + kSceneBindingVertices) readonly buffer SceneVertices {
   Vertex gVertices[];
 };
@@ -84,7 +90,7 @@ vec4 sceneTexel(TextureInfo info, int x, int y) {
 // is the first texel of row 0 (glTF). Raw RGBA in [0, 1]: the caller decodes sRGB. A
 // texture index of kNoTexture returns white, so `factor * sampleTexture(...)` needs no branch.
 vec4 sampleTexture(int texture, vec2 uv) {
-  if (texture < 0) return vec4(1.0);
+  if (!sceneHas(kSceneFeatureTextures) || texture < 0) return vec4(1.0);
   TextureInfo info = gTextureInfos[texture];
   int w = int(info.width), h = int(info.height);
   // Clamped so that the conversions to int below are defined (uv far outside [0, 1] or NaN
@@ -200,6 +206,7 @@ SurfaceSample surfaceAt(uint triangle, vec2 b) {
 // Any-hit test: true when the hit is in a hole of an alpha-masked (or blended, treated as
 // masked) material, i.e. the ray should continue.
 bool osrAlphaCutout(uint triangle, vec2 b) {
+  if (!sceneHas(kSceneFeatureAlphaTest)) return false;
   Triangle t = gTriangles[triangle];
   Material mat = gMaterials[t.material];
   if ((mat.flags & (kMaterialAlphaMask | kMaterialAlphaBlend)) == 0u) return false;
@@ -232,7 +239,7 @@ uvec2 environmentTexel(vec2 uv) {
 
 // Radiance arriving from direction `dir` (unit, world space); black without a map.
 vec3 environmentRadiance(vec3 dir) {
-  if (gSceneInfo.envWidth == 0u) return vec3(0.0);
+  if (!sceneHas(kSceneFeatureEnvironment) || gSceneInfo.envWidth == 0u) return vec3(0.0);
   uvec2 p = environmentTexel(environmentUv(dir));
   return gEnvironment[p.y * gSceneInfo.envWidth + p.x].rgb * gSceneInfo.envScale;
 }
@@ -254,7 +261,7 @@ float environmentCdfStep(uint first, uint i) {
 // Solid-angle density of sampleEnvironment() for direction `dir`; 0 without a map.
 float environmentPdf(vec3 dir) {
   uint w = gSceneInfo.envWidth, h = gSceneInfo.envHeight;
-  if (w == 0u) return 0.0;
+  if (!sceneHas(kSceneFeatureEnvironment) || w == 0u) return 0.0;
   uvec2 p = environmentTexel(environmentUv(dir));
   float sinTheta = sqrt(max(0.0, 1.0 - dir.y * dir.y));
   if (sinTheta <= 0.0) return 0.0;
@@ -266,7 +273,7 @@ float environmentPdf(vec3 dir) {
 // Returns the direction; pdf (solid angle) and radiance for it are written out.
 vec3 sampleEnvironment(vec2 u, out float pdf, out vec3 radiance) {
   uint w = gSceneInfo.envWidth, h = gSceneInfo.envHeight;
-  if (w == 0u) {
+  if (!sceneHas(kSceneFeatureEnvironment) || w == 0u) {
     pdf = 0.0;
     radiance = vec3(0.0);
     return vec3(0.0, 1.0, 0.0);

@@ -19,8 +19,8 @@ OSR_CONST(uint, kPtBindingCount, 16u);  // kPtSceneBinding + kSceneBindingCount
 OSR_CONST(uint, kPtSpecIntegrator, 0u);
 OSR_CONST(uint, kIntegratorPath, 0u);     // unidirectional path tracing, NEE + MIS
 OSR_CONST(uint, kIntegratorPreview, 1u);  // primary hit: albedo x headlight cosine
-// Specialization constant 1 of pt_trace.comp: bool, run the alpha test in traversal.
-OSR_CONST(uint, kPtSpecAlphaTest, 1u);
+// Specialization constant 1 of pt_trace.comp: the scene's kSceneFeature* bits.
+OSR_CONST(uint, kPtSpecSceneFeatures, 1u);
 
 // Running sums per pixel; the host divides by the sample count (combined.w).
 // direct: emission seen directly plus light after one bounce; indirect: after more than one

@@ -106,6 +106,16 @@ struct SceneInfo {
   vec4 boundsMax;
 };
 
+// What a scene uses (GpuScene::features), for passes to specialise on: lib/scene.glsl compiles
+// the code of an absent feature out when the includer defines OSR_SCENE_FEATURES (e.g. as a
+// specialization constant; default kSceneFeatureAll). On lavapipe a divergent branch runs for
+// all SIMD lanes under a mask, so code no lane needs still costs its full time.
+OSR_CONST(uint, kSceneFeatureAlphaTest, 1u);    // some material is alpha-masked or blended
+OSR_CONST(uint, kSceneFeatureTextures, 2u);     // some texture
+OSR_CONST(uint, kSceneFeaturePunctual, 4u);     // some KHR_lights_punctual light
+OSR_CONST(uint, kSceneFeatureEnvironment, 8u);  // an environment map
+OSR_CONST(uint, kSceneFeatureAll, 15u);
+
 // Binding slots of the scene buffers, relative to the first slot a pass gives them
 // (OSR_SCENE_BINDING in GLSL); GpuScene::bindings() returns the buffers in this order.
 OSR_CONST(uint, kSceneBindingVertices, 0u);

@@ -19,10 +19,10 @@ std::vector<VkDescriptorType> descriptorTypes() {
 }
 }  // namespace
 
-TracePass::TracePass(const vk::Context& ctx, uint32_t integrator, bool alphaTest)
+TracePass::TracePass(const vk::Context& ctx, uint32_t integrator, uint32_t sceneFeatures)
     : pipeline_(ctx, shaders::Id::pt_trace, descriptorTypes(), sizeof(pt::Push),
                 {vk::specUint(pt::kPtSpecIntegrator, integrator),
-                 vk::specUint(pt::kPtSpecAlphaTest, alphaTest ? 1u : 0u), bvh::traversalSpec(ctx)}) {}
+                 vk::specUint(pt::kPtSpecSceneFeatures, sceneFeatures), bvh::traversalSpec(ctx)}) {}
 
 void TracePass::record(VkCommandBuffer cmd, const Args& a) const {
   std::vector<vk::ComputePipeline::Descriptor> slots = {vk::BufferRange(a.film->buffer()),

@@ -16,9 +16,10 @@ namespace osr::render {
 
 class TracePass {
  public:
-  // integrator: gpu::pt::kIntegratorPath or kIntegratorPreview. alphaTest: the scene has
-  // alpha-tested materials (scene::GpuScene::alphaTested); false compiles the test out.
-  TracePass(const vk::Context& ctx, uint32_t integrator, bool alphaTest = true);
+  // integrator: gpu::pt::kIntegratorPath or kIntegratorPreview. sceneFeatures: the scene's
+  // kSceneFeature* bits (scene::GpuScene::features); code for absent features is compiled out.
+  TracePass(const vk::Context& ctx, uint32_t integrator,
+            uint32_t sceneFeatures = gpu::scene::kSceneFeatureAll);
 
   static constexpr uint32_t kMaxPixelsPerDispatch = 1u << 20;
   static constexpr uint32_t kMaxSamplesPerDispatch = 8;

@@ -83,7 +83,11 @@ GpuScene::GpuScene(const vk::Context& ctx, const Scene& scene, const Environment
   triangleCount = si.triangleCount;
   vertexCount = uint32_t(scene.vertices.size());
   for (const gpu::Material& m : scene.materials)
-    alphaTested |= (m.flags & (gpu::kMaterialAlphaMask | gpu::kMaterialAlphaBlend)) != 0;
+    if (m.flags & (gpu::kMaterialAlphaMask | gpu::kMaterialAlphaBlend))
+      features |= gpu::kSceneFeatureAlphaTest;
+  if (!scene.textures.empty()) features |= gpu::kSceneFeatureTextures;
+  if (!scene.lights.empty()) features |= gpu::kSceneFeaturePunctual;
+  if (si.envWidth > 0) features |= gpu::kSceneFeatureEnvironment;
 }
 
 std::array<vk::BufferRange, gpu::kSceneBindingCount> GpuScene::bindings() const {

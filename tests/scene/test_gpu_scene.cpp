@@ -45,6 +45,26 @@ TEST(GpuScene, UploadsTheCornellBox) {
   EXPECT_EQ(g.bindings()[gs::kSceneBindingTriangles].buffer, &g.triangles);
 }
 
+// features names exactly what the scene uses (passes compile the rest out).
+TEST(GpuScene, FeaturesNameWhatTheSceneUses) {
+  auto& ctx = test::context();
+  scene::Scene s = scene::loadScene(test::referencePath("cornell/cornell.gltf"));
+  EXPECT_EQ(scene::GpuScene(ctx, s).features, 0u);  // no alpha, texture, light or map
+  s.materials[0].flags |= gs::kMaterialAlphaBlend;
+  EXPECT_EQ(scene::GpuScene(ctx, s).features, gs::kSceneFeatureAlphaTest);
+  s.materials[0].flags &= ~gs::kMaterialAlphaBlend;
+  s.materials[0].flags |= gs::kMaterialAlphaMask;
+  s.textures.push_back({});
+  s.textures.back().width = s.textures.back().height = 1;
+  s.textures.back().texels = {0xffffffffu};
+  s.lights.push_back({});
+  scene::Environment env;
+  env.width = 2;
+  env.height = 1;
+  env.texels = {glm::vec4(1.0f), glm::vec4(1.0f)};
+  EXPECT_EQ(scene::GpuScene(ctx, s, &env).features, gs::kSceneFeatureAll);
+}
+
 TEST(GpuScene, RefusesBuffersPastMaxStorageBufferRange) {
   auto& ctx = test::context();
   uint64_t limit = ctx.caps().maxStorageBufferRange;
