@@ -26,6 +26,7 @@ layout(constant_id = kPtSpecSceneFeatures) const uint kSceneFeatures = kSceneFea
 #include "lib/bvh_traverse.glsl"
 #include "lib/rng.glsl"
 #include "lib/sampling.glsl"
+#define OSR_BSDF_TRANSMISSION ((kSceneFeatures & kSceneFeatureTransmission) != 0u)
 #include "lib/bsdf.glsl"
 #include "lib/ray_offset.glsl"
 

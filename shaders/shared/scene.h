@@ -114,7 +114,8 @@ OSR_CONST(uint, kSceneFeatureAlphaTest, 1u);    // some material is alpha-masked
 OSR_CONST(uint, kSceneFeatureTextures, 2u);     // some texture
 OSR_CONST(uint, kSceneFeaturePunctual, 4u);     // some KHR_lights_punctual light
 OSR_CONST(uint, kSceneFeatureEnvironment, 8u);  // an environment map
-OSR_CONST(uint, kSceneFeatureAll, 15u);
+OSR_CONST(uint, kSceneFeatureTransmission, 16u);  // some material with transmission > 0
+OSR_CONST(uint, kSceneFeatureAll, 31u);
 
 // Binding slots of the scene buffers, relative to the first slot a pass gives them
 // (OSR_SCENE_BINDING in GLSL); GpuScene::bindings() returns the buffers in this order.

@@ -82,9 +82,11 @@ GpuScene::GpuScene(const vk::Context& ctx, const Scene& scene, const Environment
   environmentCdf = upload(ctx, envCdf, "environment cdf", env ? env->path : path);
   triangleCount = si.triangleCount;
   vertexCount = uint32_t(scene.vertices.size());
-  for (const gpu::Material& m : scene.materials)
+  for (const gpu::Material& m : scene.materials) {
     if (m.flags & (gpu::kMaterialAlphaMask | gpu::kMaterialAlphaBlend))
       features |= gpu::kSceneFeatureAlphaTest;
+    if (m.transmission > 0.0f) features |= gpu::kSceneFeatureTransmission;
+  }
   if (!scene.textures.empty()) features |= gpu::kSceneFeatureTextures;
   if (!scene.lights.empty()) features |= gpu::kSceneFeaturePunctual;
   if (si.envWidth > 0) features |= gpu::kSceneFeatureEnvironment;

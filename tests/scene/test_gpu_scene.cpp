@@ -54,6 +54,7 @@ TEST(GpuScene, FeaturesNameWhatTheSceneUses) {
   EXPECT_EQ(scene::GpuScene(ctx, s).features, gs::kSceneFeatureAlphaTest);
   s.materials[0].flags &= ~gs::kMaterialAlphaBlend;
   s.materials[0].flags |= gs::kMaterialAlphaMask;
+  s.materials[1].transmission = 0.5f;
   s.textures.push_back({});
   s.textures.back().width = s.textures.back().height = 1;
   s.textures.back().texels = {0xffffffffu};
