@@ -17,6 +17,7 @@
 #include "shared/bsdf.h"
 
 #define OSR_SCENE_BINDING kPtSceneBinding
+#define OSR_SCENE_TEXEL_BINDING kPtSceneTexelBinding
 // The scene's features (GpuScene::features): code for absent ones is compiled out.
 layout(constant_id = kPtSpecSceneFeatures) const uint kSceneFeatures = kSceneFeatureAll;
 #define OSR_SCENE_FEATURES kSceneFeatures
@@ -106,8 +107,8 @@ bool sampleLight(vec3 p, vec3 u, out LightSample ls) {
         if (gEmissive[mid].cdf > uy) hi = mid; else lo = mid + 1u;
       }
       EmissiveTriangle e = gEmissive[lo];
-      Triangle t = gTriangles[e.triangle];
-      Vertex v0 = gVertices[t.v0], v1 = gVertices[t.v1], v2 = gVertices[t.v2];
+      Triangle t = sceneTriangle(e.triangle);
+      Vertex v0 = sceneVertex(t.v0), v1 = sceneVertex(t.v1), v2 = sceneVertex(t.v2);
       vec2 b = sampleTriangle(u.yz);
       vec3 q = v0.position * (1.0 - b.x - b.y) + v1.position * b.x + v2.position * b.y;
       vec2 uv = vec2(v0.u, v0.v) * (1.0 - b.x - b.y) + vec2(v1.u, v1.v) * b.x + vec2(v2.u, v2.v) * b.y;
@@ -118,7 +119,7 @@ bool sampleLight(vec3 p, vec3 u, out LightSample ls) {
       float dist = sqrt(dist2);
       ls.wi = d / dist;
       float cosL = dot(ng, -ls.wi);
-      Material mat = gMaterials[t.material];
+      Material mat = sceneMaterial(t.material);
       bool emits = cosL > 0.0 || (mat.flags & kMaterialDoubleSided) != 0u;
       if (!emits || cosL == 0.0) return false;
       ls.distance = dist;

@@ -55,6 +55,76 @@ layout(std430, binding = OSR_SCENE_BINDING + kSceneBindingEnvironmentCdf) readon
 
 const float kScenePi = 3.14159265358979;
 
+// ---- Element reads: texel fetch where the pass binds the texel views ------------------------
+#ifdef OSR_SCENE_TEXEL_BINDING
+layout(binding = OSR_SCENE_TEXEL_BINDING + kSceneTexelBindingVertices) uniform usamplerBuffer gVertexTexels;
+layout(binding = OSR_SCENE_TEXEL_BINDING + kSceneTexelBindingTriangles) uniform usamplerBuffer gTriangleTexels;
+layout(binding = OSR_SCENE_TEXEL_BINDING + kSceneTexelBindingMaterials) uniform usamplerBuffer gMaterialTexels;
+layout(constant_id = kSceneSpecTexelFetch) const bool kSceneTexelFetch = true;
+#else
+const bool kSceneTexelFetch = false;
+#endif
+
+Vertex sceneVertex(uint i) {
+#ifdef OSR_SCENE_TEXEL_BINDING
+  if (kSceneTexelFetch) {
+    uvec4 a = texelFetch(gVertexTexels, int(2u * i));
+    uvec4 b = texelFetch(gVertexTexels, int(2u * i + 1u));
+    Vertex v;
+    v.position = uintBitsToFloat(a.xyz);
+    v.u = uintBitsToFloat(a.w);
+    v.normal = uintBitsToFloat(b.xyz);
+    v.v = uintBitsToFloat(b.w);
+    return v;
+  }
+#endif
+  return gVertices[i];
+}
+
+Triangle sceneTriangle(uint i) {
+#ifdef OSR_SCENE_TEXEL_BINDING
+  if (kSceneTexelFetch) {
+    uvec4 a = texelFetch(gTriangleTexels, int(i));
+    return Triangle(a.x, a.y, a.z, a.w);
+  }
+#endif
+  return gTriangles[i];
+}
+
+Material sceneMaterial(uint i) {
+#ifdef OSR_SCENE_TEXEL_BINDING
+  if (kSceneTexelFetch) {
+    int base = int(7u * i);
+    uvec4 t[7];
+    for (int k = 0; k < 7; ++k) t[k] = texelFetch(gMaterialTexels, base + k);
+    Material m;
+    m.baseColor = uintBitsToFloat(t[0]);
+    m.emission = uintBitsToFloat(t[1].xyz);
+    m.roughness = uintBitsToFloat(t[1].w);
+    m.specularColor = uintBitsToFloat(t[2].xyz);
+    m.metallic = uintBitsToFloat(t[2].w);
+    m.specular = uintBitsToFloat(t[3].x);
+    m.ior = uintBitsToFloat(t[3].y);
+    m.transmission = uintBitsToFloat(t[3].z);
+    m.alphaCutoff = uintBitsToFloat(t[3].w);
+    m.baseColorTexture = int(t[4].x);
+    m.metallicRoughnessTexture = int(t[4].y);
+    m.normalTexture = int(t[4].z);
+    m.emissiveTexture = int(t[4].w);
+    m.transmissionTexture = int(t[5].x);
+    m.specularTexture = int(t[5].y);
+    m.specularColorTexture = int(t[5].z);
+    m.flags = t[5].w;
+    m.normalScale = uintBitsToFloat(t[6].x);
+    m._pad0 = 0.0;
+    m._pad1 = 0.0;
+    m._pad2 = 0.0;
+    return m;
+  }
+#endif
+  return gMaterials[i];
+}
+
 // ---- Textures -------------------------------------------------------------------------------
 
 vec3 srgbToLinear(vec3 c) {
@@ -136,7 +206,7 @@ struct SurfaceSample {
 
 // Barycentrics (b1, b2) weight v1 and v2; v0 gets 1 - b1 - b2.
 vec2 sceneUv(Triangle t, vec2 b) {
-  Vertex a = gVertices[t.v0], v1 = gVertices[t.v1], v2 = gVertices[t.v2];
+  Vertex a = sceneVertex(t.v0), v1 = sceneVertex(t.v1), v2 = sceneVertex(t.v2);
   return vec2(a.u, a.v) * (1.0 - b.x - b.y) + vec2(v1.u, v1.v) * b.x + vec2(v2.u, v2.v) * b.y;
 }
 
@@ -160,8 +230,8 @@ SurfaceMaterial evaluateMaterial(Material mat, vec2 uv) {
 // Full surface description at a hit. The shading normal is not flipped towards the viewer:
 // the integrator decides (it knows the ray direction).
 SurfaceSample surfaceAt(uint triangle, vec2 b) {
-  Triangle t = gTriangles[triangle];
-  Vertex v0 = gVertices[t.v0], v1 = gVertices[t.v1], v2 = gVertices[t.v2];
+  Triangle t = sceneTriangle(triangle);
+  Vertex v0 = sceneVertex(t.v0), v1 = sceneVertex(t.v1), v2 = sceneVertex(t.v2);
   float b0 = 1.0 - b.x - b.y;
   SurfaceSample s;
   s.position = v0.position * b0 + v1.position * b.x + v2.position * b.y;
@@ -176,7 +246,7 @@ SurfaceSample surfaceAt(uint triangle, vec2 b) {
   vec2 uv0 = vec2(v0.u, v0.v), uv1 = vec2(v1.u, v1.v), uv2 = vec2(v2.u, v2.v);
   s.uv = uv0 * b0 + uv1 * b.x + uv2 * b.y;
   s.material = t.material;
-  Material mat = gMaterials[t.material];
+  Material mat = sceneMaterial(t.material);
   s.m = evaluateMaterial(mat, s.uv);
   if (mat.normalTexture >= 0) {
     // Tangent frame from the triangle's uv parameterization (the file's TANGENT attribute is
@@ -207,8 +277,8 @@ SurfaceSample surfaceAt(uint triangle, vec2 b) {
 // masked) material, i.e. the ray should continue.
 bool osrAlphaCutout(uint triangle, vec2 b) {
   if (!sceneHas(kSceneFeatureAlphaTest)) return false;
-  Triangle t = gTriangles[triangle];
-  Material mat = gMaterials[t.material];
+  Triangle t = sceneTriangle(triangle);
+  Material mat = sceneMaterial(t.material);
   if ((mat.flags & (kMaterialAlphaMask | kMaterialAlphaBlend)) == 0u) return false;
   float alpha = mat.baseColor.a * sampleTexture(mat.baseColorTexture, sceneUv(t, b)).a;
   return alpha < mat.alphaCutoff;

@@ -13,7 +13,8 @@ OSR_CONST(uint, kPtBindingFilm, 0u);
 OSR_CONST(uint, kPtBindingFrame, 1u);
 OSR_CONST(uint, kPtBvhBinding, 2u);
 OSR_CONST(uint, kPtSceneBinding, 6u);   // kPtBvhBinding + kBvhBindingCount
-OSR_CONST(uint, kPtBindingCount, 16u);  // kPtSceneBinding + kSceneBindingCount
+OSR_CONST(uint, kPtSceneTexelBinding, 16u);  // kPtSceneBinding + kSceneBindingCount
+OSR_CONST(uint, kPtBindingCount, 19u);  // kPtSceneTexelBinding + kSceneTexelBindingCount
 
 // Specialization constant 0 of pt_trace.comp: what a sample computes.
 OSR_CONST(uint, kPtSpecIntegrator, 0u);

@@ -131,5 +131,15 @@ OSR_CONST(uint, kSceneBindingEnvironment, 8u);
 OSR_CONST(uint, kSceneBindingEnvironmentCdf, 9u);
 OSR_CONST(uint, kSceneBindingCount, 10u);
 
+// Optional RGBA32UI texel views of the hottest scene buffers (GpuScene::texelViews), relative
+// to OSR_SCENE_TEXEL_BINDING; a pass that defines it reads vertices, triangles and materials
+// by texel fetch where specialization constant kSceneSpecTexelFetch is true (on lavapipe a
+// gather instead of a per-lane loop). Texels per element: Vertex 2, Triangle 1, Material 7.
+OSR_CONST(uint, kSceneTexelBindingVertices, 0u);
+OSR_CONST(uint, kSceneTexelBindingTriangles, 1u);
+OSR_CONST(uint, kSceneTexelBindingMaterials, 2u);
+OSR_CONST(uint, kSceneTexelBindingCount, 3u);
+OSR_CONST(uint, kSceneSpecTexelFetch, 201u);  // constant_id; see kBvhSpecTexelFetch
+
 OSR_NAMESPACE_END
 #endif

@@ -8,6 +8,7 @@
 
 #include "scene/scene.h"
 #include "vk/buffer.h"
+#include "vk/buffer_view.h"
 #include "vk/context.h"
 
 namespace osr::scene {
@@ -36,6 +37,14 @@ class GpuScene {
   // specialise on: on lavapipe, pt_trace without the alpha test alone runs 2x faster.
   uint32_t features = 0;
 
+  // RGBA32UI views of vertices, triangles, materials in kSceneTexelBinding* order, for passes
+  // that define OSR_SCENE_TEXEL_BINDING. texelFetch: whether they read them (the views cover
+  // at most maxTexelBufferElements texels; past that the shaders must read storage buffers).
+  std::array<VkBufferView, gpu::kSceneTexelBindingCount> texelViews() const {
+    return {vertexTexels_.handle(), triangleTexels_.handle(), materialTexels_.handle()};
+  }
+  bool texelFetch = false;
+
   // The buffers in binding order (slot OSR_SCENE_BINDING + i is element i).
   std::array<vk::BufferRange, gpu::kSceneBindingCount> bindings() const;
   // A pass's own buffers (slots 0..n-1) followed by the scene's (OSR_SCENE_BINDING = n), ready for
@@ -44,6 +53,9 @@ class GpuScene {
       std::initializer_list<vk::BufferRange> passBuffers) const;
   // Total bytes uploaded.
   uint64_t bytes() const;
+
+ private:
+  vk::BufferView vertexTexels_, triangleTexels_, materialTexels_;
 };
 
 }  // namespace osr::scene

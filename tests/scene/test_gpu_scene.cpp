@@ -66,6 +66,18 @@ TEST(GpuScene, FeaturesNameWhatTheSceneUses) {
   EXPECT_EQ(scene::GpuScene(ctx, s, &env).features, gs::kSceneFeatureAll);
 }
 
+// Texel views exist for every pass that binds them; texel reads are on where they cover the
+// buffers (the renderer tests check the images pt_trace computes through them).
+TEST(GpuScene, TexelViewsCoverVerticesTrianglesMaterials) {
+  auto& ctx = test::context();
+  scene::GpuScene g(ctx, scene::loadScene(test::referencePath("cornell/cornell.gltf")));
+  for (VkBufferView v : g.texelViews()) EXPECT_NE(v, VkBufferView(VK_NULL_HANDLE));
+  uint64_t maxTexels = ctx.caps().maxTexelBufferElements;
+  EXPECT_EQ(g.texelFetch, g.vertices.size() / 16 <= maxTexels && g.materials.size() / 16 <= maxTexels);
+  EXPECT_EQ(g.vertices.size() % 16, 0u);
+  EXPECT_EQ(g.materials.size() % 16, 0u);
+}
+
 TEST(GpuScene, RefusesBuffersPastMaxStorageBufferRange) {
   auto& ctx = test::context();
   uint64_t limit = ctx.caps().maxStorageBufferRange;
