@@ -105,6 +105,8 @@ OsrBvhRay osrBvhMakeRay(vec3 origin, vec3 dir) {
   return r;
 }
 
+const float kOsrBvhExitScale = 1.00000036;  // 1 + 2 * gamma(3)
+
 // True when the ray overlaps [bmin, bmax] within [tMin, tFar]; tEnter = entry distance.
 bool osrBvhBox(OsrBvhRay r, vec3 bmin, vec3 bmax, float tMin, float tFar, out float tEnter) {
   vec3 t0 = bmin * r.invDir - r.originScaled;
@@ -112,7 +114,7 @@ bool osrBvhBox(OsrBvhRay r, vec3 bmin, vec3 bmax, float tMin, float tFar, out fl
   vec3 lo = min(t0, t1);
   vec3 hi = max(t0, t1);
   tEnter = max(max(lo.x, lo.y), max(lo.z, tMin));
-  float tExit = min(min(hi.x, hi.y), min(hi.z, tFar)) * 1.00000036;  // 1 + 2 * gamma(3)
+  float tExit = min(min(hi.x, hi.y), min(hi.z, tFar)) * kOsrBvhExitScale;
   return tEnter <= tExit;
 }
 
@@ -156,6 +158,7 @@ bool osrBvhTraverse(vec3 origin, vec3 dir, float tMin, float tMax, bool anyHit, 
   bool found = false;
   float tFar = tMax;
   uint stack[kBvhMaxDepth];
+  float stackEnter[kBvhMaxDepth];  // entry distance of each pushed child
   uint sp = 0u;
   uint node = 0u;
   for (;;) {
@@ -194,6 +197,7 @@ bool osrBvhTraverse(vec3 origin, vec3 dir, float tMin, float tMax, bool anyHit, 
     }
     if (ha && hb) {
       bool aFirst = ta <= tb;
+      stackEnter[sp] = aFirst ? tb : ta;
       stack[sp++] = aFirst ? n.b : n.a;
       node = aFirst ? n.a : n.b;
     } else if (ha) {
@@ -201,6 +205,11 @@ bool osrBvhTraverse(vec3 origin, vec3 dir, float tMin, float tMax, bool anyHit, 
     } else if (hb) {
       node = n.b;
     } else {
+      // Nodes pushed before a closer hit was found are dropped without fetching them: the
+      // boxes of their children lie inside theirs, so their entry distances are no smaller
+      // (slab distances are monotone in the plane) and osrBvhBox would reject them all now.
+      // The hits are exactly those of the full walk.
+      while (sp > 0u && stackEnter[sp - 1u] > tFar * kOsrBvhExitScale) --sp;
       if (sp == 0u) break;
       node = stack[--sp];
     }
