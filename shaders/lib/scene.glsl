@@ -57,9 +57,12 @@ const float kScenePi = 3.14159265358979;
 
 // ---- Element reads: texel fetch where the pass binds the texel views ------------------------
 #ifdef OSR_SCENE_TEXEL_BINDING
-layout(binding = OSR_SCENE_TEXEL_BINDING + kSceneTexelBindingVertices) uniform usamplerBuffer gVertexTexels;
-layout(binding = OSR_SCENE_TEXEL_BINDING + kSceneTexelBindingTriangles) uniform usamplerBuffer gTriangleTexels;
-layout(binding = OSR_SCENE_TEXEL_BINDING + kSceneTexelBindingMaterials) uniform usamplerBuffer gMaterialTexels;
+layout(binding = OSR_SCENE_TEXEL_BINDING + kSceneTexelBindingVertices)
+uniform usamplerBuffer gVertexTexels;
+layout(binding = OSR_SCENE_TEXEL_BINDING + kSceneTexelBindingTriangles)
+uniform usamplerBuffer gTriangleTexels;
+layout(binding = OSR_SCENE_TEXEL_BINDING + kSceneTexelBindingMaterials)
+uniform usamplerBuffer gMaterialTexels;
 layout(constant_id = kSceneSpecTexelFetch) const bool kSceneTexelFetch = true;
 #else
 const bool kSceneTexelFetch = false;

@@ -10,23 +10,16 @@ namespace osr::bvh {
 
 namespace {
 constexpr VkDeviceSize kTexelBytes = 16;  // RGBA32UI
-
-vk::BufferView texelView(const vk::Context& ctx, const vk::Buffer& buffer, const char* name) {
-  // A view never reaches past maxTexelBufferElements: where the buffer is larger, traversal
-  // reads the storage binding (texelFetchCovers is false) and the view only fills its slot.
-  VkDeviceSize bytes = std::min<VkDeviceSize>(
-      buffer.size() / kTexelBytes * kTexelBytes,
-      VkDeviceSize(ctx.caps().maxTexelBufferElements) * kTexelBytes);
-  return vk::BufferView(ctx, vk::BufferRange(buffer, 0, bytes), VK_FORMAT_R32G32B32A32_UINT, name);
-}
 }  // namespace
 
 static_assert(sizeof(gpu::bvh::BvhNode) == gpu::bvh::kBvhNodeTexels * kTexelBytes);
 static_assert(sizeof(gpu::bvh::BvhLeafTriangle) == gpu::bvh::kBvhLeafTriangleTexels * kTexelBytes);
 
 void Bvh::makeTexelViews(const vk::Context& ctx) {
-  nodeTexels = texelView(ctx, nodes, "bvh node texels");
-  leafTexels = texelView(ctx, leafData, "bvh leaf texels");
+  // Where a buffer is larger than a view can be, traversal reads the storage binding
+  // (texelFetchCovers is false) and the view only fills its slot.
+  nodeTexels = vk::BufferView::uintTexels(ctx, nodes, "bvh node texels");
+  leafTexels = vk::BufferView::uintTexels(ctx, leafData, "bvh leaf texels");
 }
 
 std::array<VkDescriptorType, gpu::bvh::kBvhBindingCount> Bvh::descriptorTypes() {

@@ -9,7 +9,8 @@ namespace pt = gpu::pt;
 
 static_assert(pt::kPtSceneBinding == pt::kPtBvhBinding + gpu::bvh::kBvhBindingCount);
 static_assert(pt::kPtSceneTexelBinding == pt::kPtSceneBinding + gpu::scene::kSceneBindingCount);
-static_assert(pt::kPtBindingCount == pt::kPtSceneTexelBinding + gpu::scene::kSceneTexelBindingCount);
+static_assert(pt::kPtBindingCount ==
+              pt::kPtSceneTexelBinding + gpu::scene::kSceneTexelBindingCount);
 
 namespace {
 std::vector<VkDescriptorType> descriptorTypes() {

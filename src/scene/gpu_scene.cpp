@@ -92,19 +92,15 @@ GpuScene::GpuScene(const vk::Context& ctx, const Scene& scene, const Environment
   if (!scene.lights.empty()) features |= gpu::kSceneFeaturePunctual;
   if (si.envWidth > 0) features |= gpu::kSceneFeatureEnvironment;
 
-  const uint64_t maxTexels = ctx.caps().maxTexelBufferElements;
-  auto view = [&](const vk::Buffer& b, const char* name) {
-    uint64_t texels = std::min<uint64_t>(b.size() / 16, maxTexels);
-    return vk::BufferView(ctx, vk::BufferRange(b, 0, texels * 16), VK_FORMAT_R32G32B32A32_UINT, name);
-  };
-  vertexTexels_ = view(vertices, "scene vertex texels");
-  triangleTexels_ = view(triangles, "scene triangle texels");
-  materialTexels_ = view(materials, "scene material texels");
-  texelFetch = vertices.size() / 16 <= maxTexels && triangles.size() / 16 <= maxTexels &&
-               materials.size() / 16 <= maxTexels;
+  bool coversV, coversT, coversM;
+  vertexTexels_ = vk::BufferView::uintTexels(ctx, vertices, "scene vertex texels", &coversV);
+  triangleTexels_ = vk::BufferView::uintTexels(ctx, triangles, "scene triangle texels", &coversT);
+  materialTexels_ = vk::BufferView::uintTexels(ctx, materials, "scene material texels", &coversM);
+  texelFetch = coversV && coversT && coversM;
 }
 
-static_assert(sizeof(gpu::Vertex) == 32 && sizeof(gpu::Triangle) == 16 && sizeof(gpu::Material) == 112,
+static_assert(sizeof(gpu::Vertex) == 32 && sizeof(gpu::Triangle) == 16 &&
+                  sizeof(gpu::Material) == 112,
               "texel counts in shaders/lib/scene.glsl");
 
 std::array<vk::BufferRange, gpu::kSceneBindingCount> GpuScene::bindings() const {
