@@ -2,6 +2,7 @@
 // pinhole camera's pixel grid: coherent) and diffuse-bounce rays (cosine directions from
 // random surface points: incoherent), with Embree's rtcIntersect1 on 2 threads as the peer.
 // The GPU hits are first checked against the CPU twin of the traversal on the same tree.
+// --bvh-access storage|texel forces how traversal reads the BVH (for comparing the two).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -10,6 +11,7 @@
 #include <random>
 
 #include "app/args.h"
+#include "common/error.h"
 #include "bench/benchmarks.h"
 #include "bench/bvh_scenes.h"
 #include "bench/embree_peer.h"
@@ -99,10 +101,19 @@ int runTrace(const std::vector<std::string>& argv) {
   std::string only = args.value("--scene").value_or("");
   uint32_t side = uint32_t(args.integer("--side", 16, 2048).value_or(1024));  // rays = side^2
   int repeat = int(args.integer("--repeat", 1, 100).value_or(3));
+  // How traversal reads the BVH (shared/bvh.h); default: the device's choice.
+  std::string accessName = args.value("--bvh-access").value_or("auto");
   args.finish();
+  bvh::Access access = bvh::Access::Auto;
+  if (accessName == "storage")
+    access = bvh::Access::Storage;
+  else if (accessName == "texel")
+    access = bvh::Access::TexelFetch;
+  else if (accessName != "auto")
+    throw InputError("osr-bench trace: --bvh-access must be auto, storage or texel");
   vk::Context ctx;
   bvh::GpuBuilder builder(ctx);
-  bvh::TraceRaysPass pass(ctx);
+  bvh::TraceRaysPass pass(ctx, false, access);
   vk::GpuTimer timer(ctx);
   for (const BvhBenchScene& s : bvhBenchScenes(only)) {
     const auto& m = s.mesh;

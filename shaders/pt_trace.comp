@@ -17,12 +17,17 @@
 #include "shared/bsdf.h"
 
 #define OSR_SCENE_BINDING kPtSceneBinding
+#define OSR_SCENE_TEXEL_BINDING kPtSceneTexelBinding
+// The scene's features (GpuScene::features): code for absent ones is compiled out.
+layout(constant_id = kPtSpecSceneFeatures) const uint kSceneFeatures = kSceneFeatureAll;
+#define OSR_SCENE_FEATURES kSceneFeatures
 #include "lib/scene.glsl"
 #define OSR_BVH_BINDING kPtBvhBinding
 #define OSR_BVH_ALPHA_TEST
 #include "lib/bvh_traverse.glsl"
 #include "lib/rng.glsl"
 #include "lib/sampling.glsl"
+#define OSR_BSDF_TRANSMISSION ((kSceneFeatures & kSceneFeatureTransmission) != 0u)
 #include "lib/bsdf.glsl"
 #include "lib/ray_offset.glsl"
 
@@ -102,8 +107,8 @@ bool sampleLight(vec3 p, vec3 u, out LightSample ls) {
         if (gEmissive[mid].cdf > uy) hi = mid; else lo = mid + 1u;
       }
       EmissiveTriangle e = gEmissive[lo];
-      Triangle t = gTriangles[e.triangle];
-      Vertex v0 = gVertices[t.v0], v1 = gVertices[t.v1], v2 = gVertices[t.v2];
+      Triangle t = sceneTriangle(e.triangle);
+      Vertex v0 = sceneVertex(t.v0), v1 = sceneVertex(t.v1), v2 = sceneVertex(t.v2);
       vec2 b = sampleTriangle(u.yz);
       vec3 q = v0.position * (1.0 - b.x - b.y) + v1.position * b.x + v2.position * b.y;
       vec2 uv = vec2(v0.u, v0.v) * (1.0 - b.x - b.y) + vec2(v1.u, v1.v) * b.x + vec2(v2.u, v2.v) * b.y;
@@ -114,7 +119,7 @@ bool sampleLight(vec3 p, vec3 u, out LightSample ls) {
       float dist = sqrt(dist2);
       ls.wi = d / dist;
       float cosL = dot(ng, -ls.wi);
-      Material mat = gMaterials[t.material];
+      Material mat = sceneMaterial(t.material);
       bool emits = cosL > 0.0 || (mat.flags & kMaterialDoubleSided) != 0u;
       if (!emits || cosL == 0.0) return false;
       ls.distance = dist;
@@ -124,7 +129,7 @@ bool sampleLight(vec3 p, vec3 u, out LightSample ls) {
     }
     slot -= 1u;
   }
-  if (slot < gSceneInfo.lightCount) {
+  if (sceneHas(kSceneFeaturePunctual) && slot < gSceneInfo.lightCount) {
     PunctualLight l = gLights[slot];
     ls.delta = true;
     ls.pdf = pSlot;
@@ -154,7 +159,8 @@ bool sampleLight(vec3 p, vec3 u, out LightSample ls) {
     ls.radiance = l.intensity * atten;
     return atten > 0.0;
   }
-  // Environment.
+  // Environment (the last slot exists only with a map).
+  if (!sceneHas(kSceneFeatureEnvironment)) return false;
   float envPdf;
   vec3 envRadiance;
   ls.wi = sampleEnvironment(u.yz, envPdf, envRadiance);
@@ -260,7 +266,7 @@ PathState startPath(uint pixel, uint sampleIndex) {
 bool pathStep(inout PathState p) {
   Hit hit;
   if (!bvhClosestHit(p.origin, p.dir, 0.0, kInfinity, hit)) {
-    if (gSceneInfo.envWidth > 0u) {
+    if (sceneHas(kSceneFeatureEnvironment) && gSceneInfo.envWidth > 0u) {
       vec3 le = environmentRadiance(p.dir);
       float w = p.prevPdf > 0.0 ? powerHeuristic(p.prevPdf, environmentLightPdf(p.dir)) : 1.0;
       addLight(p.s, p.bounce, p.beta * w * le);

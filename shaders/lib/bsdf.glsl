@@ -17,6 +17,12 @@
 #define OSR_LIB_BSDF_GLSL
 #include "lib/sampling.glsl"
 
+// False where the includer knows no material transmits (pt_trace: kSceneFeatureTransmission):
+// the glass lobe's code is then compiled out (on lavapipe a divergent branch costs all lanes).
+#ifndef OSR_BSDF_TRANSMISSION
+#define OSR_BSDF_TRANSMISSION true
+#endif
+
 const float kMinAlpha = 1e-3;
 const float kDeltaAlpha = 1e-3;  // glass smoother than this is a perfect interface
 
@@ -101,7 +107,7 @@ vec3 dielectricFresnel(BsdfParams p, float voh) {
 // y = diffuse, z = glass. Zero everywhere for a black, non-transmissive material.
 vec3 bsdfLobeProbabilities(BsdfParams p, vec3 wo) {
   float m = clamp(p.metallic, 0.0, 1.0);
-  float t = clamp(p.transmission, 0.0, 1.0);
+  float t = OSR_BSDF_TRANSMISSION ? clamp(p.transmission, 0.0, 1.0) : 0.0;
   vec3 fm = mix(p.baseColor, vec3(1.0), schlickWeight(wo.z));
   float fd = p.specular * maxComponent(dielectricFresnel(p, wo.z));
   float wR = m * luminance(fm) + (1.0 - m) * (1.0 - t) * fd;
@@ -117,10 +123,10 @@ vec3 bsdfEval(BsdfParams p, vec3 wo, vec3 wi, out float pdf) {
   if (wo.z <= 0.0 || wi.z == 0.0) return vec3(0.0);
   vec3 prob = bsdfLobeProbabilities(p, wo);
   float m = clamp(p.metallic, 0.0, 1.0);
-  float t = clamp(p.transmission, 0.0, 1.0);
+  float t = OSR_BSDF_TRANSMISSION ? clamp(p.transmission, 0.0, 1.0) : 0.0;
   float alpha = ggxAlpha(p);
   float a2 = alpha * alpha;
-  bool roughGlass = !glassIsDelta(p) && t > 0.0 && m < 1.0;
+  bool roughGlass = OSR_BSDF_TRANSMISSION && !glassIsDelta(p) && t > 0.0 && m < 1.0;
   vec3 f = vec3(0.0);
   if (wi.z > 0.0) {
     vec3 h = normalize(wo + wi);
@@ -173,7 +179,8 @@ bool bsdfSample(BsdfParams p, vec3 wo, vec3 u, out BsdfSample s) {
     vec3 h = ggxSampleVisible(wo, alpha, u.yz);
     s.wi = reflect(-wo, h);
     if (s.wi.z <= 0.0) return false;  // reflected below the horizon: energy the lobe loses
-  } else if (u.x < prob.x + prob.y) {
+  } else if (!OSR_BSDF_TRANSMISSION || u.x < prob.x + prob.y) {
+    // (Without transmission prob.z is 0; only rounding of prob.x + prob.y could reach glass.)
     s.wi = sampleCosineHemisphere(u.yz);
   } else {
     // Reuse the lobe-selection number for the reflect/refract choice (it is uniform again

@@ -1,7 +1,8 @@
 // Ray traversal of the BVH of shaders/shared/bvh.h: closest hit and any hit (occlusion).
 //
-// The including shader #defines OSR_BVH_BINDING (first of kBvhBindingCount consecutive storage
-// buffer bindings: nodes, leaf triangles) before including this file. If OSR_BVH_ALPHA_TEST is
+// The including shader #defines OSR_BVH_BINDING (first of kBvhBindingCount consecutive
+// bindings, see shared/bvh.h) before including this file; the pipeline sets specialization
+// constant kBvhSpecTexelFetch (bvh::Bvh::spec). If OSR_BVH_ALPHA_TEST is
 // defined, hits for which `bool osrAlphaCutout(uint triangle, vec2 barycentrics)` returns true
 // are skipped (the includer provides it, normally through shaders/lib/scene.glsl).
 //
@@ -24,6 +25,41 @@ layout(std430, binding = OSR_BVH_BINDING + kBvhBindingNodes) readonly buffer Osr
 layout(std430, binding = OSR_BVH_BINDING + kBvhBindingLeafTriangles) readonly buffer OsrBvhLeaves {
   BvhLeafTriangle gBvhLeafTriangles[];
 };
+
+layout(binding = OSR_BVH_BINDING + kBvhBindingNodeTexels) uniform usamplerBuffer gBvhNodeTexels;
+layout(binding = OSR_BVH_BINDING + kBvhBindingLeafTexels) uniform usamplerBuffer gBvhLeafTexels;
+layout(constant_id = kBvhSpecTexelFetch) const bool kBvhTexelFetch = true;
+
+// Texels hold raw bits (RGBA32UI, not RGBA32F): a float format could flush the denormal bit
+// patterns of small triangle indices in v0.w or of child references.
+BvhNode osrBvhNode(uint i) {
+  if (!kBvhTexelFetch) return gBvhNodes[i];
+  int base = int(i * kBvhNodeTexels);
+  uvec4 t0 = texelFetch(gBvhNodeTexels, base);
+  uvec4 t1 = texelFetch(gBvhNodeTexels, base + 1);
+  uvec4 t2 = texelFetch(gBvhNodeTexels, base + 2);
+  uvec4 t3 = texelFetch(gBvhNodeTexels, base + 3);
+  BvhNode n;
+  n.aMin = uintBitsToFloat(t0.xyz);
+  n.a = t0.w;
+  n.aMax = uintBitsToFloat(t1.xyz);
+  n.b = t1.w;
+  n.bMin = uintBitsToFloat(t2.xyz);
+  n._pad0 = 0u;
+  n.bMax = uintBitsToFloat(t3.xyz);
+  n._pad1 = 0u;
+  return n;
+}
+
+BvhLeafTriangle osrBvhLeafTriangle(uint i) {
+  if (!kBvhTexelFetch) return gBvhLeafTriangles[i];
+  int base = int(i * kBvhLeafTriangleTexels);
+  BvhLeafTriangle t;
+  t.v0 = uintBitsToFloat(texelFetch(gBvhLeafTexels, base));
+  t.v1 = uintBitsToFloat(texelFetch(gBvhLeafTexels, base + 1));
+  t.v2 = uintBitsToFloat(texelFetch(gBvhLeafTexels, base + 2));
+  return t;
+}
 
 // triangle = index into the scene's Triangle buffer; barycentrics = weights of v1, v2.
 struct Hit {
@@ -126,7 +162,7 @@ bool osrBvhTraverse(vec3 origin, vec3 dir, float tMin, float tMax, bool anyHit, 
   uint sp = 0u;
   uint node = 0u;
   for (;;) {
-    BvhNode n = gBvhNodes[node];
+    BvhNode n = osrBvhNode(node);
     float ta, tb;
     bool ha = osrBvhBox(r, n.aMin, n.aMax, tMin, tFar, ta);
     bool hb = osrBvhBox(r, n.bMin, n.bMax, tMin, tFar, tb);
@@ -144,7 +180,7 @@ bool osrBvhTraverse(vec3 origin, vec3 dir, float tMin, float tMax, bool anyHit, 
     hb = hb && !leafB;
     for (uint k = 0u; k < countA + countB; ++k) {
       uint i = firstA + k + (k < countA ? 0u : skip);
-      BvhLeafTriangle tri = gBvhLeafTriangles[i];
+      BvhLeafTriangle tri = osrBvhLeafTriangle(i);
       float t;
       vec2 bary;
       if (!osrBvhTriangle(r, tri.v0.xyz, tri.v1.xyz, tri.v2.xyz, tMin, tFar, t, bary)) continue;

@@ -14,6 +14,12 @@
 
 #include "shared/scene.h"
 
+#ifndef OSR_SCENE_FEATURES
+#define OSR_SCENE_FEATURES kSceneFeatureAll
+#endif
+// False only where the includer's OSR_SCENE_FEATURES lacks `feature` (see shared/scene.h).
+bool sceneHas(uint feature) { return (OSR_SCENE_FEATURES & feature) != 0u; }
+
 layout(std430, binding = OSR_SCENE_BINDING + kSceneBindingVertices) readonly buffer SceneVertices {
   Vertex gVertices[];
 };
@@ -48,6 +54,79 @@ layout(std430, binding = OSR_SCENE_BINDING + kSceneBindingEnvironmentCdf) readon
 };
 
 const float kScenePi = 3.14159265358979;
+
+// ---- Element reads: texel fetch where the pass binds the texel views ------------------------
+#ifdef OSR_SCENE_TEXEL_BINDING
+layout(binding = OSR_SCENE_TEXEL_BINDING + kSceneTexelBindingVertices)
+uniform usamplerBuffer gVertexTexels;
+layout(binding = OSR_SCENE_TEXEL_BINDING + kSceneTexelBindingTriangles)
+uniform usamplerBuffer gTriangleTexels;
+layout(binding = OSR_SCENE_TEXEL_BINDING + kSceneTexelBindingMaterials)
+uniform usamplerBuffer gMaterialTexels;
+layout(constant_id = kSceneSpecTexelFetch) const bool kSceneTexelFetch = true;
+#else
+const bool kSceneTexelFetch = false;
+#endif
+
+Vertex sceneVertex(uint i) {
+#ifdef OSR_SCENE_TEXEL_BINDING
+  if (kSceneTexelFetch) {
+    uvec4 a = texelFetch(gVertexTexels, int(2u * i));
+    uvec4 b = texelFetch(gVertexTexels, int(2u * i + 1u));
+    Vertex v;
+    v.position = uintBitsToFloat(a.xyz);
+    v.u = uintBitsToFloat(a.w);
+    v.normal = uintBitsToFloat(b.xyz);
+    v.v = uintBitsToFloat(b.w);
+    return v;
+  }
+#endif
+  return gVertices[i];
+}
+
+Triangle sceneTriangle(uint i) {
+#ifdef OSR_SCENE_TEXEL_BINDING
+  if (kSceneTexelFetch) {
+    uvec4 a = texelFetch(gTriangleTexels, int(i));
+    return Triangle(a.x, a.y, a.z, a.w);
+  }
+#endif
+  return gTriangles[i];
+}
+
+Material sceneMaterial(uint i) {
+#ifdef OSR_SCENE_TEXEL_BINDING
+  if (kSceneTexelFetch) {
+    int base = int(7u * i);
+    uvec4 t[7];
+    for (int k = 0; k < 7; ++k) t[k] = texelFetch(gMaterialTexels, base + k);
+    Material m;
+    m.baseColor = uintBitsToFloat(t[0]);
+    m.emission = uintBitsToFloat(t[1].xyz);
+    m.roughness = uintBitsToFloat(t[1].w);
+    m.specularColor = uintBitsToFloat(t[2].xyz);
+    m.metallic = uintBitsToFloat(t[2].w);
+    m.specular = uintBitsToFloat(t[3].x);
+    m.ior = uintBitsToFloat(t[3].y);
+    m.transmission = uintBitsToFloat(t[3].z);
+    m.alphaCutoff = uintBitsToFloat(t[3].w);
+    m.baseColorTexture = int(t[4].x);
+    m.metallicRoughnessTexture = int(t[4].y);
+    m.normalTexture = int(t[4].z);
+    m.emissiveTexture = int(t[4].w);
+    m.transmissionTexture = int(t[5].x);
+    m.specularTexture = int(t[5].y);
+    m.specularColorTexture = int(t[5].z);
+    m.flags = t[5].w;
+    m.normalScale = uintBitsToFloat(t[6].x);
+    m._pad0 = 0.0;
+    m._pad1 = 0.0;
+    m._pad2 = 0.0;
+    return m;
+  }
+#endif
+  return gMaterials[i];
+}
 
 // ---- Textures -------------------------------------------------------------------------------
 
@@ -84,7 +163,7 @@ vec4 sceneTexel(TextureInfo info, int x, int y) {
 // is the first texel of row 0 (glTF). Raw RGBA in [0, 1]: the caller decodes sRGB. A
 // texture index of kNoTexture returns white, so `factor * sampleTexture(...)` needs no branch.
 vec4 sampleTexture(int texture, vec2 uv) {
-  if (texture < 0) return vec4(1.0);
+  if (!sceneHas(kSceneFeatureTextures) || texture < 0) return vec4(1.0);
   TextureInfo info = gTextureInfos[texture];
   int w = int(info.width), h = int(info.height);
   // Clamped so that the conversions to int below are defined (uv far outside [0, 1] or NaN
@@ -130,7 +209,7 @@ struct SurfaceSample {
 
 // Barycentrics (b1, b2) weight v1 and v2; v0 gets 1 - b1 - b2.
 vec2 sceneUv(Triangle t, vec2 b) {
-  Vertex a = gVertices[t.v0], v1 = gVertices[t.v1], v2 = gVertices[t.v2];
+  Vertex a = sceneVertex(t.v0), v1 = sceneVertex(t.v1), v2 = sceneVertex(t.v2);
   return vec2(a.u, a.v) * (1.0 - b.x - b.y) + vec2(v1.u, v1.v) * b.x + vec2(v2.u, v2.v) * b.y;
 }
 
@@ -154,8 +233,8 @@ SurfaceMaterial evaluateMaterial(Material mat, vec2 uv) {
 // Full surface description at a hit. The shading normal is not flipped towards the viewer:
 // the integrator decides (it knows the ray direction).
 SurfaceSample surfaceAt(uint triangle, vec2 b) {
-  Triangle t = gTriangles[triangle];
-  Vertex v0 = gVertices[t.v0], v1 = gVertices[t.v1], v2 = gVertices[t.v2];
+  Triangle t = sceneTriangle(triangle);
+  Vertex v0 = sceneVertex(t.v0), v1 = sceneVertex(t.v1), v2 = sceneVertex(t.v2);
   float b0 = 1.0 - b.x - b.y;
   SurfaceSample s;
   s.position = v0.position * b0 + v1.position * b.x + v2.position * b.y;
@@ -170,7 +249,7 @@ SurfaceSample surfaceAt(uint triangle, vec2 b) {
   vec2 uv0 = vec2(v0.u, v0.v), uv1 = vec2(v1.u, v1.v), uv2 = vec2(v2.u, v2.v);
   s.uv = uv0 * b0 + uv1 * b.x + uv2 * b.y;
   s.material = t.material;
-  Material mat = gMaterials[t.material];
+  Material mat = sceneMaterial(t.material);
   s.m = evaluateMaterial(mat, s.uv);
   if (mat.normalTexture >= 0) {
     // Tangent frame from the triangle's uv parameterization (the file's TANGENT attribute is
@@ -200,8 +279,9 @@ SurfaceSample surfaceAt(uint triangle, vec2 b) {
 // Any-hit test: true when the hit is in a hole of an alpha-masked (or blended, treated as
 // masked) material, i.e. the ray should continue.
 bool osrAlphaCutout(uint triangle, vec2 b) {
-  Triangle t = gTriangles[triangle];
-  Material mat = gMaterials[t.material];
+  if (!sceneHas(kSceneFeatureAlphaTest)) return false;
+  Triangle t = sceneTriangle(triangle);
+  Material mat = sceneMaterial(t.material);
   if ((mat.flags & (kMaterialAlphaMask | kMaterialAlphaBlend)) == 0u) return false;
   float alpha = mat.baseColor.a * sampleTexture(mat.baseColorTexture, sceneUv(t, b)).a;
   return alpha < mat.alphaCutoff;
@@ -232,7 +312,7 @@ uvec2 environmentTexel(vec2 uv) {
 
 // Radiance arriving from direction `dir` (unit, world space); black without a map.
 vec3 environmentRadiance(vec3 dir) {
-  if (gSceneInfo.envWidth == 0u) return vec3(0.0);
+  if (!sceneHas(kSceneFeatureEnvironment) || gSceneInfo.envWidth == 0u) return vec3(0.0);
   uvec2 p = environmentTexel(environmentUv(dir));
   return gEnvironment[p.y * gSceneInfo.envWidth + p.x].rgb * gSceneInfo.envScale;
 }
@@ -254,7 +334,7 @@ float environmentCdfStep(uint first, uint i) {
 // Solid-angle density of sampleEnvironment() for direction `dir`; 0 without a map.
 float environmentPdf(vec3 dir) {
   uint w = gSceneInfo.envWidth, h = gSceneInfo.envHeight;
-  if (w == 0u) return 0.0;
+  if (!sceneHas(kSceneFeatureEnvironment) || w == 0u) return 0.0;
   uvec2 p = environmentTexel(environmentUv(dir));
   float sinTheta = sqrt(max(0.0, 1.0 - dir.y * dir.y));
   if (sinTheta <= 0.0) return 0.0;
@@ -266,7 +346,7 @@ float environmentPdf(vec3 dir) {
 // Returns the direction; pdf (solid angle) and radiance for it are written out.
 vec3 sampleEnvironment(vec2 u, out float pdf, out vec3 radiance) {
   uint w = gSceneInfo.envWidth, h = gSceneInfo.envHeight;
-  if (w == 0u) {
+  if (!sceneHas(kSceneFeatureEnvironment) || w == 0u) {
     pdf = 0.0;
     radiance = vec3(0.0);
     return vec3(0.0, 1.0, 0.0);

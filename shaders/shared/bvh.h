@@ -13,10 +13,20 @@
 #include "shared/types.h"
 OSR_NAMESPACE_BEGIN(bvh)
 
-// Bindings a traversing shader declares, from OSR_BVH_BINDING on: nodes, leaf triangles.
-OSR_CONST(uint, kBvhBindingCount, 2u);
+// Bindings a traversing shader declares, from OSR_BVH_BINDING on: nodes and leaf triangles as
+// storage buffers, then the same two buffers as RGBA32UI uniform texel buffers. Traversal reads
+// one pair, chosen by specialization constant kBvhSpecTexelFetch (C++: bvh::Bvh::spec): on
+// lavapipe a texel fetch at a per-lane index is a straight-line gather while a storage-buffer
+// load is a loop over the SIMD lanes; devices whose maxTexelBufferElements cannot cover a
+// maxStorageBufferRange-sized buffer read the storage buffers. All four are always bound.
+OSR_CONST(uint, kBvhBindingCount, 4u);
 OSR_CONST(uint, kBvhBindingNodes, 0u);
 OSR_CONST(uint, kBvhBindingLeafTriangles, 1u);
+OSR_CONST(uint, kBvhBindingNodeTexels, 2u);
+OSR_CONST(uint, kBvhBindingLeafTexels, 3u);
+OSR_CONST(uint, kBvhSpecTexelFetch, 200u);  // constant_id; ids below 200 belong to the passes
+OSR_CONST(uint, kBvhNodeTexels, 4u);        // 16-byte texels per BvhNode
+OSR_CONST(uint, kBvhLeafTriangleTexels, 3u);
 
 // Traversal keeps one stack entry per level it descends (the far child), so a tree whose
 // longest root-to-leaf path has at most kBvhMaxDepth nodes never overflows the stack. Both

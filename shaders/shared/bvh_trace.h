@@ -9,7 +9,7 @@ OSR_CONST(uint, kBindingRays, 0u);
 OSR_CONST(uint, kBindingHits, 1u);
 OSR_CONST(uint, kBindingBvh, 2u);  // kBvhBindingCount bindings from here
 // Only in bvh_trace_rays_alpha.comp: one uint per triangle, see kAlpha* below.
-OSR_CONST(uint, kBindingAlphaMask, 4u);
+OSR_CONST(uint, kBindingAlphaMask, 6u);
 
 OSR_CONST(uint, kModeClosest, 0u);
 OSR_CONST(uint, kModeAny, 1u);

@@ -12,13 +12,16 @@ OSR_CONST(uint, kPtWorkgroupSize, 64);
 OSR_CONST(uint, kPtBindingFilm, 0u);
 OSR_CONST(uint, kPtBindingFrame, 1u);
 OSR_CONST(uint, kPtBvhBinding, 2u);
-OSR_CONST(uint, kPtSceneBinding, 4u);   // kPtBvhBinding + kBvhBindingCount
-OSR_CONST(uint, kPtBindingCount, 14u);  // kPtSceneBinding + kSceneBindingCount
+OSR_CONST(uint, kPtSceneBinding, 6u);   // kPtBvhBinding + kBvhBindingCount
+OSR_CONST(uint, kPtSceneTexelBinding, 16u);  // kPtSceneBinding + kSceneBindingCount
+OSR_CONST(uint, kPtBindingCount, 19u);  // kPtSceneTexelBinding + kSceneTexelBindingCount
 
 // Specialization constant 0 of pt_trace.comp: what a sample computes.
 OSR_CONST(uint, kPtSpecIntegrator, 0u);
 OSR_CONST(uint, kIntegratorPath, 0u);     // unidirectional path tracing, NEE + MIS
 OSR_CONST(uint, kIntegratorPreview, 1u);  // primary hit: albedo x headlight cosine
+// Specialization constant 1 of pt_trace.comp: the scene's kSceneFeature* bits.
+OSR_CONST(uint, kPtSpecSceneFeatures, 1u);
 
 // Running sums per pixel; the host divides by the sample count (combined.w).
 // direct: emission seen directly plus light after one bounce; indirect: after more than one

@@ -106,6 +106,17 @@ struct SceneInfo {
   vec4 boundsMax;
 };
 
+// What a scene uses (GpuScene::features), for passes to specialise on: lib/scene.glsl compiles
+// the code of an absent feature out when the includer defines OSR_SCENE_FEATURES (e.g. as a
+// specialization constant; default kSceneFeatureAll). On lavapipe a divergent branch runs for
+// all SIMD lanes under a mask, so code no lane needs still costs its full time.
+OSR_CONST(uint, kSceneFeatureAlphaTest, 1u);    // some material is alpha-masked or blended
+OSR_CONST(uint, kSceneFeatureTextures, 2u);     // some texture
+OSR_CONST(uint, kSceneFeaturePunctual, 4u);     // some KHR_lights_punctual light
+OSR_CONST(uint, kSceneFeatureEnvironment, 8u);  // an environment map
+OSR_CONST(uint, kSceneFeatureTransmission, 16u);  // some material with transmission > 0
+OSR_CONST(uint, kSceneFeatureAll, 31u);
+
 // Binding slots of the scene buffers, relative to the first slot a pass gives them
 // (OSR_SCENE_BINDING in GLSL); GpuScene::bindings() returns the buffers in this order.
 OSR_CONST(uint, kSceneBindingVertices, 0u);
@@ -119,6 +130,16 @@ OSR_CONST(uint, kSceneBindingInfo, 7u);
 OSR_CONST(uint, kSceneBindingEnvironment, 8u);
 OSR_CONST(uint, kSceneBindingEnvironmentCdf, 9u);
 OSR_CONST(uint, kSceneBindingCount, 10u);
+
+// Optional RGBA32UI texel views of the hottest scene buffers (GpuScene::texelViews), relative
+// to OSR_SCENE_TEXEL_BINDING; a pass that defines it reads vertices, triangles and materials
+// by texel fetch where specialization constant kSceneSpecTexelFetch is true (on lavapipe a
+// gather instead of a per-lane loop). Texels per element: Vertex 2, Triangle 1, Material 7.
+OSR_CONST(uint, kSceneTexelBindingVertices, 0u);
+OSR_CONST(uint, kSceneTexelBindingTriangles, 1u);
+OSR_CONST(uint, kSceneTexelBindingMaterials, 2u);
+OSR_CONST(uint, kSceneTexelBindingCount, 3u);
+OSR_CONST(uint, kSceneSpecTexelFetch, 201u);  // constant_id; see kBvhSpecTexelFetch
 
 OSR_NAMESPACE_END
 #endif

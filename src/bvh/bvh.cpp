@@ -8,6 +8,41 @@
 
 namespace osr::bvh {
 
+namespace {
+constexpr VkDeviceSize kTexelBytes = 16;  // RGBA32UI
+}  // namespace
+
+static_assert(sizeof(gpu::bvh::BvhNode) == gpu::bvh::kBvhNodeTexels * kTexelBytes);
+static_assert(sizeof(gpu::bvh::BvhLeafTriangle) == gpu::bvh::kBvhLeafTriangleTexels * kTexelBytes);
+
+void Bvh::makeTexelViews(const vk::Context& ctx) {
+  // Where a buffer is larger than a view can be, traversal reads the storage binding
+  // (texelFetchCovers is false) and the view only fills its slot.
+  nodeTexels = vk::BufferView::uintTexels(ctx, nodes, "bvh node texels");
+  leafTexels = vk::BufferView::uintTexels(ctx, leafData, "bvh leaf texels");
+}
+
+std::array<VkDescriptorType, gpu::bvh::kBvhBindingCount> Bvh::descriptorTypes() {
+  return {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
+          VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER};
+}
+
+std::array<vk::ComputePipeline::Descriptor, gpu::bvh::kBvhBindingCount> Bvh::descriptors() const {
+  return {vk::ComputePipeline::Descriptor(vk::BufferRange(nodes)),
+          vk::ComputePipeline::Descriptor(vk::BufferRange(leafData)),
+          vk::ComputePipeline::Descriptor(nodeTexels.handle()),
+          vk::ComputePipeline::Descriptor(leafTexels.handle())};
+}
+
+bool texelFetchCovers(const vk::Context& ctx) {
+  return ctx.caps().maxStorageBufferRange / kTexelBytes <= ctx.caps().maxTexelBufferElements;
+}
+
+vk::SpecConstant traversalSpec(const vk::Context& ctx, Access access) {
+  bool texel = access == Access::TexelFetch || (access == Access::Auto && texelFetchCovers(ctx));
+  return vk::specUint(gpu::bvh::kBvhSpecTexelFetch, texel ? 1u : 0u);
+}
+
 uint32_t maxTriangles(const vk::Context& ctx) {
   // The largest per-triangle buffer of either builder bounds the count: one BvhNode per
   // triangle (a binary tree has fewer interior nodes than triangles).

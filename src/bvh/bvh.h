@@ -8,7 +8,9 @@
 
 #include "shaders/shared/bvh.h"
 #include "vk/buffer.h"
+#include "vk/buffer_view.h"
 #include "vk/context.h"
+#include "vk/pipeline.h"
 #include "vk/timer.h"
 
 namespace osr::bvh {
@@ -16,13 +18,29 @@ namespace osr::bvh {
 struct Bvh {
   vk::Buffer nodes;     // BvhNode[nodeCount], root at 0
   vk::Buffer leafData;  // BvhLeafTriangle[triangleCount]: leaves' reordered vertex copies
+  vk::BufferView nodeTexels;  // RGBA32UI views of the same two buffers (texel-fetch traversal)
+  vk::BufferView leafTexels;
   uint32_t nodeCount = 0;
   uint32_t triangleCount = 0;
-  // The buffers in binding order (OSR_BVH_BINDING + kBvhBinding*), for ComputePipeline::bind.
-  std::array<vk::BufferRange, gpu::bvh::kBvhBindingCount> bindings() const {
-    return {vk::BufferRange(nodes), vk::BufferRange(leafData)};
-  }
+
+  // Usage the builders give both buffers on top of storage use: traversal may read them as
+  // uniform texel buffers (shaders/shared/bvh.h).
+  static constexpr VkBufferUsageFlags kExtraUsage = VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT;
+  // Creates nodeTexels / leafTexels once nodes and leafData exist (both builders call it).
+  void makeTexelViews(const vk::Context& ctx);
+
+  // Descriptor types and descriptors in binding order (OSR_BVH_BINDING + kBvhBinding*): a
+  // traversing pass appends them to its own slots and builds its pipeline with traversalSpec.
+  static std::array<VkDescriptorType, gpu::bvh::kBvhBindingCount> descriptorTypes();
+  std::array<vk::ComputePipeline::Descriptor, gpu::bvh::kBvhBindingCount> descriptors() const;
 };
+
+// How traversal reads the BVH: Auto = texel fetch where every BVH the device can bind fits
+// maxTexelBufferElements (texelFetchCovers), storage buffers elsewhere. Tests force either.
+enum class Access { Auto, Storage, TexelFetch };
+bool texelFetchCovers(const vk::Context& ctx);
+// Specialization constant kBvhSpecTexelFetch of a traversing pipeline.
+vk::SpecConstant traversalSpec(const vk::Context& ctx, Access access = Access::Auto);
 
 struct BuildStats {
   std::vector<vk::PassTime> passes;  // GPU time per pass, in execution order

@@ -248,12 +248,13 @@ Bvh upload(const vk::Context& ctx, const HostBvh& tree,
   bvh.nodeCount = static_cast<uint32_t>(tree.nodes.size());
   bvh.triangleCount = static_cast<uint32_t>(tree.leafTriangles.size());
   bvh.nodes = vk::Buffer(ctx, tree.nodes.size() * sizeof(gpu::bvh::BvhNode),
-                         vk::MemoryUse::DeviceLocal, "bvh nodes");
+                         vk::MemoryUse::DeviceLocal, "bvh nodes", Bvh::kExtraUsage);
   bvh.nodes.uploadVector(tree.nodes);
   auto leaves = makeLeafTriangles(tree, vertices, triangles);
   bvh.leafData = vk::Buffer(ctx, leaves.size() * sizeof(gpu::bvh::BvhLeafTriangle),
-                            vk::MemoryUse::DeviceLocal, "bvh leaf triangles");
+                            vk::MemoryUse::DeviceLocal, "bvh leaf triangles", Bvh::kExtraUsage);
   bvh.leafData.uploadVector(leaves);
+  bvh.makeTexelViews(ctx);
   return bvh;
 }
 

@@ -94,8 +94,9 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
   Bvh bvh;
   bvh.nodeCount = interiorCount;
   bvh.triangleCount = n;
-  bvh.nodes = vk::Buffer(ctx, uint64_t(interiorCount) * sizeof(gpu::bvh::BvhNode), vk::MemoryUse::DeviceLocal, "bvh nodes");
-  bvh.leafData = vk::Buffer(ctx, uint64_t(n) * sizeof(gpu::bvh::BvhLeafTriangle), vk::MemoryUse::DeviceLocal, "bvh leaf triangles");
+  bvh.nodes = vk::Buffer(ctx, uint64_t(interiorCount) * sizeof(gpu::bvh::BvhNode), vk::MemoryUse::DeviceLocal, "bvh nodes", Bvh::kExtraUsage);
+  bvh.leafData = vk::Buffer(ctx, uint64_t(n) * sizeof(gpu::bvh::BvhLeafTriangle), vk::MemoryUse::DeviceLocal, "bvh leaf triangles", Bvh::kExtraUsage);
+  bvh.makeTexelViews(ctx);
 
   vk::GpuTimer timer(ctx, 256);
   bb::BvhBuildInfo initial{};

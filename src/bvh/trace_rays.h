@@ -12,7 +12,7 @@ namespace osr::bvh {
 
 class TraceRaysPass {
  public:
-  TraceRaysPass(const vk::Context& ctx, bool alphaTest = false);
+  TraceRaysPass(const vk::Context& ctx, bool alphaTest = false, Access access = Access::Auto);
 
   struct Args {
     const Bvh* bvh = nullptr;

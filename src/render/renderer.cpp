@@ -37,7 +37,7 @@ FilmLayers render(const vk::Context& ctx, const scene::GpuScene& scene, const bv
   vk::Buffer frame(ctx, sizeof(pt::Frame), vk::MemoryUse::DeviceLocal, "pt frame");
   pt::Frame f = makeFrame(camera, settings);
   frame.upload(&f, sizeof f);
-  TracePass pass(ctx, settings.integrator);
+  TracePass pass(ctx, settings.integrator, scene.features, scene.texelFetch);
   vk::GpuTimer timer(ctx, 1);
   double gpuMs = 0.0;
   ctx.submitAndWait([&](VkCommandBuffer cmd) { film.recordClear(cmd); });

@@ -16,8 +16,12 @@ namespace osr::render {
 
 class TracePass {
  public:
-  // integrator: gpu::pt::kIntegratorPath or kIntegratorPreview.
-  TracePass(const vk::Context& ctx, uint32_t integrator);
+  // integrator: gpu::pt::kIntegratorPath or kIntegratorPreview. sceneFeatures: the scene's
+  // kSceneFeature* bits (scene::GpuScene::features); code for absent features is compiled out.
+  // sceneTexelFetch: read vertices, triangles, materials through the scene's texel views
+  // (scene::GpuScene::texelFetch).
+  TracePass(const vk::Context& ctx, uint32_t integrator,
+            uint32_t sceneFeatures = gpu::scene::kSceneFeatureAll, bool sceneTexelFetch = false);
 
   static constexpr uint32_t kMaxPixelsPerDispatch = 1u << 20;
   static constexpr uint32_t kMaxSamplesPerDispatch = 8;

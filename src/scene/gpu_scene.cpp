@@ -11,7 +11,7 @@ namespace {
 // device's maxStorageBufferRange: a pass could not bind it whole and the shaders index it flat.
 template <class T>
 vk::Buffer upload(const vk::Context& ctx, const std::vector<T>& data, const std::string& what,
-                  const std::string& scenePath) {
+                  const std::string& scenePath, VkBufferUsageFlags extraUsage = 0) {
   uint64_t bytes = uint64_t(std::max<size_t>(data.size(), 1)) * sizeof(T);
   uint64_t limit = ctx.caps().maxStorageBufferRange;
   if (bytes > limit)
@@ -21,7 +21,7 @@ vk::Buffer upload(const vk::Context& ctx, const std::vector<T>& data, const std:
                       " elements), more than the device's "
                       "maxStorageBufferRange of " +
                       std::to_string(limit >> 20) + " MiB (" + ctx.caps().deviceName + ")");
-  vk::Buffer buffer(ctx, bytes, vk::MemoryUse::DeviceLocal, "scene " + what);
+  vk::Buffer buffer(ctx, bytes, vk::MemoryUse::DeviceLocal, "scene " + what, extraUsage);
   if (data.empty()) {
     T zero{};
     buffer.upload(&zero, sizeof(T));
@@ -70,9 +70,10 @@ GpuScene::GpuScene(const vk::Context& ctx, const Scene& scene, const Environment
     envCdf = scene::environmentCdf(*env);
   }
 
-  vertices = upload(ctx, scene.vertices, "vertex", path);
-  triangles = upload(ctx, scene.triangles, "triangle", path);
-  materials = upload(ctx, scene.materials, "material", path);
+  const VkBufferUsageFlags texel = VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT;
+  vertices = upload(ctx, scene.vertices, "vertex", path, texel);
+  triangles = upload(ctx, scene.triangles, "triangle", path, texel);
+  materials = upload(ctx, scene.materials, "material", path, texel);
   textureInfos = upload(ctx, infos, "texture info", path);
   texels = upload(ctx, allTexels, "texel", path);
   lights = upload(ctx, scene.lights, "light", path);
@@ -82,7 +83,25 @@ GpuScene::GpuScene(const vk::Context& ctx, const Scene& scene, const Environment
   environmentCdf = upload(ctx, envCdf, "environment cdf", env ? env->path : path);
   triangleCount = si.triangleCount;
   vertexCount = uint32_t(scene.vertices.size());
+  for (const gpu::Material& m : scene.materials) {
+    if (m.flags & (gpu::kMaterialAlphaMask | gpu::kMaterialAlphaBlend))
+      features |= gpu::kSceneFeatureAlphaTest;
+    if (m.transmission > 0.0f) features |= gpu::kSceneFeatureTransmission;
+  }
+  if (!scene.textures.empty()) features |= gpu::kSceneFeatureTextures;
+  if (!scene.lights.empty()) features |= gpu::kSceneFeaturePunctual;
+  if (si.envWidth > 0) features |= gpu::kSceneFeatureEnvironment;
+
+  bool coversV, coversT, coversM;
+  vertexTexels_ = vk::BufferView::uintTexels(ctx, vertices, "scene vertex texels", &coversV);
+  triangleTexels_ = vk::BufferView::uintTexels(ctx, triangles, "scene triangle texels", &coversT);
+  materialTexels_ = vk::BufferView::uintTexels(ctx, materials, "scene material texels", &coversM);
+  texelFetch = coversV && coversT && coversM;
 }
+
+static_assert(sizeof(gpu::Vertex) == 32 && sizeof(gpu::Triangle) == 16 &&
+                  sizeof(gpu::Material) == 112,
+              "texel counts in shaders/lib/scene.glsl");
 
 std::array<vk::BufferRange, gpu::kSceneBindingCount> GpuScene::bindings() const {
   return {vertices, triangles, materials, textureInfos, texels,

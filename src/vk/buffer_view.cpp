@@ -1,5 +1,6 @@
 #include "vk/buffer_view.h"
 
+#include <algorithm>
 #include <utility>
 
 #include "vk/check.h"
@@ -16,6 +17,16 @@ BufferView::BufferView(const Context& ctx, const BufferRange& range, VkFormat fo
   info.range = range.bytes();
   check(vkCreateBufferView(ctx.device(), &info, nullptr, &view_), name.c_str());
   ctx.setName(VK_OBJECT_TYPE_BUFFER_VIEW, reinterpret_cast<uint64_t>(view_), name);
+}
+
+BufferView BufferView::uintTexels(const Context& ctx, const Buffer& buffer,
+                                  const std::string& name, bool* covers) {
+  constexpr VkDeviceSize kTexelBytes = 16;
+  VkDeviceSize texels = buffer.size() / kTexelBytes;
+  VkDeviceSize maxTexels = ctx.caps().maxTexelBufferElements;
+  if (covers) *covers = texels <= maxTexels;
+  return BufferView(ctx, BufferRange(buffer, 0, std::min(texels, maxTexels) * kTexelBytes),
+                    VK_FORMAT_R32G32B32A32_UINT, name);
 }
 
 BufferView::~BufferView() {

@@ -21,6 +21,11 @@ class BufferView {
   BufferView& operator=(const BufferView&) = delete;
   VkBufferView handle() const { return view_; }
 
+  // An RGBA32UI view of `buffer` from offset 0 (whole 16-byte texels), cut at the device's
+  // maxTexelBufferElements; `covers` (optional) says whether it reaches the buffer's end.
+  static BufferView uintTexels(const Context& ctx, const Buffer& buffer, const std::string& name,
+                               bool* covers = nullptr);
+
  private:
   const Context* ctx_ = nullptr;
   VkBufferView view_ = VK_NULL_HANDLE;

@@ -316,6 +316,7 @@ void Context::createDevice() {
   caps_.deviceType = props2.properties.deviceType;
   caps_.subgroupSize = subgroup.subgroupSize;
   caps_.maxStorageBufferRange = limits.maxStorageBufferRange;
+  caps_.maxTexelBufferElements = limits.maxTexelBufferElements;
   for (int i = 0; i < 3; ++i) caps_.maxComputeWorkGroupCount[i] = limits.maxComputeWorkGroupCount[i];
   caps_.maxPushConstantsSize = limits.maxPushConstantsSize;
   caps_.timestampPeriodNs = limits.timestampPeriod;

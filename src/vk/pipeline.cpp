@@ -165,6 +165,11 @@ void ComputePipeline::dispatchIndirect(VkCommandBuffer cmd, const Buffer& args,
 
 void ComputePipeline::bindDescriptors(VkCommandBuffer cmd, std::initializer_list<Descriptor> slots,
                                       const void* push) const {
+  bindDescriptorSpan(cmd, std::span<const Descriptor>(slots.begin(), slots.size()), push);
+}
+
+void ComputePipeline::bindDescriptorSpan(VkCommandBuffer cmd, std::span<const Descriptor> slots,
+                                         const void* push) const {
   if (slots.size() != bindingCount_)
     throw DeviceError(std::string(name_) + ": " + std::to_string(slots.size()) +
                       " descriptors bound, pipeline declares " + std::to_string(bindingCount_));

@@ -82,6 +82,16 @@ class ComputePipeline {
   // bind() for pipelines made with descriptor types; push must match pushBytes.
   void bindDescriptors(VkCommandBuffer cmd, std::initializer_list<Descriptor> slots,
                        const void* push) const;
+  // bindDescriptors() for a list assembled at run time (a pass's slots + bvh::Bvh::descriptors).
+  void bindDescriptorSpan(VkCommandBuffer cmd, std::span<const Descriptor> slots,
+                          const void* push) const;
+  template <class Push>
+  void bindDescriptorSpan(VkCommandBuffer cmd, std::span<const Descriptor> slots,
+                          const Push& push) const {
+    static_assert(!std::is_pointer_v<Push>);
+    checkPushSize(sizeof(Push));
+    bindDescriptorSpan(cmd, slots, static_cast<const void*>(&push));
+  }
 
  private:
   void checkPushSize(size_t bytes) const;

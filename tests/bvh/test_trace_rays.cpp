@@ -4,6 +4,7 @@
 // CPU builder here; tests/bvh/test_gpu_builder.cpp runs the same checks on GPU-built trees.
 #include <gtest/gtest.h>
 
+#include <cstring>
 #include <random>
 
 #include "bvh/cpu_builder.h"
@@ -23,6 +24,34 @@ TEST(TraceRays, ClosestHitsMatchBruteForceOnCpuTrees) {
     auto rays = test::randomRays(mesh, count, 7);
     auto hits = test::traceOnDevice(ctx, tree, rays, gpu::bvh_trace::kModeClosest);
     EXPECT_EQ(test::compareClosest(name, mesh, rays, hits), 0u) << name;
+  }
+}
+
+// Traversal reads the BVH through texel buffers or storage buffers (shared/bvh.h); both must
+// give the brute-force hits, and the same bits, for both queries and with alpha masks.
+TEST(TraceRays, StorageAndTexelFetchReadsAgree) {
+  auto& ctx = test::context();
+  for (const auto& [name, mesh] : test::testMeshes()) {
+    bvh::Bvh tree = bvh::upload(ctx, bvh::buildCpu(mesh.vertices, mesh.triangles), mesh.vertices,
+                                mesh.triangles);
+    auto rays = test::randomRays(mesh, 20000, 11);
+    std::vector<uint32_t> mask(mesh.triangles.size());
+    for (size_t i = 0; i < mask.size(); ++i) mask[i] = uint32_t(i % 3);  // opaque, cut, half cut
+    for (uint32_t mode : {gpu::bvh_trace::kModeClosest, gpu::bvh_trace::kModeAny}) {
+      const std::vector<uint32_t>* masks[] = {nullptr, &mask};
+      for (const std::vector<uint32_t>* m : masks) {
+        auto storage = test::traceOnDevice(ctx, tree, rays, mode, m, bvh::Access::Storage);
+        auto texel = test::traceOnDevice(ctx, tree, rays, mode, m, bvh::Access::TexelFetch);
+        ASSERT_EQ(storage.size(), texel.size());
+        size_t differ = 0;
+        for (size_t i = 0; i < storage.size(); ++i)
+          differ += std::memcmp(&storage[i], &texel[i], sizeof(storage[i])) != 0;
+        EXPECT_EQ(differ, 0u) << name << " mode " << mode << (m ? " masked" : "");
+        if (mode == gpu::bvh_trace::kModeClosest && !m) {
+          EXPECT_EQ(test::compareClosest(name, mesh, rays, storage), 0u) << name;
+        }
+      }
+    }
   }
 }
 

@@ -1,4 +1,5 @@
-// Runs bvh_trace_rays (or its alpha variant when a mask is given) over host rays.
+// Runs bvh_trace_rays (or its alpha variant when a mask is given) over host rays, reading the
+// BVH the way `access` says (Auto: the device's default).
 #pragma once
 #include <vector>
 
@@ -10,7 +11,8 @@ namespace osr::test {
 
 inline std::vector<gpu::bvh_trace::TraceHit> traceOnDevice(
     const vk::Context& ctx, const bvh::Bvh& tree, const std::vector<gpu::bvh_trace::TraceRay>& rays,
-    uint32_t mode, const std::vector<uint32_t>* mask = nullptr) {
+    uint32_t mode, const std::vector<uint32_t>* mask = nullptr,
+    bvh::Access access = bvh::Access::Auto) {
   using gpu::bvh_trace::TraceHit;
   using gpu::bvh_trace::TraceRay;
   vk::Buffer rayBuf(ctx, rays.size() * sizeof(TraceRay), vk::MemoryUse::DeviceLocal, "test rays");
@@ -21,7 +23,7 @@ inline std::vector<gpu::bvh_trace::TraceHit> traceOnDevice(
     maskBuf = vk::Buffer(ctx, mask->size() * 4, vk::MemoryUse::DeviceLocal, "test alpha mask");
     maskBuf.uploadVector(*mask);
   }
-  bvh::TraceRaysPass pass(ctx, mask != nullptr);
+  bvh::TraceRaysPass pass(ctx, mask != nullptr, access);
   ctx.submitAndWait([&](VkCommandBuffer cmd) {
     bvh::TraceRaysPass::Args args;
     args.bvh = &tree;

@@ -45,6 +45,39 @@ TEST(GpuScene, UploadsTheCornellBox) {
   EXPECT_EQ(g.bindings()[gs::kSceneBindingTriangles].buffer, &g.triangles);
 }
 
+// features names exactly what the scene uses (passes compile the rest out).
+TEST(GpuScene, FeaturesNameWhatTheSceneUses) {
+  auto& ctx = test::context();
+  scene::Scene s = scene::loadScene(test::referencePath("cornell/cornell.gltf"));
+  EXPECT_EQ(scene::GpuScene(ctx, s).features, 0u);  // no alpha, texture, light or map
+  s.materials[0].flags |= gs::kMaterialAlphaBlend;
+  EXPECT_EQ(scene::GpuScene(ctx, s).features, gs::kSceneFeatureAlphaTest);
+  s.materials[0].flags &= ~gs::kMaterialAlphaBlend;
+  s.materials[0].flags |= gs::kMaterialAlphaMask;
+  s.materials[1].transmission = 0.5f;
+  s.textures.push_back({});
+  s.textures.back().width = s.textures.back().height = 1;
+  s.textures.back().texels = {0xffffffffu};
+  s.lights.push_back({});
+  scene::Environment env;
+  env.width = 2;
+  env.height = 1;
+  env.texels = {glm::vec4(1.0f), glm::vec4(1.0f)};
+  EXPECT_EQ(scene::GpuScene(ctx, s, &env).features, gs::kSceneFeatureAll);
+}
+
+// Texel views exist for every pass that binds them; texel reads are on where they cover the
+// buffers (the renderer tests check the images pt_trace computes through them).
+TEST(GpuScene, TexelViewsCoverVerticesTrianglesMaterials) {
+  auto& ctx = test::context();
+  scene::GpuScene g(ctx, scene::loadScene(test::referencePath("cornell/cornell.gltf")));
+  for (VkBufferView v : g.texelViews()) EXPECT_NE(v, VkBufferView(VK_NULL_HANDLE));
+  uint64_t maxTexels = ctx.caps().maxTexelBufferElements;
+  EXPECT_EQ(g.texelFetch, g.vertices.size() / 16 <= maxTexels && g.materials.size() / 16 <= maxTexels);
+  EXPECT_EQ(g.vertices.size() % 16, 0u);
+  EXPECT_EQ(g.materials.size() % 16, 0u);
+}
+
 TEST(GpuScene, RefusesBuffersPastMaxStorageBufferRange) {
   auto& ctx = test::context();
   uint64_t limit = ctx.caps().maxStorageBufferRange;
