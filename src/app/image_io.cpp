@@ -130,8 +130,8 @@ RgbImage readExrRgb(const std::string& path) {
 double autoExposureEv(const RgbImage& image) {
   double sumLog = 0.0;
   size_t n = 0;
-  for (size_t i = 0; i + 2 < image.rgb.size(); i += 3) {
-    double y = 0.2126 * image.rgb[i] + 0.7152 * image.rgb[i + 1] + 0.0722 * image.rgb[i + 2];
+  for (size_t i = 0; i < image.rgb.size() / 3; ++i) {
+    double y = image.luminance(i);
     if (!std::isfinite(y) || y < 0.0) continue;
     sumLog += std::log(1e-4 + y);
     ++n;

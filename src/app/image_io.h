@@ -29,6 +29,10 @@ struct RgbImage {
   int width = 0;
   int height = 0;
   std::vector<float> rgb;
+  // Rec. 709 luminance of pixel `i` (row-major), in double for the image-wide sums.
+  double luminance(size_t i) const {
+    return 0.2126 * rgb[3 * i] + 0.7152 * rgb[3 * i + 1] + 0.0722 * rgb[3 * i + 2];
+  }
 };
 
 enum class ExrPixelType { Half, Float };

@@ -72,8 +72,7 @@ double relMse(const RgbImage& a, const RgbImage& b) {
 
 double meanLuminance(const RgbImage& image) {
   double sum = 0.0;
-  for (size_t i = 0; i + 2 < image.rgb.size(); i += 3)
-    sum += 0.2126 * image.rgb[i] + 0.7152 * image.rgb[i + 1] + 0.0722 * image.rgb[i + 2];
+  for (size_t i = 0; i < image.rgb.size() / 3; ++i) sum += image.luminance(i);
   return sum / double(image.rgb.size() / 3);
 }
 
