@@ -30,11 +30,7 @@ std::string slurp(const std::string& path) {
   std::ifstream f(path, std::ios::binary);
   return std::string(std::istreambuf_iterator<char>(f), {});
 }
-fs::path tempDir() {
-  fs::path d = fs::temp_directory_path() / ("osr_test_cmd_render_" + std::to_string(::getpid()));
-  fs::create_directories(d);
-  return d;
-}
+fs::path tempDir() { return test::tempDir("cmd_render"); }
 const std::string kCornell = test::referencePath("cornell/cornell.gltf");
 }  // namespace
 

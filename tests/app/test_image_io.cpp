@@ -14,11 +14,7 @@ using namespace osr;
 namespace fs = std::filesystem;
 
 namespace {
-fs::path tempDir() {
-  fs::path d = fs::temp_directory_path() / ("osr_test_image_io_" + std::to_string(::getpid()));
-  fs::create_directories(d);
-  return d;
-}
+fs::path tempDir() { return test::tempDir("image_io"); }
 
 app::LayeredImage testImage(int w, int h) {
   app::LayeredImage img{w, h, {}};

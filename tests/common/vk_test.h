@@ -3,6 +3,9 @@
 #pragma once
 #include <gtest/gtest.h>
 
+#include <filesystem>
+#include <string>
+
 #include "vk/context.h"
 
 namespace osr::test {
@@ -12,6 +15,10 @@ vk::Context& context();
 
 // Path of a file under tests/data.
 std::string dataPath(const std::string& name);
+// A fresh-or-existing scratch folder under the system temp dir, unique to this process and
+// `tag` (the test file's name), so parallel CTest runs never share one.
+std::filesystem::path tempDir(const std::string& tag);
+
 // Path of a reference scene file, e.g. referencePath("cornell/cornell.gltf").
 std::string referencePath(const std::string& name);
 

@@ -22,11 +22,7 @@ using test::GltfWriter;
 
 namespace {
 
-fs::path tempDir() {
-  fs::path d = fs::temp_directory_path() / ("osr_test_renderer_" + std::to_string(::getpid()));
-  fs::create_directories(d);
-  return d;
-}
+fs::path tempDir() { return test::tempDir("renderer"); }
 
 struct Rendered {
   render::FilmLayers film;
