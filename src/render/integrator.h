@@ -1,0 +1,45 @@
+// The interface every integrator (src/pt path tracer and preview, src/osr One Shot Radiance)
+// offers the progressive driver (render/progressive_driver.h). An integrator owns its passes
+// and its film; the driver owns stop rules, time budget, batching, progress and cancellation,
+// so the CLI, the viewer and the Blender engine share them.
+//
+// Progress is counted in "units": samples per pixel for the path tracer, progressive passes
+// for OSR. A submission records units [first, first + count); the driver chooses count from
+// the measured seconds per unit, never above maxUnitsPerSubmission().
+#pragma once
+#include <vulkan/vulkan.h>
+
+#include <cstdint>
+
+#include "render/film.h"
+#include "scene/scene.h"
+#include "vk/timer.h"
+
+namespace osr::render {
+
+class Integrator {
+ public:
+  virtual ~Integrator() = default;
+
+  // Short name for messages and JSON ("path", "preview", "osr").
+  virtual const char* name() const = 0;
+  // What one unit is, for progress lines ("spp", "passes").
+  virtual const char* unitName() const = 0;
+  // Largest number of units one submission may hold (OSR: 1 pass; path tracer: many samples).
+  virtual uint32_t maxUnitsPerSubmission() const = 0;
+
+  // Starts a new image of `camera` with `seed`: clears the film and every accumulated state.
+  // Submits and waits (called between submissions only).
+  virtual void restart(const scene::Camera& camera, uint32_t seed) = 0;
+  // Records units [first, first + count) into `cmd` (one submission). Each pass opens a
+  // scope on `timer` (may be null) under a stable name, for per-pass timings.
+  virtual void record(VkCommandBuffer cmd, uint32_t first, uint32_t count,
+                      vk::GpuTimer* timer) = 0;
+
+  // The film the passes accumulate into (the viewer displays it; resolve() downloads it).
+  virtual const Film& film() const = 0;
+  // Downloads the film as averaged layers (after the last submission has completed).
+  virtual FilmLayers resolve() const { return film().resolve(); }
+};
+
+}  // namespace osr::render
