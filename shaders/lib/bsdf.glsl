@@ -218,4 +218,36 @@ bool bsdfSample(BsdfParams p, vec3 wo, vec3 u, out BsdfSample s) {
   return true;
 }
 
+// ---- Lobe split for OSR's control variate (osr_composite, osr_residual) ---------------------
+
+// The diffuse lobe's f * cos(wi) alone (wi.z > 0), exactly as bsdfEval includes it.
+vec3 bsdfEvalDiffuse(BsdfParams p, vec3 wo, vec3 wi) {
+  if (wo.z <= 0.0 || wi.z <= 0.0) return vec3(0.0);
+  float m = clamp(p.metallic, 0.0, 1.0);
+  float t = OSR_BSDF_TRANSMISSION ? clamp(p.transmission, 0.0, 1.0) : 0.0;
+  float voh = max(0.0, dot(wo, normalize(wo + wi)));
+  return (1.0 - m) * (1.0 - t) * (1.0 - p.specular * maxComponent(dielectricFresnel(p, voh))) *
+         p.baseColor * kInvPi * wi.z;
+}
+
+// A Lambertian reflectance standing in for the diffuse lobe at wo (its Fresnel weight taken at
+// wo instead of at each half vector): what the maps' closed-form irradiance is multiplied by.
+vec3 bsdfDiffuseReflectance(BsdfParams p, vec3 wo) {
+  float m = clamp(p.metallic, 0.0, 1.0);
+  float t = OSR_BSDF_TRANSMISSION ? clamp(p.transmission, 0.0, 1.0) : 0.0;
+  return (1.0 - m) * (1.0 - t) *
+         (1.0 - p.specular * maxComponent(dielectricFresnel(p, max(wo.z, 0.0)))) * p.baseColor;
+}
+
+// Samples the GGX reflection lobe alone by visible normals: wi and its solid-angle pdf (0 when
+// the reflection falls below the horizon).
+vec3 bsdfSampleReflection(BsdfParams p, vec3 wo, vec2 u, out float pdf) {
+  float alpha = ggxAlpha(p);
+  vec3 h = ggxSampleVisible(wo, alpha, u);
+  vec3 wi = reflect(-wo, h);
+  float voh = max(dot(wo, h), 1e-8);
+  pdf = wi.z > 0.0 ? ggxVisiblePdf(wo, h, alpha * alpha) / (4.0 * voh) : 0.0;
+  return wi;
+}
+
 #endif

@@ -2,44 +2,27 @@
 // the unit square and their densities.
 #ifndef OSR_LIB_SAMPLING_GLSL
 #define OSR_LIB_SAMPLING_GLSL
+#include "shared/hemisphere.h"
 
 const float kPi = 3.14159265358979323846;
 const float kInvPi = 0.31830988618379067154;
 
-// Orthonormal basis with z = n, from the normal alone (Duff et al. 2017, "Building an
-// Orthonormal Basis, Revisited"), so every pass derives the same tangent frame.
+// Orthonormal basis with z = n, from the normal alone (shared/hemisphere.h hemiFrame, Duff et
+// al. 2017), so every pass, and the hemisphere maps, derive the same tangent frame.
 void frameFromNormal(vec3 n, out vec3 t, out vec3 b) {
-  float s = n.z >= 0.0 ? 1.0 : -1.0;
-  float a = -1.0 / (s + n.z);
-  float c = n.x * n.y * a;
-  t = vec3(1.0 + s * n.x * n.x * a, s * c, -s * n.x);
-  b = vec3(c, s + n.y * n.y * a, -n.y);
+  mat3 f = hemiFrame(n);
+  t = f[0];
+  b = f[1];
 }
 
 vec3 toLocal(vec3 v, vec3 t, vec3 b, vec3 n) { return vec3(dot(v, t), dot(v, b), dot(v, n)); }
 vec3 toWorld(vec3 v, vec3 t, vec3 b, vec3 n) { return v.x * t + v.y * b + v.z * n; }
 
 // Shirley-Chiu concentric square -> disk map (uniform area).
-vec2 concentricDisk(vec2 u) {
-  vec2 o = 2.0 * u - 1.0;
-  if (o.x == 0.0 && o.y == 0.0) return vec2(0.0);
-  float r, theta;
-  if (abs(o.x) > abs(o.y)) {
-    r = o.x;
-    theta = (kPi / 4.0) * (o.y / o.x);
-  } else {
-    r = o.y;
-    theta = (kPi / 2.0) - (kPi / 4.0) * (o.x / o.y);
-  }
-  return r * vec2(cos(theta), sin(theta));
-}
+vec2 concentricDisk(vec2 u) { return hemiSquareToDisk(u); }
 
-// Cosine-weighted hemisphere around +z; pdf = z / pi.
-vec3 sampleCosineHemisphere(vec2 u) {
-  vec2 d = concentricDisk(u);
-  float z = sqrt(max(0.0, 1.0 - dot(d, d)));
-  return vec3(d, z);
-}
+// Cosine-weighted hemisphere around +z; pdf = z / pi. The same warp as the hemisphere maps'.
+vec3 sampleCosineHemisphere(vec2 u) { return hemiSquareToDirection(u); }
 
 // Uniform point on a triangle as barycentrics (b1, b2) (Heitz 2019 would avoid the sqrt;
 // this is the classic warp, exact and cheap enough next to a ray cast).

@@ -16,6 +16,7 @@ using ivec4 = glm::ivec4;
 using uvec2 = glm::uvec2;
 using uvec3 = glm::uvec3;
 using uvec4 = glm::uvec4;
+using mat3 = glm::mat3;
 using mat4 = glm::mat4;
 using uint = uint32_t;
 }  // namespace osr::gpu

@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <cstdlib>
 #include <optional>
 
 #include "app/args.h"
@@ -15,11 +16,13 @@
 #include "app/image_io.h"
 #include "bvh/bvh.h"
 #include "common/error.h"
+#include "osr/osr_integrator.h"
 #include "render/renderer.h"
 #include "scene/gpu_scene.h"
 #include "scene/scene.h"
 #include "shaders/shared/pt.h"
 #include "vk/context.h"
+#include "vk/timer.h"
 
 namespace osr::app {
 
@@ -77,17 +80,43 @@ int runRender(const std::vector<std::string>& args) {
   auto envPath = a.value("--env");
   bool exrFloat = a.flag("--exr-float");
   bool quiet = a.flag("--quiet");
+  auto passes = a.integer("--passes", 1, 1 << 24);
+  auto denoiser = a.value("--denoiser");
+  auto weights = a.value("--weights");
+  auto gridStart = a.integer("--grid-start", 1, 256);
+  auto gridMin = a.integer("--grid-min", 1, 256);
+  auto directSpp = a.integer("--direct-spp", 1, 1024);
+  auto residualSpp = a.integer("--residual-spp", 0, 1024);
+  auto residualRamp = a.number("--residual-ramp", 0.0, 1e9);
+  auto mapSpp = a.integer("--map-spp", 1, 1 << 16);
   vk::ContextOptions vkOptions = readDeviceOptions(a);
   auto files = a.positional();
   a.finish();
   if (files.size() != 1) throw InputError("render: expected exactly one scene file");
-  uint32_t integrator;
-  if (mode == "path")
+  uint32_t integrator = 0;
+  const bool osrMode = mode == "osr";
+  if (osrMode) {
+  } else if (mode == "path")
     integrator = gpu::pt::kIntegratorPath;
   else if (mode == "preview")
     integrator = gpu::pt::kIntegratorPreview;
   else
-    throw InputError("--mode: unknown integrator '" + mode + "' (path, preview)");
+    throw InputError("--mode: unknown integrator '" + mode + "' (osr, path, preview)");
+  oneshot::OsrSettings osrSettings;
+  if (denoiser) osrSettings.denoiser = oneshot::parseDenoiser(*denoiser);
+  if (weights) {
+    osrSettings.weightsPath = *weights;
+    if (!denoiser) osrSettings.denoiser = oneshot::Denoiser::Unet;
+  }
+  if (gridStart) osrSettings.gridStart = uint32_t(*gridStart);
+  if (gridMin) osrSettings.gridMin = uint32_t(*gridMin);
+  if (directSpp) osrSettings.directSamples = uint32_t(*directSpp);
+  if (residualSpp) osrSettings.residualSamples = uint32_t(*residualSpp);
+  if (residualRamp) osrSettings.residualRamp = *residualRamp;
+  if (mapSpp) osrSettings.pathsPerTexel = uint32_t(*mapSpp);
+  if (osrSettings.gridMin > osrSettings.gridStart)
+    throw InputError("--grid-min: " + std::to_string(osrSettings.gridMin) +
+                     " is coarser than --grid-start " + std::to_string(osrSettings.gridStart));
   if (!exrPath && !pngPath)
     throw InputError("render: give --offline out.exr and/or --png out.png (no live viewer yet)");
   // Fail before the (long) render, not after it.
@@ -125,8 +154,41 @@ int runRender(const std::vector<std::string>& args) {
   bvh::Bvh tree = bvh::buildGpu(ctx, gpuScene.vertices, gpuScene.triangles, gpuScene.triangleCount);
   ProgressPrinter progress(quiet);
   render::RenderStats stats;
-  render::FilmLayers film = render::render(
-      ctx, gpuScene, tree, camera, rs, [&](const render::Progress& p) { progress(p); }, &stats);
+  render::FilmLayers film;
+  if (osrMode) {
+    // TEMPORARY until the progressive driver lands: passes until --passes or --time.
+    oneshot::OsrIntegrator osr(ctx, gpuScene, tree, rs.width, rs.height, osrSettings);
+    osr.restart(camera, rs.seed);
+    vk::GpuTimer timer(ctx, 256);
+    const uint32_t maxPasses = passes ? uint32_t(*passes) : (timeLimit ? 1u << 24 : 16u);
+    auto t0 = std::chrono::steady_clock::now();
+    auto elapsed = [&] {
+      return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    };
+    uint32_t k = 0;
+    double last = 0.0;
+    while (k < maxPasses) {
+      double now = elapsed();
+      if (timeLimit && k > 0 && now + 0.5 * last >= *timeLimit) break;
+      ctx.submitAndWait([&](VkCommandBuffer cmd) {
+        timer.reset(cmd);
+        osr.record(cmd, k, 1, &timer);
+      });
+      last = elapsed() - now;
+      if (std::getenv("OSR_TIMINGS")) {
+        std::fprintf(stderr, "pass %u:", k);
+        for (auto& t : timer.results()) std::fprintf(stderr, " %s=%.1f", t.name.c_str(), t.ms);
+        std::fprintf(stderr, " wall=%.1f ms\n", last * 1e3);
+      }
+      ++k;
+    }
+    stats.samples = k;
+    stats.seconds = elapsed();
+    film = osr.resolve();
+  } else {
+    film = render::render(ctx, gpuScene, tree, camera, rs,
+                          [&](const render::Progress& p) { progress(p); }, &stats);
+  }
   progress.finish();
   if (film.droppedSamples > 0)
     std::fprintf(stderr, "osr-vk: warning: %llu non-finite samples dropped\n",

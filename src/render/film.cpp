@@ -4,11 +4,11 @@
 
 namespace osr::render {
 
-namespace pt = gpu::pt;
+
 
 Film::Film(const vk::Context& ctx, uint32_t width, uint32_t height)
     : width_(width), height_(height) {
-  const uint64_t bytes = uint64_t(width) * height * sizeof(pt::FilmPixel);
+  const uint64_t bytes = uint64_t(width) * height * sizeof(gpu::film::FilmPixel);
   // One binding covers the whole film: refuse rather than truncate past the device limit.
   if (bytes > ctx.caps().maxStorageBufferRange)
     throw InputError("film: " + std::to_string(width) + "x" + std::to_string(height) + " needs " +
@@ -24,7 +24,7 @@ void Film::recordClear(VkCommandBuffer cmd) const {
 }
 
 FilmLayers Film::resolve() const {
-  auto px = buffer_.downloadVector<pt::FilmPixel>(pixelCount());
+  auto px = buffer_.downloadVector<gpu::film::FilmPixel>(pixelCount());
   FilmLayers out;
   out.width = int(width_);
   out.height = int(height_);
@@ -34,7 +34,7 @@ FilmLayers Film::resolve() const {
   out.depth.resize(n);
   out.samples = n ? uint32_t(px[0].combined.w + 0.5f) : 0;
   for (size_t i = 0; i < n; ++i) {
-    const pt::FilmPixel& p = px[i];
+    const gpu::film::FilmPixel& p = px[i];
     const float inv = p.combined.w > 0.f ? 1.f / p.combined.w : 0.f;
     for (int c = 0; c < 3; ++c) {
       out.combined[i * 3 + c] = p.combined[c] * inv;

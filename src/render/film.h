@@ -1,10 +1,10 @@
-// The film: per-pixel running sums written by pt_trace.comp (gpu::pt::FilmPixel), and their
+// The film: per-pixel running sums written by pt_trace.comp (gpu::film::FilmPixel), and their
 // resolution into averaged layers on the host.
 #pragma once
 #include <cstdint>
 #include <vector>
 
-#include "shaders/shared/pt.h"
+#include "shaders/shared/film.h"
 #include "vk/buffer.h"
 
 namespace osr::render {

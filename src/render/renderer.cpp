@@ -13,8 +13,8 @@ namespace pt = gpu::pt;
 
 namespace {
 
-pt::Frame makeFrame(const scene::Camera& camera, const RenderSettings& s) {
-  pt::Frame f{};
+gpu::camera::CameraFrame makeFrame(const scene::Camera& camera, const RenderSettings& s) {
+  gpu::camera::CameraFrame f{};
   const glm::mat4& m = camera.worldFromCamera;
   f.cameraRight = glm::vec4(glm::normalize(glm::vec3(m[0])), 0.f);
   f.cameraUp = glm::vec4(glm::normalize(glm::vec3(m[1])), 0.f);
@@ -34,8 +34,8 @@ FilmLayers render(const vk::Context& ctx, const scene::GpuScene& scene, const bv
                   const scene::Camera& camera, const RenderSettings& settings,
                   const std::function<void(const Progress&)>& onProgress, RenderStats* stats) {
   Film film(ctx, settings.width, settings.height);
-  vk::Buffer frame(ctx, sizeof(pt::Frame), vk::MemoryUse::DeviceLocal, "pt frame");
-  pt::Frame f = makeFrame(camera, settings);
+  vk::Buffer frame(ctx, sizeof(gpu::camera::CameraFrame), vk::MemoryUse::DeviceLocal, "pt frame");
+  gpu::camera::CameraFrame f = makeFrame(camera, settings);
   frame.upload(&f, sizeof f);
   TracePass pass(ctx, settings.integrator, scene.features, scene.texelFetch);
   vk::GpuTimer timer(ctx, 1);

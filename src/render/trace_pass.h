@@ -28,7 +28,7 @@ class TracePass {
 
   struct Args {
     const Film* film = nullptr;
-    const vk::Buffer* frame = nullptr;  // gpu::pt::Frame
+    const vk::Buffer* frame = nullptr;  // gpu::camera::CameraFrame
     const bvh::Bvh* bvh = nullptr;
     const scene::GpuScene* scene = nullptr;
     uint32_t sampleIndex = 0;  // first sample

@@ -1,0 +1,112 @@
+// Reading the clean hemisphere maps of a pass (MapRecord + kOsrBindingMapClean): which maps a
+// pixel uses and with what weight, radiance looked up in a world direction, and irradiance
+// from a map's SH projection. Requires lib/osr_common.glsl.
+#ifndef OSR_LIB_OSR_MAPS_GLSL
+#define OSR_LIB_OSR_MAPS_GLSL
+
+// The grid point of map `map` (cell map % cellsX, map / cellsX): a pixel of its cell, jittered
+// per pass so that successive passes sample different points.
+uvec2 mapPixel(uint map) {
+  uvec2 cell = uvec2(map % gPush.cellsX, map / gPush.cellsX);
+  uint h = pcgHash(map ^ pcgHash(gPush.gridSeed));
+  uvec2 jitter = uvec2(h & 0xffffu, h >> 16u) % gPush.gridRadius;
+  return min(cell * gPush.gridRadius + jitter, uvec2(gFrame.width - 1u, gFrame.height - 1u));
+}
+
+// Radiance of map `map` arriving from local direction w (w.z > 0): the texel it falls in
+// (piecewise constant, so that pi x the texel mean is the map's exact irradiance).
+vec3 mapRadianceLocal(uint map, vec3 w) {
+  uvec2 t = uvec2(hemiDirectionToSquare(w) * float(kMapSize));
+  uint texel = min(t.y, kMapSize - 1u) * kMapSize + min(t.x, kMapSize - 1u);
+  uint base = map * 3u * kMapTexels + texel;
+  return vec3(gMapClean[base], gMapClean[base + kMapTexels], gMapClean[base + 2u * kMapTexels]);
+}
+
+// Real SH basis up to l = 2 (Ramamoorthi & Hanrahan 2001 ordering).
+void shBasis(vec3 d, out float y[9]) {
+  y[0] = 0.282095;
+  y[1] = 0.488603 * d.y;
+  y[2] = 0.488603 * d.z;
+  y[3] = 0.488603 * d.x;
+  y[4] = 1.092548 * d.x * d.y;
+  y[5] = 1.092548 * d.y * d.z;
+  y[6] = 0.315392 * (3.0 * d.z * d.z - 1.0);
+  y[7] = 1.092548 * d.x * d.z;
+  y[8] = 0.546274 * (d.x * d.x - d.y * d.y);
+}
+
+// Irradiance SH coefficients already carry the clamped-cosine convolution (A_l), so the
+// irradiance at normal n is sum sh[i] Y_i(n).
+vec3 shIrradiance(MapRecord m, vec3 nLocal) {
+  float y[9];
+  shBasis(nLocal, y);
+  vec3 e = vec3(0.0);
+  for (int i = 0; i < 9; ++i) e += m.sh[i].rgb * y[i];
+  return e;
+}
+
+// Irradiance of map m's radiance at local normal nLocal: exact (pi x mean) at the map's own
+// normal, corrected by the SH difference elsewhere.
+vec3 mapIrradiance(MapRecord m, vec3 nLocal) {
+  vec3 e = kPi * m.mean.rgb + shIrradiance(m, nLocal) - shIrradiance(m, vec3(0.0, 0.0, 1.0));
+  return max(e, vec3(0.0));
+}
+
+// The maps a pixel draws on: the 3 x 3 cells around its own, with mapWeight weights.
+struct MapGather {
+  uint maps[9];
+  float weights[9];
+  uint count;
+  float total;
+};
+
+MapGather gatherMaps(uvec2 pixel, vec3 x, vec3 n) {
+  MapGather g;
+  g.count = 0u;
+  g.total = 0.0;
+  int r = int(gPush.gridRadius);
+  ivec2 cell = ivec2(pixel) / r;
+  vec2 p = vec2(pixel) + 0.5;
+  for (int dy = -1; dy <= 1; ++dy) {
+    for (int dx = -1; dx <= 1; ++dx) {
+      ivec2 c = cell + ivec2(dx, dy);
+      if (c.x < 0 || c.y < 0 || c.x >= int(gPush.cellsX) || c.y >= int(gPush.cellsY)) continue;
+      uint map = uint(c.y) * gPush.cellsX + uint(c.x);
+      MapRecord m = gMaps[map];
+      if (m.position.w < 0.5) continue;
+      float w = mapWeight(p, vec2(m.pixel.xy) + 0.5, float(r), x, n, m.position.xyz,
+                          m.normal.xyz, m.normal.w * float(r));
+      if (w <= 1e-6) continue;
+      g.maps[g.count] = map;
+      g.weights[g.count] = w;
+      g.count += 1u;
+      g.total += w;
+    }
+  }
+  return g;
+}
+
+// Interpolated map radiance arriving from world direction `dir` (0 from maps whose hemisphere
+// does not contain it), normalised by the gather's total weight.
+vec3 gatherRadiance(MapGather g, vec3 dir) {
+  vec3 l = vec3(0.0);
+  for (uint i = 0u; i < g.count; ++i) {
+    MapRecord m = gMaps[g.maps[i]];
+    mat3 frame = hemiFrame(m.normal.xyz);
+    vec3 w = transpose(frame) * dir;
+    if (w.z > 0.0) l += g.weights[i] * mapRadianceLocal(g.maps[i], w);
+  }
+  return g.total > 0.0 ? l / g.total : vec3(0.0);
+}
+
+// Interpolated irradiance at world normal n.
+vec3 gatherIrradiance(MapGather g, vec3 n) {
+  vec3 e = vec3(0.0);
+  for (uint i = 0u; i < g.count; ++i) {
+    MapRecord m = gMaps[g.maps[i]];
+    e += g.weights[i] * mapIrradiance(m, transpose(hemiFrame(m.normal.xyz)) * n);
+  }
+  return g.total > 0.0 ? e / g.total : vec3(0.0);
+}
+
+#endif

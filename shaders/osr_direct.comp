@@ -1,0 +1,47 @@
+#version 460
+// osr_direct: light that reaches the G-buffer surface in one hop, several samples per pixel:
+// next-event estimation combined with BSDF sampling by the power heuristic (lib/path.glsl's
+// estimator, first bounce only), times the specular chain's throughput. Adds one pass's
+// average to AccumPixel.direct (w counts passes; osr_gbuffer has added emission seen).
+// In: GBufferPixel, scene, BVH. Out: AccumPixel.direct.
+#extension GL_GOOGLE_include_directive : require
+#include "lib/osr_common.glsl"
+
+layout(local_size_x = kOsrWorkgroupSize) in;
+
+void main() {
+  uint local = gl_GlobalInvocationID.x;
+  if (local >= gPush.pixelCount) return;
+  uint pixel = gPush.pixelOffset + local;
+  GBufferPixel g = gGBuffer[pixel];
+  vec3 sum = vec3(0.0);
+  if (g.position.w > 0.5) {
+    ShadingPoint sp = gbufferShadingPoint(g);
+    Rng rng = passRng(pixel, kSaltDirect);
+    for (uint i = 0u; i < gPush.samples; ++i) {
+      sum += estimateDirect(sp, rngNext3(rng));
+      // The BSDF-sampled half of MIS: a light hit by the sampled direction.
+      PathState p = pathStart(sp.position, vec3(0.0), vec3(1.0), 0.0, sp.position, 1u);
+      BsdfSample bs;
+      if (!bsdfSample(sp.bsdf, sp.woLocal, rngNext3(rng), bs)) continue;
+      vec3 wi = toWorld(bs.wi, sp.t, sp.b, sp.ns);
+      if ((dot(wi, sp.ng) > 0.0) != (bs.wi.z > 0.0)) continue;
+      p.origin = shadingRayOrigin(sp, wi);
+      p.dir = wi;
+      p.beta = bs.weight;
+      p.prevPdf = bs.delta ? 0.0 : bs.pdf;
+      Hit hit;
+      if (!bvhClosestHit(p.origin, p.dir, 0.0, kInfinity, hit)) {
+        sum += missRadiance(p);
+      } else {
+        SurfaceSample surf = surfaceAt(hit.triangle, hit.barycentrics);
+        sum += hitEmission(p, hit.triangle, surf, shadingPoint(surf, -wi));
+      }
+    }
+    sum *= g.throughput.rgb / float(max(gPush.samples, 1u));
+  }
+  AccumPixel a = gAccum[pixel];
+  if (finite3(sum)) a.direct.rgb += sum;
+  a.direct.w += 1.0;
+  gAccum[pixel] = a;
+}

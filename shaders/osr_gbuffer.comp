@@ -1,0 +1,83 @@
+#version 460
+// osr_gbuffer: the first surface through each pixel that is not near-specular, for this
+// pass's sub-pixel jitter (antialiasing comes from averaging passes). Mirror-like metals and
+// smooth glass (shared/osr.h kNearSpecularAlpha) are followed by sampling their BSDF, with
+// the chain's throughput kept; emission met on the way (the camera's own view of lights, and
+// lights seen in mirrors) goes straight to the direct layer.
+// In: CameraFrame, scene, BVH. Out: GBufferPixel, AccumPixel first-hit records and emission.
+#extension GL_GOOGLE_include_directive : require
+#include "lib/osr_common.glsl"
+
+layout(local_size_x = kOsrWorkgroupSize) in;
+
+bool nearSpecular(BsdfParams p) {
+  float alpha = p.roughness * p.roughness;
+  bool mirror = p.metallic >= 0.999 && alpha < kNearSpecularAlpha;
+  bool glass = OSR_BSDF_TRANSMISSION && p.transmission >= 0.999 && p.metallic <= 0.001 &&
+               glassIsDelta(p);
+  return mirror || glass;
+}
+
+void main() {
+  uint local = gl_GlobalInvocationID.x;
+  if (local >= gPush.pixelCount) return;
+  uint pixel = gPush.pixelOffset + local;
+  Rng rng = passRng(pixel, kSaltGBuffer);
+  vec3 origin, dir;
+  cameraRay(gFrame, pixel % gFrame.width, pixel / gFrame.width, rngNext2(rng), origin, dir);
+
+  GBufferPixel g;
+  g.position = vec4(0.0);
+  g.normal = vec4(0.0, 0.0, 1.0, 0.0);
+  g.geomNormal = vec4(0.0, 0.0, 1.0, 1.0);
+  g.wo = vec4(-dir, 0.0);
+  g.throughput = vec4(0.0);
+  g.bsdf.baseColor = vec3(0.0);
+  g.bsdf.metallic = 0.0;
+  g.bsdf.specularColor = vec3(0.0);
+  g.bsdf.roughness = 1.0;
+  g.bsdf.specular = 0.0;
+  g.bsdf.eta = 1.0;
+  g.bsdf.transmission = 0.0;
+  g.bsdf._pad0 = 0.0;
+  AccumPixel a = gAccum[pixel];
+  vec3 beta = vec3(1.0);
+  vec3 emitted = vec3(0.0);
+  float rayLength = 0.0;
+  for (uint chain = 0u; chain <= kMaxSpecularChain; ++chain) {
+    Hit hit;
+    if (!bvhClosestHit(origin, dir, 0.0, kInfinity, hit)) {
+      // Delta-like bounces only so far: the environment is seen at full weight.
+      emitted += missRadiance(pathStart(origin, dir, beta, 0.0, origin, chain));
+      break;
+    }
+    SurfaceSample surf = surfaceAt(hit.triangle, hit.barycentrics);
+    ShadingPoint sp = shadingPoint(surf, -dir);
+    rayLength += hit.t;
+    if (chain == 0u) {
+      a.albedo.rgb += surf.m.baseColor;
+      a.normal.rgb += facingShadingNormal(surf, -dir);
+      a.depth += vec4(cameraDepth(gFrame, surf.position), 1.0, 0.0, 0.0);
+    }
+    emitted += hitEmission(pathStart(origin, dir, beta, 0.0, origin, chain), hit.triangle, surf, sp);
+    if (!nearSpecular(sp.bsdf)) {
+      g.position = vec4(sp.position, 1.0);
+      g.normal = vec4(sp.ns, 0.0);
+      g.geomNormal = vec4(sp.ng, sp.front ? 1.0 : 0.0);
+      g.wo = vec4(sp.wo, rayLength);
+      g.throughput = vec4(beta, 0.0);
+      g.bsdf = sp.bsdf;
+      break;
+    }
+    BsdfSample bs;
+    if (chain == kMaxSpecularChain || !bsdfSample(sp.bsdf, sp.woLocal, rngNext3(rng), bs)) break;
+    vec3 wi = toWorld(bs.wi, sp.t, sp.b, sp.ns);
+    if ((dot(wi, sp.ng) > 0.0) != (bs.wi.z > 0.0)) break;
+    beta *= bs.weight;
+    origin = shadingRayOrigin(sp, wi);
+    dir = wi;
+  }
+  if (finite3(emitted)) a.direct.rgb += emitted;
+  gGBuffer[pixel] = g;
+  gAccum[pixel] = a;
+}

@@ -1,0 +1,66 @@
+#version 460
+// osr_map_denoise: the clean radiance map of each map of the chunk, by the denoiser chosen
+// with specialization constant kOsrSpecDenoiser:
+//  - kDenoiserUnet: the U-Net's output y back to radiance, exp(y) - 1, then each channel
+//    scaled so its mean equals the one-shot map's (DESIGN.md "Normalization"): the network
+//    redistributes light over the hemisphere, the irradiance stays the traced one;
+//  - kDenoiserBlur: a fixed Gaussian (sigma 1 texel, 5 x 5, clamped at the square's edges)
+//    of the one-shot radiance, renormalized to keep each channel's mean;
+//  - kDenoiserNone: the one-shot radiance as traced.
+// One invocation per map. In: one-shot maps, MapStats, U-Net output. Out: clean maps.
+#extension GL_GOOGLE_include_directive : require
+#include "shared/osr.h"
+
+layout(constant_id = kOsrSpecDenoiser) const uint kDenoiser = kDenoiserUnet;
+layout(local_size_x = kOsrWorkgroupSize) in;
+layout(std430, binding = kOsrBindingMapClean) writeonly buffer OsrMapClean { float gMapClean[]; };
+layout(std430, binding = kOsrBindingMapOneShot) readonly buffer OsrOneShot { float gOneShot[]; };
+layout(std430, binding = kOsrBindingMapStats) readonly buffer OsrStats { MapStats gStats[]; };
+layout(std430, binding = kOsrBindingNetOut) readonly buffer OsrNetOut { float gNetOut[]; };
+layout(push_constant) uniform OsrPushBlock { OsrPush gPush; };
+
+float sourceValue(uint local, uint c, uint t) {
+  if (kDenoiser == kDenoiserUnet)
+    return exp(min(gNetOut[(local * 3u + c) * kMapTexels + t], 80.0)) - 1.0;
+  return gOneShot[(local * kMapChannels + c) * kMapTexels + t];
+}
+
+float blurred(uint local, uint c, uint t) {
+  const float kGauss[3] = float[3](0.40262, 0.24420, 0.05448);  // sigma 1, taps 0, 1, 2
+  int x = int(t % kMapSize), y = int(t / kMapSize);
+  float sum = 0.0, wsum = 0.0;
+  for (int dy = -2; dy <= 2; ++dy) {
+    for (int dx = -2; dx <= 2; ++dx) {
+      int sx = x + dx, sy = y + dy;
+      if (sx < 0 || sy < 0 || sx >= int(kMapSize) || sy >= int(kMapSize)) continue;
+      float w = kGauss[abs(dx)] * kGauss[abs(dy)];
+      sum += w * gOneShot[(local * kMapChannels + c) * kMapTexels + uint(sy) * kMapSize + uint(sx)];
+      wsum += w;
+    }
+  }
+  return sum / wsum;
+}
+
+void main() {
+  uint local = gl_GlobalInvocationID.x;
+  if (local >= gPush.mapCount) return;
+  uint out0 = (gPush.mapOffset + local) * 3u * kMapTexels;
+  vec3 target = gStats[local].meanRadiance.rgb;
+  for (uint c = 0u; c < 3u; ++c) {
+    if (kDenoiser == kDenoiserNone) {
+      for (uint t = 0u; t < kMapTexels; ++t)
+        gMapClean[out0 + c * kMapTexels + t] = gOneShot[(local * kMapChannels + c) * kMapTexels + t];
+      continue;
+    }
+    float sum = 0.0;
+    for (uint t = 0u; t < kMapTexels; ++t)
+      sum += max(kDenoiser == kDenoiserBlur ? blurred(local, c, t) : sourceValue(local, c, t), 0.0);
+    float mean = sum / float(kMapTexels);
+    // A map the network made black while the traced one is not: fall back to a flat map.
+    float scale = mean > 0.0 ? target[c] / mean : 0.0;
+    for (uint t = 0u; t < kMapTexels; ++t) {
+      float v = max(kDenoiser == kDenoiserBlur ? blurred(local, c, t) : sourceValue(local, c, t), 0.0);
+      gMapClean[out0 + c * kMapTexels + t] = mean > 0.0 ? v * scale : target[c];
+    }
+  }
+}

@@ -1,0 +1,38 @@
+#version 460
+// osr_map_normalize: the U-Net's input from one-shot maps, per DESIGN.md "Normalization"
+// (shared/osr.h normalizeRadiance / normalizeDistance): radiance and distance log-scaled by the
+// map's own means, normals as traced. One invocation per map of the chunk; also records the
+// means that osr_map_denoise rescales the network's output to.
+// In: one-shot maps [chunk][7][32][32]. Out: normalized [chunk][7][32][32], MapStats.
+#extension GL_GOOGLE_include_directive : require
+#include "shared/osr.h"
+
+layout(local_size_x = kOsrWorkgroupSize) in;
+layout(std430, binding = kOsrBindingMapOneShot) readonly buffer OsrOneShot { float gOneShot[]; };
+layout(std430, binding = kOsrBindingMapStats) writeonly buffer OsrStats { MapStats gStats[]; };
+layout(std430, binding = kOsrBindingNetIn) writeonly buffer OsrNetIn { float gNetIn[]; };
+layout(push_constant) uniform OsrPushBlock { OsrPush gPush; };
+
+void main() {
+  uint local = gl_GlobalInvocationID.x;
+  if (local >= gPush.mapCount) return;
+  uint base = local * kMapChannels * kMapTexels;
+  vec3 sum = vec3(0.0);
+  float distanceSum = 0.0;
+  for (uint t = 0u; t < kMapTexels; ++t) {
+    sum += vec3(gOneShot[base + t], gOneShot[base + kMapTexels + t],
+                gOneShot[base + 2u * kMapTexels + t]);
+    distanceSum += gOneShot[base + 6u * kMapTexels + t];
+  }
+  vec3 mean = sum / float(kMapTexels);
+  float meanAll = (mean.r + mean.g + mean.b) / 3.0;
+  float meanDistance = distanceSum / float(kMapTexels);
+  gStats[local].meanRadiance = vec4(mean, meanAll);
+  gStats[local].meanDistance = vec4(meanDistance, 0.0, 0.0, 0.0);
+  for (uint t = 0u; t < kMapTexels; ++t) {
+    for (uint c = 0u; c < 3u; ++c)
+      gNetIn[base + c * kMapTexels + t] = normalizeRadiance(gOneShot[base + c * kMapTexels + t], meanAll);
+    for (uint c = 3u; c < 6u; ++c) gNetIn[base + c * kMapTexels + t] = gOneShot[base + c * kMapTexels + t];
+    gNetIn[base + 6u * kMapTexels + t] = normalizeDistance(gOneShot[base + 6u * kMapTexels + t], meanDistance);
+  }
+}

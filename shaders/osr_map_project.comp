@@ -1,0 +1,37 @@
+#version 460
+// osr_map_project: each clean map's mean radiance (pi x mean is its exact irradiance at the
+// map's normal) and its irradiance as 9 SH coefficients (Ramamoorthi & Hanrahan 2001), in the
+// map's frame, for the composite's Lambertian closed form at other normals. Texel solid angle:
+// every texel covers pi / 1024 of projected solid angle, so d(omega) = pi / (1024 cos theta).
+// One invocation per map of the chunk. In: clean maps. Out: MapRecord.mean, .sh.
+#extension GL_GOOGLE_include_directive : require
+#include "lib/osr_common.glsl"
+#include "lib/osr_maps.glsl"
+
+layout(local_size_x = kOsrWorkgroupSize) in;
+
+void main() {
+  uint local = gl_GlobalInvocationID.x;
+  if (local >= gPush.mapCount) return;
+  uint map = gPush.mapOffset + local;
+  vec3 sh[9];
+  for (int i = 0; i < 9; ++i) sh[i] = vec3(0.0);
+  vec3 sum = vec3(0.0);
+  uint base = map * 3u * kMapTexels;
+  for (uint t = 0u; t < kMapTexels; ++t) {
+    vec3 l = vec3(gMapClean[base + t], gMapClean[base + kMapTexels + t],
+                  gMapClean[base + 2u * kMapTexels + t]);
+    sum += l;
+    vec2 u = (vec2(t % kMapSize, t / kMapSize) + 0.5) / float(kMapSize);
+    vec3 w = hemiSquareToDirection(u);
+    float dOmega = kPi / (float(kMapTexels) * max(w.z, 1e-3));
+    float y[9];
+    shBasis(w, y);
+    for (int i = 0; i < 9; ++i) sh[i] += l * (y[i] * dOmega);
+  }
+  // Convolution with the clamped cosine: A0 = pi, A1 = 2 pi / 3, A2 = pi / 4.
+  const float kA[9] = float[9](kPi, 2.0 * kPi / 3.0, 2.0 * kPi / 3.0, 2.0 * kPi / 3.0,
+                               kPi / 4.0, kPi / 4.0, kPi / 4.0, kPi / 4.0, kPi / 4.0);
+  gMaps[map].mean = vec4(sum / float(kMapTexels), 0.0);
+  for (int i = 0; i < 9; ++i) gMaps[map].sh[i] = vec4(sh[i] * kA[i], 0.0);
+}

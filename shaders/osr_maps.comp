@@ -1,0 +1,91 @@
+#version 460
+// osr_maps: one-shot hemisphere maps at the grid points of this pass, in bulk: one invocation
+// per (map, texel) of a chunk. Texel (x, y) traces `samples` paths (1 for the one-shot input;
+// many for reference maps) leaving the grid point's surface in a direction jittered inside
+// the texel's cell of the cosine-concentric mapping (shared/hemisphere.h), in the frame of its
+// shading normal. Radiance is light arriving after at least one bounce: emission of the first
+// surface hit is excluded (it is the direct pass's), full depth with Russian roulette. Also
+// writes the first hit's shading normal in the map frame (0 on a miss) and its distance (-1 on
+// a miss). Texel 0 of each map writes its MapRecord (position, normal, pixel, footprint).
+// In: GBufferPixel, scene, BVH. Out: one-shot maps [chunk][7][32][32], MapRecord.
+#extension GL_GOOGLE_include_directive : require
+#include "lib/osr_common.glsl"
+#include "lib/osr_maps.glsl"
+
+layout(local_size_x = kOsrWorkgroupSize) in;
+layout(std430, binding = kOsrBindingMapOneShot) writeonly buffer OsrOneShot { float gOneShot[]; };
+
+void writeTexel(uint local, uint texel, vec3 radiance, vec3 normal, float distance) {
+  uint base = local * kMapChannels * kMapTexels + texel;
+  gOneShot[base] = radiance.r;
+  gOneShot[base + kMapTexels] = radiance.g;
+  gOneShot[base + 2u * kMapTexels] = radiance.b;
+  gOneShot[base + 3u * kMapTexels] = normal.x;
+  gOneShot[base + 4u * kMapTexels] = normal.y;
+  gOneShot[base + 5u * kMapTexels] = normal.z;
+  gOneShot[base + 6u * kMapTexels] = distance;
+}
+
+void main() {
+  uint id = gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x * kOsrWorkgroupSize;
+  uint local = id / kMapTexels;
+  if (local >= gPush.mapCount) return;
+  uint texel = id % kMapTexels;
+  uint map = gPush.mapOffset + local;
+  uvec2 pixel = mapPixel(map);
+  GBufferPixel g = gGBuffer[pixel.y * gFrame.width + pixel.x];
+  bool valid = g.position.w > 0.5;
+  if (texel == 0u) {
+    MapRecord rec;
+    rec.position = vec4(g.position.xyz, valid ? 1.0 : 0.0);
+    // World size of one pixel at the point: the interpolation's plane-distance scale.
+    float footprint = g.wo.w * 2.0 * gFrame.tanHalfFovY / float(gFrame.height);
+    rec.normal = vec4(g.normal.xyz, footprint);
+    rec.pixel = uvec4(pixel, 0u, 0u);
+    rec.mean = vec4(0.0);
+    for (int i = 0; i < 9; ++i) rec.sh[i] = vec4(0.0);
+    gMaps[map] = rec;
+  }
+  if (!valid) {
+    writeTexel(local, texel, vec3(0.0), vec3(0.0), -1.0);
+    return;
+  }
+  ShadingPoint sp = gbufferShadingPoint(g);
+  mat3 frame = hemiFrame(sp.ns);
+  Rng rng = rngInit(map * kMapTexels + texel, gPush.pass, gFrame.seed ^ kSaltMaps);
+  vec3 radiance = vec3(0.0);
+  vec3 hitNormal = vec3(0.0);
+  float distance = -1.0;
+  uvec2 t = uvec2(texel % kMapSize, texel / kMapSize);
+  for (uint s = 0u; s < gPush.samples; ++s) {
+    vec3 local3 = hemiSquareToDirection((vec2(t) + rngNext2(rng)) / float(kMapSize));
+    vec3 dir = frame * local3;
+    // Shading normals can put a direction below the geometric surface: it sees the surface.
+    if (dot(dir, sp.ng) <= 0.0) {
+      if (s == 0u) distance = 0.0;
+      continue;
+    }
+    PathState p = pathStart(shadingRayOrigin(sp, dir), dir, vec3(1.0), local3.z * kInvPi,
+                            sp.position, 1u);
+    vec3 l = vec3(0.0);
+    while (true) {
+      uint bounce = p.bounce;
+      vec3 uLight = rngNext3(rng);
+      vec3 uBsdf = rngNext3(rng);
+      BounceResult r;
+      bool ended = pathBounce(p, uLight, uBsdf, rngNext(rng), r);
+      if (bounce == 1u) {
+        if (s == 0u && r.hit) {
+          hitNormal = transpose(frame) * r.normal;
+          distance = length(r.position - sp.position);
+        }
+      } else {
+        l += r.emitted;
+      }
+      l += r.nee;
+      if (ended) break;
+    }
+    if (finite3(l)) radiance += l;
+  }
+  writeTexel(local, texel, radiance / float(max(gPush.samples, 1u)), hitNormal, distance);
+}

@@ -1,0 +1,81 @@
+#version 460
+// osr_residual: what makes OSR converge. At each pixel's G-buffer surface x, `samples`
+// directions wi drawn from the full BSDF, each followed by a path-traced estimate L_pt of the
+// light arriving after at least one bounce (lib/path.glsl). With L^ the interpolated maps and
+// g(wi) = rho_d / pi cos L^(wi) + [wide lobe] f_rest(wi) L^(wi) the function whose integral
+// osr_composite computed, the residual (f L_pt - g) / pdf is an unbiased estimate of the
+// composite's error (a control variate; two-level Monte Carlo, Dereviannykh et al. 2024).
+// Lobes the composite left out (narrow, transmission, delta) and pixels no map covers have
+// g = 0: their f L_pt / pdf is the path tracer's own answer, added to AccumPixel.indirect in
+// full; the control-variate part goes to AccumPixel.residual, which the resolve blends in.
+// In: GBufferPixel, MapRecord, clean maps, scene, BVH. Out: AccumPixel.indirect, .residual.
+#extension GL_GOOGLE_include_directive : require
+#include "lib/osr_common.glsl"
+#include "lib/osr_maps.glsl"
+
+layout(local_size_x = kOsrWorkgroupSize) in;
+
+// Light arriving at the path's start from p.dir after at least one bounce.
+vec3 traceIndirect(PathState p, inout Rng rng) {
+  vec3 l = vec3(0.0);
+  while (true) {
+    uint bounce = p.bounce;
+    vec3 uLight = rngNext3(rng);
+    vec3 uBsdf = rngNext3(rng);
+    BounceResult r;
+    bool ended = pathBounce(p, uLight, uBsdf, rngNext(rng), r);
+    if (bounce != 1u) l += r.emitted;
+    l += r.nee;
+    if (ended) break;
+  }
+  return l;
+}
+
+void main() {
+  uint local = gl_GlobalInvocationID.x;
+  if (local >= gPush.pixelCount) return;
+  uint pixel = gPush.pixelOffset + local;
+  GBufferPixel g = gGBuffer[pixel];
+  vec3 always = vec3(0.0), blended = vec3(0.0);
+  if (g.position.w > 0.5) {
+    ShadingPoint sp = gbufferShadingPoint(g);
+    MapGather gather = gatherMaps(uvec2(pixel % gFrame.width, pixel / gFrame.width), sp.position, sp.ns);
+    bool covered = gather.total > 0.0;
+    bool wide = ggxAlpha(sp.bsdf) >= kNarrowLobeAlpha;
+    vec3 rho = bsdfDiffuseReflectance(sp.bsdf, sp.woLocal);
+    Rng rng = passRng(pixel, kSaltResidual);
+    for (uint i = 0u; i < gPush.samples; ++i) {
+      BsdfSample bs;
+      if (!bsdfSample(sp.bsdf, sp.woLocal, rngNext3(rng), bs)) continue;
+      vec3 wi = toWorld(bs.wi, sp.t, sp.b, sp.ns);
+      if ((dot(wi, sp.ng) > 0.0) != (bs.wi.z > 0.0)) continue;
+      PathState p = pathStart(shadingRayOrigin(sp, wi), wi, vec3(1.0), bs.delta ? 0.0 : bs.pdf,
+                              sp.position, 1u);
+      vec3 lpt = traceIndirect(p, rng);
+      if (!finite3(lpt)) continue;
+      if (bs.delta || !covered) {
+        always += bs.weight * lpt;
+        continue;
+      }
+      // Split f cos into the diffuse lobe and the rest (f cos = weight * pdf).
+      vec3 fcos = bs.weight * bs.pdf;
+      vec3 fd = bsdfEvalDiffuse(sp.bsdf, sp.woLocal, bs.wi);
+      vec3 fRest = max(fcos - fd, vec3(0.0));
+      bool restInMaps = wide && bs.wi.z > 0.0;
+      vec3 lhat = gatherRadiance(gather, wi);
+      vec3 cv = rho * kInvPi * max(bs.wi.z, 0.0) * lhat + (restInMaps ? fRest * lhat : vec3(0.0));
+      blended += ((fd + (restInMaps ? fRest : vec3(0.0))) * lpt - cv) / bs.pdf;
+      if (!restInMaps) always += fRest * lpt / bs.pdf;
+    }
+    float inv = 1.0 / float(max(gPush.samples, 1u));
+    always *= g.throughput.rgb * inv;
+    blended *= g.throughput.rgb * inv;
+  }
+  AccumPixel a = gAccum[pixel];
+  if (finite3(always) && finite3(blended)) {
+    a.indirect.rgb += gPush.passWeight * always;
+    a.residual.rgb += gPush.passWeight * blended;
+  }
+  a.residual.w += float(gPush.samples);
+  gAccum[pixel] = a;
+}

@@ -1,0 +1,23 @@
+// The film every integrator resolves into (src/render/film.h): per-pixel running sums the
+// host divides by the sample count.
+#ifndef OSR_SHARED_FILM_H
+#define OSR_SHARED_FILM_H
+#include "shared/types.h"
+OSR_NAMESPACE_BEGIN(film)
+
+// Running sums per pixel; the host divides by the sample count (combined.w).
+// direct: emission seen directly plus light after one bounce; indirect: after more than one
+// bounce (combined = direct + indirect). albedo, normal (world, facing the camera) and depth
+// (distance along the camera's view axis, x = sum, y = number of samples that hit) are of the
+// first surface.
+struct FilmPixel {
+  vec4 combined;
+  vec4 direct;
+  vec4 indirect;
+  vec4 albedo;
+  vec4 normal;
+  vec4 depth;
+};
+
+OSR_NAMESPACE_END
+#endif

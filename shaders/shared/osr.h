@@ -1,0 +1,149 @@
+// One Shot Radiance (DESIGN.md "OSR pass"): the G-buffer, accumulation and hemisphere-map
+// records every osr_*.comp pass shares with src/osr, their binding slots, push constants and
+// the small formulas (interpolation weights, normalization) the host tests twin.
+//
+// Every OSR pass uses one binding layout (kOsrBinding*): the pass's buffers, then the BVH,
+// then the scene; a pass declares the slots it reads and src/osr binds all of them by name.
+#ifndef OSR_SHARED_OSR_H
+#define OSR_SHARED_OSR_H
+#include "shared/bsdf.h"
+#include "shared/bvh.h"
+#include "shared/camera.h"
+#include "shared/hemisphere.h"
+#include "shared/scene.h"
+#include "shared/types.h"
+
+#ifdef __cplusplus
+#include <cmath>
+#define OSR_OSR_FN inline
+#else
+#define OSR_OSR_FN
+#endif
+
+OSR_NAMESPACE_BEGIN(osr)
+#ifdef __cplusplus
+using glm::abs;
+using glm::dot;
+using glm::max;
+using glm::min;
+using std::exp;
+using std::log;
+using bsdf::BsdfParams;
+#endif
+
+OSR_CONST(uint, kOsrWorkgroupSize, 64);
+OSR_CONST(uint, kMapChannels, 7u);  // one-shot input: radiance RGB, hit normal XYZ, distance
+
+// Binding slots (one layout for every OSR pass).
+OSR_CONST(uint, kOsrBindingFrame, 0u);       // camera::CameraFrame
+OSR_CONST(uint, kOsrBindingGBuffer, 1u);     // GBufferPixel[pixels]
+OSR_CONST(uint, kOsrBindingAccum, 2u);       // AccumPixel[pixels]
+OSR_CONST(uint, kOsrBindingMapRecords, 3u);  // MapRecord[maps of the pass]
+OSR_CONST(uint, kOsrBindingMapClean, 4u);    // float[maps][3][32][32]: denoised radiance
+OSR_CONST(uint, kOsrBindingMapOneShot, 5u);  // float[chunk maps][7][32][32]: traced input
+OSR_CONST(uint, kOsrBindingMapStats, 6u);    // MapStats[chunk maps]
+OSR_CONST(uint, kOsrBindingNetIn, 7u);       // float[chunk maps][7][32][32]: normalized
+OSR_CONST(uint, kOsrBindingNetOut, 8u);      // float[chunk maps][3][32][32]: U-Net output
+OSR_CONST(uint, kOsrBindingFilm, 9u);        // film::FilmPixel[pixels] (resolve)
+OSR_CONST(uint, kOsrBvhBinding, 10u);        // + kBvhBindingCount
+OSR_CONST(uint, kOsrSceneBinding, 14u);      // + kSceneBindingCount
+OSR_CONST(uint, kOsrSceneTexelBinding, 24u);  // + kSceneTexelBindingCount
+OSR_CONST(uint, kOsrBindingCount, 27u);
+
+// Specialization constants.
+OSR_CONST(uint, kOsrSpecSceneFeatures, 0u);  // the scene's kSceneFeature* bits
+OSR_CONST(uint, kOsrSpecDenoiser, 1u);       // osr_map_denoise: kDenoiser*
+OSR_CONST(uint, kDenoiserUnet, 0u);   // the U-Net's output, denormalized
+OSR_CONST(uint, kDenoiserBlur, 1u);   // a fixed Gaussian blur of the one-shot radiance
+OSR_CONST(uint, kDenoiserNone, 2u);   // the one-shot radiance as traced
+
+// Surfaces the G-buffer follows through (mirror-like metal, smooth glass) instead of shading:
+// GGX alpha below this is "near-specular".
+OSR_CONST(float, kNearSpecularAlpha, 0.01f);
+OSR_CONST(uint, kMaxSpecularChain, 8u);
+// Lobes narrower than about a texel of a 32 x 32 map (GGX alpha below this) are not looked up
+// in maps: the residual path tracer answers for them in full.
+OSR_CONST(float, kNarrowLobeAlpha, 0.1f);
+
+// The first surface through a pixel that is not near-specular, for this pass's jitter.
+struct GBufferPixel {
+  vec4 position;    // xyz: world position; w: 1 valid surface, 0 none (missed, absorbed)
+  vec4 normal;      // xyz: shading normal facing wo (below-horizon fallback applied)
+  vec4 geomNormal;  // xyz: geometric normal facing wo; w: 1 front face
+  vec4 wo;          // xyz: towards the previous vertex; w: ray length from the camera
+  vec4 throughput;  // rgb: throughput of the specular chain before it
+  BsdfParams bsdf;
+};
+
+// Running sums per pixel over progressive passes (k = pass, w_k = its weight).
+struct AccumPixel {
+  vec4 direct;     // rgb: sum of each pass's direct estimate; w: passes
+  vec4 indirect;   // rgb: sum w_k (map integral + path-traced narrow lobes); w: sum w_k
+  vec4 residual;   // rgb: sum w_k (control-variate residual); w: residual samples
+  vec4 albedo;     // first-hit records, as film::FilmPixel
+  vec4 normal;
+  vec4 depth;
+};
+
+// One hemisphere map of the pass: where it was taken and its irradiance projection.
+struct MapRecord {
+  vec4 position;  // xyz: the grid point's surface position; w: 1 valid map, 0 none
+  vec4 normal;    // xyz: its shading normal (the map frame's z); w: pixel footprint (world)
+  uvec4 pixel;    // x, y: the pixel it was taken at
+  vec4 mean;      // rgb: mean radiance of the clean map (irradiance at the normal = pi mean)
+  vec4 sh[9];     // rgb: irradiance SH (Ramamoorthi & Hanrahan 2001) in the map's frame,
+                  // w of sh[0]: unused
+};
+
+// Per-map normalization statistics of the one-shot input (DESIGN.md "Normalization").
+struct MapStats {
+  vec4 meanRadiance;  // rgb: per-channel means; w: mean over all three channels
+  vec4 meanDistance;  // x: mean distance (misses count as -1)
+};
+
+struct OsrPush {
+  uint pass;         // progressive pass index (random streams)
+  uint gridRadius;   // spacing r of the grid of the current maps, pixels
+  uint cellsX;       // grid cells (= maps) across and down
+  uint cellsY;
+  uint gridSeed;     // jitter of the current maps' grid points
+  uint mapOffset;    // first map of this chunk (map passes)
+  uint mapCount;     // maps in this chunk
+  uint samples;      // samples per pixel (direct, residual) or paths per texel (maps)
+  uint pixelOffset;  // pixel range of this dispatch (pixel passes)
+  uint pixelCount;
+  float passWeight;     // w_k of this pass
+  float residualBlend;  // resolve: weight of the accumulated residual (0..1)
+};
+
+// ---- Formulas shared by host and device -----------------------------------------------------
+
+// Grid cell of pixel coordinate p for spacing r.
+OSR_OSR_FN uint gridCell(uint p, uint r) { return p / r; }
+
+// DESIGN.md normalization of one-shot radiance: log(1 + I / (10 mean)) - 0.1 (mean 0: -0.1).
+OSR_OSR_FN float normalizeRadiance(float value, float mean) {
+  return mean > 0.0f ? log(1.0f + max(value, 0.0f) / (10.0f * mean)) - 0.1f : -0.1f;
+}
+// Distance (-1 on a miss): log(1 + (z + 1) / (10 (mean + 1))) - 0.1.
+OSR_OSR_FN float normalizeDistance(float z, float mean) {
+  return log(1.0f + (z + 1.0f) / (10.0f * (mean + 1.0f))) - 0.1f;
+}
+
+// Interpolation weight of a map taken at screen point pg (surface xg, normal ng) for a pixel
+// at screen point p (surface x, normal n): falls with screen distance (in grid spacings r),
+// normal disagreement, and the distance of each point from the other's tangent plane relative
+// to `scale` (the world size of r pixels there). A depth gap lowers the weight.
+OSR_OSR_FN float mapWeight(vec2 p, vec2 pg, float r, vec3 x, vec3 n, vec3 xg, vec3 ng,
+                           float scale) {
+  vec2 d = (p - pg) / r;
+  float screen = max(0.0f, 1.0f - dot(d, d) / 2.25f);  // reaches 0 at 1.5 r
+  float c = max(0.0f, dot(n, ng));
+  float c2 = c * c;
+  float normal = c2 * c2 * c2 * c2;  // cos^8
+  float plane = (abs(dot(ng, x - xg)) + abs(dot(n, xg - x))) / max(scale, 1e-12f);
+  return screen * screen * normal * exp(-plane * plane);
+}
+
+OSR_NAMESPACE_END
+#endif

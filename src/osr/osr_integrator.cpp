@@ -1,0 +1,207 @@
+#include "osr/osr_integrator.h"
+
+#include <algorithm>
+#include <cmath>
+
+#include "common/error.h"
+#include "vk/timer.h"
+
+namespace osr::oneshot {
+
+namespace o = gpu::osr;
+
+Denoiser parseDenoiser(const std::string& name) {
+  if (name == "unet") return Denoiser::Unet;
+  if (name == "blur") return Denoiser::Blur;
+  if (name == "none") return Denoiser::None;
+  throw InputError("--denoiser: unknown denoiser '" + name + "' (unet, blur, none)");
+}
+
+const char* denoiserName(Denoiser d) {
+  switch (d) {
+    case Denoiser::Unet: return "unet";
+    case Denoiser::Blur: return "blur";
+    case Denoiser::None: return "none";
+  }
+  return "?";
+}
+
+namespace {
+
+gpu::camera::CameraFrame cameraFrame(const scene::Camera& camera, uint32_t width,
+                                     uint32_t height, uint32_t seed) {
+  gpu::camera::CameraFrame f{};
+  const glm::mat4& m = camera.worldFromCamera;
+  f.cameraRight = glm::vec4(glm::normalize(glm::vec3(m[0])), 0.f);
+  f.cameraUp = glm::vec4(glm::normalize(glm::vec3(m[1])), 0.f);
+  f.cameraBack = glm::vec4(glm::normalize(glm::vec3(m[2])), 0.f);
+  f.cameraOrigin = glm::vec4(glm::vec3(m[3]), 1.f);
+  f.width = width;
+  f.height = height;
+  f.seed = seed;
+  f.tanHalfFovY = std::tan(0.5f * camera.yfov);
+  f.aspect = float(width) / float(height);
+  return f;
+}
+
+uint32_t cellsFor(uint32_t pixels, uint32_t r) { return (pixels + r - 1) / r; }
+
+std::unique_ptr<nn::UNet> loadNetwork(const vk::Context& ctx, const OsrSettings& s) {
+  if (s.denoiser != Denoiser::Unet) return nullptr;
+  if (s.weightsPath.empty())
+    throw InputError("--denoiser unet: no trained model is shipped yet; give --weights FILE "
+                     "(tools/weights_pack.py) or use --denoiser blur");
+  nn::UNetWeights w = nn::UNetWeights::load(s.weightsPath);
+  return std::make_unique<nn::UNet>(ctx, w);
+}
+
+}  // namespace
+
+OsrIntegrator::OsrIntegrator(const vk::Context& ctx, const scene::GpuScene& scene,
+                             const bvh::Bvh& bvh, uint32_t width, uint32_t height,
+                             const OsrSettings& settings)
+    : ctx_(ctx),
+      scene_(scene),
+      bvh_(bvh),
+      width_(width),
+      height_(height),
+      settings_(settings),
+      schedule_(settings.gridStart, settings.gridMin, settings.mapPassesAtMin),
+      film_(ctx, width, height),
+      unet_(loadNetwork(ctx, settings)),
+      gbuffer_(ctx, shaders::Id::osr_gbuffer, Domain::Pixels, scene.features, scene.texelFetch),
+      direct_(ctx, shaders::Id::osr_direct, Domain::Pixels, scene.features, scene.texelFetch),
+      maps_(ctx, shaders::Id::osr_maps, Domain::MapTexels, scene.features, scene.texelFetch),
+      normalize_(ctx, shaders::Id::osr_map_normalize, Domain::Maps, scene.features,
+                 scene.texelFetch),
+      denoise_(ctx, shaders::Id::osr_map_denoise, Domain::Maps, scene.features, scene.texelFetch,
+               {vk::specUint(o::kOsrSpecDenoiser, uint32_t(settings.denoiser))}),
+      project_(ctx, shaders::Id::osr_map_project, Domain::Maps, scene.features, scene.texelFetch),
+      composite_(ctx, shaders::Id::osr_composite, Domain::Pixels, scene.features,
+                 scene.texelFetch),
+      residual_(ctx, shaders::Id::osr_residual, Domain::Pixels, scene.features, scene.texelFetch),
+      resolve_(ctx, shaders::Id::osr_resolve, Domain::Pixels, scene.features, scene.texelFetch) {
+  const uint32_t maxMaps = mapsOfRadius(schedule_.pass(schedule_.mapPassCount() - 1).radius);
+  const uint32_t chunk = settings.keepAllMaps ? maxMaps : settings.maxChunkMaps;
+  buffers_ = std::make_unique<OsrBuffers>(ctx, width, height, maxMaps, chunk);
+  slots_ = osrDescriptors(*buffers_, film_, bvh_, scene_);
+}
+
+OsrIntegrator::~OsrIntegrator() = default;
+
+uint32_t OsrIntegrator::mapsOfRadius(uint32_t r) const {
+  return cellsFor(width_, r) * cellsFor(height_, r);
+}
+
+OsrIntegrator::Grid OsrIntegrator::gridOf(uint32_t radius, uint32_t mapPass) const {
+  Grid g;
+  g.radius = radius;
+  g.cellsX = cellsFor(width_, radius);
+  g.cellsY = cellsFor(height_, radius);
+  g.seed = seed_ * 0x9e3779b9u + mapPass * 0x85ebca6bu + 0x27d4eb2fu;
+  return g;
+}
+
+void OsrIntegrator::restart(const scene::Camera& camera, uint32_t seed) {
+  seed_ = seed;
+  current_ = Grid{};
+  auto frame = cameraFrame(camera, width_, height_, seed);
+  buffers_->frame.upload(&frame, sizeof frame);
+  ctx_.submitAndWait([&](VkCommandBuffer cmd) {
+    vkCmdFillBuffer(cmd, buffers_->accum.handle(), 0, VK_WHOLE_SIZE, 0u);
+    film_.recordClear(cmd);
+  });
+}
+
+void OsrIntegrator::recordPass(VkCommandBuffer cmd, uint32_t k, vk::GpuTimer* timer) {
+  const GridPass gp = schedule_.pass(k);
+  const uint32_t pixels = width_ * height_;
+  o::OsrPush push{};
+  push.pass = k;
+  push.passWeight = gp.weight;
+  {
+    vk::TimedScope scope(timer, cmd, "gbuffer");
+    gbuffer_.record(cmd, slots_, push, pixels);
+  }
+  {
+    vk::TimedScope scope(timer, cmd, "direct");
+    push.samples = settings_.directSamples;
+    direct_.record(cmd, slots_, push, pixels);
+  }
+  if (gp.traceMaps) current_ = gridOf(gp.radius, gp.mapPass);
+  push.gridRadius = current_.radius;
+  push.cellsX = current_.cellsX;
+  push.cellsY = current_.cellsY;
+  push.gridSeed = current_.seed;
+  if (gp.traceMaps) {
+    const uint32_t maps = current_.cellsX * current_.cellsY;
+    for (uint32_t first = 0; first < maps; first += buffers_->chunkMaps) {
+      push.mapOffset = first;
+      push.mapCount = std::min(buffers_->chunkMaps, maps - first);
+      push.samples = settings_.pathsPerTexel;
+      {
+        vk::TimedScope scope(timer, cmd, "maps");
+        maps_.record(cmd, slots_, push);
+      }
+      if (unet_) {
+        {
+          vk::TimedScope scope(timer, cmd, "normalize");
+          normalize_.record(cmd, slots_, push);
+        }
+        vk::TimedScope scope(timer, cmd, "unet");
+        unet_->record(cmd, buffers_->netIn, 0, buffers_->netOut, 0, push.mapCount);
+      } else {
+        // The blur and raw denoisers keep each channel's mean: they need its statistics.
+        vk::TimedScope scope(timer, cmd, "normalize");
+        normalize_.record(cmd, slots_, push);
+      }
+      {
+        vk::TimedScope scope(timer, cmd, "denoise");
+        denoise_.record(cmd, slots_, push);
+      }
+      vk::TimedScope scope(timer, cmd, "project");
+      project_.record(cmd, slots_, push);
+    }
+  }
+  push.mapOffset = 0;
+  push.mapCount = 0;
+  {
+    vk::TimedScope scope(timer, cmd, "composite");
+    push.samples = settings_.glossySamples;
+    composite_.record(cmd, slots_, push, pixels);
+  }
+  if (settings_.residualSamples > 0) {
+    vk::TimedScope scope(timer, cmd, "residual");
+    push.samples = settings_.residualSamples;
+    residual_.record(cmd, slots_, push, pixels);
+  }
+}
+
+void OsrIntegrator::record(VkCommandBuffer cmd, uint32_t first, uint32_t count,
+                           vk::GpuTimer* timer) {
+  for (uint32_t k = first; k < first + count; ++k) recordPass(cmd, k, timer);
+  // Blend the residual in as its samples accumulate: none in the first images (noise-free),
+  // all of it in the limit (unbiased).
+  const double n = double(first + count) * settings_.residualSamples;
+  o::OsrPush push{};
+  push.residualBlend = settings_.residualRamp > 0.0 ? float(n / (n + settings_.residualRamp))
+                                                    : (n > 0.0 ? 1.f : 0.f);
+  vk::TimedScope scope(timer, cmd, "resolve");
+  resolve_.record(cmd, slots_, push, width_ * height_);
+}
+
+OsrIntegrator::MapDump OsrIntegrator::downloadMaps() const {
+  MapDump d;
+  d.maps = current_.cellsX * current_.cellsY;
+  d.cellsX = current_.cellsX;
+  d.cellsY = current_.cellsY;
+  d.radius = current_.radius;
+  const size_t texels = gpu::hemi::kMapTexels;
+  d.clean = buffers_->mapClean.downloadVector<float>(size_t(d.maps) * 3 * texels);
+  d.records = buffers_->mapRecords.downloadVector<o::MapRecord>(d.maps);
+  if (buffers_->chunkMaps >= d.maps)
+    d.oneShot = buffers_->oneShot.downloadVector<float>(size_t(d.maps) * o::kMapChannels * texels);
+  return d;
+}
+
+}  // namespace osr::oneshot

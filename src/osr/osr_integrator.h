@@ -1,0 +1,73 @@
+// One Shot Radiance as an Integrator (render/integrator.h); one unit = one progressive pass:
+//   gbuffer -> direct -> [maps -> normalize -> U-Net -> denoise -> project, per chunk]
+//   -> composite -> residual -> resolve
+// all recorded in one command buffer, no host round trip. The estimator and schedule are
+// documented in docs/osr.md; the grid schedule in grid_schedule.h.
+#pragma once
+#include <memory>
+#include <optional>
+#include <vector>
+
+#include "bvh/bvh.h"
+#include "nn_kernels/unet.h"
+#include "osr/grid_schedule.h"
+#include "osr/osr_buffers.h"
+#include "osr/osr_pass.h"
+#include "osr/osr_settings.h"
+#include "render/integrator.h"
+#include "scene/gpu_scene.h"
+
+namespace osr::oneshot {
+
+class OsrIntegrator : public render::Integrator {
+ public:
+  // Loads and checks the weights for Denoiser::Unet (InputError naming the file on a model
+  // that does not match what this integrator feeds it).
+  OsrIntegrator(const vk::Context& ctx, const scene::GpuScene& scene, const bvh::Bvh& bvh,
+                uint32_t width, uint32_t height, const OsrSettings& settings);
+  ~OsrIntegrator() override;
+
+  const char* name() const override { return "osr"; }
+  const char* unitName() const override { return "passes"; }
+  uint32_t maxUnitsPerSubmission() const override { return 1; }
+  void restart(const scene::Camera& camera, uint32_t seed) override;
+  void record(VkCommandBuffer cmd, uint32_t first, uint32_t count,
+              vk::GpuTimer* timer) override;
+  const render::Film& film() const override { return film_; }
+
+  // Maps of the last map pass, downloaded (after the last submission): one-shot input
+  // [maps][7][32][32] (only with keepAllMaps), clean [maps][3][32][32], and their records.
+  struct MapDump {
+    uint32_t maps = 0, cellsX = 0, cellsY = 0, radius = 0;
+    std::vector<float> oneShot, clean;
+    std::vector<gpu::osr::MapRecord> records;
+  };
+  MapDump downloadMaps() const;
+
+  // Maps of pass `k`'s grid for this image size.
+  uint32_t mapsOfRadius(uint32_t r) const;
+
+ private:
+  struct Grid {
+    uint32_t radius = 0, cellsX = 0, cellsY = 0, seed = 0;
+  };
+  Grid gridOf(uint32_t radius, uint32_t mapPass) const;
+  void recordPass(VkCommandBuffer cmd, uint32_t k, vk::GpuTimer* timer);
+
+  const vk::Context& ctx_;
+  const scene::GpuScene& scene_;
+  const bvh::Bvh& bvh_;
+  uint32_t width_, height_;
+  OsrSettings settings_;
+  GridSchedule schedule_;
+  render::Film film_;
+  std::unique_ptr<OsrBuffers> buffers_;
+  std::unique_ptr<nn::UNet> unet_;
+  OsrPass gbuffer_, direct_, maps_, normalize_, denoise_, project_, composite_, residual_,
+      resolve_;
+  std::vector<vk::ComputePipeline::Descriptor> slots_;
+  uint32_t seed_ = 0;
+  Grid current_;  // maps in mapRecords / mapClean
+};
+
+}  // namespace osr::oneshot

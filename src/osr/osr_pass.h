@@ -1,0 +1,35 @@
+// One OSR compute pass (a shaders/osr_*.comp): its pipeline on the shared OSR binding layout,
+// specialised on the scene's features, and how its invocations cover the work: one per pixel,
+// one per map texel, or one per map. The passes differ only in shader and domain, so one class
+// serves them all; the integrator (osr_integrator.cpp) names and orders them.
+#pragma once
+#include <span>
+#include <vector>
+
+#include "shaders/shared/osr.h"
+#include "vk/pipeline.h"
+
+namespace osr::oneshot {
+
+enum class Domain { Pixels, MapTexels, Maps };
+
+class OsrPass {
+ public:
+  OsrPass(const vk::Context& ctx, shaders::Id shader, Domain domain, uint32_t sceneFeatures,
+          bool sceneTexelFetch, std::vector<vk::SpecConstant> extraSpec = {});
+
+  const char* name() const { return pipeline_.name(); }
+
+  // Records the pass over push.mapCount maps (map domains) or `pixels` pixels (pixel domain,
+  // in dispatches of at most kMaxPixelsPerDispatch), then a barrier.
+  void record(VkCommandBuffer cmd, std::span<const vk::ComputePipeline::Descriptor> slots,
+              gpu::osr::OsrPush push, uint32_t pixels = 0) const;
+
+  static constexpr uint32_t kMaxPixelsPerDispatch = 1u << 20;
+
+ private:
+  Domain domain_;
+  vk::ComputePipeline pipeline_;
+};
+
+}  // namespace osr::oneshot
