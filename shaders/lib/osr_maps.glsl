@@ -6,7 +6,9 @@
 
 // The grid point of map `map` (cell map % cellsX, map / cellsX): a pixel of its cell, jittered
 // per pass so that successive passes sample different points.
+// With gridRadius 0 the maps are at the pixels the host wrote into their records (MapTracer).
 uvec2 mapPixel(uint map) {
+  if (gPush.gridRadius == 0u) return gMaps[map].pixel.xy;
   uvec2 cell = uvec2(map % gPush.cellsX, map / gPush.cellsX);
   uint h = pcgHash(map ^ pcgHash(gPush.gridSeed));
   uvec2 jitter = uvec2(h & 0xffffu, h >> 16u) % gPush.gridRadius;

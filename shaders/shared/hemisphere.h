@@ -34,6 +34,20 @@ OSR_CONST(uint, kMapSize, 32u);  // texels per side
 OSR_CONST(uint, kMapTexels, 1024u);
 OSR_CONST(float, kHemiPi, 3.14159265358979323846f);
 
+// osr_hemisphere_probe.comp (tests): case i reads probe[i].square and probe[i].direction and
+// writes the mapping of each and the frame of probe[i].normal.
+OSR_CONST(uint, kHemiProbeWorkgroupSize, 64u);
+OSR_CONST(uint, kHemiProbeBindingCases, 0u);
+struct HemiProbeCase {
+  vec4 square;     // in: xy in [0, 1)^2;  out (zw): hemiDirectionToSquare(hemiSquareToDirection)
+  vec4 direction;  // in: xyz unit, z >= 0; out: w unused
+  vec4 normal;     // in: xyz unit
+  vec4 toDirection;  // out: hemiSquareToDirection(square.xy)
+  vec4 toSquare;     // out: xy = hemiDirectionToSquare(direction.xyz)
+  vec4 frameT;       // out: hemiFrame(normal) columns
+  vec4 frameB;
+};
+
 // Orthonormal frame with z = n, from the normal alone (Duff et al. 2017), as columns
 // (tangent, bitangent, normal): world = frame * local, local = transpose(frame) * world.
 OSR_HEMI_FN mat3 hemiFrame(vec3 n) {

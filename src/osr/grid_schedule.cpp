@@ -5,30 +5,44 @@
 
 namespace osr::oneshot {
 
-namespace {
-// Spacing of map pass m: gridStart / sqrt(2)^m, never below gridMin.
-uint32_t radiusOfMapPass(uint32_t start, uint32_t min, uint32_t m) {
-  double r = double(start) / std::pow(std::sqrt(2.0), double(m));
-  return std::max(min, uint32_t(std::lround(r)));
-}
-}  // namespace
+GridSchedule::GridSchedule(uint32_t width, uint32_t height, uint32_t gridStart, uint32_t gridMin,
+                           double mapShare, double pixelCost, uint32_t texelPaths)
+    : width_(width),
+      height_(height),
+      start_(gridStart),
+      min_(std::min(gridMin, gridStart)),
+      mapShare_(mapShare),
+      pixelCost_(pixelCost),
+      texelPaths_(texelPaths) {}
 
-GridSchedule::GridSchedule(uint32_t gridStart, uint32_t gridMin, uint32_t mapPassesAtMin)
-    : start_(gridStart), min_(std::min(gridMin, gridStart)), mapPasses_(0) {
-  // Map passes until gridMin is reached, then mapPassesAtMin more (at least the first).
-  uint32_t m = 0;
-  while (radiusOfMapPass(start_, min_, m) > min_) ++m;
-  mapPasses_ = m + std::max(1u, mapPassesAtMin);
+uint32_t GridSchedule::radiusOfMapPass(uint32_t m) const {
+  double r = double(start_) / std::pow(std::sqrt(2.0), double(m));
+  return std::max(min_, uint32_t(std::lround(r)));
 }
 
-GridPass GridSchedule::pass(uint32_t k) const {
-  GridPass p;
-  p.traceMaps = k < mapPasses_;
-  p.mapPass = std::min(k, mapPasses_ - 1);
-  p.radius = radiusOfMapPass(start_, min_, p.mapPass);
-  float density = float(min_) / float(p.radius);
-  p.weight = density * density;
-  return p;
+uint32_t GridSchedule::mapsOfRadius(uint32_t r) const {
+  return ((width_ + r - 1) / r) * ((height_ + r - 1) / r);
+}
+
+uint32_t GridSchedule::maxMaps() const { return mapsOfRadius(min_); }
+
+GridPass GridSchedule::pass(uint32_t k) {
+  while (passes_.size() <= k) {
+    GridPass p;
+    const uint32_t mapPasses = passes_.empty() ? 0 : passes_.back().mapPass + 1;
+    p.traceMaps = passes_.empty() || mapCost_ <= mapShare_ * totalCost_;
+    p.mapPass = p.traceMaps ? mapPasses : passes_.back().mapPass;
+    p.radius = radiusOfMapPass(p.mapPass);
+    const double density = double(min_) / double(p.radius);
+    p.weight = float(density * density);
+    const double pixelWork = pixelCost_ * double(width_) * height_;
+    const double mapWork =
+        p.traceMaps ? double(mapsOfRadius(p.radius)) * 1024.0 * texelPaths_ : 0.0;
+    mapCost_ += mapWork;
+    totalCost_ += mapWork + pixelWork;
+    passes_.push_back(p);
+  }
+  return passes_[k];
 }
 
 }  // namespace osr::oneshot

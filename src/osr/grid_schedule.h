@@ -1,15 +1,20 @@
-// The progressive schedule of OSR's grid: pass k traces new maps at spacing r_k, refining
-// from gridStart towards gridMin by a factor sqrt(2) per pass (each map pass about doubles
-// the maps), then mapPassesAtMin more at gridMin with fresh jitter; later passes keep the
-// last maps and add residual samples. A pass's weight is its maps' density relative to
-// gridMin, (gridMin / r)^2, so later, denser passes count more than the first coarse ones.
+// The progressive schedule of OSR's grid. Map passes trace new maps at spacing r, refining
+// from gridStart towards gridMin by a factor sqrt(2) per map pass (each about doubles the
+// maps), then go on at gridMin with fresh jitter. Between map passes, passes keep the last
+// maps and add direct and residual samples. A pass traces maps only while the maps' share of
+// the work so far stays under mapShare, by a cost model in path units (one map texel path or
+// one per-pixel path each count 1), so the maps never starve the residual that makes the
+// image converge, on any image size. A pass's weight is the density of the maps it uses
+// relative to gridMin, (gridMin / r)^2: later, denser passes count more than coarse ones.
+// Deterministic: pass(k) depends only on k and the constructor's arguments.
 #pragma once
 #include <cstdint>
+#include <vector>
 
 namespace osr::oneshot {
 
 struct GridPass {
-  bool traceMaps = false;  // new maps this pass (else the previous pass's are kept)
+  bool traceMaps = false;  // new maps this pass (else the last map pass's are kept)
   uint32_t radius = 0;     // spacing of the maps used this pass
   uint32_t mapPass = 0;    // index of the map pass whose maps are used
   float weight = 1.0f;     // w_k
@@ -17,12 +22,21 @@ struct GridPass {
 
 class GridSchedule {
  public:
-  GridSchedule(uint32_t gridStart, uint32_t gridMin, uint32_t mapPassesAtMin);
-  GridPass pass(uint32_t k) const;
-  uint32_t mapPassCount() const { return mapPasses_; }
+  // width x height image; pixelCost: path units of one pass's per-pixel work (direct,
+  // residual, G-buffer) per pixel; texelPaths: paths per map texel.
+  GridSchedule(uint32_t width, uint32_t height, uint32_t gridStart, uint32_t gridMin,
+               double mapShare, double pixelCost, uint32_t texelPaths);
+  GridPass pass(uint32_t k);
+  // Spacing of map pass m, and the most maps any pass traces.
+  uint32_t radiusOfMapPass(uint32_t m) const;
+  uint32_t maxMaps() const;
+  uint32_t mapsOfRadius(uint32_t r) const;
 
  private:
-  uint32_t start_, min_, mapPasses_;
+  uint32_t width_, height_, start_, min_;
+  double mapShare_, pixelCost_, texelPaths_;
+  std::vector<GridPass> passes_;
+  double mapCost_ = 0.0, totalCost_ = 0.0;
 };
 
 }  // namespace osr::oneshot

@@ -26,8 +26,6 @@ const char* denoiserName(Denoiser d) {
   return "?";
 }
 
-namespace {
-
 gpu::camera::CameraFrame cameraFrame(const scene::Camera& camera, uint32_t width,
                                      uint32_t height, uint32_t seed) {
   gpu::camera::CameraFrame f{};
@@ -43,6 +41,8 @@ gpu::camera::CameraFrame cameraFrame(const scene::Camera& camera, uint32_t width
   f.aspect = float(width) / float(height);
   return f;
 }
+
+namespace {
 
 uint32_t cellsFor(uint32_t pixels, uint32_t r) { return (pixels + r - 1) / r; }
 
@@ -66,7 +66,11 @@ OsrIntegrator::OsrIntegrator(const vk::Context& ctx, const scene::GpuScene& scen
       width_(width),
       height_(height),
       settings_(settings),
-      schedule_(settings.gridStart, settings.gridMin, settings.mapPassesAtMin),
+      schedule_(width, height, settings.gridStart, settings.gridMin, settings.mapShare,
+                // Per-pixel path units of a pass: G-buffer and direct rays are about half a
+                // path each, a residual sample one.
+                0.5 + 0.5 * settings.directSamples + settings.residualSamples,
+                settings.pathsPerTexel),
       film_(ctx, width, height),
       unet_(loadNetwork(ctx, settings)),
       gbuffer_(ctx, shaders::Id::osr_gbuffer, Domain::Pixels, scene.features, scene.texelFetch),
@@ -81,17 +85,13 @@ OsrIntegrator::OsrIntegrator(const vk::Context& ctx, const scene::GpuScene& scen
                  scene.texelFetch),
       residual_(ctx, shaders::Id::osr_residual, Domain::Pixels, scene.features, scene.texelFetch),
       resolve_(ctx, shaders::Id::osr_resolve, Domain::Pixels, scene.features, scene.texelFetch) {
-  const uint32_t maxMaps = mapsOfRadius(schedule_.pass(schedule_.mapPassCount() - 1).radius);
+  const uint32_t maxMaps = schedule_.maxMaps();
   const uint32_t chunk = settings.keepAllMaps ? maxMaps : settings.maxChunkMaps;
   buffers_ = std::make_unique<OsrBuffers>(ctx, width, height, maxMaps, chunk);
   slots_ = osrDescriptors(*buffers_, film_, bvh_, scene_);
 }
 
 OsrIntegrator::~OsrIntegrator() = default;
-
-uint32_t OsrIntegrator::mapsOfRadius(uint32_t r) const {
-  return cellsFor(width_, r) * cellsFor(height_, r);
-}
 
 OsrIntegrator::Grid OsrIntegrator::gridOf(uint32_t radius, uint32_t mapPass) const {
   Grid g;

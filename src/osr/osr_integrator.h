@@ -19,6 +19,10 @@
 
 namespace osr::oneshot {
 
+// The camera as the passes see it (TODO: render/camera_frame.h once the driver lands).
+gpu::camera::CameraFrame cameraFrame(const scene::Camera& camera, uint32_t width,
+                                     uint32_t height, uint32_t seed);
+
 class OsrIntegrator : public render::Integrator {
  public:
   // Loads and checks the weights for Denoiser::Unet (InputError naming the file on a model
@@ -43,9 +47,6 @@ class OsrIntegrator : public render::Integrator {
     std::vector<gpu::osr::MapRecord> records;
   };
   MapDump downloadMaps() const;
-
-  // Maps of pass `k`'s grid for this image size.
-  uint32_t mapsOfRadius(uint32_t r) const;
 
  private:
   struct Grid {

@@ -22,9 +22,9 @@ struct OsrSettings {
   std::string weightsPath;       // packed U-Net (tools/weights_pack.py); needed for Unet
   uint32_t gridStart = 16;       // grid spacing r of the first pass, pixels
   uint32_t gridMin = 8;          // finest spacing the schedule refines to
-  uint32_t mapPassesAtMin = 2;   // map passes at gridMin before the maps are kept
+  double mapShare = 0.5;         // largest share of the work map passes may take
   uint32_t pathsPerTexel = 1;    // paths per map texel (1: the one-shot maps of DESIGN.md)
-  uint32_t directSamples = 2;    // light samples per pixel per pass
+  uint32_t directSamples = 4;    // light samples per pixel per pass
   uint32_t residualSamples = 1;  // residual paths per pixel per pass (0: maps only, biased)
   uint32_t glossySamples = 4;    // map lookups per pixel for wide glossy lobes
   double residualRamp = 16.0;    // n0: the residual is blended in by n / (n + n0)

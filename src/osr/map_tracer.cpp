@@ -1,0 +1,71 @@
+#include "osr/map_tracer.h"
+
+#include <algorithm>
+
+#include "common/error.h"
+#include "osr/osr_integrator.h"
+
+namespace osr::oneshot {
+
+namespace o = gpu::osr;
+
+MapTracer::MapTracer(const vk::Context& ctx, const scene::GpuScene& scene, const bvh::Bvh& bvh,
+                     const scene::Camera& camera, uint32_t width, uint32_t height, uint32_t seed)
+    : ctx_(ctx),
+      width_(width),
+      height_(height),
+      film_(ctx, width, height),
+      buffers_(ctx, width, height, kChunkMaps, kChunkMaps),
+      gbuffer_(ctx, shaders::Id::osr_gbuffer, Domain::Pixels, scene.features, scene.texelFetch),
+      maps_(ctx, shaders::Id::osr_maps, Domain::MapTexels, scene.features, scene.texelFetch),
+      slots_(osrDescriptors(buffers_, film_, bvh, scene)) {
+  auto frame = cameraFrame(camera, width, height, seed);
+  buffers_.frame.upload(&frame, sizeof frame);
+  setView(0);
+}
+
+void MapTracer::setView(uint32_t view) {
+  view_ = view;
+  ctx_.submitAndWait([&](VkCommandBuffer cmd) {
+    vkCmdFillBuffer(cmd, buffers_.accum.handle(), 0, VK_WHOLE_SIZE, 0u);
+    vk::transferBarrier(cmd);
+    o::OsrPush push{};
+    push.pass = view;
+    gbuffer_.record(cmd, slots_, push, width_ * height_);
+  });
+}
+
+std::vector<float> MapTracer::trace(const std::vector<glm::uvec2>& pixels,
+                                    uint32_t pathsPerTexel, uint32_t stream) {
+  const size_t mapFloats = size_t(o::kMapChannels) * gpu::hemi::kMapTexels;
+  std::vector<float> out(pixels.size() * mapFloats);
+  for (size_t first = 0; first < pixels.size(); first += kChunkMaps) {
+    const uint32_t count = uint32_t(std::min<size_t>(kChunkMaps, pixels.size() - first));
+    std::vector<o::MapRecord> records(count);
+    for (uint32_t i = 0; i < count; ++i) {
+      const glm::uvec2 p = pixels[first + i];
+      if (p.x >= width_ || p.y >= height_)
+        throw InputError("maps: pixel (" + std::to_string(p.x) + ", " + std::to_string(p.y) +
+                         ") is outside the " + std::to_string(width_) + "x" +
+                         std::to_string(height_) + " image");
+      records[i].pixel = glm::uvec4(p, 0u, 0u);
+    }
+    buffers_.mapRecords.uploadVector(records);
+    ctx_.submitAndWait([&](VkCommandBuffer cmd) {
+      o::OsrPush push{};
+      push.pass = stream;
+      push.gridRadius = 0;  // maps at the pixels of their records
+      push.mapCount = count;
+      push.samples = pathsPerTexel;
+      maps_.record(cmd, slots_, push);
+    });
+    buffers_.oneShot.download(out.data() + first * mapFloats, count * mapFloats * sizeof(float));
+  }
+  return out;
+}
+
+std::vector<o::GBufferPixel> MapTracer::gbuffer() const {
+  return buffers_.gbuffer.downloadVector<o::GBufferPixel>(size_t(width_) * height_);
+}
+
+}  // namespace osr::oneshot
