@@ -64,13 +64,6 @@ VKAPI_ATTR VkResult VKAPI_CALL vkCreateInstance(const VkInstanceCreateInfo* i,
 VKAPI_ATTR void VKAPI_CALL vkDestroyInstance(VkInstance h, const VkAllocationCallbacks* a) {
   OSR_COUNT_DESTROY("instance", vkDestroyInstance, h, h, a)
 }
-VKAPI_ATTR VkResult VKAPI_CALL vkCreateBuffer(VkDevice d, const VkBufferCreateInfo* i,
-                                              const VkAllocationCallbacks* a, VkBuffer* o) {
-  OSR_COUNT_CREATE("buffer", vkCreateBuffer, d, i, a, o)
-}
-VKAPI_ATTR void VKAPI_CALL vkDestroyBuffer(VkDevice d, VkBuffer h, const VkAllocationCallbacks* a) {
-  OSR_COUNT_DESTROY("buffer", vkDestroyBuffer, h, d, h, a)
-}
 VKAPI_ATTR VkResult VKAPI_CALL vkAllocateMemory(VkDevice d, const VkMemoryAllocateInfo* i,
                                                 const VkAllocationCallbacks* a, VkDeviceMemory* o) {
   OSR_COUNT_CREATE("memory", vkAllocateMemory, d, i, a, o)
@@ -78,33 +71,20 @@ VKAPI_ATTR VkResult VKAPI_CALL vkAllocateMemory(VkDevice d, const VkMemoryAlloca
 VKAPI_ATTR void VKAPI_CALL vkFreeMemory(VkDevice d, VkDeviceMemory h, const VkAllocationCallbacks* a) {
   OSR_COUNT_DESTROY("memory", vkFreeMemory, h, d, h, a)
 }
-VKAPI_ATTR VkResult VKAPI_CALL vkCreateShaderModule(VkDevice d, const VkShaderModuleCreateInfo* i,
-                                                    const VkAllocationCallbacks* a, VkShaderModule* o) {
-  OSR_COUNT_CREATE("shader module", vkCreateShaderModule, d, i, a, o)
-}
-VKAPI_ATTR void VKAPI_CALL vkDestroyShaderModule(VkDevice d, VkShaderModule h,
-                                                 const VkAllocationCallbacks* a) {
-  OSR_COUNT_DESTROY("shader module", vkDestroyShaderModule, h, d, h, a)
-}
-VKAPI_ATTR VkResult VKAPI_CALL vkCreateDescriptorSetLayout(VkDevice d,
-                                                           const VkDescriptorSetLayoutCreateInfo* i,
-                                                           const VkAllocationCallbacks* a,
-                                                           VkDescriptorSetLayout* o) {
-  OSR_COUNT_CREATE("set layout", vkCreateDescriptorSetLayout, d, i, a, o)
-}
-VKAPI_ATTR void VKAPI_CALL vkDestroyDescriptorSetLayout(VkDevice d, VkDescriptorSetLayout h,
-                                                        const VkAllocationCallbacks* a) {
-  OSR_COUNT_DESTROY("set layout", vkDestroyDescriptorSetLayout, h, d, h, a)
-}
-VKAPI_ATTR VkResult VKAPI_CALL vkCreatePipelineLayout(VkDevice d, const VkPipelineLayoutCreateInfo* i,
-                                                      const VkAllocationCallbacks* a,
-                                                      VkPipelineLayout* o) {
-  OSR_COUNT_CREATE("pipeline layout", vkCreatePipelineLayout, d, i, a, o)
-}
-VKAPI_ATTR void VKAPI_CALL vkDestroyPipelineLayout(VkDevice d, VkPipelineLayout h,
-                                                   const VkAllocationCallbacks* a) {
-  OSR_COUNT_DESTROY("pipeline layout", vkDestroyPipelineLayout, h, d, h, a)
-}
+// vkCreate<Name> and vkDestroy<Name> of a device object, counted as `kind`.
+#define OSR_COUNTED_DEVICE_OBJECT(kind, Name)                                                   \
+  VKAPI_ATTR VkResult VKAPI_CALL vkCreate##Name(VkDevice d, const Vk##Name##CreateInfo* i,     \
+                                                const VkAllocationCallbacks* a, Vk##Name* o) { \
+    OSR_COUNT_CREATE(kind, vkCreate##Name, d, i, a, o)                                         \
+  }                                                                                            \
+  VKAPI_ATTR void VKAPI_CALL vkDestroy##Name(VkDevice d, Vk##Name h,                           \
+                                             const VkAllocationCallbacks* a) {                 \
+    OSR_COUNT_DESTROY(kind, vkDestroy##Name, h, d, h, a)                                       \
+  }
+OSR_COUNTED_DEVICE_OBJECT("buffer", Buffer)
+OSR_COUNTED_DEVICE_OBJECT("shader module", ShaderModule)
+OSR_COUNTED_DEVICE_OBJECT("set layout", DescriptorSetLayout)
+OSR_COUNTED_DEVICE_OBJECT("pipeline layout", PipelineLayout)
 // Failure points only: their objects are counted above.
 VKAPI_ATTR VkResult VKAPI_CALL vkBindBufferMemory(VkDevice d, VkBuffer b, VkDeviceMemory m,
                                                   VkDeviceSize o) {
@@ -196,6 +176,14 @@ TEST(ExceptionSafety, BufferFreesItsMemoryWhenBindingFails) {
     EXPECT_THROW(vk::Buffer(ctx, 4096, use, "doomed"), DeviceError);
   }
   EXPECT_EQ(live(), before) << "live buffers " << gLive["buffer"] << ", memories " << gLive["memory"];
+  // The wrappers do see Buffer's handles: one that succeeds is counted until destroyed.
+  const int buffers = gLive["buffer"], memories = gLive["memory"];
+  {
+    vk::Buffer ok(ctx, 4096, vk::MemoryUse::DeviceLocal, "ok");
+    EXPECT_EQ(gLive["buffer"], buffers + 1);
+    EXPECT_EQ(gLive["memory"], memories + 1);
+  }
+  EXPECT_EQ(live(), before);
 }
 
 TEST(ExceptionSafety, ComputePipelineFreesItsLayoutsWhenThePipelineFails) {
@@ -208,7 +196,12 @@ TEST(ExceptionSafety, ComputePipelineFreesItsLayoutsWhenThePipelineFails) {
   }
   EXPECT_EQ(live(), before) << "live modules " << gLive["shader module"] << ", set layouts "
                            << gLive["set layout"] << ", pipeline layouts " << gLive["pipeline layout"];
-  // The same pipeline builds when nothing fails, and frees everything when destroyed.
-  { vk::ComputePipeline ok(ctx, shaders::Id::util_fill, 1, sizeof(gpu::util_fill::Push)); }
+  // The same pipeline builds when nothing fails, is counted, and frees everything when destroyed.
+  const int modules = gLive["shader module"], layouts = gLive["pipeline layout"];
+  {
+    vk::ComputePipeline ok(ctx, shaders::Id::util_fill, 1, sizeof(gpu::util_fill::Push));
+    EXPECT_EQ(gLive["shader module"], modules + 1);
+    EXPECT_EQ(gLive["pipeline layout"], layouts + 1);
+  }
   EXPECT_EQ(live(), before);
 }
