@@ -24,7 +24,7 @@ double msSince(std::chrono::steady_clock::time_point start) {
 }  // namespace
 
 int runBvh(const std::vector<std::string>& argv) {
-  app::Args args(argv, "osr-bench bvh");
+  app::Args args(argv, "bvh");
   std::string only = args.value("--scene").value_or("");
   int repeat = int(args.integer("--repeat", 1, 100).value_or(3));
   bvh::GpuBuildOptions options;

@@ -1,4 +1,5 @@
 // fill: bandwidth of the simplest pass, a sanity figure for the device and the timer.
+#include "app/args.h"
 #include "bench/benchmarks.h"
 #include "bench/json.h"
 #include "shaders/shared/util_fill.h"
@@ -8,7 +9,8 @@
 
 namespace osr::bench {
 
-int runFill(const std::vector<std::string>&) {
+int runFill(const std::vector<std::string>& args) {
+  app::Args(args, "fill").finish();  // no options: refuse any rather than ignore them
   vk::Context ctx;
   namespace fill = gpu::util_fill;
   // 64 Ki groups of 64 is the most one 1-D dispatch may have on every device.

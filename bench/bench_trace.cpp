@@ -97,7 +97,7 @@ double agreement(const std::vector<TraceHit>& a, const std::vector<TraceHit>& b,
 }  // namespace
 
 int runTrace(const std::vector<std::string>& argv) {
-  app::Args args(argv, "osr-bench trace");
+  app::Args args(argv, "trace");
   std::string only = args.value("--scene").value_or("");
   uint32_t side = uint32_t(args.integer("--side", 16, 2048).value_or(1024));  // rays = side^2
   int repeat = int(args.integer("--repeat", 1, 100).value_or(3));
@@ -110,7 +110,7 @@ int runTrace(const std::vector<std::string>& argv) {
   else if (accessName == "texel")
     access = bvh::Access::TexelFetch;
   else if (accessName != "auto")
-    throw InputError("osr-bench trace: --bvh-access must be auto, storage or texel");
+    throw InputError("trace: --bvh-access must be auto, storage or texel");
   vk::Context ctx;
   bvh::GpuBuilder builder(ctx);
   bvh::TraceRaysPass pass(ctx, false, access);

@@ -5,8 +5,7 @@
 // time, all threads: comparable under load from other processes), ratio_vs_pytorch (maps/s)
 // and cpu_ratio_vs_pytorch (PyTorch CPU ms per map / ours); peer lines add peer="pytorch".
 // fp16 lines are compared with PyTorch fp32 (PyTorch has no fast fp16 CPU convolution).
-//   osr-bench unet [--k 16,64] [--batch 64,256,1024,4096] [--precision fp32,fp16]
-//                  [--no-pytorch] [--min-seconds S] [--tile HxW] [--chunk N]
+// Usage: kUnetUsage in bench/benchmarks.h.
 #include <chrono>
 #include <ctime>
 #include <cstdio>
@@ -17,6 +16,7 @@
 #include <sstream>
 #include <thread>
 
+#include "app/args.h"
 #include "bench/benchmarks.h"
 #include "bench/json.h"
 #include "common/error.h"
@@ -35,16 +35,6 @@ std::vector<std::string> splitList(const std::string& s) {
   for (std::string item; std::getline(ss, item, ',');)
     if (!item.empty()) out.push_back(item);
   return out;
-}
-
-uint32_t toUint(const std::string& s, const char* flag) {
-  try {
-    size_t used = 0;
-    unsigned long v = std::stoul(s, &used);
-    if (used == s.size() && v > 0 && v < (1u << 20)) return uint32_t(v);
-  } catch (const std::exception&) {
-  }
-  throw InputError(std::string("unet: bad value '") + s + "' for " + flag);
 }
 
 struct PeerResult {
@@ -74,46 +64,27 @@ PeerResult pytorchPeer(uint32_t k, uint32_t batch, unsigned threads, double minS
 }  // namespace
 
 int runUnet(const std::vector<std::string>& args) {
+  app::Args a(args, "unet");
   std::vector<uint32_t> ks = {16, 64}, batches = {64, 256, 1024, 4096};
+  if (auto v = a.integerList("--k", 1, 1024)) ks.assign(v->begin(), v->end());
+  if (auto v = a.integerList("--batch", 1, 1 << 20)) batches.assign(v->begin(), v->end());
   std::vector<std::string> precisions = {"fp32", "fp16"};
-  bool pytorch = true, profile = false;
-  double minSeconds = 2.0;
+  if (auto v = a.value("--precision")) precisions = splitList(*v);
+  for (auto& p : precisions)
+    if (p != "fp32" && p != "fp16") throw InputError("unet: --precision takes fp32,fp16");
+  const bool profile = a.flag("--profile");  // per-pass GPU times of one batch on stderr
+  const bool pytorch = !a.flag("--no-pytorch");
+  const double minSeconds = a.number("--min-seconds", 0, 3600).value_or(2.0);
   nn::UNetOptions base;
-  for (size_t i = 0; i < args.size(); ++i) {
-    auto next = [&]() -> const std::string& {
-      if (i + 1 >= args.size()) throw InputError("unet: " + args[i] + " needs a value");
-      return args[++i];
-    };
-    if (args[i] == "--k") {
-      ks.clear();
-      for (auto& s : splitList(next())) ks.push_back(toUint(s, "--k"));
-    } else if (args[i] == "--batch") {
-      batches.clear();
-      for (auto& s : splitList(next())) batches.push_back(toUint(s, "--batch"));
-    } else if (args[i] == "--precision") {
-      precisions = splitList(next());
-      for (auto& p : precisions)
-        if (p != "fp32" && p != "fp16") throw InputError("unet: --precision takes fp32,fp16");
-    } else if (args[i] == "--profile") {
-      profile = true;  // per-pass GPU times of one batch on stderr
-    } else if (args[i] == "--no-pytorch") {
-      pytorch = false;
-    } else if (args[i] == "--min-seconds") {
-      minSeconds = std::stod(next());
-    } else if (args[i] == "--chunk") {
-      base.maxChunk = toUint(next(), "--chunk");
-    } else if (args[i] == "--share") {
-      base.shareLoads = int(toUint(next(), "--share")) - 1;  // 1: off, 9: share over 8 lanes
-    } else if (args[i] == "--tile") {
-      const std::string& t = next();
-      size_t x = t.find('x');
-      if (x == std::string::npos) throw InputError("unet: --tile takes HxW, e.g. 4x8");
-      base.tileH = toUint(t.substr(0, x), "--tile");
-      base.tileW = toUint(t.substr(x + 1), "--tile");
-    } else {
-      throw InputError("unet: unknown option '" + args[i] + "'");
-    }
+  base.maxChunk = uint32_t(a.integer("--chunk", 1, 1 << 20).value_or(base.maxChunk));
+  // 1: no load sharing, 9: sharing over 8 lanes; absent: the device's choice (-1).
+  base.shareLoads = int(a.integer("--share", 1, 65).value_or(0)) - 1;
+  if (auto tile = a.integerList("--tile", 1, 32, 'x')) {
+    if (tile->size() != 2) throw InputError("unet: option --tile takes HxW, e.g. 4x8");
+    base.tileH = uint32_t((*tile)[0]);
+    base.tileW = uint32_t((*tile)[1]);
   }
+  a.finish();
 
   vk::Context ctx;
   const unsigned threads = std::max(1u, std::thread::hardware_concurrency());

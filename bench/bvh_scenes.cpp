@@ -35,7 +35,7 @@ std::vector<BvhBenchScene> bvhBenchScenes(const std::string& only) {
     s.yfov = cam.yfov;
     out.push_back(std::move(s));
   }
-  if (out.empty()) throw InputError("osr-bench: unknown scene '" + only + "' (generated_1m, cornell, room)");
+  if (out.empty()) throw InputError("unknown scene '" + only + "' (generated_1m, cornell, room)");
   return out;
 }
 

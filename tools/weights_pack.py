@@ -11,6 +11,10 @@ activation; each stride-1 ConvTranspose2d becomes the equivalent plain convoluti
 transposed in/out and flipped). The byte layout is src/nn_kernels/weights_format.h (parsed
 here, so the format's constants are written once) and docs/weights_format.md.
 
+The header's `mapping` and `normalization` are those of weights_format.h unless the
+checkpoint dict carries its own `mapping` / `normalization` strings (a model trained on other
+maps), which are written instead.
+
 With --golden DIR it also writes DIR/input.f32 (N x 7 x 32 x 32 random maps), DIR/output.f32
 (this checkpoint's PyTorch fp32 output for them, N x 3 x 32 x 32) and DIR/golden.json.
 Errors (unreadable file, missing or extra keys, wrong shapes) are one line on stderr, exit 2.
@@ -161,8 +165,8 @@ def pack(model, k: int, fp16: bool, source: str, fmt: dict, metadata: dict) -> b
         "in_channels": fmt["kInChannels"],
         "out_channels": fmt["kOutChannels"],
         "dtype": "f16" if fp16 else "f32",
-        "mapping": metadata.pop("mapping", "concentric"),
-        "normalization": metadata.pop("normalization", "log1p_mean10_v1"),
+        "mapping": metadata.pop("mapping", fmt["kMappingConcentric"]),
+        "normalization": metadata.pop("normalization", fmt["kNormalizationLogMean10"]),
         "layers": table,
         "training": metadata,
     }

@@ -1,5 +1,6 @@
 #include "app/args.h"
 
+#include <algorithm>
 #include <cerrno>
 #include <cmath>
 #include <cstdlib>
@@ -39,14 +40,31 @@ std::optional<std::string> Args::value(const std::string& name) {
 std::optional<long long> Args::integer(const std::string& name, long long min, long long max) {
   auto v = value(name);
   if (!v) return std::nullopt;
+  return parseInteger(name, *v, min, max);
+}
+
+std::optional<std::vector<long long>> Args::integerList(const std::string& name, long long min,
+                                                        long long max, char separator) {
+  auto v = value(name);
+  if (!v) return std::nullopt;
+  std::vector<long long> out;
+  size_t start = 0;
+  for (size_t end; (end = v->find(separator, start)) != std::string::npos; start = end + 1)
+    out.push_back(parseInteger(name, v->substr(start, end - start), min, max));
+  out.push_back(parseInteger(name, v->substr(start), min, max));
+  return out;
+}
+
+long long Args::parseInteger(const std::string& name, const std::string& text, long long min,
+                             long long max) const {
   errno = 0;
   char* end = nullptr;
-  long long x = std::strtoll(v->c_str(), &end, 10);
-  if (v->empty() || *end || errno)
-    throw InputError(command_ + ": option " + name + " expects an integer, got '" + *v + "'");
+  long long x = std::strtoll(text.c_str(), &end, 10);
+  if (text.empty() || *end || errno)
+    throw InputError(command_ + ": option " + name + " expects an integer, got '" + text + "'");
   if (x < min || x > max)
     throw InputError(command_ + ": option " + name + " must be in [" + std::to_string(min) +
-                     ", " + std::to_string(max) + "], got " + *v);
+                     ", " + std::to_string(max) + "], got " + text);
   return x;
 }
 
@@ -77,7 +95,12 @@ std::vector<std::string> Args::positional() {
 void Args::finish() const {
   for (size_t i = 0; i < args_.size(); ++i)
     if (!used_[i])
-      throw InputError(command_ + ": unknown option '" + args_[i] + "' (see osr-vk --help)");
+      throw InputError(command_ + ": unknown option '" + args_[i] + "' (see --help)");
+}
+
+bool helpRequested(const std::vector<std::string>& args) {
+  return std::any_of(args.begin(), args.end(),
+                     [](const std::string& a) { return a == "--help" || a == "-h"; });
 }
 
 }  // namespace osr::app

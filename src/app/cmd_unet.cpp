@@ -25,8 +25,7 @@ int runUnet(const std::vector<std::string>& args) {
   const bool quiet = a.flag("--quiet");
   a.finish();
   if (!weightsPath || !inPath || !outPath)
-    throw InputError("unet: usage: osr-vk unet --weights FILE --in maps.f32 --out pred.f32 "
-                     "[--precision fp32|fp16] [--device N|name] [--validation] [--quiet]");
+    throw InputError("unet: --weights, --in and --out are required (usage: osr-vk unet --help)");
   if (precision && *precision != "fp32" && *precision != "fp16")
     throw InputError("unet: --precision must be fp32 or fp16, not '" + *precision + "'");
 

@@ -1,14 +1,19 @@
 // osr-vk entry point: picks the subcommand and turns exceptions into one stderr line and the
-// exit code of DESIGN.md (2 bad input, 1 internal or device error).
+// exit code of DESIGN.md (2 bad input, 1 internal or device error). `--help` or `-h` anywhere
+// in a subcommand's arguments prints that subcommand's usage on stdout and exits 0.
 #include <cstdio>
 #include <exception>
 #include <string>
 #include <vector>
 
+#include "app/args.h"
 #include "app/commands.h"
 #include "common/error.h"
+#include "nn_kernels/weights_format.h"
 
 namespace {
+
+constexpr const char* kVersion = "0.1.0";
 
 constexpr const char* kUsage =
     "usage: osr-vk [options] scene.gltf|scene.glb\n"
@@ -30,12 +35,27 @@ constexpr const char* kUsage =
     "  --env file.exr|.hdr   equirectangular environment light\n"
     "  --device N|name       Vulkan device (see --list-devices)\n"
     "  --validation          enable the Khronos validation layer\n"
-    "  --quiet               no progress output\n";
+    "  --quiet               no progress output\n"
+    "\n"
+    "  osr-vk help [COMMAND], osr-vk COMMAND --help: usage; osr-vk --version: version\n";
 
 struct Command {
   const char* name;
+  const char* usage;  // printed on stdout by `osr-vk NAME --help` and `osr-vk help NAME`
   int (*run)(const std::vector<std::string>&);
 };
+
+const Command kCommands[] = {
+    {"--list-devices", osr::app::kListDevicesUsage, osr::app::runListDevices},
+    {"unet", osr::app::kUnetUsage, osr::app::runUnet},
+    {"compare", osr::app::kCompareUsage, osr::app::runCompare},
+};
+
+const Command* findCommand(const std::string& name) {
+  for (const Command& c : kCommands)
+    if (name == c.name) return &c;
+  return nullptr;
+}
 
 }  // namespace
 
@@ -46,23 +66,36 @@ int main(int argc, char** argv) {
       std::fputs(kUsage, stderr);
       return osr::kExitBadInput;
     }
-    if (args[0] == "--help" || args[0] == "-h") {
+    if (args[0] == "--version") {
+      std::printf("osr-vk %s (packed weights format %u)\n", kVersion, osr::nn::kWeightsVersion);
+      return osr::kExitOk;
+    }
+    if (args[0] == "help") {  // `osr-vk help [COMMAND]`
+      const Command* c = args.size() > 1 ? findCommand(args[1]) : nullptr;
+      std::fputs(c ? c->usage : kUsage, stdout);
+      return osr::kExitOk;
+    }
+    if (const Command* c = findCommand(args[0])) {
+      const std::vector<std::string> rest(args.begin() + 1, args.end());
+      if (osr::app::helpRequested(rest)) {
+        std::fputs(c->usage, stdout);
+        return osr::kExitOk;
+      }
+      return c->run(rest);
+    }
+    if (osr::app::helpRequested(args)) {  // render options, e.g. `osr-vk scene.gltf --help`
       std::fputs(kUsage, stdout);
       return osr::kExitOk;
     }
-    static const Command kCommands[] = {
-        {"--list-devices", osr::app::runListDevices},
-        {"unet", osr::app::runUnet},
-        {"compare", osr::app::runCompare},
-    };
-    for (const Command& c : kCommands)
-      if (args[0] == c.name) return c.run({args.begin() + 1, args.end()});
     return osr::app::runRender(args);
   } catch (const osr::InputError& e) {
     std::fprintf(stderr, "osr-vk: %s\n", e.what());
     return osr::kExitBadInput;
   } catch (const std::exception& e) {
     std::fprintf(stderr, "osr-vk: error: %s\n", e.what());
+    return osr::kExitInternal;
+  } catch (...) {
+    std::fputs("osr-vk: error: unknown exception\n", stderr);
     return osr::kExitInternal;
   }
 }

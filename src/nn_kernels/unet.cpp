@@ -1,6 +1,7 @@
 #include "nn_kernels/unet.h"
 
 #include <algorithm>
+#include <bit>
 #include <cstring>
 #include <map>
 #include <tuple>
@@ -82,8 +83,11 @@ UNet::UNet(const vk::Context& ctx, const UNetWeights& w, const UNetOptions& opti
     texels = texels && texelCount <= props.limits.maxTexelBufferElements;
   }
 
-  // Passes, shared between layers whose specialisation is equal.
-  std::map<std::tuple<uint32_t, uint32_t, uint32_t, int, bool, bool, bool, bool>, size_t> passIndex;
+  // Passes, shared between layers whose specialisation is equal: every ConvConfig field that
+  // differs between layers is in the key (cout as its workgroup class; the slope as its bits,
+  // so that it is a specialisation constant of its own and a NaN cannot break the ordering).
+  std::map<std::tuple<uint32_t, uint32_t, uint32_t, int, uint32_t, bool, bool, bool, bool>, size_t>
+      passIndex;
   std::vector<uint32_t> weightWords;
   std::vector<float> params;
   for (int i = 0; i < kConvCount; ++i) {
@@ -108,7 +112,8 @@ UNet::UNet(const vk::Context& ctx, const UNetWeights& w, const UNetOptions& opti
     const uint32_t sub = std::max(ctx.caps().subgroupSize, 8u);
     const uint32_t wgClass = std::min((c.cout + sub - 1) / sub * sub, 64u);  // as ConvPass picks
     auto key = std::make_tuple(cfg.kernel, cfg.width, wgClass, int(cfg.activation),
-                               cfg.batchNorm, cfg.inHalf, cfg.outHalf, cfg.inputTexels);
+                               std::bit_cast<uint32_t>(cfg.slope), cfg.batchNorm, cfg.inHalf,
+                               cfg.outHalf, cfg.inputTexels);
     auto it = passIndex.find(key);
     if (it == passIndex.end()) {
       convPasses_.emplace_back(ctx, cfg);

@@ -107,6 +107,8 @@ UNetWeights UNetWeights::random(uint32_t k, uint32_t seed, bool half) {
   w.k = k;
   w.halfStorage = half;
   w.source = "random(K=" + std::to_string(k) + ")";
+  w.mapping = kMappingConcentric;
+  w.normalization = kNormalizationLogMean10;
   std::mt19937 rng(seed);
   std::uniform_real_distribution<float> uni(-1.0f, 1.0f);
   auto round = [&](float v) { return half ? halfToFloat(floatToHalf(v)) : v; };
@@ -240,6 +242,8 @@ UNetWeights UNetWeights::load(const std::string& path) {
     if (header.at("map_size").get<uint32_t>() != kMapSize)
       fail(path, "map size " + header["map_size"].dump() + ", expected " + std::to_string(kMapSize));
     w.halfStorage = header.at("dtype").get<std::string>() == "f16";
+    w.mapping = header.at("mapping").get<std::string>();
+    w.normalization = header.at("normalization").get<std::string>();
     const nlohmann::json& layers = header.at("layers");
     if (!layers.is_array() || layers.size() != kConvCount)
       fail(path, "layer table has " + std::to_string(layers.size()) + " layers, expected " +
@@ -259,6 +263,8 @@ UNetWeights UNetWeights::load(const std::string& path) {
       if (l.at("activation").get<std::string>() != activationName(s.activation))
         fail(path, std::string("layer ") + s.name + " has activation " + l["activation"].dump());
       c.slope = l.value("slope", 0.2f);
+      if (!std::isfinite(c.slope))
+        fail(path, std::string("layer ") + s.name + " has slope " + l["slope"].dump());
       if (l.at("batchnorm").get<bool>() != c.batchNorm)
         fail(path, std::string("layer ") + s.name + " BatchNorm presence does not match");
       readTensor(path, file, dataOffset, dataBytes, l, "weight", {c.cout, c.cin, c.kernel, c.kernel}, c.weight);
@@ -276,6 +282,16 @@ UNetWeights UNetWeights::load(const std::string& path) {
     fail(path, std::string("malformed header: ") + e.what());
   }
   return w;
+}
+
+void UNetWeights::requireConventions(std::string_view wantMapping,
+                                     std::string_view wantNormalization) const {
+  if (mapping != wantMapping)
+    throw InputError(source + ": model trained for hemisphere mapping '" + mapping +
+                     "', this renderer uses '" + std::string(wantMapping) + "'");
+  if (normalization != wantNormalization)
+    throw InputError(source + ": model trained for normalization '" + normalization +
+                     "', this renderer uses '" + std::string(wantNormalization) + "'");
 }
 
 }  // namespace osr::nn

@@ -5,6 +5,7 @@
 #pragma once
 #include <cstdint>
 #include <string>
+#include <string_view>
 #include <vector>
 
 namespace osr::nn {
@@ -41,6 +42,9 @@ struct UNetWeights {
   uint32_t k = 0;
   bool halfStorage = false;
   std::string source;  // file name, for messages
+  // The header's conventions the model was trained for (weights_format.h kMapping*,
+  // kNormalization*): a pass feeding it maps must implement both.
+  std::string mapping, normalization;
   std::vector<ConvWeights> convs;  // kConvSpecs order
 
   // Random weights (He-like scale, BatchNorm scale near 1) for tests and benchmarks. With
@@ -48,6 +52,9 @@ struct UNetWeights {
   static UNetWeights random(uint32_t k, uint32_t seed, bool half = false);
   // Throws InputError "<path>: <problem>" on any mismatch with weights_format.h.
   static UNetWeights load(const std::string& path);
+  // Throws InputError "<source>: <problem>" unless the model was trained for this mapping and
+  // normalization, so that a caller refuses a model made for other maps.
+  void requireConventions(std::string_view mapping, std::string_view normalization) const;
   // Floating-point operations of one 32x32 map (2 per multiply-add).
   double flopsPerMap() const;
 };

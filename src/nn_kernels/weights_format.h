@@ -29,5 +29,10 @@ inline constexpr char kArchitecture[] = "osr_unet_v1";
 inline constexpr uint32_t kMapSize = 32;
 inline constexpr uint32_t kInChannels = 7;
 inline constexpr uint32_t kOutChannels = 3;
+// Header values naming the conventions a model was trained for, as this build implements
+// them: the hemisphere mapping (DESIGN.md "Hemisphere maps": cosine-weighted concentric) and
+// the input/target normalization (DESIGN.md "Normalization": log(1 + x / (10 mean)) - 0.1).
+inline constexpr char kMappingConcentric[] = "concentric";
+inline constexpr char kNormalizationLogMean10[] = "log1p_mean10_v1";
 
 }  // namespace osr::nn

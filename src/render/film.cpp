@@ -10,8 +10,9 @@ Film::Film(const vk::Context& ctx, uint32_t width, uint32_t height)
     : width_(width), height_(height) {
   const uint64_t bytes = uint64_t(width) * height * sizeof(gpu::film::FilmPixel);
   // One binding covers the whole film: refuse rather than truncate past the device limit.
+  // A device limit, not bad input (the same size fits a device with a larger range): exit 1.
   if (bytes > ctx.caps().maxStorageBufferRange)
-    throw InputError("film: " + std::to_string(width) + "x" + std::to_string(height) + " needs " +
+    throw DeviceError("film: " + std::to_string(width) + "x" + std::to_string(height) + " needs " +
                      std::to_string(bytes >> 20) +
                      " MiB, over the device's maxStorageBufferRange of " +
                      std::to_string(ctx.caps().maxStorageBufferRange >> 20) + " MiB");

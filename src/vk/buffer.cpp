@@ -9,7 +9,12 @@ namespace osr::vk {
 
 Buffer::Buffer(const Context& ctx, VkDeviceSize size, MemoryUse use, std::string name,
                VkBufferUsageFlags extraUsage)
-    : ctx_(&ctx), size_(size), name_(std::move(name)) {
+    : Buffer() {
+  // Delegating to the default constructor completes the object before this body runs, so a
+  // throw below runs ~Buffer and frees the buffer and memory made so far.
+  ctx_ = &ctx;
+  size_ = size;
+  name_ = std::move(name);
   if (size == 0) throw DeviceError("vulkan: buffer '" + name_ + "' has size 0");
   VkBufferCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
   info.size = size;
@@ -43,11 +48,9 @@ Buffer::Buffer(const Context& ctx, VkDeviceSize size, MemoryUse use, std::string
   alloc.allocationSize = req.size;
   alloc.memoryTypeIndex = ctx.findMemoryType(req.memoryTypeBits, flags);
   VkResult r = vkAllocateMemory(ctx.device(), &alloc, nullptr, &memory_);
-  if (r == VK_ERROR_OUT_OF_DEVICE_MEMORY || r == VK_ERROR_OUT_OF_HOST_MEMORY) {
-    release();
+  if (r == VK_ERROR_OUT_OF_DEVICE_MEMORY || r == VK_ERROR_OUT_OF_HOST_MEMORY)
     throw DeviceError("vulkan: out of memory allocating buffer '" + name_ + "' (" +
                       std::to_string(size >> 20) + " MiB)");
-  }
   check(r, ("vkAllocateMemory " + name_).c_str());
   check(vkBindBufferMemory(ctx.device(), buffer_, memory_, 0), "vkBindBufferMemory");
   if (flags & VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT)

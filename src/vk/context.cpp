@@ -49,9 +49,10 @@ std::string lower(std::string s) {
 
 bool hasInstanceLayer(const char* name) {
   uint32_t count = 0;
-  vkEnumerateInstanceLayerProperties(&count, nullptr);
+  check(vkEnumerateInstanceLayerProperties(&count, nullptr), "vkEnumerateInstanceLayerProperties");
   std::vector<VkLayerProperties> layers(count);
-  vkEnumerateInstanceLayerProperties(&count, layers.data());
+  check(vkEnumerateInstanceLayerProperties(&count, layers.data()),
+        "vkEnumerateInstanceLayerProperties");
   for (auto& l : layers)
     if (std::strcmp(l.layerName, name) == 0) return true;
   return false;
@@ -59,9 +60,11 @@ bool hasInstanceLayer(const char* name) {
 
 bool hasInstanceExtension(const char* name) {
   uint32_t count = 0;
-  vkEnumerateInstanceExtensionProperties(nullptr, &count, nullptr);
+  check(vkEnumerateInstanceExtensionProperties(nullptr, &count, nullptr),
+        "vkEnumerateInstanceExtensionProperties");
   std::vector<VkExtensionProperties> exts(count);
-  vkEnumerateInstanceExtensionProperties(nullptr, &count, exts.data());
+  check(vkEnumerateInstanceExtensionProperties(nullptr, &count, exts.data()),
+        "vkEnumerateInstanceExtensionProperties");
   for (auto& e : exts)
     if (std::strcmp(e.extensionName, name) == 0) return true;
   return false;
@@ -69,9 +72,11 @@ bool hasInstanceExtension(const char* name) {
 
 bool hasDeviceExtension(VkPhysicalDevice pd, const char* name) {
   uint32_t count = 0;
-  vkEnumerateDeviceExtensionProperties(pd, nullptr, &count, nullptr);
+  check(vkEnumerateDeviceExtensionProperties(pd, nullptr, &count, nullptr),
+        "vkEnumerateDeviceExtensionProperties");
   std::vector<VkExtensionProperties> exts(count);
-  vkEnumerateDeviceExtensionProperties(pd, nullptr, &count, exts.data());
+  check(vkEnumerateDeviceExtensionProperties(pd, nullptr, &count, exts.data()),
+        "vkEnumerateDeviceExtensionProperties");
   for (auto& e : exts)
     if (std::strcmp(e.extensionName, name) == 0) return true;
   return false;
@@ -109,8 +114,14 @@ std::vector<VkPhysicalDevice> physicalDevices(VkInstance instance) {
 
 std::vector<DeviceInfo> listDevices() {
   VkInstance instance = makeInstance({}, {});
+  std::vector<VkPhysicalDevice> devices;
+  try {
+    devices = physicalDevices(instance);
+  } catch (...) {
+    vkDestroyInstance(instance, nullptr);
+    throw;
+  }
   std::vector<DeviceInfo> out;
-  auto devices = physicalDevices(instance);
   for (uint32_t i = 0; i < devices.size(); ++i) {
     VkPhysicalDeviceProperties p;
     vkGetPhysicalDeviceProperties(devices[i], &p);
@@ -121,9 +132,16 @@ std::vector<DeviceInfo> listDevices() {
 }
 
 Context::Context(const ContextOptions& options) {
-  createInstance(options.validation || envFlag("OSR_VALIDATION"));
-  pickPhysicalDevice(options.device);
-  createDevice();
+  // A constructor that throws runs no destructor: free what was made so far (e.g. the
+  // instance and messenger when --device matches nothing), then rethrow.
+  try {
+    createInstance(options.validation || envFlag("OSR_VALIDATION"));
+    pickPhysicalDevice(options.device);
+    createDevice();
+  } catch (...) {
+    release();
+    throw;
+  }
   if (options.verbose) {
     std::fprintf(stderr,
                  "osr-vk: device \"%s\" (%s), subgroup %u, maxStorageBufferRange %llu MiB, "
@@ -135,9 +153,12 @@ Context::Context(const ContextOptions& options) {
   }
 }
 
-Context::~Context() {
+Context::~Context() { release(); }
+
+void Context::release() noexcept {
   if (device_) {
-    vkDeviceWaitIdle(device_);
+    // Nothing to do with a failure here: the device is destroyed either way.
+    (void)vkDeviceWaitIdle(device_);
     if (commandPool_) vkDestroyCommandPool(device_, commandPool_, nullptr);
     vkDestroyDevice(device_, nullptr);
   }
@@ -147,6 +168,10 @@ Context::~Context() {
     if (destroy) destroy(instance_, messenger_, nullptr);
   }
   if (instance_) vkDestroyInstance(instance_, nullptr);
+  commandPool_ = VK_NULL_HANDLE;
+  device_ = VK_NULL_HANDLE;
+  messenger_ = VK_NULL_HANDLE;
+  instance_ = VK_NULL_HANDLE;
 }
 
 void Context::createInstance(bool wantValidation) {
@@ -359,7 +384,9 @@ void Context::setName(VkObjectType type, uint64_t handle, const std::string& nam
   info.objectType = type;
   info.objectHandle = handle;
   info.pObjectName = name.c_str();
-  setObjectName_(device_, &info);
+  // Best effort: a debug name is an aid for tools, and failing to attach one (out of host
+  // memory) must not fail the object it names.
+  (void)setObjectName_(device_, &info);
 }
 
 void Context::beginLabel(VkCommandBuffer cmd, const char* name) const {

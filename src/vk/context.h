@@ -83,6 +83,7 @@ class Context {
   void createInstance(bool wantValidation);
   void pickPhysicalDevice(const std::string& selector);
   void createDevice();
+  void release() noexcept;  // frees whatever handles exist, in reverse creation order
   static VKAPI_ATTR VkBool32 VKAPI_CALL debugCallback(
       VkDebugUtilsMessageSeverityFlagBitsEXT severity, VkDebugUtilsMessageTypeFlagsEXT types,
       const VkDebugUtilsMessengerCallbackDataEXT* data, void* user);

@@ -14,7 +14,13 @@ ComputePipeline::ComputePipeline(const Context& ctx, shaders::Id shader, uint32_
 ComputePipeline::ComputePipeline(const Context& ctx, shaders::Id shader,
                                  std::vector<VkDescriptorType> types, uint32_t pushBytes,
                                  const std::vector<SpecConstant>& spec)
-    : ctx_(&ctx), bindingCount_(uint32_t(types.size())), pushBytes_(pushBytes), types_(std::move(types)) {
+    : ComputePipeline() {
+  // Delegating to the default constructor completes the object before this body runs, so a
+  // throw below runs ~ComputePipeline and frees the module and layouts made so far.
+  ctx_ = &ctx;
+  bindingCount_ = uint32_t(types.size());
+  pushBytes_ = pushBytes;
+  types_ = std::move(types);
   const uint32_t bindingCount = bindingCount_;
   const shaders::Module& m = shaders::module(shader);
   name_ = m.name;

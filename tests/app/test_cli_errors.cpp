@@ -1,5 +1,7 @@
 // The osr-vk executable on bad scene files: exit code 2 and exactly one line on stderr that
-// names the file (DESIGN.md "Output"), never a crash.
+// names the file (DESIGN.md "Output"), never a crash. Both executables (osr-vk, osr-bench):
+// --help anywhere prints the usage on stdout with exit 0, bad option values are one line and
+// exit 2, and a device limit is exit 1.
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
@@ -14,17 +16,26 @@ namespace {
 struct Outcome {
   int exitCode;
   std::string err;
+  std::string out;
 };
 
-Outcome runOsr(const std::string& args) {
-  std::string errFile = ::testing::TempDir() + "osr_cli_stderr.txt";
-  std::string cmd = std::string(OSR_BINARY_DIR) + "/osr-vk " + args + " >/dev/null 2>" + errFile;
-  int status = std::system(cmd.c_str());
-  std::ifstream in(errFile);
+std::string slurp(const std::string& path) {
+  std::ifstream in(path);
   std::stringstream ss;
   ss << in.rdbuf();
-  return {WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status), ss.str()};
+  return ss.str();
 }
+
+Outcome runExe(const std::string& exe, const std::string& args) {
+  std::string errFile = ::testing::TempDir() + "osr_cli_stderr.txt";
+  std::string outFile = ::testing::TempDir() + "osr_cli_stdout.txt";
+  std::string cmd = std::string(OSR_BINARY_DIR) + "/" + exe + " " + args + " >" + outFile + " 2>" + errFile;
+  int status = std::system(cmd.c_str());
+  return {WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status), slurp(errFile),
+          slurp(outFile)};
+}
+
+Outcome runOsr(const std::string& args) { return runExe("osr-vk", args); }
 
 bool placeholderRender(const Outcome& r) {
   return r.err.find("unknown option '--offline'") != std::string::npos;
@@ -39,8 +50,8 @@ Outcome renderScene(const std::string& scene, const std::string& options = "") {
   return r;
 }
 
-void expectOneLine(const Outcome& r, const std::string& start) {
-  EXPECT_EQ(r.exitCode, 2) << r.err;
+void expectOneLine(const Outcome& r, const std::string& start, int exitCode = 2) {
+  EXPECT_EQ(r.exitCode, exitCode) << r.err;
   ASSERT_FALSE(r.err.empty());
   EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << "more than one line: " << r.err;
   EXPECT_EQ(r.err.rfind(start, 0), 0u) << r.err;
@@ -88,4 +99,87 @@ TEST(CliErrors, BadCameraAndEnvironment) {
                 "osr-vk: " + cornell + ": camera 3 does not exist");
   std::string env = ::testing::TempDir() + "no_such_env.exr";
   expectOneLine(renderScene(cornell, "--env '" + env + "'"), "osr-vk: " + env + ": file not found");
+}
+
+// --help or -h anywhere in a command's arguments, and `osr-vk help [COMMAND]`: that command's
+// usage on stdout, nothing on stderr, exit 0, whatever else is on the line.
+TEST(CliErrors, HelpAnywherePrintsTheUsage) {
+  const std::string cornell = osr::test::referencePath("cornell/cornell.gltf");
+  const std::pair<std::string, std::string> cases[] = {
+      {"--help", "usage: osr-vk [options] scene.gltf"},
+      {"-h", "usage: osr-vk [options] scene.gltf"},
+      {"help", "usage: osr-vk [options] scene.gltf"},
+      {cornell + " --help", "--offline out.exr"},
+      {"--spp 4 -h --offline x.exr " + cornell, "--offline out.exr"},
+      {"--no-such-option --help", "usage: osr-vk [options] scene.gltf"},
+      {"unet --help", "usage: osr-vk unet --weights FILE"},
+      {"unet --weights w.osrw -h", "usage: osr-vk unet --weights FILE"},
+      {"help unet", "usage: osr-vk unet --weights FILE"},
+      {"compare --help", "usage: osr-vk compare a.exr b.exr"},
+      {"compare a.exr --bogus --help", "usage: osr-vk compare a.exr b.exr"},
+      {"--list-devices --help", "usage: osr-vk --list-devices"},
+  };
+  for (const auto& [args, usage] : cases) {
+    Outcome r = runOsr(args);
+    EXPECT_EQ(r.exitCode, 0) << args << ": " << r.err;
+    EXPECT_EQ(r.err, "") << args;
+    EXPECT_NE(r.out.find(usage), std::string::npos) << args << ": " << r.out;
+  }
+}
+
+TEST(CliErrors, VersionIsOneLine) {
+  Outcome r = runOsr("--version");
+  EXPECT_EQ(r.exitCode, 0) << r.err;
+  EXPECT_EQ(r.out.rfind("osr-vk ", 0), 0u) << r.out;
+  EXPECT_EQ(r.out.find('\n'), r.out.size() - 1) << r.out;
+}
+
+// A film larger than one binding may cover is the device's limit, not bad input: exit 1.
+// 16384^2 pixels of FilmPixel exceed any maxStorageBufferRange (a 32-bit limit).
+TEST(CliErrors, FilmOverTheDeviceLimitExitsOne) {
+  std::string out = ::testing::TempDir() + "osr_cli_huge.exr";
+  Outcome r = runOsr("--mode preview --spp 1 --quiet --width 16384 --height 16384 --offline '" +
+                     out + "' " + osr::test::referencePath("cornell/cornell.gltf"));
+  expectOneLine(r, "osr-vk: error: film: 16384x16384 needs", 1);
+  EXPECT_NE(r.err.find("maxStorageBufferRange"), std::string::npos) << r.err;
+}
+
+TEST(CliErrors, BenchHelpAnywhere) {
+  const std::pair<std::string, std::string> cases[] = {
+      {"--help", "usage: osr-bench [NAME [options]]"},
+      {"-h", "usage: osr-bench [NAME [options]]"},
+      {"unet --help", "usage: osr-bench unet [--k"},
+      {"unet --k 8 -h", "usage: osr-bench unet [--k"},
+      {"pathtrace --size 8 --help", "usage: osr-bench pathtrace"},
+      {"fill --help", "usage: osr-bench fill"},
+  };
+  for (const auto& [args, usage] : cases) {
+    Outcome r = runExe("osr-bench", args);
+    EXPECT_EQ(r.exitCode, 0) << args << ": " << r.err;
+    EXPECT_EQ(r.err, "") << args;
+    EXPECT_NE(r.out.find(usage), std::string::npos) << args << ": " << r.out;
+  }
+}
+
+// Benchmark options go through app::Args: a bad value or an unknown option is one line on
+// stderr and exit 2, before any device work.
+TEST(CliErrors, BenchBadOptionsExitTwoWithOneLine) {
+  const std::pair<std::string, std::string> cases[] = {
+      {"unet --min-seconds x", "osr-bench: unet: option --min-seconds expects a number, got 'x'"},
+      {"unet --k 16,x", "osr-bench: unet: option --k expects an integer, got 'x'"},
+      {"unet --batch 0", "osr-bench: unet: option --batch must be in [1, "},
+      {"unet --tile 4", "osr-bench: unet: option --tile takes HxW"},
+      {"unet --precision fp8", "osr-bench: unet: --precision takes fp32,fp16"},
+      {"unet --bogus", "osr-bench: unet: unknown option '--bogus'"},
+      {"unet --chunk", "osr-bench: unet: option --chunk needs a value"},
+      {"fill --bogus", "osr-bench: fill: unknown option '--bogus'"},
+      {"pathtrace --spp x", "osr-bench: pathtrace: option --spp expects an integer"},
+      {"bvh --repeat 0", "osr-bench: bvh: option --repeat must be in [1, 100]"},
+      {"trace --bvh-access x", "osr-bench: trace: --bvh-access must be"},
+      {"no-such-benchmark", "osr-bench: unknown benchmark 'no-such-benchmark'"},
+  };
+  for (const auto& [args, start] : cases) {
+    SCOPED_TRACE(args);
+    expectOneLine(runExe("osr-bench", args), start);
+  }
 }

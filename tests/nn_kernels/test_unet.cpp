@@ -1,7 +1,8 @@
 // The whole U-Net on the device against (1) the CPU twin with random weights at K=16 and
 // K=64, fp32 and fp16; (2) PyTorch golden files made by tools/weights_pack.py --golden and
 // committed (K=8, 3 maps); (3) when /usr/bin/python3 has torch, a fresh random PyTorch model
-// packed and run end to end. Also: chunking gives the same result as one chunk.
+// packed and run end to end. Also: chunking gives the same result as one chunk, and layers
+// with different LeakyReLU slopes keep their own.
 #include <gtest/gtest.h>
 
 #include <cstdio>
@@ -62,6 +63,21 @@ TEST(UNet, OddBaseWidthMatchesCpu) { compareWithCpu(5, 3, false, 1e-4); }
 // fp16 storage of weights and activations, fp32 arithmetic: stated bound 1e-2 relative
 // (each of 15 layers rounds its output to 2^-11 relative; measured about 2e-3).
 TEST(UNet, HalfStorageK16WithinBound) { compareWithCpu(16, 3, true, 1e-2); }
+
+// Layers whose passes could be shared (same shape class, e.g. decoder2.0 and decoder2.2) but
+// whose LeakyReLU slopes differ must each keep their own slope: a model may be trained with
+// any per-layer slope, and the packed header carries one per layer.
+TEST(UNet, LayersWithDifferentSlopesMatchCpu) {
+  nn::UNetWeights w = nn::UNetWeights::random(8, 31);
+  for (size_t i = 0; i < w.convs.size(); ++i) w.convs[i].slope = 0.05f + 0.04f * float(i);
+  const uint32_t n = 2;
+  nn::Tensor maps = test::randomTensor(n, 7, 32, 32, 17);
+  nn::Tensor ref = nn::unetCpu(w, maps);
+  const double err = test::relError(runGpu(w, maps.data, n), ref.data);
+  std::printf("K=8 per-layer slopes: max rel err %.3g\n", err);
+  EXPECT_GT(test::maxAbs(ref.data), 0.0);
+  EXPECT_LE(err, 1e-4);
+}
 
 TEST(UNet, ChunksGiveTheSameResult) {
   nn::UNetWeights w = nn::UNetWeights::random(8, 5);

@@ -1,6 +1,7 @@
 // The packed weights loader: the committed file (made by tools/weights_pack.py) loads with
-// the expected layer table, and truncated, corrupted, wrong-magic, wrong-version and
-// shape-mismatched files are refused with one line naming the file and the problem.
+// the expected layer table and training conventions (mapping, normalization), and truncated,
+// corrupted, wrong-magic, wrong-version and shape-mismatched files are refused with one line
+// naming the file and the problem.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -67,6 +68,9 @@ TEST(Weights, LoadsThePackedFile) {
   EXPECT_EQ(w.convs[14].cout, 3u);
   EXPECT_EQ(w.convs[14].activation, nn::Activation::Relu);
   EXPECT_EQ(w.flopsPerMap(), 16416768.0);  // sum of 2 cin cout k^2 w^2 over the 15 convs
+  EXPECT_EQ(w.mapping, nn::kMappingConcentric);
+  EXPECT_EQ(w.normalization, nn::kNormalizationLogMean10);
+  EXPECT_NO_THROW(w.requireConventions(nn::kMappingConcentric, nn::kNormalizationLogMean10));
   nn::UNetWeights h = nn::UNetWeights::load(test::dataPath("unet_k8_fp16.osrw"));
   EXPECT_TRUE(h.halfStorage);
   // The fp16 file holds the fp32 file's weights rounded to fp16.
@@ -120,6 +124,45 @@ TEST(Weights, RejectsWrongLayer) {
   expectRejected(bytes, "layer", "expected 'decoder1.3'");
 }
 
+// A header naming another mapping or normalization loads, exposes it, and is refused by
+// requireConventions with one line naming the file; a header without the key is malformed.
+TEST(Weights, ExposesAndChecksMappingAndNormalization) {
+  const auto good = readFile(test::dataPath(kGood));
+  auto replaced = [&](const std::string& from, const std::string& to) {
+    std::string text(good.begin(), good.end());
+    size_t at = text.find(from);
+    EXPECT_NE(at, std::string::npos) << from;
+    EXPECT_EQ(from.size(), to.size());  // the header keeps its length
+    std::vector<uint8_t> bytes = good;
+    if (at != std::string::npos) std::copy(to.begin(), to.end(), bytes.begin() + at);
+    rechecksum(bytes);
+    return bytes;
+  };
+  struct Case {
+    std::string from, to, value, problem;
+  };
+  const Case cases[] = {
+      {"\"mapping\":\"concentric\"", "\"mapping\":\"latlong-v1\"", "latlong-v1",
+       "model trained for hemisphere mapping 'latlong-v1', this renderer uses 'concentric'"},
+      {"\"normalization\":\"log1p_mean10_v1\"", "\"normalization\":\"linear_v1______\"",
+       "linear_v1______", "model trained for normalization 'linear_v1______'"}};
+  for (const Case& c : cases) {
+    const std::string path = writeTemp(replaced(c.from, c.to), "conventions");
+    nn::UNetWeights w = nn::UNetWeights::load(path);
+    EXPECT_EQ(c.from[1] == 'm' ? w.mapping : w.normalization, c.value);
+    try {
+      w.requireConventions(nn::kMappingConcentric, nn::kNormalizationLogMean10);
+      ADD_FAILURE() << c.value << ": accepted";
+    } catch (const InputError& e) {
+      const std::string msg = e.what();
+      EXPECT_EQ(msg.rfind(path + ": " + c.problem, 0), 0u) << msg;
+      EXPECT_EQ(msg.find('\n'), std::string::npos) << msg;
+    }
+    std::filesystem::remove(path);
+  }
+  expectRejected(replaced("\"mapping\":", "\"mappinx\":"), "no_mapping", "malformed header");
+}
+
 TEST(Weights, Crc32AndHalfConversion) {
   const char* s = "123456789";
   EXPECT_EQ(nn::crc32(reinterpret_cast<const uint8_t*>(s), 9), 0xCBF43926u);  // the CRC-32 check value
@@ -163,6 +206,39 @@ TEST(Weights, PackerRejectsBadCheckpoints) {
     EXPECT_EQ(std::count(all.begin(), all.end(), '\n'), 1) << all;
     EXPECT_NE(all.find(ckpt + ": "), std::string::npos) << all;
     EXPECT_NE(all.find(problem), std::string::npos) << all;
+  }
+  fs::remove_all(dir);
+}
+
+// The packer writes weights_format.h's conventions by default and a checkpoint's own
+// `mapping` / `normalization` entries when it has them; the loader reads back both.
+TEST(Weights, PackerWritesTheTrainingConventions) {
+  const char* py = "/usr/bin/python3";
+  if (std::system((std::string(py) + " -c 'import torch' >/dev/null 2>&1").c_str()) != 0)
+    GTEST_SKIP() << "/usr/bin/python3 has no torch";
+  namespace fs = std::filesystem;
+  const fs::path dir = test::tempDir("weights_conventions");
+  const std::string tools = std::string(OSR_SOURCE_DIR) + "/tools";
+  const std::string plain = (dir / "plain.pt").string(), other = (dir / "other.pt").string();
+  const std::string make =
+      std::string(py) + " -c \"import sys; sys.path.insert(0, '" + tools + "'); import unet, torch; " +
+      "d = unet.UNet(4).state_dict(); torch.save(d, '" + plain + "'); " +
+      "torch.save({'state_dict': d, 'mapping': 'latlong', 'normalization': 'linear'}, '" + other + "')\"";
+  ASSERT_EQ(std::system(make.c_str()), 0);
+  for (const std::string& ckpt : {plain, other}) {
+    const std::string packed = ckpt + ".osrw";
+    ASSERT_EQ(std::system((std::string(py) + " " + tools + "/weights_pack.py " + ckpt + " " + packed).c_str()), 0);
+    nn::UNetWeights w = nn::UNetWeights::load(packed);
+    EXPECT_EQ(w.k, 4u);
+    if (ckpt == plain) {
+      EXPECT_EQ(w.mapping, nn::kMappingConcentric);
+      EXPECT_EQ(w.normalization, nn::kNormalizationLogMean10);
+      EXPECT_NO_THROW(w.requireConventions(nn::kMappingConcentric, nn::kNormalizationLogMean10));
+    } else {
+      EXPECT_EQ(w.mapping, "latlong");
+      EXPECT_EQ(w.normalization, "linear");
+      EXPECT_THROW(w.requireConventions(nn::kMappingConcentric, nn::kNormalizationLogMean10), InputError);
+    }
   }
   fs::remove_all(dir);
 }
