@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "common/error.h"
+#include "nn_kernels/weights_format.h"
 #include "vk/timer.h"
 
 namespace osr::oneshot {
@@ -52,6 +53,8 @@ std::unique_ptr<nn::UNet> loadNetwork(const vk::Context& ctx, const OsrSettings&
     throw InputError("--denoiser unet: no trained model is shipped yet; give --weights FILE "
                      "(tools/weights_pack.py) or use --denoiser blur");
   nn::UNetWeights w = nn::UNetWeights::load(s.weightsPath);
+  // The maps fed to it are cosine-concentric and normalized per DESIGN.md (shared/osr.h).
+  w.requireConventions(nn::kMappingConcentric, nn::kNormalizationLogMean10);
   return std::make_unique<nn::UNet>(ctx, w);
 }
 
