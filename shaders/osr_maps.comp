@@ -57,35 +57,47 @@ void main() {
   vec3 hitNormal = vec3(0.0);
   float distance = -1.0;
   uvec2 t = uvec2(texel % kMapSize, texel / kMapSize);
-  for (uint s = 0u; s < gPush.samples; ++s) {
-    vec3 local3 = hemiSquareToDirection((vec2(t) + rngNext2(rng)) / float(kMapSize));
-    vec3 dir = frame * local3;
-    // Shading normals can put a direction below the geometric surface: it sees the surface.
-    if (dot(dir, sp.ng) <= 0.0) {
-      if (s == 0u) distance = 0.0;
-      continue;
-    }
-    PathState p = pathStart(shadingRayOrigin(sp, dir), dir, vec3(1.0), local3.z * kInvPi,
-                            sp.position, 1u);
-    vec3 l = vec3(0.0);
-    while (true) {
-      uint bounce = p.bounce;
-      vec3 uLight = rngNext3(rng);
-      vec3 uBsdf = rngNext3(rng);
-      BounceResult r;
-      bool ended = pathBounce(p, uLight, uBsdf, rngNext(rng), r);
-      if (bounce == 1u) {
-        if (s == 0u && r.hit) {
-          hitNormal = transpose(frame) * r.normal;
-          distance = length(r.position - sp.position);
-        }
-      } else {
-        l += r.emitted;
+  // One flat loop over the bounces of successive paths, as in pt_trace: a lane whose path has
+  // ended starts its next one at once. (Nested sample/bounce loops measured biased on
+  // lavapipe: lanes whose path had ended kept adding light; see docs/osr.md.)
+  uint s = 0u;
+  PathState p;
+  vec3 l = vec3(0.0);
+  bool live = false;
+  while (s < gPush.samples) {
+    if (!live) {
+      vec3 local3 = hemiSquareToDirection((vec2(t) + rngNext2(rng)) / float(kMapSize));
+      vec3 dir = frame * local3;
+      l = vec3(0.0);
+      // Shading normals can put a direction below the geometric surface: it sees the surface.
+      if (dot(dir, sp.ng) <= 0.0) {
+        if (s == 0u) distance = 0.0;
+        s += 1u;
+        continue;
       }
-      l += r.nee;
-      if (ended) break;
+      p = pathStart(shadingRayOrigin(sp, dir), dir, vec3(1.0), local3.z * kInvPi, sp.position, 1u);
+      live = true;
     }
-    if (finite3(l)) radiance += l;
+    uint bounce = p.bounce;
+    vec3 uLight = rngNext3(rng);
+    vec3 uBsdf = rngNext3(rng);
+    float uRoulette = rngNext(rng);
+    BounceResult r;
+    bool ended = pathBounce(p, uLight, uBsdf, uRoulette, r);
+    if (bounce == 1u) {
+      if (s == 0u && r.hit) {
+        hitNormal = transpose(frame) * r.normal;
+        distance = length(r.position - sp.position);
+      }
+    } else {
+      l += r.emitted;
+    }
+    l += r.nee;
+    if (ended) {
+      if (finite3(l)) radiance += l;
+      live = false;
+      s += 1u;
+    }
   }
   writeTexel(local, texel, radiance / float(max(gPush.samples, 1u)), hitNormal, distance);
 }

@@ -15,22 +15,6 @@
 
 layout(local_size_x = kOsrWorkgroupSize) in;
 
-// Light arriving at the path's start from p.dir after at least one bounce.
-vec3 traceIndirect(PathState p, inout Rng rng) {
-  vec3 l = vec3(0.0);
-  while (true) {
-    uint bounce = p.bounce;
-    vec3 uLight = rngNext3(rng);
-    vec3 uBsdf = rngNext3(rng);
-    BounceResult r;
-    bool ended = pathBounce(p, uLight, uBsdf, rngNext(rng), r);
-    if (bounce != 1u) l += r.emitted;
-    l += r.nee;
-    if (ended) break;
-  }
-  return l;
-}
-
 void main() {
   uint local = gl_GlobalInvocationID.x;
   if (local >= gPush.pixelCount) return;
@@ -44,14 +28,40 @@ void main() {
     bool wide = ggxAlpha(sp.bsdf) >= kNarrowLobeAlpha;
     vec3 rho = bsdfDiffuseReflectance(sp.bsdf, sp.woLocal);
     Rng rng = passRng(pixel, kSaltResidual);
-    for (uint i = 0u; i < gPush.samples; ++i) {
-      BsdfSample bs;
-      if (!bsdfSample(sp.bsdf, sp.woLocal, rngNext3(rng), bs)) continue;
-      vec3 wi = toWorld(bs.wi, sp.t, sp.b, sp.ns);
-      if ((dot(wi, sp.ng) > 0.0) != (bs.wi.z > 0.0)) continue;
-      PathState p = pathStart(shadingRayOrigin(sp, wi), wi, vec3(1.0), bs.delta ? 0.0 : bs.pdf,
-                              sp.position, 1u);
-      vec3 lpt = traceIndirect(p, rng);
+    // One flat loop over the bounces of successive paths (see osr_maps.comp for why).
+    uint i = 0u;
+    bool live = false;
+    PathState p;
+    BsdfSample bs;
+    vec3 lpt = vec3(0.0);
+    while (i < gPush.samples) {
+      if (!live) {
+        lpt = vec3(0.0);
+        vec3 wi = vec3(0.0);
+        bool ok = bsdfSample(sp.bsdf, sp.woLocal, rngNext3(rng), bs);
+        if (ok) {
+          wi = toWorld(bs.wi, sp.t, sp.b, sp.ns);
+          ok = (dot(wi, sp.ng) > 0.0) == (bs.wi.z > 0.0);
+        }
+        if (!ok) {
+          i += 1u;
+          continue;
+        }
+        p = pathStart(shadingRayOrigin(sp, wi), wi, vec3(1.0), bs.delta ? 0.0 : bs.pdf,
+                      sp.position, 1u);
+        live = true;
+      }
+      uint bounce = p.bounce;
+      vec3 uLight = rngNext3(rng);
+      vec3 uBsdf = rngNext3(rng);
+      float uRoulette = rngNext(rng);
+      BounceResult r;
+      bool ended = pathBounce(p, uLight, uBsdf, uRoulette, r);
+      if (bounce != 1u) lpt += r.emitted;
+      lpt += r.nee;
+      if (!ended) continue;
+      live = false;
+      i += 1u;
       if (!finite3(lpt)) continue;
       if (bs.delta || !covered) {
         always += bs.weight * lpt;
@@ -62,7 +72,8 @@ void main() {
       vec3 fd = bsdfEvalDiffuse(sp.bsdf, sp.woLocal, bs.wi);
       vec3 fRest = max(fcos - fd, vec3(0.0));
       bool restInMaps = wide && bs.wi.z > 0.0;
-      vec3 lhat = gatherRadiance(gather, wi);
+      vec3 dir = toWorld(bs.wi, sp.t, sp.b, sp.ns);
+      vec3 lhat = gatherRadiance(gather, dir);
       vec3 cv = rho * kInvPi * max(bs.wi.z, 0.0) * lhat + (restInMaps ? fRest * lhat : vec3(0.0));
       blended += ((fd + (restInMaps ? fRest : vec3(0.0))) * lpt - cv) / bs.pdf;
       if (!restInMaps) always += fRest * lpt / bs.pdf;

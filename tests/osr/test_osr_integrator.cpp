@@ -1,0 +1,196 @@
+// The OSR integrator end to end: with raw one-shot maps at every pixel (r = 1, several paths
+// per texel) its image is the path tracer's on cornell and room; its error against the path
+// tracer falls as passes accumulate (the residual at work); the grid schedule refines,
+// weights denser passes more and keeps the maps' share of the work bounded.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdlib>
+#include <tuple>
+
+#include "app/image_metrics.h"
+#include "osr/grid_schedule.h"
+#include "osr/osr_test_util.h"
+#include "render/gltf_writer.h"
+#include "render/renderer.h"
+#include "shaders/shared/pt.h"
+
+using namespace osr;
+
+namespace {
+
+render::FilmLayers pathTrace(const test::LoadedScene& s, uint32_t size, uint32_t spp) {
+  render::RenderSettings rs;
+  rs.width = rs.height = size;
+  rs.spp = spp;
+  rs.seed = 3;
+  rs.integrator = gpu::pt::kIntegratorPath;
+  return render::render(test::context(), *s.gpu, s.bvh, s.camera, rs);
+}
+
+// Box-filters a layer into blocks of b x b pixels: a few jittered first hits per pixel and a
+// box-filtered reference then agree on geometry, so the comparison measures light.
+app::RgbImage blocks(const std::vector<float>& layer, int size, int b) {
+  app::RgbImage img{size / b, size / b, std::vector<float>(size_t(size / b) * (size / b) * 3)};
+  for (int y = 0; y < size; ++y)
+    for (int x = 0; x < size; ++x)
+      for (int c = 0; c < 3; ++c)
+        img.rgb[((y / b) * (size / b) + x / b) * 3 + c] +=
+            layer[(size_t(y) * size + x) * 3 + c] / float(b * b);
+  return img;
+}
+
+struct Agreement {
+  double relmse, lumRatio;
+};
+// relMSE of 4 x 4 blocks, and their mean luminance ratio with values clamped at 1: a light
+// smaller than a pixel (room's lamp) covers a block by a few jittered first hits against the
+// reference's 2048, which would otherwise decide the mean alone.
+Agreement agree(const std::vector<float>& a, const std::vector<float>& b, int size) {
+  auto ia = blocks(a, size, 4), ib = blocks(b, size, 4);
+  double relmse = app::relMse(ia, ib);
+  for (auto* img : {&ia, &ib})
+    for (float& v : img->rgb) v = std::min(v, 1.f);
+  return {relmse, app::meanLuminance(ia) / app::meanLuminance(ib)};
+}
+
+}  // namespace
+
+class RawDenseMaps : public testing::TestWithParam<const char*> {};
+
+TEST_P(RawDenseMaps, MatchThePathTracer) {
+  // Raw maps (no denoiser) at every pixel, 4 paths per texel, 2 jittered passes; the residual's
+  // control-variate part left out (ramp n0 huge), so indirect light comes from the maps alone
+  // except for lobes too narrow for a map, which are path-traced as in --mode path.
+  const std::string scene = GetParam();
+  auto s = test::loadForTest(test::referencePath(scene + "/" + scene + ".gltf"));
+  const uint32_t size = 24;
+  oneshot::OsrSettings set;
+  set.denoiser = oneshot::Denoiser::None;
+  set.gridStart = set.gridMin = 1;
+  set.pathsPerTexel = 2;
+  set.directSamples = 32;
+  set.residualSamples = 8;
+  set.residualRamp = 1e12;
+  set.mapShare = 1.0;  // maps every pass
+  oneshot::OsrIntegrator osr(test::context(), *s.gpu, s.bvh, size, size, set);
+  auto o = test::renderOsrPasses(osr, s, 4);
+  auto p = pathTrace(s, size, 2048);
+  // Tolerances: both sides carry Monte Carlo noise (the maps ~4096 paths of irradiance per
+  // pixel, the path tracer 2048 spp) and two jittered first hits per pixel against 2048;
+  // 4 x 4 blocks leave noise of relMSE ~1e-3 on cornell, more in the darker room.
+  const double tol = scene == "cornell" ? 0.01 : 0.03;
+  auto combined = agree(o.combined, p.combined, size);
+  for (auto [name, a, b] : {std::tuple{"direct", &o.direct, &p.direct},
+                            std::tuple{"indirect", &o.indirect, &p.indirect}}) {
+    auto ag = agree(*a, *b, size);
+    std::printf("%s %s: relmse %.5f lum ratio %.4f\n", scene.c_str(), name, ag.relmse,
+                ag.lumRatio);
+  }
+  EXPECT_LT(combined.relmse, tol) << scene << " combined";
+  EXPECT_NEAR(combined.lumRatio, 1.0, 0.03) << scene << " combined";
+  if (scene == "cornell") {  // no mirrors: the direct/indirect split is the path tracer's
+    auto indirect = agree(o.indirect, p.indirect, size);
+    EXPECT_LT(indirect.relmse, tol) << "indirect";
+    EXPECT_NEAR(indirect.lumRatio, 1.0, 0.03) << "indirect";
+    auto direct = agree(o.direct, p.direct, size);
+    EXPECT_LT(direct.relmse, tol) << "direct";
+  }
+  std::printf("%s: combined relmse %.5f lum %.4f\n", scene.c_str(), combined.relmse,
+              combined.lumRatio);
+}
+
+INSTANTIATE_TEST_SUITE_P(Scenes, RawDenseMaps, testing::Values("cornell", "room"));
+
+TEST(OsrIntegrator, ErrorFallsAsPassesAccumulate) {
+  auto s = test::loadForTest(test::referencePath("cornell/cornell.gltf"));
+  const uint32_t size = 32;
+  auto p = pathTrace(s, size, 4096);
+  oneshot::OsrSettings set;  // defaults: blur denoiser, grid 16 -> 8
+  set.gridStart = 8;
+  set.gridMin = 4;
+  oneshot::OsrIntegrator osr(test::context(), *s.gpu, s.bvh, size, size, set);
+  double previous = 1e9;
+  test::renderOsrPasses(osr, s, 0);
+  auto& ctx = test::context();
+  uint32_t done = 0;
+  for (uint32_t passes : {4u, 16u, 64u}) {
+    for (; done < passes; ++done)
+      ctx.submitAndWait([&](VkCommandBuffer cmd) { osr.record(cmd, done, 1, nullptr); });
+    auto o = osr.resolve();
+    app::RgbImage a{int(size), int(size), o.combined}, b{int(size), int(size), p.combined};
+    double e = app::relMse(a, b);
+    std::printf("%u passes: relmse %.5f\n", passes, e);
+    EXPECT_LT(e, previous) << passes << " passes";
+    previous = e;
+  }
+}
+
+TEST(GridSchedule, RefinesWeightsDenserPassesAndBoundsTheMapShare) {
+  oneshot::GridSchedule s(256, 256, 16, 4, 0.5, 3.0, 1);
+  EXPECT_TRUE(s.pass(0).traceMaps);
+  EXPECT_EQ(s.pass(0).radius, 16u);
+  EXPECT_EQ(s.maxMaps(), 64u * 64u);
+  uint32_t lastRadius = 16, mapPasses = 0;
+  double mapWork = 0, total = 0;
+  for (uint32_t k = 0; k < 200; ++k) {
+    auto p = s.pass(k);
+    EXPECT_LE(p.radius, lastRadius);  // never coarser
+    EXPECT_GE(p.radius, 4u);
+    EXPECT_FLOAT_EQ(p.weight, float((4.0 / p.radius) * (4.0 / p.radius)));
+    lastRadius = p.radius;
+    double maps = p.traceMaps ? s.mapsOfRadius(p.radius) * 1024.0 : 0.0;
+    mapPasses += p.traceMaps;
+    mapWork += maps;
+    total += maps + 3.0 * 256 * 256;
+  }
+  EXPECT_EQ(lastRadius, 4u);
+  EXPECT_GT(mapPasses, 5u);
+  // The share may pass the bound by at most the last map pass.
+  EXPECT_LT(mapWork / total, 0.5 + 64.0 * 64 * 1024 / total);
+  // Deterministic.
+  oneshot::GridSchedule t(256, 256, 16, 4, 0.5, 3.0, 1);
+  EXPECT_EQ(t.pass(150).mapPass, s.pass(150).mapPass);
+}
+
+TEST(OsrIntegrator, EmissiveFurnaceSplitsDirectAndIndirectExactly) {
+  // Closed box, every wall emitting 1 with albedo 0.5: radiance 2 everywhere, of which the
+  // direct layer (emission seen + one bounce) holds 1.5 and the indirect 0.5.
+  test::GltfWriter g;
+  auto m = test::GltfWriter::diffuse(glm::vec3(0.5f));
+  m["emissiveFactor"] = {1.0, 1.0, 1.0};
+  int wall = g.material(m);
+  glm::vec3 c[8];
+  for (int i = 0; i < 8; ++i) c[i] = glm::vec3(i & 1 ? 1 : -1, i & 2 ? 1 : -1, i & 4 ? 1 : -1);
+  g.quad(c[0], c[1], c[3], c[2], wall);
+  g.quad(c[4], c[6], c[7], c[5], wall);
+  g.quad(c[0], c[4], c[5], c[1], wall);
+  g.quad(c[2], c[3], c[7], c[6], wall);
+  g.quad(c[0], c[2], c[6], c[4], wall);
+  g.quad(c[1], c[5], c[7], c[3], wall);
+  g.camera({0.2f, -0.1f, 0.3f}, {0.5f, -0.6f, -1.f}, 1.2f);
+  auto path = (test::tempDir("osr_integrator") / "furnace.gltf").string();
+  g.write(path);
+  auto s = test::loadForTest(path);
+  oneshot::OsrSettings set;
+  set.denoiser = oneshot::Denoiser::None;
+  set.gridStart = set.gridMin = 1;
+  set.residualRamp = 1e12;
+  set.mapShare = 1.0;
+  oneshot::OsrIntegrator osr(test::context(), *s.gpu, s.bvh, 8, 8, set);
+  auto o = test::renderOsrPasses(osr, s, 2);
+  auto p = pathTrace(s, 8, 4096);
+  double so = 0, sp = 0, dop = 0, dpp = 0;
+  for (size_t i = 0; i < o.indirect.size(); ++i) {
+    so += o.indirect[i];
+    sp += p.indirect[i];
+    dop += o.direct[i];
+    dpp += p.direct[i];
+  }
+  const double n = double(o.indirect.size());
+  std::printf("furnace indirect osr %.4f pt %.4f direct osr %.4f pt %.4f\n", so / n, sp / n,
+              dop / n, dpp / n);
+  EXPECT_NEAR(so / n, 0.5, 0.01);  // maps: 2 x 64 x 1024 paths
+  EXPECT_NEAR(dop / n, 1.5, 0.04);  // 2 passes x 4 light samples per pixel
+  EXPECT_NEAR(sp / n, 0.5, 0.01);
+}
