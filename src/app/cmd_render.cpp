@@ -12,21 +12,20 @@
 #include "app/args.h"
 #include "app/device_options.h"
 #include "app/commands.h"
-#include "app/image_io.h"
+#include "image/image_io.h"
 #include "bvh/bvh.h"
 #include "common/error.h"
-#include "render/renderer.h"
-#include "scene/gpu_scene.h"
+#include "pt/path_integrator.h"
+#include "scene_gpu/gpu_scene.h"
 #include "scene/scene.h"
-#include "shaders/shared/pt.h"
 #include "vk/context.h"
 
 namespace osr::app {
 
 namespace {
 
-LayeredImage toLayers(const render::FilmLayers& f) {
-  LayeredImage img;
+image::LayeredImage toLayers(const render::FilmLayers& f) {
+  image::LayeredImage img;
   img.width = f.width;
   img.height = f.height;
   const std::vector<std::string> rgb = {"R", "G", "B"}, xyz = {"X", "Y", "Z"};
@@ -41,11 +40,11 @@ class ProgressPrinter {
   explicit ProgressPrinter(bool quiet) : quiet_(quiet), tty_(::isatty(2)) {}
   void operator()(const render::Progress& p) {
     if (quiet_) return;
-    bool last = p.samples >= p.targetSamples || p.remainingS <= 0.0;
+    bool last = p.units >= p.targetUnits || p.remainingS <= 0.0;
     if (!tty_ && !last && p.elapsedS - lastPrinted_ < 5.0) return;
     lastPrinted_ = p.elapsedS;
-    std::fprintf(stderr, "%sosr-vk: %u/%u spp, %.1f s elapsed, ~%.1f s remaining%s",
-                 tty_ ? "\r" : "", p.samples, p.targetSamples, p.elapsedS, p.remainingS,
+    std::fprintf(stderr, "%sosr-vk: %u/%u %s, %.1f s elapsed, ~%.1f s remaining%s",
+                 tty_ ? "\r" : "", p.units, p.targetUnits, p.unitName, p.elapsedS, p.remainingS,
                  tty_ ? "   " : "\n");
     std::fflush(stderr);
     printed_ = true;
@@ -81,18 +80,13 @@ int runRender(const std::vector<std::string>& args) {
   auto files = a.positional();
   a.finish();
   if (files.size() != 1) throw InputError("render: expected exactly one scene file");
-  uint32_t integrator;
-  if (mode == "path")
-    integrator = gpu::pt::kIntegratorPath;
-  else if (mode == "preview")
-    integrator = gpu::pt::kIntegratorPreview;
-  else
-    throw InputError("--mode: unknown integrator '" + mode + "' (path, preview)");
+  std::optional<pt::Mode> integrator = pt::parseMode(mode);
+  if (!integrator) throw InputError("--mode: unknown integrator '" + mode + "' (path, preview)");
   if (!exrPath && !pngPath)
     throw InputError("render: give --offline out.exr and/or --png out.png (no live viewer yet)");
   // Fail before the (long) render, not after it.
-  if (exrPath) checkWritable(*exrPath);
-  if (pngPath) checkWritable(*pngPath);
+  if (exrPath) image::checkWritable(*exrPath);
+  if (pngPath) image::checkWritable(*pngPath);
 
   scene::Scene sc = scene::loadScene(files[0]);
   std::optional<scene::Environment> env;
@@ -100,7 +94,7 @@ int runRender(const std::vector<std::string>& args) {
   float requestedAspect = width && height ? float(*width) / float(*height) : 0.f;
   scene::Camera camera = scene::selectCamera(sc, cameraSelector, requestedAspect);
   float aspect = camera.aspect > 0.f ? camera.aspect : 1.f;
-  render::RenderSettings rs;
+  pt::RenderSettings rs;
   if (width && height) {
     rs.width = uint32_t(*width);
     rs.height = uint32_t(*height);
@@ -112,33 +106,33 @@ int runRender(const std::vector<std::string>& args) {
     rs.height = std::max(1u, uint32_t(std::lround(rs.width / aspect)));
   }
   // Preview is deterministic after one sample per pixel but antialiases with more.
-  rs.spp = spp ? uint32_t(*spp) : (integrator == gpu::pt::kIntegratorPreview ? 4u : 64u);
+  rs.spp = spp ? uint32_t(*spp) : (*integrator == pt::Mode::Preview ? 4u : 64u);
   if (timeLimit) {
     rs.timeLimitS = *timeLimit;
     if (!spp) rs.spp = 1u << 24;  // --time alone: as many samples as fit
   }
   rs.seed = seed ? uint32_t(*seed) : 0u;
-  rs.integrator = integrator;
+  rs.mode = *integrator;
 
   vk::Context ctx(vkOptions);
   scene::GpuScene gpuScene(ctx, sc, env ? &*env : nullptr);
   bvh::Bvh tree = bvh::buildGpu(ctx, gpuScene.vertices, gpuScene.triangles, gpuScene.triangleCount);
   ProgressPrinter progress(quiet);
   render::RenderStats stats;
-  render::FilmLayers film = render::render(
+  render::FilmLayers film = pt::render(
       ctx, gpuScene, tree, camera, rs, [&](const render::Progress& p) { progress(p); }, &stats);
   progress.finish();
   if (film.droppedSamples > 0)
     std::fprintf(stderr, "osr-vk: warning: %llu non-finite samples dropped\n",
                  static_cast<unsigned long long>(film.droppedSamples));
   if (exrPath)
-    writeExr(*exrPath, toLayers(film), exrFloat ? ExrPixelType::Float : ExrPixelType::Half);
-  if (pngPath) writePng(*pngPath, {film.width, film.height, film.combined}, exposure);
+    image::writeExr(*exrPath, toLayers(film), exrFloat ? image::ExrPixelType::Float : image::ExrPixelType::Half);
+  if (pngPath) image::writePng(*pngPath, {film.width, film.height, film.combined}, exposure);
   if (!quiet)
     std::fprintf(
         stderr, "osr-vk: %ux%u, %u spp in %.2f s (%.3g Mpaths/s)\n", rs.width, rs.height,
-        stats.samples, stats.seconds,
-        double(rs.width) * rs.height * stats.samples / std::max(stats.seconds, 1e-9) * 1e-6);
+        stats.units, stats.seconds,
+        double(rs.width) * rs.height * stats.units / std::max(stats.seconds, 1e-9) * 1e-6);
   return 0;
 }
 
