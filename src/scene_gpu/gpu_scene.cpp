@@ -99,8 +99,10 @@ GpuScene::GpuScene(const vk::Context& ctx, const Scene& scene, const Environment
   texelFetch = coversV && coversT && coversM;
 }
 
+// Texels per element that shaders/lib/scene.glsl reads (Material's layout is asserted in
+// shaders/shared/scene.h against its kMaterialWord* constants).
 static_assert(sizeof(gpu::Vertex) == 32 && sizeof(gpu::Triangle) == 16 &&
-                  sizeof(gpu::Material) == 112,
+                  sizeof(gpu::Material) == 16 * gpu::kMaterialTexels,
               "texel counts in shaders/lib/scene.glsl");
 
 std::array<vk::BufferRange, gpu::kSceneBindingCount> GpuScene::bindings() const {
