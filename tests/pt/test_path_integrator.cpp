@@ -260,6 +260,29 @@ TEST(PathIntegrator, FixedSeedIsDeterministicAndLayersAddUp) {
   EXPECT_GT(mean(a.film.indirect), 0.05 * mean(a.film.combined));  // the box interreflects
 }
 
+// Batching groups samples into submissions differently but never changes which samples run.
+TEST(PathIntegrator, BatchingDoesNotChangeTheImage) {
+  auto& ctx = test::context();
+  scene::Scene sc = scene::loadScene(test::referencePath("cornell/cornell.gltf"));
+  scene::Camera cam = scene::selectCamera(sc, "", 1.f);
+  scene::GpuScene gs(ctx, sc);
+  bvh::Bvh tree = bvh::buildGpu(ctx, gs.vertices, gs.triangles, gs.triangleCount);
+  pt::RenderSettings s;
+  s.width = s.height = 16;
+  s.spp = 12;
+  s.seed = 5;
+  s.batchTargetS = 0.0;  // one sample per submission
+  render::RenderStats one, many;
+  render::FilmLayers a = pt::render(ctx, gs, tree, cam, s, {}, &one);
+  s.batchTargetS = 100.0;  // 1, then the other 11 in one submission
+  render::FilmLayers b = pt::render(ctx, gs, tree, cam, s, {}, &many);
+  EXPECT_EQ(one.submissions, 12u);
+  EXPECT_EQ(many.submissions, 2u);
+  EXPECT_EQ(a.samples, 12u);
+  EXPECT_EQ(a.combined, b.combined);
+  EXPECT_EQ(a.albedo, b.albedo);
+}
+
 TEST(PathIntegrator, PreviewIsAlbedoTimesHeadlightCosine) {
   fs::path d = tempDir();
   GltfWriter g;
