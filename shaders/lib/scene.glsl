@@ -4,7 +4,7 @@
 // slots OSR_SCENE_BINDING + 0 .. + kSceneBindingCount - 1 in the order of the kSceneBinding*
 // constants of shared/scene.h, which is the order osr::scene::GpuScene::bindings() returns.
 // C++ twins of every function here live in src/scene/surface.h and are tested against this
-// file by tests/scene/test_scene_probe.cpp.
+// file by tests/scene_gpu/test_scene_probe.cpp.
 #ifndef OSR_LIB_SCENE_GLSL
 #define OSR_LIB_SCENE_GLSL
 

@@ -1,4 +1,4 @@
-// Scene data as the device sees it (std430). Written by src/scene (upload), read by every
+// Scene data as the device sees it (std430). Written by src/scene_gpu (upload), read by every
 // pass that shades: see shaders/lib/scene.glsl for the accessors.
 #ifndef OSR_SHARED_SCENE_H
 #define OSR_SHARED_SCENE_H

@@ -32,7 +32,8 @@ struct Rendered {
 
 Rendered renderFile(const std::string& gltf, uint32_t size, uint32_t spp, uint32_t seed = 1,
                     const scene::Environment* env = nullptr,
-                    pt::Mode mode = pt::Mode::Path) {
+                    pt::Mode mode = pt::Mode::Path, double batchTargetS = 0.25,
+                    render::RenderStats* stats = nullptr) {
   auto& ctx = test::context();
   Rendered r;
   r.scene = scene::loadScene(gltf);
@@ -44,7 +45,8 @@ Rendered renderFile(const std::string& gltf, uint32_t size, uint32_t spp, uint32
   s.spp = spp;
   s.seed = seed;
   s.mode = mode;
-  r.film = pt::render(ctx, gs, tree, r.camera, s);
+  s.batchTargetS = batchTargetS;
+  r.film = pt::render(ctx, gs, tree, r.camera, s, {}, stats);
   return r;
 }
 
@@ -262,25 +264,16 @@ TEST(PathIntegrator, FixedSeedIsDeterministicAndLayersAddUp) {
 
 // Batching groups samples into submissions differently but never changes which samples run.
 TEST(PathIntegrator, BatchingDoesNotChangeTheImage) {
-  auto& ctx = test::context();
-  scene::Scene sc = scene::loadScene(test::referencePath("cornell/cornell.gltf"));
-  scene::Camera cam = scene::selectCamera(sc, "", 1.f);
-  scene::GpuScene gs(ctx, sc);
-  bvh::Bvh tree = bvh::buildGpu(ctx, gs.vertices, gs.triangles, gs.triangleCount);
-  pt::RenderSettings s;
-  s.width = s.height = 16;
-  s.spp = 12;
-  s.seed = 5;
-  s.batchTargetS = 0.0;  // one sample per submission
+  const std::string cornell = test::referencePath("cornell/cornell.gltf");
   render::RenderStats one, many;
-  render::FilmLayers a = pt::render(ctx, gs, tree, cam, s, {}, &one);
-  s.batchTargetS = 100.0;  // 1, then the other 11 in one submission
-  render::FilmLayers b = pt::render(ctx, gs, tree, cam, s, {}, &many);
+  // batchTargetS 0: one sample per submission; 100: 1, then the other 11 in one submission.
+  Rendered a = renderFile(cornell, 16, 12, 5, nullptr, pt::Mode::Path, 0.0, &one);
+  Rendered b = renderFile(cornell, 16, 12, 5, nullptr, pt::Mode::Path, 100.0, &many);
   EXPECT_EQ(one.submissions, 12u);
   EXPECT_EQ(many.submissions, 2u);
-  EXPECT_EQ(a.samples, 12u);
-  EXPECT_EQ(a.combined, b.combined);
-  EXPECT_EQ(a.albedo, b.albedo);
+  EXPECT_EQ(a.film.samples, 12u);
+  EXPECT_EQ(a.film.combined, b.film.combined);
+  EXPECT_EQ(a.film.albedo, b.film.albedo);
 }
 
 TEST(PathIntegrator, PreviewIsAlbedoTimesHeadlightCosine) {
