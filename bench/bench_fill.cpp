@@ -3,6 +3,7 @@
 #include "bench/benchmarks.h"
 #include "bench/json.h"
 #include "shaders/shared/util_fill.h"
+#include "vk/binder.h"
 #include "vk/buffer.h"
 #include "vk/pipeline.h"
 #include "vk/timer.h"
@@ -22,7 +23,7 @@ int runFill(const std::vector<std::string>& args) {
     ctx.submitAndWait([&](VkCommandBuffer cmd) {
       timer.reset(cmd);
       vk::TimedScope scope(&timer, cmd, "util_fill");
-      pass.bind(cmd, {buf}, fill::Push{words, 1u});
+      vk::Binder(pass).set(fill::kBindingData, buf).bind(cmd, fill::Push{words, 1u});
       pass.dispatch(cmd, vk::groupCount(words, fill::kWorkgroupSize));
     });
   if (buf.downloadVector<uint32_t>(1, (words - 1) * 4ull)[0] != 1u) return 1;

@@ -14,15 +14,15 @@
 #include <thread>
 
 #include "app/args.h"
-#include "app/image_io.h"
-#include "app/image_metrics.h"
+#include "image/image_io.h"
+#include "image/image_metrics.h"
 #include "bench/benchmarks.h"
 #include "bench/bvh_scenes.h"
 #include "bench/json.h"
 #include "bvh/bvh.h"
 #include "common/error.h"
-#include "render/renderer.h"
-#include "scene/gpu_scene.h"
+#include "pt/path_integrator.h"
+#include "scene_gpu/gpu_scene.h"
 #include "scene/scene.h"
 
 namespace osr::bench {
@@ -109,15 +109,15 @@ int runPathtrace(const std::vector<std::string>& args) {
     scene::Camera cam = scene::selectCamera(sc, "", 1.f);
     scene::GpuScene gs(ctx, sc);
     bvh::Bvh tree = bvh::buildGpu(ctx, gs.vertices, gs.triangles, gs.triangleCount);
-    render::RenderSettings s;
+    pt::RenderSettings s;
 
     // Verify: 4 spp at 32 x 32 against the reference's mean luminance.
     s.width = s.height = 32;
     s.spp = 4;
-    render::FilmLayers check = render::render(ctx, gs, tree, cam, s);
-    app::RgbImage ref = app::readExrRgb(scenePath(name, name + "_cycles_4096spp.exr"));
-    double ours = app::meanLuminance({32, 32, check.combined});
-    double ratio = ours / app::meanLuminance(ref);
+    render::FilmLayers check = pt::render(ctx, gs, tree, cam, s);
+    image::RgbImage ref = image::readExrRgb(scenePath(name, name + "_cycles_4096spp.exr"));
+    double ours = image::meanLuminance({32, 32, check.combined});
+    double ratio = ours / image::meanLuminance(ref);
     if (!std::isfinite(ours) || check.droppedSamples || std::abs(ratio - 1.0) > 0.1) {
       std::fprintf(stderr,
                    "osr-bench: pathtrace %s: verification failed (mean luminance %.4g "
@@ -132,18 +132,18 @@ int runPathtrace(const std::vector<std::string>& args) {
     // Process CPU time of the render (pipeline creation included): on a shared machine it
     // compares runs better than wall time.
     double cpuStart = processCpuMs();
-    render::render(ctx, gs, tree, cam, s, {}, &stats);
+    pt::render(ctx, gs, tree, cam, s, {}, &stats);
     double cpuMs = processCpuMs() - cpuStart;
-    double sppPerS = stats.samples / stats.seconds;
+    double sppPerS = stats.units / stats.seconds;
     double mpaths = sppPerS * size * size * 1e-6;
     JsonLine()
         .str("bench", "pathtrace")
         .str("scene", name)
         .integer("width", size)
         .integer("height", size)
-        .integer("spp", stats.samples)
+        .integer("spp", stats.units)
         .num("seconds", stats.seconds)
-        .num("gpu_ms", stats.gpuMs)
+        .num("gpu_ms", stats.gpuMs("pt_trace"))
         .num("cpu_time_ms", cpuMs)
         .num("spp_per_s", sppPerS)
         .num("mpaths_per_s", mpaths)

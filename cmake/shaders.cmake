@@ -1,6 +1,8 @@
 # osr_compile_shaders(<target> <dir>): compiles <dir>/*.comp to SPIR-V with glslangValidator
 # at build time and makes a static library <target> holding every module as a uint32_t array,
 # plus generated/shaders/shader_id.h, the enum listing them and the lookup function.
+# Modules keep their OpName/OpMemberName debug names (no -g0): tests/vk/test_shared_layout.cpp
+# reads the struct layouts the shaders use from them; drivers ignore names.
 function(osr_compile_shaders target dir)
   file(GLOB comps CONFIGURE_DEPENDS ${dir}/*.comp)
   file(GLOB_RECURSE headers CONFIGURE_DEPENDS ${dir}/*.h ${dir}/*.glsl)
@@ -10,13 +12,14 @@ function(osr_compile_shaders target dir)
   set(enumEntries "")
   set(tableEntries "")
   set(externs "")
+  list(LENGTH comps moduleCount)
   foreach(comp ${comps})
     get_filename_component(name ${comp} NAME_WE)
     set(out ${gen}/${name}.spv.h)
     # Every shared header is a dependency: cheap at this size and never stale.
     add_custom_command(OUTPUT ${out}
       COMMAND ${GLSLANG_VALIDATOR} --quiet --target-env vulkan1.2 -V -I${dir}
-              -g0 --vn spv_${name} -o ${out} ${comp}
+              --vn spv_${name} -o ${out} ${comp}
       DEPENDS ${comp} ${headers}
       COMMENT "glslang ${name}.comp"
       VERBATIM)
@@ -33,6 +36,7 @@ function(osr_compile_shaders target dir)
 namespace osr::shaders {
 enum class Id {
 ${enumEntries}};
+inline constexpr size_t kModuleCount = ${moduleCount};
 struct Module { const char* name; const uint32_t* code; size_t words; };
 const Module& module(Id id);
 }  // namespace osr::shaders

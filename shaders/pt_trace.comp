@@ -3,7 +3,7 @@
 // Inputs: Frame (camera, size, seed), the BVH, the scene; push: pixel range and sample index.
 // Output: FilmPixel sums (shared/pt.h). A megakernel: each invocation follows its path to the
 // end: on lavapipe, barriers between wavefront stages are expected to cost more than the
-// divergence they remove (src/render/trace_pass.h has the reasoning; not measured).
+// divergence they remove (src/pt/trace_pass.h has the reasoning; not measured).
 //
 // Path integrator (kIntegratorPath): camera rays jittered uniformly over the pixel (box
 // filter), then lib/path.glsl's bounce (next-event estimation with MIS, Russian roulette)

@@ -4,7 +4,7 @@
 // slots OSR_SCENE_BINDING + 0 .. + kSceneBindingCount - 1 in the order of the kSceneBinding*
 // constants of shared/scene.h, which is the order osr::scene::GpuScene::bindings() returns.
 // C++ twins of every function here live in src/scene/surface.h and are tested against this
-// file by tests/scene/test_scene_probe.cpp.
+// file by tests/scene_gpu/test_scene_probe.cpp.
 #ifndef OSR_LIB_SCENE_GLSL
 #define OSR_LIB_SCENE_GLSL
 
@@ -97,28 +97,33 @@ Triangle sceneTriangle(uint i) {
 Material sceneMaterial(uint i) {
 #ifdef OSR_SCENE_TEXEL_BINDING
   if (kSceneTexelFetch) {
-    int base = int(7u * i);
-    uvec4 t[7];
-    for (int k = 0; k < 7; ++k) t[k] = texelFetch(gMaterialTexels, base + k);
+    // Layout from shared/scene.h: the field at word w is lane w % 4 of texel w / 4.
+    int base = int(kMaterialTexels * i);
+    uvec4 t[kMaterialTexels];
+    for (int k = 0; k < int(kMaterialTexels); ++k) t[k] = texelFetch(gMaterialTexels, base + k);
+#define OSR_MW(w) t[(w) / 4u][(w) % 4u]
+#define OSR_MW3(w) uvec3(OSR_MW(w), OSR_MW((w) + 1u), OSR_MW((w) + 2u))
     Material m;
-    m.baseColor = uintBitsToFloat(t[0]);
-    m.emission = uintBitsToFloat(t[1].xyz);
-    m.roughness = uintBitsToFloat(t[1].w);
-    m.specularColor = uintBitsToFloat(t[2].xyz);
-    m.metallic = uintBitsToFloat(t[2].w);
-    m.specular = uintBitsToFloat(t[3].x);
-    m.ior = uintBitsToFloat(t[3].y);
-    m.transmission = uintBitsToFloat(t[3].z);
-    m.alphaCutoff = uintBitsToFloat(t[3].w);
-    m.baseColorTexture = int(t[4].x);
-    m.metallicRoughnessTexture = int(t[4].y);
-    m.normalTexture = int(t[4].z);
-    m.emissiveTexture = int(t[4].w);
-    m.transmissionTexture = int(t[5].x);
-    m.specularTexture = int(t[5].y);
-    m.specularColorTexture = int(t[5].z);
-    m.flags = t[5].w;
-    m.normalScale = uintBitsToFloat(t[6].x);
+    m.baseColor = uintBitsToFloat(t[kMaterialWordBaseColor / 4u]);  // vec4: a whole texel
+    m.emission = uintBitsToFloat(OSR_MW3(kMaterialWordEmission));
+    m.roughness = uintBitsToFloat(OSR_MW(kMaterialWordRoughness));
+    m.specularColor = uintBitsToFloat(OSR_MW3(kMaterialWordSpecularColor));
+    m.metallic = uintBitsToFloat(OSR_MW(kMaterialWordMetallic));
+    m.specular = uintBitsToFloat(OSR_MW(kMaterialWordSpecular));
+    m.ior = uintBitsToFloat(OSR_MW(kMaterialWordIor));
+    m.transmission = uintBitsToFloat(OSR_MW(kMaterialWordTransmission));
+    m.alphaCutoff = uintBitsToFloat(OSR_MW(kMaterialWordAlphaCutoff));
+    m.baseColorTexture = int(OSR_MW(kMaterialWordBaseColorTexture));
+    m.metallicRoughnessTexture = int(OSR_MW(kMaterialWordMetallicRoughnessTexture));
+    m.normalTexture = int(OSR_MW(kMaterialWordNormalTexture));
+    m.emissiveTexture = int(OSR_MW(kMaterialWordEmissiveTexture));
+    m.transmissionTexture = int(OSR_MW(kMaterialWordTransmissionTexture));
+    m.specularTexture = int(OSR_MW(kMaterialWordSpecularTexture));
+    m.specularColorTexture = int(OSR_MW(kMaterialWordSpecularColorTexture));
+    m.flags = OSR_MW(kMaterialWordFlags);
+    m.normalScale = uintBitsToFloat(OSR_MW(kMaterialWordNormalScale));
+#undef OSR_MW3
+#undef OSR_MW
     m._pad0 = 0.0;
     m._pad1 = 0.0;
     m._pad2 = 0.0;

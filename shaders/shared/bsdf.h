@@ -23,6 +23,7 @@ OSR_CONST(uint, kProbeEval, 0u);
 OSR_CONST(uint, kProbeSample, 1u);
 OSR_CONST(uint, kProbeBindingCases, 0);
 OSR_CONST(uint, kProbeBindingOut, 1);
+OSR_CONST(uint, kProbeBindingCount, 2);
 
 struct ProbeCase {
   BsdfParams params;

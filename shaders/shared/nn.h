@@ -15,6 +15,8 @@ OSR_CONST(uint, kBindingWeights, 2);  // conv only: [cin][ks*ks][coutPadded]
 OSR_CONST(uint, kBindingParams, 3);   // conv only: fp32 bias[coutPadded], scale[..], shift[..]
 OSR_CONST(uint, kBindingWeightTexels, 4);  // conv only: the weights as an RGBA texel buffer
 OSR_CONST(uint, kBindingInTexels, 5);      // conv only: the input as RGBA texels (4 pixels each)
+OSR_CONST(uint, kConvBindingCount, 6);
+OSR_CONST(uint, kResampleBindingCount, 2);  // pool, upsample: kBindingIn, kBindingOut
 
 // Specialization constant ids.
 OSR_CONST(uint, kSpecWorkgroup, 0);   // local_size_x

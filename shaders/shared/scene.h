@@ -1,4 +1,4 @@
-// Scene data as the device sees it (std430). Written by src/scene (upload), read by every
+// Scene data as the device sees it (std430). Written by src/scene_gpu (upload), read by every
 // pass that shades: see shaders/lib/scene.glsl for the accessors.
 #ifndef OSR_SHARED_SCENE_H
 #define OSR_SHARED_SCENE_H
@@ -51,6 +51,58 @@ struct Material {
   float _pad1;
   float _pad2;
 };
+
+// Material read as RGBA32UI texels (lib/scene.glsl sceneMaterial with texel fetch): element i
+// is texels [i * kMaterialTexels, (i + 1) * kMaterialTexels), and a field whose first 32-bit
+// word is w sits in texel w / 4, lane w % 4 (vec3/vec4 fields continue in the next lanes).
+// The word offsets are the std430 offsets of Material / 4; C++ static_asserts them against
+// offsetof (src/scene_gpu/gpu_scene.cpp, tests/vk/test_shared_layout.cpp).
+OSR_CONST(uint, kMaterialTexels, 7u);  // sizeof(Material) / 16
+OSR_CONST(uint, kMaterialWordBaseColor, 0u);
+OSR_CONST(uint, kMaterialWordEmission, 4u);
+OSR_CONST(uint, kMaterialWordRoughness, 7u);
+OSR_CONST(uint, kMaterialWordSpecularColor, 8u);
+OSR_CONST(uint, kMaterialWordMetallic, 11u);
+OSR_CONST(uint, kMaterialWordSpecular, 12u);
+OSR_CONST(uint, kMaterialWordIor, 13u);
+OSR_CONST(uint, kMaterialWordTransmission, 14u);
+OSR_CONST(uint, kMaterialWordAlphaCutoff, 15u);
+OSR_CONST(uint, kMaterialWordBaseColorTexture, 16u);
+OSR_CONST(uint, kMaterialWordMetallicRoughnessTexture, 17u);
+OSR_CONST(uint, kMaterialWordNormalTexture, 18u);
+OSR_CONST(uint, kMaterialWordEmissiveTexture, 19u);
+OSR_CONST(uint, kMaterialWordTransmissionTexture, 20u);
+OSR_CONST(uint, kMaterialWordSpecularTexture, 21u);
+OSR_CONST(uint, kMaterialWordSpecularColorTexture, 22u);
+OSR_CONST(uint, kMaterialWordFlags, 23u);
+OSR_CONST(uint, kMaterialWordNormalScale, 24u);
+
+#ifdef __cplusplus
+// The texel layout above is Material's: a field moved or added without its constant fails here.
+#include <cstddef>
+#define OSR_MATERIAL_WORD(field, word) \
+  static_assert(offsetof(Material, field) == 4 * (word), "kMaterialWord of " #field)
+OSR_MATERIAL_WORD(baseColor, kMaterialWordBaseColor);
+OSR_MATERIAL_WORD(emission, kMaterialWordEmission);
+OSR_MATERIAL_WORD(roughness, kMaterialWordRoughness);
+OSR_MATERIAL_WORD(specularColor, kMaterialWordSpecularColor);
+OSR_MATERIAL_WORD(metallic, kMaterialWordMetallic);
+OSR_MATERIAL_WORD(specular, kMaterialWordSpecular);
+OSR_MATERIAL_WORD(ior, kMaterialWordIor);
+OSR_MATERIAL_WORD(transmission, kMaterialWordTransmission);
+OSR_MATERIAL_WORD(alphaCutoff, kMaterialWordAlphaCutoff);
+OSR_MATERIAL_WORD(baseColorTexture, kMaterialWordBaseColorTexture);
+OSR_MATERIAL_WORD(metallicRoughnessTexture, kMaterialWordMetallicRoughnessTexture);
+OSR_MATERIAL_WORD(normalTexture, kMaterialWordNormalTexture);
+OSR_MATERIAL_WORD(emissiveTexture, kMaterialWordEmissiveTexture);
+OSR_MATERIAL_WORD(transmissionTexture, kMaterialWordTransmissionTexture);
+OSR_MATERIAL_WORD(specularTexture, kMaterialWordSpecularTexture);
+OSR_MATERIAL_WORD(specularColorTexture, kMaterialWordSpecularColorTexture);
+OSR_MATERIAL_WORD(flags, kMaterialWordFlags);
+OSR_MATERIAL_WORD(normalScale, kMaterialWordNormalScale);
+#undef OSR_MATERIAL_WORD
+static_assert(sizeof(Material) == 16 * kMaterialTexels, "kMaterialTexels");
+#endif
 
 // Texture wrap modes (glTF sampler), in TextureInfo.wrap: S in bits 0-1, T in bits 2-3.
 OSR_CONST(uint, kWrapRepeat, 0u);
@@ -134,7 +186,8 @@ OSR_CONST(uint, kSceneBindingCount, 10u);
 // Optional RGBA32UI texel views of the hottest scene buffers (GpuScene::texelViews), relative
 // to OSR_SCENE_TEXEL_BINDING; a pass that defines it reads vertices, triangles and materials
 // by texel fetch where specialization constant kSceneSpecTexelFetch is true (on lavapipe a
-// gather instead of a per-lane loop). Texels per element: Vertex 2, Triangle 1, Material 7.
+// gather instead of a per-lane loop). Texels per element: Vertex 2, Triangle 1, Material
+// kMaterialTexels.
 OSR_CONST(uint, kSceneTexelBindingVertices, 0u);
 OSR_CONST(uint, kSceneTexelBindingTriangles, 1u);
 OSR_CONST(uint, kSceneTexelBindingMaterials, 2u);

@@ -1,11 +1,11 @@
 // osr-vk compare a.exr b.exr: one JSON line with relmse, psnr, ssim and lum_ratio (a over b);
-// see app/image_metrics.h for the definitions. Exit 2 on unreadable files or different sizes.
+// see image/image_metrics.h for the definitions. Exit 2 on unreadable files or different sizes.
 #include <cmath>
 #include <cstdio>
 
 #include "app/args.h"
 #include "app/commands.h"
-#include "app/image_metrics.h"
+#include "image/image_metrics.h"
 #include "common/error.h"
 
 namespace osr::app {
@@ -15,13 +15,13 @@ int runCompare(const std::vector<std::string>& args) {
   auto files = a.positional();
   a.finish();
   if (files.size() != 2) throw InputError("compare: expected two images, a.exr b.exr");
-  RgbImage x = readExrRgb(files[0]);
-  RgbImage y = readExrRgb(files[1]);
+  image::RgbImage x = image::readExrRgb(files[0]);
+  image::RgbImage y = image::readExrRgb(files[1]);
   if (x.width != y.width || x.height != y.height)
     throw InputError(files[0] + ": size " + std::to_string(x.width) + "x" +
                      std::to_string(x.height) + " differs from " + files[1] + " (" +
                      std::to_string(y.width) + "x" + std::to_string(y.height) + ")");
-  ImageMetrics m = compareImages(x, y);
+  image::ImageMetrics m = image::compareImages(x, y);
   auto num = [](double v) {
     char buf[64];
     if (!std::isfinite(v)) return std::string("null");  // identical images: psnr = inf
@@ -32,7 +32,7 @@ int runCompare(const std::vector<std::string>& args) {
       "{\"relmse\": %s, \"psnr\": %s, \"ssim\": %s, \"lum_ratio\": %s, "
       "\"relmse_epsilon\": %g, \"tonemap\": \"%s\"}\n",
       num(m.relmse).c_str(), num(m.psnr).c_str(), num(m.ssim).c_str(), num(m.lumRatio).c_str(),
-      kRelMseEpsilon, kToneMapDescription);
+      image::kRelMseEpsilon, image::kToneMapDescription);
   return 0;
 }
 

@@ -8,19 +8,21 @@
 #include <cmath>
 #include <cstdio>
 #include <cstdlib>
+#include <filesystem>
+#include <memory>
 #include <optional>
 
 #include "app/args.h"
 #include "app/device_options.h"
 #include "app/commands.h"
-#include "app/image_io.h"
+#include "image/image_io.h"
 #include "bvh/bvh.h"
 #include "common/error.h"
 #include "osr/osr_integrator.h"
-#include "render/renderer.h"
-#include "scene/gpu_scene.h"
+#include "pt/path_integrator.h"
+#include "render/progressive_driver.h"
+#include "scene_gpu/gpu_scene.h"
 #include "scene/scene.h"
-#include "shaders/shared/pt.h"
 #include "vk/context.h"
 #include "vk/timer.h"
 
@@ -28,8 +30,8 @@ namespace osr::app {
 
 namespace {
 
-LayeredImage toLayers(const render::FilmLayers& f) {
-  LayeredImage img;
+image::LayeredImage toLayers(const render::FilmLayers& f) {
+  image::LayeredImage img;
   img.width = f.width;
   img.height = f.height;
   const std::vector<std::string> rgb = {"R", "G", "B"}, xyz = {"X", "Y", "Z"};
@@ -44,11 +46,11 @@ class ProgressPrinter {
   explicit ProgressPrinter(bool quiet) : quiet_(quiet), tty_(::isatty(2)) {}
   void operator()(const render::Progress& p) {
     if (quiet_) return;
-    bool last = p.samples >= p.targetSamples || p.remainingS <= 0.0;
+    bool last = p.units >= p.targetUnits || p.remainingS <= 0.0;
     if (!tty_ && !last && p.elapsedS - lastPrinted_ < 5.0) return;
     lastPrinted_ = p.elapsedS;
-    std::fprintf(stderr, "%sosr-vk: %u/%u spp, %.1f s elapsed, ~%.1f s remaining%s",
-                 tty_ ? "\r" : "", p.samples, p.targetSamples, p.elapsedS, p.remainingS,
+    std::fprintf(stderr, "%sosr-vk: %u/%u %s, %.1f s elapsed, ~%.1f s remaining%s",
+                 tty_ ? "\r" : "", p.units, p.targetUnits, p.unitName, p.elapsedS, p.remainingS,
                  tty_ ? "   " : "\n");
     std::fflush(stderr);
     printed_ = true;
@@ -62,6 +64,40 @@ class ProgressPrinter {
   bool printed_ = false;
   double lastPrinted_ = -1e9;
 };
+
+// --dump-maps DIR: the maps of the last map pass as atlases a person can look at (one tile
+// per grid cell, in grid order, 1-texel gaps): oneshot.png (the traced input), clean.png (what
+// the denoiser made of it; the raw map with --denoiser none), and grid.png, the image with
+// the grid points marked in red.
+void writeMapDump(const std::string& dir, const oneshot::OsrIntegrator::MapDump& d,
+                  const render::FilmLayers& film) {
+  std::filesystem::create_directories(dir);
+  const int tile = 33, w = int(d.cellsX) * tile, h = int(d.cellsY) * tile;
+  auto atlas = [&](const std::vector<float>& maps, uint32_t channels) {
+    image::RgbImage img{w, h, std::vector<float>(size_t(w) * h * 3, 0.f)};
+    for (uint32_t m = 0; m < d.maps; ++m)
+      for (uint32_t t = 0; t < 1024; ++t)
+        for (int c = 0; c < 3; ++c) {
+          int x = int(m % d.cellsX) * tile + int(t % 32), y = int(m / d.cellsX) * tile + int(t / 32);
+          img.rgb[(size_t(y) * w + x) * 3 + c] = maps[(size_t(m) * channels + c) * 1024 + t];
+        }
+    return img;
+  };
+  if (!d.oneShot.empty()) image::writePng(dir + "/oneshot.png", atlas(d.oneShot, 7), {});
+  image::writePng(dir + "/clean.png", atlas(d.clean, 3), {});
+  image::RgbImage frame{film.width, film.height, film.combined};
+  for (const auto& r : d.records) {
+    if (r.position.w < 0.5f) continue;
+    for (int dy = -1; dy <= 1; ++dy)
+      for (int dx = -1; dx <= 1; ++dx) {
+        int x = int(r.pixel.x) + dx, y = int(r.pixel.y) + dy;
+        if (x < 0 || y < 0 || x >= film.width || y >= film.height) continue;
+        float* p = &frame.rgb[(size_t(y) * film.width + x) * 3];
+        p[0] = 1e3f, p[1] = 0.f, p[2] = 0.f;
+      }
+  }
+  image::writePng(dir + "/grid.png", frame, {});
+}
 
 }  // namespace
 
@@ -89,19 +125,21 @@ int runRender(const std::vector<std::string>& args) {
   auto residualSpp = a.integer("--residual-spp", 0, 1024);
   auto residualRamp = a.number("--residual-ramp", 0.0, 1e9);
   auto mapSpp = a.integer("--map-spp", 1, 1 << 16);
+  auto dumpMaps = a.value("--dump-maps");
   vk::ContextOptions vkOptions = readDeviceOptions(a);
   auto files = a.positional();
   a.finish();
   if (files.size() != 1) throw InputError("render: expected exactly one scene file");
-  uint32_t integrator = 0;
   const bool osrMode = mode == "osr";
-  if (osrMode) {
-  } else if (mode == "path")
-    integrator = gpu::pt::kIntegratorPath;
-  else if (mode == "preview")
-    integrator = gpu::pt::kIntegratorPreview;
-  else
+  std::optional<pt::Mode> ptMode = pt::parseMode(mode);
+  if (!osrMode && !ptMode)
     throw InputError("--mode: unknown integrator '" + mode + "' (osr, path, preview)");
+  if (!osrMode && (passes || denoiser || weights || gridStart || gridMin || directSpp ||
+                   residualSpp || residualRamp || mapSpp))
+    throw InputError("render: --passes, --denoiser, --weights, --grid-*, --direct-spp, "
+                     "--residual-*, --map-spp are options of --mode osr");
+  if (osrMode && spp)
+    throw InputError("--spp: --mode osr counts progressive passes; use --passes N");
   oneshot::OsrSettings osrSettings;
   if (denoiser) osrSettings.denoiser = oneshot::parseDenoiser(*denoiser);
   if (weights) {
@@ -117,11 +155,15 @@ int runRender(const std::vector<std::string>& args) {
   if (osrSettings.gridMin > osrSettings.gridStart)
     throw InputError("--grid-min: " + std::to_string(osrSettings.gridMin) +
                      " is coarser than --grid-start " + std::to_string(osrSettings.gridStart));
+  if (osrSettings.denoiser == oneshot::Denoiser::Unet && osrSettings.weightsPath.empty())
+    throw InputError("--denoiser unet: no trained model is shipped yet; give --weights FILE "
+                     "(tools/weights_pack.py) or use --denoiser blur");
+  if (dumpMaps && !osrMode) throw InputError("--dump-maps: an option of --mode osr");
   if (!exrPath && !pngPath)
     throw InputError("render: give --offline out.exr and/or --png out.png (no live viewer yet)");
   // Fail before the (long) render, not after it.
-  if (exrPath) checkWritable(*exrPath);
-  if (pngPath) checkWritable(*pngPath);
+  if (exrPath) image::checkWritable(*exrPath);
+  if (pngPath) image::checkWritable(*pngPath);
 
   scene::Scene sc = scene::loadScene(files[0]);
   std::optional<scene::Environment> env;
@@ -129,78 +171,65 @@ int runRender(const std::vector<std::string>& args) {
   float requestedAspect = width && height ? float(*width) / float(*height) : 0.f;
   scene::Camera camera = scene::selectCamera(sc, cameraSelector, requestedAspect);
   float aspect = camera.aspect > 0.f ? camera.aspect : 1.f;
-  render::RenderSettings rs;
+  uint32_t width_, height_;
   if (width && height) {
-    rs.width = uint32_t(*width);
-    rs.height = uint32_t(*height);
+    width_ = uint32_t(*width);
+    height_ = uint32_t(*height);
   } else if (height) {
-    rs.height = uint32_t(*height);
-    rs.width = std::max(1u, uint32_t(std::lround(*height * aspect)));
+    height_ = uint32_t(*height);
+    width_ = std::max(1u, uint32_t(std::lround(*height * aspect)));
   } else {
-    rs.width = width ? uint32_t(*width) : 512u;
-    rs.height = std::max(1u, uint32_t(std::lround(rs.width / aspect)));
+    width_ = width ? uint32_t(*width) : 512u;
+    height_ = std::max(1u, uint32_t(std::lround(width_ / aspect)));
   }
   // Preview is deterministic after one sample per pixel but antialiases with more.
-  rs.spp = spp ? uint32_t(*spp) : (integrator == gpu::pt::kIntegratorPreview ? 4u : 64u);
+  // Units: samples per pixel (path, preview) or passes (osr). Preview is deterministic after
+  // one sample per pixel but antialiases with more; OSR's defaults give a converged-looking
+  // image in about the path tracer's default time.
+  render::DriverSettings ds;
+  ds.maxUnits = osrMode ? (passes ? uint32_t(*passes) : 32u)
+                        : (spp ? uint32_t(*spp) : (*ptMode == pt::Mode::Preview ? 4u : 64u));
   if (timeLimit) {
-    rs.timeLimitS = *timeLimit;
-    if (!spp) rs.spp = 1u << 24;  // --time alone: as many samples as fit
+    ds.timeLimitS = *timeLimit;
+    if (!spp && !passes) ds.maxUnits = 1u << 24;  // --time alone: as many units as fit
   }
-  rs.seed = seed ? uint32_t(*seed) : 0u;
-  rs.integrator = integrator;
+  const uint32_t renderSeed = seed ? uint32_t(*seed) : 0u;
 
   vk::Context ctx(vkOptions);
   scene::GpuScene gpuScene(ctx, sc, env ? &*env : nullptr);
   bvh::Bvh tree = bvh::buildGpu(ctx, gpuScene.vertices, gpuScene.triangles, gpuScene.triangleCount);
   ProgressPrinter progress(quiet);
-  render::RenderStats stats;
-  render::FilmLayers film;
+  std::unique_ptr<render::Integrator> integrator;
+  oneshot::OsrIntegrator* osr = nullptr;
   if (osrMode) {
-    // TEMPORARY until the progressive driver lands: passes until --passes or --time.
-    oneshot::OsrIntegrator osr(ctx, gpuScene, tree, rs.width, rs.height, osrSettings);
-    osr.restart(camera, rs.seed);
-    vk::GpuTimer timer(ctx, 256);
-    const uint32_t maxPasses = passes ? uint32_t(*passes) : (timeLimit ? 1u << 24 : 16u);
-    auto t0 = std::chrono::steady_clock::now();
-    auto elapsed = [&] {
-      return std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-    };
-    uint32_t k = 0;
-    double last = 0.0;
-    while (k < maxPasses) {
-      double now = elapsed();
-      if (timeLimit && k > 0 && now + 0.5 * last >= *timeLimit) break;
-      ctx.submitAndWait([&](VkCommandBuffer cmd) {
-        timer.reset(cmd);
-        osr.record(cmd, k, 1, &timer);
-      });
-      last = elapsed() - now;
-      if (std::getenv("OSR_TIMINGS")) {
-        std::fprintf(stderr, "pass %u:", k);
-        for (auto& t : timer.results()) std::fprintf(stderr, " %s=%.1f", t.name.c_str(), t.ms);
-        std::fprintf(stderr, " wall=%.1f ms\n", last * 1e3);
-      }
-      ++k;
-    }
-    stats.samples = k;
-    stats.seconds = elapsed();
-    film = osr.resolve();
+    osrSettings.keepAllMaps = bool(dumpMaps);
+    auto o = std::make_unique<oneshot::OsrIntegrator>(ctx, gpuScene, tree, width_, height_,
+                                                      osrSettings);
+    osr = o.get();
+    integrator = std::move(o);
   } else {
-    film = render::render(ctx, gpuScene, tree, camera, rs,
-                          [&](const render::Progress& p) { progress(p); }, &stats);
+    integrator = std::make_unique<pt::PathIntegrator>(ctx, gpuScene, tree, width_, height_,
+                                                      *ptMode);
   }
+  render::ProgressiveDriver driver(ctx, *integrator, ds);
+  driver.restart(camera, renderSeed);
+  const render::RenderStats& stats =
+      driver.run([&](const render::Progress& p) { progress(p); });
+  render::FilmLayers film = integrator->resolve();
   progress.finish();
   if (film.droppedSamples > 0)
     std::fprintf(stderr, "osr-vk: warning: %llu non-finite samples dropped\n",
                  static_cast<unsigned long long>(film.droppedSamples));
   if (exrPath)
-    writeExr(*exrPath, toLayers(film), exrFloat ? ExrPixelType::Float : ExrPixelType::Half);
-  if (pngPath) writePng(*pngPath, {film.width, film.height, film.combined}, exposure);
-  if (!quiet)
-    std::fprintf(
-        stderr, "osr-vk: %ux%u, %u spp in %.2f s (%.3g Mpaths/s)\n", rs.width, rs.height,
-        stats.samples, stats.seconds,
-        double(rs.width) * rs.height * stats.samples / std::max(stats.seconds, 1e-9) * 1e-6);
+    image::writeExr(*exrPath, toLayers(film), exrFloat ? image::ExrPixelType::Float : image::ExrPixelType::Half);
+  if (pngPath) image::writePng(*pngPath, {film.width, film.height, film.combined}, exposure);
+  if (dumpMaps) writeMapDump(*dumpMaps, osr->downloadMaps(), film);
+  if (!quiet) {
+    std::fprintf(stderr, "osr-vk: %ux%u, %u %s in %.2f s", width_, height_, stats.units,
+                 integrator->unitName(), stats.seconds);
+    for (const auto& t : stats.gpuScopes) std::fprintf(stderr, ", %s %.0f ms", t.name.c_str(), t.ms);
+    std::fputc('\n', stderr);
+  }
   return 0;
 }
 

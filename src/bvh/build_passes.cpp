@@ -5,6 +5,7 @@
 #include <string>
 
 #include "common/error.h"
+#include "vk/binder.h"
 #include "vk/timer.h"
 
 namespace osr::bvh {
@@ -37,7 +38,14 @@ void BoundsPass::record(VkCommandBuffer cmd, const Args& a) const {
   vk::BufferRange hi = size > chunk ? vk::BufferRange(*a.vertices, chunk, size - chunk)
                                     : vk::BufferRange(*a.vertices, 0, vertexBytes);
   BuildPush push{a.triangleCount, static_cast<uint32_t>(std::min(size, chunk) / vertexBytes), 0, 0};
-  pipeline_.bind(cmd, {vk::BufferRange(*a.triangles, 0, uint64_t(a.triangleCount) * 16), lo, hi, a.prims, a.info}, push);
+  vk::Binder(pipeline_)
+      .setRange(bb::kBoundsBindingTriangles, *a.triangles, 0,
+                uint64_t(a.triangleCount) * sizeof(gpu::scene::Triangle))
+      .set(bb::kBoundsBindingVerticesLo, lo)
+      .set(bb::kBoundsBindingVerticesHi, hi)
+      .set(bb::kBoundsBindingPrims, a.prims)
+      .set(bb::kBoundsBindingInfo, a.info)
+      .bind(cmd, push);
   pipeline_.dispatch(cmd, groups(a.triangleCount));
   vk::computeBarrier(cmd);
 }
@@ -46,7 +54,12 @@ MortonPass::MortonPass(const vk::Context& ctx)
     : pipeline_(ctx, shaders::Id::bvh_morton, bb::kMortonBindingCount, sizeof(BuildPush)) {}
 
 void MortonPass::record(VkCommandBuffer cmd, const Args& a) const {
-  pipeline_.bind(cmd, {a.prims, a.info, a.keys, a.values}, BuildPush{a.triangleCount, 0, 0, 0});
+  vk::Binder(pipeline_)
+      .set(bb::kMortonBindingPrims, a.prims)
+      .set(bb::kMortonBindingInfo, a.info)
+      .set(bb::kMortonBindingKeys, a.keys)
+      .set(bb::kMortonBindingValues, a.values)
+      .bind(cmd, BuildPush{a.triangleCount, 0, 0, 0});
   pipeline_.dispatch(cmd, groups(a.triangleCount));
   vk::computeBarrier(cmd);
 }
@@ -63,13 +76,19 @@ uint64_t ExclusiveScan::partialsBytes(uint32_t count) {
 void ExclusiveScan::record(VkCommandBuffer cmd, const Args& a) const {
   uint32_t segments = vk::groupCount(a.count, bb::kScanSegment);
   BuildPush push{a.count, segments, 0, 0};
-  reduce_.bind(cmd, {a.data, a.partials}, push);
+  auto bind = [&](const vk::ComputePipeline& p) {
+    vk::Binder(p)
+        .set(bb::kScanBindingData, a.data)
+        .set(bb::kScanBindingPartials, a.partials)
+        .bind(cmd, push);
+  };
+  bind(reduce_);
   reduce_.dispatch(cmd, groups(segments));
   vk::computeBarrier(cmd);
-  top_.bind(cmd, {a.data, a.partials}, push);
+  bind(top_);
   top_.dispatch(cmd, 1);
   vk::computeBarrier(cmd);
-  apply_.bind(cmd, {a.data, a.partials}, push);
+  bind(apply_);
   apply_.dispatch(cmd, groups(segments));
   vk::computeBarrier(cmd);
 }
@@ -94,7 +113,11 @@ void RadixSort::record(VkCommandBuffer cmd, const Args& a, vk::GpuTimer* timer) 
     BuildPush push{a.count, shift, chunks, 0};
     {
       vk::TimedScope scope(timer, cmd, "bvh_radix_histogram");
-      histogram_.bind(cmd, {keys[src], values[src], a.histogram}, push);
+      vk::Binder(histogram_)
+          .set(bb::kRadixBindingKeysIn, keys[src])
+          .set(bb::kRadixBindingValuesIn, values[src])
+          .set(bb::kRadixBindingHist, a.histogram)
+          .bind(cmd, push);
       histogram_.dispatch(cmd, groups(chunks));
       vk::computeBarrier(cmd);
     }
@@ -103,7 +126,13 @@ void RadixSort::record(VkCommandBuffer cmd, const Args& a, vk::GpuTimer* timer) 
       scan_.record(cmd, {a.histogram, a.partials, histWords});
     }
     vk::TimedScope scope(timer, cmd, "bvh_radix_scatter");
-    scatter_.bind(cmd, {keys[src], values[src], a.histogram, keys[src ^ 1], values[src ^ 1]}, push);
+    vk::Binder(scatter_)
+        .set(bb::kRadixBindingKeysIn, keys[src])
+        .set(bb::kRadixBindingValuesIn, values[src])
+        .set(bb::kRadixBindingHist, a.histogram)
+        .set(bb::kRadixBindingKeysOut, keys[src ^ 1])
+        .set(bb::kRadixBindingValuesOut, values[src ^ 1])
+        .bind(cmd, push);
     scatter_.dispatch(cmd, groups(chunks));
     vk::computeBarrier(cmd);
   }
@@ -113,7 +142,13 @@ LbvhPass::LbvhPass(const vk::Context& ctx)
     : pipeline_(ctx, shaders::Id::bvh_lbvh, bb::kLbvhBindingCount, sizeof(BuildPush)) {}
 
 void LbvhPass::record(VkCommandBuffer cmd, const Args& a) const {
-  pipeline_.bind(cmd, {a.keys, a.values, a.prims, a.interior, a.leaves}, BuildPush{a.triangleCount, 0, 0, 0});
+  vk::Binder(pipeline_)
+      .set(bb::kLbvhBindingKeys, a.keys)
+      .set(bb::kLbvhBindingValues, a.values)
+      .set(bb::kLbvhBindingPrims, a.prims)
+      .set(bb::kLbvhBindingInterior, a.interior)
+      .set(bb::kLbvhBindingLeaves, a.leaves)
+      .bind(cmd, BuildPush{a.triangleCount, 0, 0, 0});
   pipeline_.dispatch(cmd, groups(a.triangleCount));
   vk::computeBarrier(cmd);
 }
@@ -124,7 +159,11 @@ RefitPass::RefitPass(const vk::Context& ctx)
 void RefitPass::record(VkCommandBuffer cmd, const Args& a) const {
   vkCmdFillBuffer(cmd, a.counters->handle(), 0, VK_WHOLE_SIZE, 0);
   vk::transferBarrier(cmd);
-  pipeline_.bind(cmd, {a.interior, a.leaves, *a.counters}, BuildPush{a.triangleCount, 0, 0, 0});
+  vk::Binder(pipeline_)
+      .set(bb::kClimbBindingInterior, a.interior)
+      .set(bb::kClimbBindingLeaves, a.leaves)
+      .set(bb::kClimbBindingCounters, *a.counters)
+      .bind(cmd, BuildPush{a.triangleCount, 0, 0, 0});
   pipeline_.dispatch(cmd, groups(a.triangleCount));
   vk::computeBarrier(cmd);
 }
@@ -150,22 +189,32 @@ void TreeletPass::record(VkCommandBuffer cmd, const Args& a, vk::GpuTimer* timer
   vkCmdFillBuffer(cmd, a.schedule->handle(), 0, VK_WHOLE_SIZE, 0);
   vk::transferBarrier(cmd);
   BuildPush push{a.triangleCount, a.minTriangles, 0, 0};
-  vk::BufferRange schedule(*a.schedule);
-  count_.bind(cmd, {a.interior, a.leaves, a.counters, schedule, a.nodeList}, push);
+  // The four treelet pipelines bind the same buffers at the same slots.
+  auto binder = [&](const vk::ComputePipeline& p) {
+    vk::Binder b(p);
+    b.set(bb::kClimbBindingInterior, a.interior)
+        .set(bb::kClimbBindingLeaves, a.leaves)
+        .set(bb::kClimbBindingCounters, a.counters)
+        .set(bb::kTreeletBindingSchedule, *a.schedule)
+        .set(bb::kTreeletBindingNodeList, a.nodeList);
+    return b;
+  };
+  binder(count_).bind(cmd, push);
   count_.dispatch(cmd, groups(interior));
   vk::computeBarrier(cmd);
-  plan_.bind(cmd, {a.interior, a.leaves, a.counters, schedule, a.nodeList}, push);
+  binder(plan_).bind(cmd, push);
   plan_.dispatch(cmd, 1);
   vk::computeBarrier(cmd);
-  scatter_.bind(cmd, {a.interior, a.leaves, a.counters, schedule, a.nodeList}, push);
+  binder(scatter_).bind(cmd, push);
   scatter_.dispatch(cmd, groups(interior));
   vk::computeBarrier(cmd);
   scope.reset();
   scope.emplace(timer, cmd, "bvh_treelet");
   // Height 0 holds no restructurable node (leaves and collapsed subtrees).
   const uint64_t argsOffset = bb::kTreeletMaxLevels * sizeof(bb::TreeletLevel);
+  const vk::Binder treelet = binder(treelet_);
   for (uint32_t h = 1; h < bb::kTreeletMaxLevels; ++h) {
-    treelet_.bind(cmd, {a.interior, a.leaves, a.counters, schedule, a.nodeList}, BuildPush{a.triangleCount, h, 0, 0});
+    treelet.bind(cmd, BuildPush{a.triangleCount, h, 0, 0});
     treelet_.dispatchIndirect(cmd, *a.schedule, argsOffset + h * sizeof(bb::DispatchArgs));
     vk::computeBarrier(cmd);
   }
@@ -175,8 +224,14 @@ EmitPass::EmitPass(const vk::Context& ctx)
     : pipeline_(ctx, shaders::Id::bvh_emit, bb::kEmitBindingCount, sizeof(BuildPush)) {}
 
 void EmitPass::record(VkCommandBuffer cmd, const Args& a) const {
-  pipeline_.bind(cmd, {a.interior, a.leaves, a.prims, a.info, a.nodes, a.leafTriangles},
-                 BuildPush{a.triangleCount, 0, 0, 0});
+  vk::Binder(pipeline_)
+      .set(bb::kEmitBindingInterior, a.interior)
+      .set(bb::kEmitBindingLeaves, a.leaves)
+      .set(bb::kEmitBindingPrims, a.prims)
+      .set(bb::kEmitBindingInfo, a.info)
+      .set(bb::kEmitBindingNodes, a.nodes)
+      .set(bb::kEmitBindingLeafTriangles, a.leafTriangles)
+      .bind(cmd, BuildPush{a.triangleCount, 0, 0, 0});
   pipeline_.dispatch(cmd, groups(std::max<uint32_t>(a.triangleCount - 1, 1)));
   vk::computeBarrier(cmd);
 }

@@ -23,15 +23,19 @@ void Bvh::makeTexelViews(const vk::Context& ctx) {
 }
 
 std::array<VkDescriptorType, gpu::bvh::kBvhBindingCount> Bvh::descriptorTypes() {
-  return {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-          VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER};
+  std::array<VkDescriptorType, gpu::bvh::kBvhBindingCount> t;
+  t[gpu::bvh::kBvhBindingNodes] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+  t[gpu::bvh::kBvhBindingLeafTriangles] = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
+  t[gpu::bvh::kBvhBindingNodeTexels] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+  t[gpu::bvh::kBvhBindingLeafTexels] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+  return t;
 }
 
-std::array<vk::ComputePipeline::Descriptor, gpu::bvh::kBvhBindingCount> Bvh::descriptors() const {
-  return {vk::ComputePipeline::Descriptor(vk::BufferRange(nodes)),
-          vk::ComputePipeline::Descriptor(vk::BufferRange(leafData)),
-          vk::ComputePipeline::Descriptor(nodeTexels.handle()),
-          vk::ComputePipeline::Descriptor(leafTexels.handle())};
+void Bvh::bind(vk::Binder& binder, uint32_t base) const {
+  binder.set(base + gpu::bvh::kBvhBindingNodes, nodes)
+      .set(base + gpu::bvh::kBvhBindingLeafTriangles, leafData)
+      .setTexel(base + gpu::bvh::kBvhBindingNodeTexels, nodeTexels.handle())
+      .setTexel(base + gpu::bvh::kBvhBindingLeafTexels, leafTexels.handle());
 }
 
 bool texelFetchCovers(const vk::Context& ctx) {

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "shaders/shared/bvh.h"
+#include "vk/binder.h"
 #include "vk/buffer.h"
 #include "vk/buffer_view.h"
 #include "vk/context.h"
@@ -29,10 +30,11 @@ struct Bvh {
   // Creates nodeTexels / leafTexels once nodes and leafData exist (both builders call it).
   void makeTexelViews(const vk::Context& ctx);
 
-  // Descriptor types and descriptors in binding order (OSR_BVH_BINDING + kBvhBinding*): a
-  // traversing pass appends them to its own slots and builds its pipeline with traversalSpec.
+  // Descriptor types by slot (element kBvhBinding*): a traversing pass places them at its
+  // OSR_BVH_BINDING and builds its pipeline with traversalSpec.
   static std::array<VkDescriptorType, gpu::bvh::kBvhBindingCount> descriptorTypes();
-  std::array<vk::ComputePipeline::Descriptor, gpu::bvh::kBvhBindingCount> descriptors() const;
+  // Sets slots base + kBvhBinding* (base: the pass's OSR_BVH_BINDING).
+  void bind(vk::Binder& binder, uint32_t base) const;
 };
 
 // How traversal reads the BVH: Auto = texel fetch where every BVH the device can bind fits

@@ -13,9 +13,11 @@ static_assert(tr::kBindingAlphaMask == tr::kBindingBvh + gpu::bvh::kBvhBindingCo
 
 namespace {
 std::vector<VkDescriptorType> descriptorTypes(bool alphaTest) {
-  std::vector<VkDescriptorType> types(tr::kBindingBvh, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
-  for (VkDescriptorType t : Bvh::descriptorTypes()) types.push_back(t);
-  if (alphaTest) types.push_back(VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
+  std::vector<VkDescriptorType> types(
+      alphaTest ? tr::kBindingAlphaMask + 1 : tr::kBindingBvh + gpu::bvh::kBvhBindingCount,
+      VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
+  const auto bvhTypes = Bvh::descriptorTypes();
+  std::copy(bvhTypes.begin(), bvhTypes.end(), types.begin() + tr::kBindingBvh);
   return types;
 }
 }  // namespace
@@ -31,10 +33,11 @@ void TraceRaysPass::record(VkCommandBuffer cmd, const Args& args) const {
   uint32_t x = std::min(groups, 65535u);
   uint32_t y = (groups + x - 1) / x;
   tr::Push push{args.rayCount, args.mode, x * tr::kWorkgroupSize, 0};
-  std::vector<vk::ComputePipeline::Descriptor> slots = {args.rays, args.hits};
-  for (const auto& d : args.bvh->descriptors()) slots.push_back(d);
-  if (alphaTest_) slots.push_back(args.alphaMask);
-  pipeline_.bindDescriptorSpan(cmd, slots, push);
+  vk::Binder binder(pipeline_);
+  binder.set(tr::kBindingRays, args.rays).set(tr::kBindingHits, args.hits);
+  args.bvh->bind(binder, tr::kBindingBvh);
+  if (alphaTest_) binder.set(tr::kBindingAlphaMask, args.alphaMask);
+  binder.bind(cmd, push);
   pipeline_.dispatch(cmd, x, y);
   vk::computeBarrier(cmd);
 }

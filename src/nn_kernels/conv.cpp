@@ -5,10 +5,20 @@
 
 #include "common/error.h"
 #include "shaders/shared/nn.h"
+#include "vk/binder.h"
 
 namespace osr::nn {
 
 namespace g = gpu::nn;
+
+namespace {
+std::vector<VkDescriptorType> slotTypes() {
+  std::vector<VkDescriptorType> types(g::kConvBindingCount, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
+  types[g::kBindingWeightTexels] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+  types[g::kBindingInTexels] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+  return types;
+}
+}  // namespace
 
 ConvPass::ConvPass(const vk::Context& ctx, const ConvConfig& config) : config_(config) {
   // One lane per output channel; a workgroup covers up to 64 channels of one pixel tile, at
@@ -35,9 +45,7 @@ ConvPass::ConvPass(const vk::Context& ctx, const ConvConfig& config) : config_(c
     throw DeviceError("nn_conv: load sharing needs whole subgroups");
   pipeline_ = vk::ComputePipeline(
       ctx, shaders::Id::nn_conv,
-      {VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-       VK_DESCRIPTOR_TYPE_STORAGE_BUFFER, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER,
-       VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER, VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER},
+      slotTypes(),
       sizeof(g::ConvPush),
       {vk::specUint(g::kSpecWorkgroup, workgroup_), vk::specUint(g::kSpecInHalf, config.inHalf),
        vk::specUint(g::kSpecOutHalf, config.outHalf),
@@ -103,8 +111,14 @@ void ConvPass::record(VkCommandBuffer cmd, const Args& a) const {
   push.tileGroupsY = gy;
   if (inputTexels_ && !a.srcTexels) throw DeviceError("nn_conv: input texel view missing");
   // Without input texels the slot still needs a valid view; the shader never reads it.
-  pipeline_.bindDescriptors(cmd, {a.src.range, a.dst.range, a.weights, a.params, a.weightTexels,
-                                  inputTexels_ ? a.srcTexels : a.weightTexels}, &push);
+  vk::Binder(pipeline_)
+      .set(g::kBindingIn, a.src.range)
+      .set(g::kBindingOut, a.dst.range)
+      .set(g::kBindingWeights, a.weights)
+      .set(g::kBindingParams, a.params)
+      .setTexel(g::kBindingWeightTexels, a.weightTexels)
+      .setTexel(g::kBindingInTexels, inputTexels_ ? a.srcTexels : a.weightTexels)
+      .bind(cmd, push);
   pipeline_.dispatch(cmd, push.coutPadded / workgroup_, gy, gz);
   vk::computeBarrier(cmd);
 }

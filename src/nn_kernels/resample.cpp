@@ -2,6 +2,7 @@
 
 #include "common/error.h"
 #include "shaders/shared/nn.h"
+#include "vk/binder.h"
 
 namespace osr::nn {
 
@@ -10,7 +11,8 @@ namespace g = gpu::nn;
 ResamplePass::ResamplePass(const vk::Context& ctx, Resample kind, bool inHalf, bool outHalf)
     : kind_(kind), inHalf_(inHalf), outHalf_(outHalf) {
   pipeline_ = vk::ComputePipeline(
-      ctx, kind == Resample::MaxPool2x2 ? shaders::Id::nn_maxpool : shaders::Id::nn_upsample, 2,
+      ctx, kind == Resample::MaxPool2x2 ? shaders::Id::nn_maxpool : shaders::Id::nn_upsample,
+      g::kResampleBindingCount,
       sizeof(g::PoolPush),
       {vk::specUint(g::kSpecWorkgroup, g::kElementwiseWorkgroup),
        vk::specUint(g::kSpecInHalf, inHalf), vk::specUint(g::kSpecOutHalf, outHalf)});
@@ -32,7 +34,7 @@ void ResamplePass::record(VkCommandBuffer cmd, const Args& a) const {
   uint32_t gx, gy;
   splitGroups((pairs + g::kElementwiseWorkgroup - 1) / g::kElementwiseWorkgroup, gx, gy);
   push.groupsX = gx;
-  pipeline_.bind(cmd, {a.src.range, a.dst.range}, push);
+  vk::Binder(pipeline_).set(g::kBindingIn, a.src.range).set(g::kBindingOut, a.dst.range).bind(cmd, push);
   pipeline_.dispatch(cmd, gx, gy);
   vk::computeBarrier(cmd);
 }

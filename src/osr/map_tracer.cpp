@@ -4,6 +4,7 @@
 
 #include "common/error.h"
 #include "osr/osr_integrator.h"
+#include "render/camera_frame.h"
 
 namespace osr::oneshot {
 
@@ -18,8 +19,8 @@ MapTracer::MapTracer(const vk::Context& ctx, const scene::GpuScene& scene, const
       buffers_(ctx, width, height, kChunkMaps, kChunkMaps),
       gbuffer_(ctx, shaders::Id::osr_gbuffer, Domain::Pixels, scene.features, scene.texelFetch),
       maps_(ctx, shaders::Id::osr_maps, Domain::MapTexels, scene.features, scene.texelFetch),
-      slots_(osrDescriptors(buffers_, film_, bvh, scene)) {
-  auto frame = cameraFrame(camera, width, height, seed);
+      bindings_{&buffers_, &film_, &bvh, &scene} {
+  auto frame = render::makeFrame(camera, width, height, seed);
   buffers_.frame.upload(&frame, sizeof frame);
   setView(0);
 }
@@ -31,7 +32,7 @@ void MapTracer::setView(uint32_t view) {
     vk::transferBarrier(cmd);
     o::OsrPush push{};
     push.pass = view;
-    gbuffer_.record(cmd, slots_, push, width_ * height_);
+    gbuffer_.record(cmd, bindings_, push, width_ * height_);
   });
 }
 
@@ -57,7 +58,7 @@ std::vector<float> MapTracer::trace(const std::vector<glm::uvec2>& pixels,
       push.gridRadius = 0;  // maps at the pixels of their records
       push.mapCount = count;
       push.samples = pathsPerTexel;
-      maps_.record(cmd, slots_, push);
+      maps_.record(cmd, bindings_, push);
     });
     buffers_.oneShot.download(out.data() + first * mapFloats, count * mapFloats * sizeof(float));
   }

@@ -11,7 +11,7 @@
 #include "bvh/bvh.h"
 #include "osr/osr_buffers.h"
 #include "osr/osr_pass.h"
-#include "scene/gpu_scene.h"
+#include "scene_gpu/gpu_scene.h"
 #include "scene/scene.h"
 
 namespace osr::oneshot {
@@ -41,7 +41,7 @@ class MapTracer {
   render::Film film_;
   OsrBuffers buffers_;
   OsrPass gbuffer_, maps_;
-  std::vector<vk::ComputePipeline::Descriptor> slots_;
+  OsrBindings bindings_;
 };
 
 }  // namespace osr::oneshot

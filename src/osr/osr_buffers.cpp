@@ -42,33 +42,20 @@ std::vector<VkDescriptorType> osrDescriptorTypes() {
   return types;
 }
 
-std::vector<vk::ComputePipeline::Descriptor> osrDescriptors(
-    const OsrBuffers& b, const render::Film& film, const bvh::Bvh& bvh,
-    const scene::GpuScene& scene) {
-  static_assert(o::kOsrSceneBinding == o::kOsrBvhBinding + gpu::bvh::kBvhBindingCount);
-  static_assert(o::kOsrSceneTexelBinding == o::kOsrSceneBinding + gpu::scene::kSceneBindingCount);
-  static_assert(o::kOsrBindingCount ==
-                o::kOsrSceneTexelBinding + gpu::scene::kSceneTexelBindingCount);
-  using D = vk::ComputePipeline::Descriptor;
-  // Every slot is assigned below; the placeholder only gives the vector its size.
-  std::vector<D> d(o::kOsrBindingCount, D(vk::BufferRange(b.frame)));
-  d[o::kOsrBindingFrame] = D(vk::BufferRange(b.frame));
-  d[o::kOsrBindingGBuffer] = D(vk::BufferRange(b.gbuffer));
-  d[o::kOsrBindingAccum] = D(vk::BufferRange(b.accum));
-  d[o::kOsrBindingMapRecords] = D(vk::BufferRange(b.mapRecords));
-  d[o::kOsrBindingMapClean] = D(vk::BufferRange(b.mapClean));
-  d[o::kOsrBindingMapOneShot] = D(vk::BufferRange(b.oneShot));
-  d[o::kOsrBindingMapStats] = D(vk::BufferRange(b.mapStats));
-  d[o::kOsrBindingNetIn] = D(vk::BufferRange(b.netIn));
-  d[o::kOsrBindingNetOut] = D(vk::BufferRange(b.netOut));
-  d[o::kOsrBindingFilm] = D(vk::BufferRange(film.buffer()));
-  auto bvhD = bvh.descriptors();
-  std::copy(bvhD.begin(), bvhD.end(), d.begin() + o::kOsrBvhBinding);
-  auto sceneB = scene.bindings();
-  for (size_t i = 0; i < sceneB.size(); ++i) d[o::kOsrSceneBinding + i] = D(sceneB[i]);
-  auto texels = scene.texelViews();
-  for (size_t i = 0; i < texels.size(); ++i) d[o::kOsrSceneTexelBinding + i] = D(texels[i]);
-  return d;
+void OsrBindings::fill(vk::Binder& b) const {
+  b.set(o::kOsrBindingFrame, buffers->frame)
+      .set(o::kOsrBindingGBuffer, buffers->gbuffer)
+      .set(o::kOsrBindingAccum, buffers->accum)
+      .set(o::kOsrBindingMapRecords, buffers->mapRecords)
+      .set(o::kOsrBindingMapClean, buffers->mapClean)
+      .set(o::kOsrBindingMapOneShot, buffers->oneShot)
+      .set(o::kOsrBindingMapStats, buffers->mapStats)
+      .set(o::kOsrBindingNetIn, buffers->netIn)
+      .set(o::kOsrBindingNetOut, buffers->netOut)
+      .set(o::kOsrBindingFilm, film->buffer());
+  bvh->bind(b, o::kOsrBvhBinding);
+  scene->bind(b, o::kOsrSceneBinding);
+  scene->bindTexels(b, o::kOsrSceneTexelBinding);
 }
 
 }  // namespace osr::oneshot

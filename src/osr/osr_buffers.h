@@ -8,9 +8,10 @@
 #include "bvh/bvh.h"
 #include "common/error.h"
 #include "render/film.h"
-#include "scene/gpu_scene.h"
+#include "scene_gpu/gpu_scene.h"
 #include "shaders/shared/osr.h"
 #include "vk/buffer.h"
+#include "vk/binder.h"
 #include "vk/pipeline.h"
 
 namespace osr::oneshot {
@@ -33,11 +34,15 @@ struct OsrBuffers {
   vk::Buffer netOut;      // float[chunkMaps][3][32][32]
 };
 
-// Every slot of the OSR binding layout filled by name (the pass's shader declares the ones it
-// reads): OSR's buffers, the film, the BVH and the scene.
-std::vector<vk::ComputePipeline::Descriptor> osrDescriptors(
-    const OsrBuffers& b, const render::Film& film, const bvh::Bvh& bvh,
-    const scene::GpuScene& scene);
+// Everything an OSR pass binds: OSR's buffers, the film, the BVH and the scene.
+struct OsrBindings {
+  const OsrBuffers* buffers = nullptr;
+  const render::Film* film = nullptr;
+  const bvh::Bvh* bvh = nullptr;
+  const scene::GpuScene* scene = nullptr;
+  // Fills every slot of the OSR layout by name (a pass's shader declares the ones it reads).
+  void fill(vk::Binder& binder) const;
+};
 std::vector<VkDescriptorType> osrDescriptorTypes();
 
 }  // namespace osr::oneshot

@@ -5,6 +5,7 @@
 
 #include "common/error.h"
 #include "nn_kernels/weights_format.h"
+#include "render/camera_frame.h"
 #include "vk/timer.h"
 
 namespace osr::oneshot {
@@ -25,22 +26,6 @@ const char* denoiserName(Denoiser d) {
     case Denoiser::None: return "none";
   }
   return "?";
-}
-
-gpu::camera::CameraFrame cameraFrame(const scene::Camera& camera, uint32_t width,
-                                     uint32_t height, uint32_t seed) {
-  gpu::camera::CameraFrame f{};
-  const glm::mat4& m = camera.worldFromCamera;
-  f.cameraRight = glm::vec4(glm::normalize(glm::vec3(m[0])), 0.f);
-  f.cameraUp = glm::vec4(glm::normalize(glm::vec3(m[1])), 0.f);
-  f.cameraBack = glm::vec4(glm::normalize(glm::vec3(m[2])), 0.f);
-  f.cameraOrigin = glm::vec4(glm::vec3(m[3]), 1.f);
-  f.width = width;
-  f.height = height;
-  f.seed = seed;
-  f.tanHalfFovY = std::tan(0.5f * camera.yfov);
-  f.aspect = float(width) / float(height);
-  return f;
 }
 
 namespace {
@@ -91,7 +76,7 @@ OsrIntegrator::OsrIntegrator(const vk::Context& ctx, const scene::GpuScene& scen
   const uint32_t maxMaps = schedule_.maxMaps();
   const uint32_t chunk = settings.keepAllMaps ? maxMaps : settings.maxChunkMaps;
   buffers_ = std::make_unique<OsrBuffers>(ctx, width, height, maxMaps, chunk);
-  slots_ = osrDescriptors(*buffers_, film_, bvh_, scene_);
+  bindings_ = OsrBindings{buffers_.get(), &film_, &bvh_, &scene_};
 }
 
 OsrIntegrator::~OsrIntegrator() = default;
@@ -108,7 +93,7 @@ OsrIntegrator::Grid OsrIntegrator::gridOf(uint32_t radius, uint32_t mapPass) con
 void OsrIntegrator::restart(const scene::Camera& camera, uint32_t seed) {
   seed_ = seed;
   current_ = Grid{};
-  auto frame = cameraFrame(camera, width_, height_, seed);
+  auto frame = render::makeFrame(camera, width_, height_, seed);
   buffers_->frame.upload(&frame, sizeof frame);
   ctx_.submitAndWait([&](VkCommandBuffer cmd) {
     vkCmdFillBuffer(cmd, buffers_->accum.handle(), 0, VK_WHOLE_SIZE, 0u);
@@ -124,12 +109,12 @@ void OsrIntegrator::recordPass(VkCommandBuffer cmd, uint32_t k, vk::GpuTimer* ti
   push.passWeight = gp.weight;
   {
     vk::TimedScope scope(timer, cmd, "gbuffer");
-    gbuffer_.record(cmd, slots_, push, pixels);
+    gbuffer_.record(cmd, bindings_, push, pixels);
   }
   {
     vk::TimedScope scope(timer, cmd, "direct");
     push.samples = settings_.directSamples;
-    direct_.record(cmd, slots_, push, pixels);
+    direct_.record(cmd, bindings_, push, pixels);
   }
   if (gp.traceMaps) current_ = gridOf(gp.radius, gp.mapPass);
   push.gridRadius = current_.radius;
@@ -144,26 +129,26 @@ void OsrIntegrator::recordPass(VkCommandBuffer cmd, uint32_t k, vk::GpuTimer* ti
       push.samples = settings_.pathsPerTexel;
       {
         vk::TimedScope scope(timer, cmd, "maps");
-        maps_.record(cmd, slots_, push);
+        maps_.record(cmd, bindings_, push);
       }
       if (unet_) {
         {
           vk::TimedScope scope(timer, cmd, "normalize");
-          normalize_.record(cmd, slots_, push);
+          normalize_.record(cmd, bindings_, push);
         }
         vk::TimedScope scope(timer, cmd, "unet");
         unet_->record(cmd, buffers_->netIn, 0, buffers_->netOut, 0, push.mapCount);
       } else {
         // The blur and raw denoisers keep each channel's mean: they need its statistics.
         vk::TimedScope scope(timer, cmd, "normalize");
-        normalize_.record(cmd, slots_, push);
+        normalize_.record(cmd, bindings_, push);
       }
       {
         vk::TimedScope scope(timer, cmd, "denoise");
-        denoise_.record(cmd, slots_, push);
+        denoise_.record(cmd, bindings_, push);
       }
       vk::TimedScope scope(timer, cmd, "project");
-      project_.record(cmd, slots_, push);
+      project_.record(cmd, bindings_, push);
     }
   }
   push.mapOffset = 0;
@@ -171,12 +156,12 @@ void OsrIntegrator::recordPass(VkCommandBuffer cmd, uint32_t k, vk::GpuTimer* ti
   {
     vk::TimedScope scope(timer, cmd, "composite");
     push.samples = settings_.glossySamples;
-    composite_.record(cmd, slots_, push, pixels);
+    composite_.record(cmd, bindings_, push, pixels);
   }
   if (settings_.residualSamples > 0) {
     vk::TimedScope scope(timer, cmd, "residual");
     push.samples = settings_.residualSamples;
-    residual_.record(cmd, slots_, push, pixels);
+    residual_.record(cmd, bindings_, push, pixels);
   }
 }
 
@@ -190,7 +175,7 @@ void OsrIntegrator::record(VkCommandBuffer cmd, uint32_t first, uint32_t count,
   push.residualBlend = settings_.residualRamp > 0.0 ? float(n / (n + settings_.residualRamp))
                                                     : (n > 0.0 ? 1.f : 0.f);
   vk::TimedScope scope(timer, cmd, "resolve");
-  resolve_.record(cmd, slots_, push, width_ * height_);
+  resolve_.record(cmd, bindings_, push, width_ * height_);
 }
 
 OsrIntegrator::MapDump OsrIntegrator::downloadMaps() const {

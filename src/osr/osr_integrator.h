@@ -15,13 +15,9 @@
 #include "osr/osr_pass.h"
 #include "osr/osr_settings.h"
 #include "render/integrator.h"
-#include "scene/gpu_scene.h"
+#include "scene_gpu/gpu_scene.h"
 
 namespace osr::oneshot {
-
-// The camera as the passes see it (TODO: render/camera_frame.h once the driver lands).
-gpu::camera::CameraFrame cameraFrame(const scene::Camera& camera, uint32_t width,
-                                     uint32_t height, uint32_t seed);
 
 class OsrIntegrator : public render::Integrator {
  public:
@@ -66,7 +62,7 @@ class OsrIntegrator : public render::Integrator {
   std::unique_ptr<nn::UNet> unet_;
   OsrPass gbuffer_, direct_, maps_, normalize_, denoise_, project_, composite_, residual_,
       resolve_;
-  std::vector<vk::ComputePipeline::Descriptor> slots_;
+  OsrBindings bindings_;
   uint32_t seed_ = 0;
   Grid current_;  // maps in mapRecords / mapClean
 };

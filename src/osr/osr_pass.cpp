@@ -27,13 +27,15 @@ OsrPass::OsrPass(const vk::Context& ctx, shaders::Id shader, Domain domain,
       pipeline_(ctx, shader, osrDescriptorTypes(), sizeof(o::OsrPush),
                 specs(ctx, sceneFeatures, sceneTexelFetch, std::move(extraSpec))) {}
 
-void OsrPass::record(VkCommandBuffer cmd, std::span<const vk::ComputePipeline::Descriptor> slots,
-                     o::OsrPush push, uint32_t pixels) const {
+void OsrPass::record(VkCommandBuffer cmd, const OsrBindings& bindings, o::OsrPush push,
+                     uint32_t pixels) const {
+  vk::Binder binder(pipeline_);
+  bindings.fill(binder);
   if (domain_ == Domain::Pixels) {
     for (uint32_t first = 0; first < pixels; first += kMaxPixelsPerDispatch) {
       push.pixelOffset = first;
       push.pixelCount = std::min(kMaxPixelsPerDispatch, pixels - first);
-      pipeline_.bindDescriptorSpan(cmd, slots, push);
+      binder.bind(cmd, push);
       pipeline_.dispatch(cmd, vk::groupCount(push.pixelCount, o::kOsrWorkgroupSize));
     }
   } else if (push.mapCount > 0) {
@@ -42,7 +44,7 @@ void OsrPass::record(VkCommandBuffer cmd, std::span<const vk::ComputePipeline::D
                          : uint64_t(push.mapCount);
     uint32_t x, y;
     nn::splitGroups(vk::groupCount(items, o::kOsrWorkgroupSize), x, y);
-    pipeline_.bindDescriptorSpan(cmd, slots, push);
+    binder.bind(cmd, push);
     pipeline_.dispatch(cmd, x, y);
   }
   vk::computeBarrier(cmd);

@@ -3,9 +3,9 @@
 // one per map texel, or one per map. The passes differ only in shader and domain, so one class
 // serves them all; the integrator (osr_integrator.cpp) names and orders them.
 #pragma once
-#include <span>
 #include <vector>
 
+#include "osr/osr_buffers.h"
 #include "shaders/shared/osr.h"
 #include "vk/pipeline.h"
 
@@ -22,8 +22,8 @@ class OsrPass {
 
   // Records the pass over push.mapCount maps (map domains) or `pixels` pixels (pixel domain,
   // in dispatches of at most kMaxPixelsPerDispatch), then a barrier.
-  void record(VkCommandBuffer cmd, std::span<const vk::ComputePipeline::Descriptor> slots,
-              gpu::osr::OsrPush push, uint32_t pixels = 0) const;
+  void record(VkCommandBuffer cmd, const OsrBindings& bindings, gpu::osr::OsrPush push,
+              uint32_t pixels = 0) const;
 
   static constexpr uint32_t kMaxPixelsPerDispatch = 1u << 20;
 

@@ -115,43 +115,17 @@ void ComputePipeline::checkPushSize(size_t bytes) const {
                       " bytes, pipeline declares " + std::to_string(pushBytes_));
 }
 
-void ComputePipeline::bind(VkCommandBuffer cmd, std::initializer_list<BufferRange> buffers,
-                           const void* push) const {
-  bindSpan(cmd, std::span<const BufferRange>(buffers.begin(), buffers.size()), push);
-}
-
-void ComputePipeline::bindSpan(VkCommandBuffer cmd, std::span<const BufferRange> buffers,
-                               const void* push) const {
-  if (buffers.size() != bindingCount_)
-    throw DeviceError(std::string(name_) + ": " + std::to_string(buffers.size()) +
-                      " buffers bound, pipeline declares " + std::to_string(bindingCount_));
-  std::vector<VkDescriptorBufferInfo> infos;
-  std::vector<VkWriteDescriptorSet> writes;
-  infos.reserve(buffers.size());
-  uint32_t slot = 0;
-  for (const BufferRange& r : buffers) {
-    if (!r.buffer || !r.buffer->valid())
-      throw DeviceError(std::string(name_) + ": slot " + std::to_string(slot) + " has no buffer");
-    VkDeviceSize bytes = r.bytes();
-    if (bytes > ctx_->caps().maxStorageBufferRange)
-      throw DeviceError(std::string(name_) + ": buffer '" + r.buffer->name() + "' range of " +
-                        std::to_string(bytes >> 20) + " MiB exceeds the device's " +
-                        "maxStorageBufferRange of " +
-                        std::to_string(ctx_->caps().maxStorageBufferRange >> 20) + " MiB");
-    infos.push_back({r.buffer->handle(), r.offset, bytes});
-    VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
-    w.dstBinding = slot++;
-    w.descriptorCount = 1;
-    w.descriptorType = VK_DESCRIPTOR_TYPE_STORAGE_BUFFER;
-    w.pBufferInfo = &infos.back();
-    writes.push_back(w);
-  }
+void ComputePipeline::bindWrites(VkCommandBuffer cmd, std::span<const VkWriteDescriptorSet> writes,
+                                 const void* push, size_t pushBytes) const {
+  checkPushSize(pushBytes);
+  if (writes.size() != bindingCount_)
+    throw DeviceError(std::string(name_) + ": " + std::to_string(writes.size()) +
+                      " descriptors bound, pipeline declares " + std::to_string(bindingCount_));
   vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_);
   if (!writes.empty())
     ctx_->cmdPushDescriptorSet(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_, 0,
                                static_cast<uint32_t>(writes.size()), writes.data());
-  if (pushBytes_ && push)
-    vkCmdPushConstants(cmd, layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, pushBytes_, push);
+  if (pushBytes_) vkCmdPushConstants(cmd, layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, pushBytes_, push);
 }
 
 void ComputePipeline::dispatch(VkCommandBuffer cmd, uint32_t x, uint32_t y, uint32_t z) const {
@@ -168,49 +142,5 @@ void ComputePipeline::dispatchIndirect(VkCommandBuffer cmd, const Buffer& args,
   vkCmdDispatchIndirect(cmd, args.handle(), offset);
 }
 
-
-void ComputePipeline::bindDescriptors(VkCommandBuffer cmd, std::initializer_list<Descriptor> slots,
-                                      const void* push) const {
-  bindDescriptorSpan(cmd, std::span<const Descriptor>(slots.begin(), slots.size()), push);
-}
-
-void ComputePipeline::bindDescriptorSpan(VkCommandBuffer cmd, std::span<const Descriptor> slots,
-                                         const void* push) const {
-  if (slots.size() != bindingCount_)
-    throw DeviceError(std::string(name_) + ": " + std::to_string(slots.size()) +
-                      " descriptors bound, pipeline declares " + std::to_string(bindingCount_));
-  std::vector<VkDescriptorBufferInfo> infos(slots.size());
-  std::vector<VkBufferView> views(slots.size());
-  std::vector<VkWriteDescriptorSet> writes;
-  uint32_t slot = 0;
-  for (const Descriptor& d : slots) {
-    VkWriteDescriptorSet w{VK_STRUCTURE_TYPE_WRITE_DESCRIPTOR_SET};
-    w.dstBinding = slot;
-    w.descriptorCount = 1;
-    w.descriptorType = types_[slot];
-    if (types_[slot] == VK_DESCRIPTOR_TYPE_STORAGE_BUFFER) {
-      const BufferRange& r = d.buffer;
-      if (!r.buffer || !r.buffer->valid())
-        throw DeviceError(std::string(name_) + ": slot " + std::to_string(slot) + " has no buffer");
-      if (r.bytes() > ctx_->caps().maxStorageBufferRange)
-        throw DeviceError(std::string(name_) + ": buffer '" + r.buffer->name() +
-                          "' range exceeds the device's maxStorageBufferRange");
-      infos[slot] = {r.buffer->handle(), r.offset, r.bytes()};
-      w.pBufferInfo = &infos[slot];
-    } else {
-      if (!d.texel)
-        throw DeviceError(std::string(name_) + ": slot " + std::to_string(slot) + " has no texel view");
-      views[slot] = d.texel;
-      w.pTexelBufferView = &views[slot];
-    }
-    writes.push_back(w);
-    ++slot;
-  }
-  vkCmdBindPipeline(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, pipeline_);
-  ctx_->cmdPushDescriptorSet(cmd, VK_PIPELINE_BIND_POINT_COMPUTE, layout_, 0,
-                             static_cast<uint32_t>(writes.size()), writes.data());
-  if (pushBytes_ && push)
-    vkCmdPushConstants(cmd, layout_, VK_SHADER_STAGE_COMPUTE_BIT, 0, pushBytes_, push);
-}
 
 }  // namespace osr::vk

@@ -1,11 +1,11 @@
 // A compute pipeline built from one embedded SPIR-V module. Buffers are bound with push
-// descriptors (storage buffers at bindings 0..n-1), so a pass needs no descriptor pools or
-// sets; push constants carry the pass's Push struct from its shaders/shared header.
+// descriptors through vk::Binder (vk/binder.h), by the slot constants of the pass's
+// shaders/shared header, so a pass needs no descriptor pools or sets; push constants carry the
+// pass's Push struct from the same header.
 #pragma once
 #include <vulkan/vulkan.h>
 
 #include <cstring>
-#include <initializer_list>
 #include <span>
 #include <string>
 #include <vector>
@@ -34,8 +34,7 @@ class ComputePipeline {
   // bindingCount storage buffers; pushBytes of push constants (0 for none).
   ComputePipeline(const Context& ctx, shaders::Id shader, uint32_t bindingCount,
                   uint32_t pushBytes, const std::vector<SpecConstant>& spec = {});
-  // Bindings of the given types (storage buffers, uniform texel buffers), in slot order;
-  // bound with bindDescriptors().
+  // Bindings of the given types (storage buffers, uniform texel buffers), types[slot].
   ComputePipeline(const Context& ctx, shaders::Id shader, std::vector<VkDescriptorType> types,
                   uint32_t pushBytes, const std::vector<SpecConstant>& spec = {});
   ~ComputePipeline();
@@ -46,52 +45,17 @@ class ComputePipeline {
 
   const char* name() const { return name_; }
 
-  // Binds the pipeline, pushes the buffers (slot i = buffers[i]) and the push constants.
-  // Throws DeviceError if a range exceeds the device's maxStorageBufferRange.
-  void bind(VkCommandBuffer cmd, std::initializer_list<BufferRange> buffers,
-            const void* push = nullptr) const;
-  template <class Push>
-  void bind(VkCommandBuffer cmd, std::initializer_list<BufferRange> buffers,
-            const Push& push) const {
-    static_assert(!std::is_pointer_v<Push>);
-    checkPushSize(sizeof(Push));
-    bind(cmd, buffers, static_cast<const void*>(&push));
-  }
-  // bind() for a list assembled at run time, e.g. a pass's own buffers followed by
-  // scene::GpuScene::bindings().
-  void bindSpan(VkCommandBuffer cmd, std::span<const BufferRange> buffers,
-                const void* push = nullptr) const;
-  template <class Push>
-  void bindSpan(VkCommandBuffer cmd, std::span<const BufferRange> buffers,
-                const Push& push) const {
-    static_assert(!std::is_pointer_v<Push>);
-    checkPushSize(sizeof(Push));
-    bindSpan(cmd, buffers, static_cast<const void*>(&push));
-  }
+  // Binding slots (set by vk::Binder, which is how passes bind: vk/binder.h).
+  uint32_t slotCount() const { return bindingCount_; }
+  VkDescriptorType slotType(uint32_t slot) const { return types_[slot]; }
+  const Context& context() const { return *ctx_; }
+  // Binds the pipeline, pushes `writes` (one per slot) and pushBytes of push constants, which
+  // must equal the pipeline's declared size. Called by vk::Binder.
+  void bindWrites(VkCommandBuffer cmd, std::span<const VkWriteDescriptorSet> writes,
+                  const void* push, size_t pushBytes) const;
   // Dispatches groups, splitting counts beyond the device limit is the caller's job.
   void dispatch(VkCommandBuffer cmd, uint32_t x, uint32_t y = 1, uint32_t z = 1) const;
   void dispatchIndirect(VkCommandBuffer cmd, const Buffer& args, VkDeviceSize offset) const;
-
-  // One slot for bindDescriptors(): a buffer range, or a texel view for texel-buffer slots.
-  struct Descriptor {
-    BufferRange buffer;
-    VkBufferView texel = VK_NULL_HANDLE;
-    Descriptor(const BufferRange& b) : buffer(b) {}  // NOLINT: buffers convert implicitly
-    Descriptor(VkBufferView view) : texel(view) {}   // NOLINT
-  };
-  // bind() for pipelines made with descriptor types; push must match pushBytes.
-  void bindDescriptors(VkCommandBuffer cmd, std::initializer_list<Descriptor> slots,
-                       const void* push) const;
-  // bindDescriptors() for a list assembled at run time (a pass's slots + bvh::Bvh::descriptors).
-  void bindDescriptorSpan(VkCommandBuffer cmd, std::span<const Descriptor> slots,
-                          const void* push) const;
-  template <class Push>
-  void bindDescriptorSpan(VkCommandBuffer cmd, std::span<const Descriptor> slots,
-                          const Push& push) const {
-    static_assert(!std::is_pointer_v<Push>);
-    checkPushSize(sizeof(Push));
-    bindDescriptorSpan(cmd, slots, static_cast<const void*>(&push));
-  }
 
  private:
   void checkPushSize(size_t bytes) const;

@@ -7,7 +7,7 @@
 #include <fstream>
 
 #include "app/cli_runner.h"
-#include "app/image_io.h"
+#include "image/image_io.h"
 #include "common/vk_test.h"
 
 using namespace osr;
@@ -33,8 +33,8 @@ TEST(CmdCompare, BadInputExitsTwoWithOneLine) {
   fs::path d = fs::temp_directory_path() / ("osr_test_cmp_" + std::to_string(::getpid()));
   fs::create_directories(d);
   std::string small = (d / "small.exr").string(), junk = (d / "junk.exr").string();
-  app::writeExr(small, {2, 2, {{"", {"R", "G", "B"}, std::vector<float>(12, 1.f)}}},
-                app::ExrPixelType::Half);
+  image::writeExr(small, {2, 2, {{"", {"R", "G", "B"}, std::vector<float>(12, 1.f)}}},
+                image::ExrPixelType::Half);
   { std::ofstream(junk) << "not an exr"; }
   std::string ref = test::referencePath("cornell/cornell_cycles_4096spp.exr");
   for (std::string args :

@@ -14,9 +14,9 @@
 #include <tuple>
 
 #include "app/cli_runner.h"
-#include "app/image_io.h"
+#include "image/image_io.h"
 #include "common/vk_test.h"
-#include "render/gltf_writer.h"
+#include "pt/gltf_writer.h"
 
 using namespace osr;
 namespace fs = std::filesystem;
@@ -46,7 +46,7 @@ TEST(CmdRender, PreviewWritesAllLayersQuietly) {
   for (const char* name :
        {"R", "G", "B", "direct.R", "indirect.B", "albedo.G", "normal.X", "normal.Z", "depth.Z"})
     EXPECT_NE(ch.findChannel(name), nullptr) << name;
-  app::RgbImage img = app::readExrRgb(exr);
+  image::RgbImage img = image::readExrRgb(exr);
   EXPECT_EQ(img.width, 8);
   EXPECT_EQ(img.height, 6);
   EXPECT_EQ(slurp(png).substr(1, 3), "PNG");
@@ -63,7 +63,7 @@ TEST(CmdRender, SizeFollowsTheCameraAspectAndCamerasAreSelectable) {
     Result r = run(std::string("--mode preview --spp 1 --quiet ") + args + " --offline " + exr +
                    " " + kCornell);
     ASSERT_EQ(r.code, 0) << args << ": " << r.out;
-    app::RgbImage img = app::readExrRgb(exr);
+    image::RgbImage img = image::readExrRgb(exr);
     EXPECT_EQ(img.width, w) << args;
     EXPECT_EQ(img.height, h) << args;
   }
@@ -122,15 +122,15 @@ TEST(CmdRender, EnvironmentMapLightsAWhiteFurnace) {
   fs::path d = tempDir();
   std::string env = (d / "sky.exr").string(), gltf = (d / "ball.gltf").string(),
               exr = (d / "ball.exr").string();
-  app::writeExr(env, {8, 4, {{"", {"R", "G", "B"}, std::vector<float>(8 * 4 * 3, 0.5f)}}},
-                app::ExrPixelType::Float);
+  image::writeExr(env, {8, 4, {{"", {"R", "G", "B"}, std::vector<float>(8 * 4 * 3, 0.5f)}}},
+                image::ExrPixelType::Float);
   test::GltfWriter g;
   g.sphere({0, 0, 0}, 1.f, g.material(test::GltfWriter::diffuse(glm::vec3(1.f))));
   g.camera({0, 0, 4}, {0, 0, 0}, 0.7f);
   g.write(gltf);
   Result r = run("--env " + env + " --width 8 --spp 128 --quiet --offline " + exr + " " + gltf);
   ASSERT_EQ(r.code, 0) << r.out;
-  app::RgbImage img = app::readExrRgb(exr);
+  image::RgbImage img = image::readExrRgb(exr);
   double sum = 0;
   for (float v : img.rgb) sum += v;
   EXPECT_NEAR(sum / img.rgb.size(), 0.5, 0.01);

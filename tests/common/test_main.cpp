@@ -1,8 +1,6 @@
-// main() for every test executable: runs gtest and turns any validation message reported
+// main() for every device test executable: runs gtest and turns any validation message reported
 // while a test ran into a failure of that test.
 #include <gtest/gtest.h>
-
-#include <unistd.h>
 
 #include <cstdio>
 #include <memory>
@@ -22,19 +20,6 @@ vk::Context& context() {
     gContext = std::make_unique<vk::Context>(options);
   }
   return *gContext;
-}
-
-std::string dataPath(const std::string& name) { return std::string(OSR_TEST_DATA_DIR) + "/" + name; }
-
-std::filesystem::path tempDir(const std::string& tag) {
-  std::filesystem::path d = std::filesystem::temp_directory_path() /
-                            ("osr_test_" + tag + "_" + std::to_string(::getpid()));
-  std::filesystem::create_directories(d);
-  return d;
-}
-
-std::string referencePath(const std::string& name) {
-  return std::string(OSR_REFERENCE_DIR) + "/" + name;
 }
 
 namespace {

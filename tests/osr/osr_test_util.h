@@ -5,7 +5,7 @@
 #include "bvh/bvh.h"
 #include "common/vk_test.h"
 #include "osr/osr_integrator.h"
-#include "scene/gpu_scene.h"
+#include "scene_gpu/gpu_scene.h"
 #include "scene/scene.h"
 
 namespace osr::test {

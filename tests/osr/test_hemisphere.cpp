@@ -11,6 +11,7 @@
 #include "common/vk_test.h"
 #include "shaders/shared/hemisphere.h"
 #include "vk/buffer.h"
+#include "vk/binder.h"
 #include "vk/pipeline.h"
 
 using namespace osr;
@@ -102,7 +103,7 @@ TEST(Hemisphere, GpuMatchesCpp) {
   vk::ComputePipeline pipe(ctx, shaders::Id::osr_hemisphere_probe, 1, sizeof(uint32_t));
   uint32_t count = uint32_t(cases.size());
   ctx.submitAndWait([&](VkCommandBuffer cmd) {
-    pipe.bind(cmd, {buf}, count);
+    vk::Binder(pipe).set(hemi::kHemiProbeBindingCases, buf).bind(cmd, count);
     pipe.dispatch(cmd, vk::groupCount(count, hemi::kHemiProbeWorkgroupSize));
   });
   auto out = buf.downloadVector<hemi::HemiProbeCase>(cases.size());

@@ -11,7 +11,7 @@
 #include "osr/map_cpu.h"
 #include "osr/map_tracer.h"
 #include "osr/osr_test_util.h"
-#include "render/gltf_writer.h"
+#include "pt/gltf_writer.h"
 
 using namespace osr;
 namespace o = osr::gpu::osr;

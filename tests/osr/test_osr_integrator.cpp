@@ -8,30 +8,28 @@
 #include <cstdlib>
 #include <tuple>
 
-#include "app/image_metrics.h"
+#include "image/image_metrics.h"
 #include "osr/grid_schedule.h"
 #include "osr/osr_test_util.h"
-#include "render/gltf_writer.h"
-#include "render/renderer.h"
-#include "shaders/shared/pt.h"
+#include "pt/gltf_writer.h"
+#include "pt/path_integrator.h"
 
 using namespace osr;
 
 namespace {
 
 render::FilmLayers pathTrace(const test::LoadedScene& s, uint32_t size, uint32_t spp) {
-  render::RenderSettings rs;
+  pt::RenderSettings rs;
   rs.width = rs.height = size;
   rs.spp = spp;
   rs.seed = 3;
-  rs.integrator = gpu::pt::kIntegratorPath;
-  return render::render(test::context(), *s.gpu, s.bvh, s.camera, rs);
+  return pt::render(test::context(), *s.gpu, s.bvh, s.camera, rs);
 }
 
 // Box-filters a layer into blocks of b x b pixels: a few jittered first hits per pixel and a
 // box-filtered reference then agree on geometry, so the comparison measures light.
-app::RgbImage blocks(const std::vector<float>& layer, int size, int b) {
-  app::RgbImage img{size / b, size / b, std::vector<float>(size_t(size / b) * (size / b) * 3)};
+image::RgbImage blocks(const std::vector<float>& layer, int size, int b) {
+  image::RgbImage img{size / b, size / b, std::vector<float>(size_t(size / b) * (size / b) * 3)};
   for (int y = 0; y < size; ++y)
     for (int x = 0; x < size; ++x)
       for (int c = 0; c < 3; ++c)
@@ -48,10 +46,10 @@ struct Agreement {
 // reference's 2048, which would otherwise decide the mean alone.
 Agreement agree(const std::vector<float>& a, const std::vector<float>& b, int size) {
   auto ia = blocks(a, size, 4), ib = blocks(b, size, 4);
-  double relmse = app::relMse(ia, ib);
+  double relmse = image::relMse(ia, ib);
   for (auto* img : {&ia, &ib})
     for (float& v : img->rgb) v = std::min(v, 1.f);
-  return {relmse, app::meanLuminance(ia) / app::meanLuminance(ib)};
+  return {relmse, image::meanLuminance(ia) / image::meanLuminance(ib)};
 }
 
 }  // namespace
@@ -118,8 +116,8 @@ TEST(OsrIntegrator, ErrorFallsAsPassesAccumulate) {
     for (; done < passes; ++done)
       ctx.submitAndWait([&](VkCommandBuffer cmd) { osr.record(cmd, done, 1, nullptr); });
     auto o = osr.resolve();
-    app::RgbImage a{int(size), int(size), o.combined}, b{int(size), int(size), p.combined};
-    double e = app::relMse(a, b);
+    image::RgbImage a{int(size), int(size), o.combined}, b{int(size), int(size), p.combined};
+    double e = image::relMse(a, b);
     std::printf("%u passes: relmse %.5f\n", passes, e);
     EXPECT_LT(e, previous) << passes << " passes";
     previous = e;

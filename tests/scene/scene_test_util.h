@@ -1,4 +1,4 @@
-// Helpers shared by the tests of src/scene.
+// Helpers shared by the tests of src/scene and src/scene_gpu.
 #pragma once
 #include <gtest/gtest.h>
 
@@ -6,9 +6,23 @@
 #include <string>
 
 #include "common/error.h"
+#include "scene/environment.h"
 #include "scene/scene.h"
 
 namespace osr::test {
+
+// 16 x 8 map: a smooth gradient plus one bright texel, so sampling has something to find.
+inline scene::Environment testEnvironment() {
+  scene::Environment env;
+  env.width = 16;
+  env.height = 8;
+  for (uint32_t y = 0; y < env.height; ++y)
+    for (uint32_t x = 0; x < env.width; ++x)
+      env.texels.push_back(glm::vec4(0.1f + 0.05f * x, 0.2f + 0.1f * y, 0.5f, 1.0f));
+  env.texels[3 * 16 + 5] = glm::vec4(40.0f, 30.0f, 20.0f, 1.0f);
+  return env;
+}
+
 
 inline void expectNear(glm::vec3 a, glm::vec3 b, float tol = 1e-5f) {
   EXPECT_LE(glm::length(a - b), tol) << "(" << a.x << ", " << a.y << ", " << a.z << ") vs (" << b.x

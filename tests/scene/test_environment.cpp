@@ -1,5 +1,6 @@
 // Environment maps: .exr and .hdr loading, bad files, the importance-sampling tables and the
-// sampling functions (C++ twins analytically; GLSL scene_env_probe against the twins).
+// sampling functions (C++ twins, analytically; the GLSL twins are checked in
+// tests/scene_gpu/test_scene_probe.cpp).
 #include <ImfRgbaFile.h>
 #include <gtest/gtest.h>
 #include <stb/stb_image_write.h>
@@ -10,30 +11,17 @@
 #include <random>
 
 #include "common/error.h"
-#include "common/vk_test.h"
+#include "common/test_paths.h"
 #include "scene/environment.h"
-#include "scene/scene_probe.h"
 #include "scene/scene_test_util.h"
 #include "scene/surface.h"
 
 using namespace osr;
-namespace envp = osr::gpu::scene_env_probe;
 
 namespace {
 
 constexpr float kPi = 3.14159265358979f;
 
-// 16 x 8 map: a smooth gradient plus one bright texel, so sampling has something to find.
-scene::Environment testEnvironment() {
-  scene::Environment env;
-  env.width = 16;
-  env.height = 8;
-  for (uint32_t y = 0; y < env.height; ++y)
-    for (uint32_t x = 0; x < env.width; ++x)
-      env.texels.push_back(glm::vec4(0.1f + 0.05f * x, 0.2f + 0.1f * y, 0.5f, 1.0f));
-  env.texels[3 * 16 + 5] = glm::vec4(40.0f, 30.0f, 20.0f, 1.0f);
-  return env;
-}
 
 std::string temp(const std::string& name) {
   return ::testing::TempDir() + name;
@@ -46,7 +34,7 @@ void expectInputError(const std::string& path, const std::string& part) {
 }  // namespace
 
 TEST(Environment, LoadsHdrAndExr) {
-  scene::Environment ref = testEnvironment();
+  scene::Environment ref = test::testEnvironment();
   std::vector<float> rgb;
   for (const auto& t : ref.texels) rgb.insert(rgb.end(), {t.r, t.g, t.b});
   std::string hdr = temp("env.hdr");
@@ -88,7 +76,7 @@ TEST(Environment, BadFiles) {
 }
 
 TEST(Environment, CdfTables) {
-  scene::Environment env = testEnvironment();
+  scene::Environment env = test::testEnvironment();
   std::vector<float> cdf = scene::environmentCdf(env);
   ASSERT_EQ(cdf.size(), 8u + 16u * 8u);
   EXPECT_EQ(cdf[7], 1.0f);
@@ -105,7 +93,7 @@ TEST(Environment, CdfTables) {
 }
 
 TEST(Environment, SamplingIsConsistentAndUnbiased) {
-  scene::Environment env = testEnvironment();
+  scene::Environment env = test::testEnvironment();
   std::vector<float> cdf = scene::environmentCdf(env);
   // Integral of luminance over the sphere, texel by texel (exact for piecewise constant).
   double exact = 0.0;
@@ -157,56 +145,3 @@ TEST(Environment, DirectionMappingRoundTripsAndMatchesBlender) {
   EXPECT_NEAR(scene::environmentDirection({0.75f, 0.5f}).z, 1.0f, 1e-6f);
 }
 
-TEST(Environment, GpuMatchesCpu) {
-  auto& ctx = test::context();
-  scene::Scene s = scene::loadScene(test::referencePath("cornell/cornell.gltf"));
-  scene::Environment env = testEnvironment();
-  std::vector<float> cdf = scene::environmentCdf(env);
-  scene::GpuScene g(ctx, s, &env);
-  auto info = g.info.downloadVector<osr::gpu::scene::SceneInfo>(1)[0];
-  EXPECT_EQ(info.envWidth, 16u);
-  EXPECT_EQ(info.envHeight, 8u);
-  EXPECT_EQ(g.environmentCdf.downloadVector<float>(cdf.size()), cdf);
-  const uint32_t n = 3000;
-  std::mt19937 rng(3);
-  std::uniform_real_distribution<float> u01(0.0f, 1.0f);
-  std::vector<envp::Query> queries(n);
-  for (auto& q : queries) {
-    float z = 1.0f - 2.0f * u01(rng), phi = 2.0f * kPi * u01(rng),
-          r = std::sqrt(std::max(0.0f, 1 - z * z));
-    q.direction = {r * std::cos(phi), z, r * std::sin(phi)};
-    q.u = {u01(rng), u01(rng)};
-  }
-  vk::Buffer qb(ctx, n * sizeof(envp::Query), vk::MemoryUse::DeviceLocal, "env queries");
-  vk::Buffer rb(ctx, n * sizeof(envp::Result), vk::MemoryUse::DeviceLocal, "env results");
-  qb.uploadVector(queries);
-  scene::SceneProbe pass(ctx, scene::ProbeKind::Environment);
-  ctx.submitAndWait([&](VkCommandBuffer cmd) { pass.record(cmd, {&qb, &rb, n, &g}); });
-  auto results = rb.downloadVector<envp::Result>(n);
-  int mismatchedTexel = 0;
-  for (uint32_t i = 0; i < n; ++i) {
-    const auto& q = queries[i];
-    const auto& r = results[i];
-    glm::vec3 radiance = scene::environmentRadiance(env, q.direction);
-    float pdf = scene::environmentPdf(env, cdf, q.direction);
-    // A direction on a texel border may land on either side in float: allow a few.
-    if (glm::length(r.radiance - radiance) > 1e-5f || std::abs(r.pdf - pdf) > 1e-3f * pdf) {
-      ++mismatchedTexel;
-      continue;
-    }
-    float spdf;
-    glm::vec3 srad;
-    glm::vec3 sdir = scene::sampleEnvironment(env, cdf, q.u, spdf, srad);
-    EXPECT_LE(glm::length(r.sampledDirection - sdir), 1e-4f) << "query " << i;
-    EXPECT_NEAR(r.sampledPdf, spdf, 1e-3f * spdf) << "query " << i;
-    EXPECT_EQ(r.sampledRadiance, srad) << "query " << i;
-  }
-  EXPECT_LE(mismatchedTexel, 3);
-  // No environment: black, pdf 0.
-  scene::GpuScene none(ctx, s);
-  ctx.submitAndWait([&](VkCommandBuffer cmd) { pass.record(cmd, {&qb, &rb, n, &none}); });
-  results = rb.downloadVector<envp::Result>(n);
-  EXPECT_EQ(results[0].radiance, glm::vec3(0.0f));
-  EXPECT_EQ(results[0].pdf, 0.0f);
-  EXPECT_EQ(results[0].sampledPdf, 0.0f);
-}

@@ -11,7 +11,7 @@
 #include <random>
 
 #include "common/error.h"
-#include "common/vk_test.h"
+#include "common/test_paths.h"
 #include "scene/scene.h"
 #include "scene/scene_test_util.h"
 

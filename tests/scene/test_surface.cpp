@@ -3,7 +3,7 @@
 // map and the alpha cutout of a known texture. (test_scene_probe then holds the GLSL to these.)
 #include <gtest/gtest.h>
 
-#include "common/vk_test.h"
+#include "common/test_paths.h"
 #include "scene/surface.h"
 
 using namespace osr;

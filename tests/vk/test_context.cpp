@@ -4,6 +4,7 @@
 
 #include "common/error.h"
 #include "shaders/shared/util_fill.h"
+#include "vk/binder.h"
 #include "vk/buffer.h"
 #include "vk/pipeline.h"
 #include "vk/timer.h"
@@ -32,7 +33,7 @@ TEST(Context, FillPassWritesExactlyCountWords) {
     ctx.submitAndWait([&](VkCommandBuffer cmd) {
       timer.reset(cmd);
       vk::TimedScope scope(&timer, cmd, "util_fill");
-      pass.bind(cmd, {buf}, fill::Push{count, 42u});
+      vk::Binder(pass).set(fill::kBindingData, buf).bind(cmd, fill::Push{count, 42u});
       pass.dispatch(cmd, vk::groupCount(count, fill::kWorkgroupSize));
     });
     auto out = buf.downloadVector<uint32_t>(count + 7);
@@ -63,14 +64,14 @@ TEST(Context, BindingPastMaxStorageBufferRangeIsRefused) {
   vk::Buffer big(ctx, limit + 1024, vk::MemoryUse::DeviceLocal, "too big");
   vk::ComputePipeline pass(ctx, shaders::Id::util_fill, 1, sizeof(fill::Push));
   try {
-    ctx.submitAndWait([&](VkCommandBuffer cmd) { pass.bind(cmd, {big}, fill::Push{1, 0}); });
+    ctx.submitAndWait([&](VkCommandBuffer cmd) { vk::Binder(pass).set(fill::kBindingData, big).bind(cmd, fill::Push{1, 0}); });
     FAIL() << "expected a DeviceError";
   } catch (const DeviceError& e) {
     EXPECT_NE(std::string(e.what()).find("maxStorageBufferRange"), std::string::npos) << e.what();
   }
   // A chunk inside the limit binds and runs.
   ctx.submitAndWait([&](VkCommandBuffer cmd) {
-    pass.bind(cmd, {vk::BufferRange(big, 1024, limit)}, fill::Push{16, 7});
+    vk::Binder(pass).setRange(fill::kBindingData, big, 1024, limit).bind(cmd, fill::Push{16, 7});
     pass.dispatch(cmd, 1);
   });
   auto out = big.downloadVector<uint32_t>(4, 1024);

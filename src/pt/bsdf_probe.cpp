@@ -1,13 +1,15 @@
-#include "render/bsdf_probe.h"
+#include "pt/bsdf_probe.h"
 
 #include <algorithm>
 
-namespace osr::render {
+#include "vk/binder.h"
+
+namespace osr::pt {
 
 namespace probe = gpu::bsdf;
 
 BsdfProbe::BsdfProbe(const vk::Context& ctx)
-    : ctx_(ctx), pipeline_(ctx, shaders::Id::pt_bsdf_probe, 2, sizeof(probe::ProbePush)) {}
+    : ctx_(ctx), pipeline_(ctx, shaders::Id::pt_bsdf_probe, probe::kProbeBindingCount, sizeof(probe::ProbePush)) {}
 
 void BsdfProbe::record(VkCommandBuffer cmd, const Args& a) const {
   uint64_t perCase = a.push.mode == probe::kProbeEval
@@ -18,7 +20,10 @@ void BsdfProbe::record(VkCommandBuffer cmd, const Args& a) const {
   // 2-D dispatch: at most 65535 groups per dimension on every device.
   uint32_t x = std::min<uint32_t>(groups, 65535u);
   uint32_t y = (groups + x - 1) / x;
-  pipeline_.bind(cmd, {*a.cases, *a.out}, a.push);
+  vk::Binder(pipeline_)
+      .set(probe::kProbeBindingCases, *a.cases)
+      .set(probe::kProbeBindingOut, *a.out)
+      .bind(cmd, a.push);
   pipeline_.dispatch(cmd, x, y);
   vk::computeBarrier(cmd);
 }
@@ -38,4 +43,4 @@ std::vector<probe::ProbeOut> BsdfProbe::run(const std::vector<probe::ProbeCase>&
   return outBuf.downloadVector<probe::ProbeOut>(count);
 }
 
-}  // namespace osr::render
+}  // namespace osr::pt

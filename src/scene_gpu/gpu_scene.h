@@ -1,12 +1,11 @@
 // The scene on the device: one storage buffer per kind of scene data, uploaded once, in the
-// layout of shaders/shared/scene.h. Passes bind them with bindings() at the slots
-// shaders/lib/scene.glsl declares (OSR_SCENE_BINDING + kSceneBinding*).
+// layout of shaders/shared/scene.h. Passes place them with bind() / bindTexels() at the base
+// slots they give shaders/lib/scene.glsl (OSR_SCENE_BINDING, OSR_SCENE_TEXEL_BINDING).
 #pragma once
 #include <array>
-#include <initializer_list>
-#include <vector>
 
 #include "scene/scene.h"
+#include "vk/binder.h"
 #include "vk/buffer.h"
 #include "vk/buffer_view.h"
 #include "vk/context.h"
@@ -40,17 +39,15 @@ class GpuScene {
   // RGBA32UI views of vertices, triangles, materials in kSceneTexelBinding* order, for passes
   // that define OSR_SCENE_TEXEL_BINDING. texelFetch: whether they read them (the views cover
   // at most maxTexelBufferElements texels; past that the shaders must read storage buffers).
-  std::array<VkBufferView, gpu::kSceneTexelBindingCount> texelViews() const {
-    return {vertexTexels_.handle(), triangleTexels_.handle(), materialTexels_.handle()};
-  }
+  std::array<VkBufferView, gpu::kSceneTexelBindingCount> texelViews() const;
   bool texelFetch = false;
 
-  // The buffers in binding order (slot OSR_SCENE_BINDING + i is element i).
+  // The buffers by slot: element kSceneBinding* is that slot's buffer.
   std::array<vk::BufferRange, gpu::kSceneBindingCount> bindings() const;
-  // A pass's own buffers (slots 0..n-1) followed by the scene's (OSR_SCENE_BINDING = n), ready for
-  // ComputePipeline::bindSpan.
-  std::vector<vk::BufferRange> withBindings(
-      std::initializer_list<vk::BufferRange> passBuffers) const;
+  // Sets slots base + kSceneBinding* (base: the pass's OSR_SCENE_BINDING).
+  void bind(vk::Binder& binder, uint32_t base) const;
+  // Sets slots base + kSceneTexelBinding* (base: the pass's OSR_SCENE_TEXEL_BINDING).
+  void bindTexels(vk::Binder& binder, uint32_t base) const;
   // Total bytes uploaded.
   uint64_t bytes() const;
 

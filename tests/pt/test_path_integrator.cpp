@@ -7,12 +7,12 @@
 #include <cmath>
 #include <filesystem>
 
-#include "app/image_io.h"
+#include "image/image_io.h"
 #include "bvh/bvh.h"
 #include "common/vk_test.h"
-#include "render/gltf_writer.h"
-#include "render/renderer.h"
-#include "scene/gpu_scene.h"
+#include "pt/gltf_writer.h"
+#include "pt/path_integrator.h"
+#include "scene_gpu/gpu_scene.h"
 #include "scene/scene.h"
 #include "shaders/shared/pt.h"
 
@@ -32,19 +32,21 @@ struct Rendered {
 
 Rendered renderFile(const std::string& gltf, uint32_t size, uint32_t spp, uint32_t seed = 1,
                     const scene::Environment* env = nullptr,
-                    uint32_t integrator = gpu::pt::kIntegratorPath) {
+                    pt::Mode mode = pt::Mode::Path, double batchTargetS = 0.25,
+                    render::RenderStats* stats = nullptr) {
   auto& ctx = test::context();
   Rendered r;
   r.scene = scene::loadScene(gltf);
   r.camera = scene::selectCamera(r.scene, "", 1.f);
   scene::GpuScene gs(ctx, r.scene, env);
   bvh::Bvh tree = bvh::buildGpu(ctx, gs.vertices, gs.triangles, gs.triangleCount);
-  render::RenderSettings s;
+  pt::RenderSettings s;
   s.width = s.height = size;
   s.spp = spp;
   s.seed = seed;
-  s.integrator = integrator;
-  r.film = render::render(ctx, gs, tree, r.camera, s);
+  s.mode = mode;
+  s.batchTargetS = batchTargetS;
+  r.film = pt::render(ctx, gs, tree, r.camera, s, {}, stats);
   return r;
 }
 
@@ -107,7 +109,7 @@ double mean(const std::vector<float>& v) {
 
 }  // namespace
 
-TEST(Renderer, WhiteFurnaceDiffuseAndSmoothDielectric) {
+TEST(PathIntegrator, WhiteFurnaceDiffuseAndSmoothDielectric) {
   fs::path d = tempDir();
   GltfWriter g;
   int white = g.material(GltfWriter::diffuse(glm::vec3(1.f)));
@@ -148,7 +150,7 @@ TEST(Renderer, WhiteFurnaceDiffuseAndSmoothDielectric) {
   fs::remove_all(d);
 }
 
-TEST(Renderer, DiffusePlaneUnderSquareEmitterMatchesAnalyticIrradiance) {
+TEST(PathIntegrator, DiffusePlaneUnderSquareEmitterMatchesAnalyticIrradiance) {
   fs::path d = tempDir();
   GltfWriter g;
   const float rho = 0.6f, le = 5.f, h = 0.8f, half = 0.25f;
@@ -188,7 +190,7 @@ TEST(Renderer, DiffusePlaneUnderSquareEmitterMatchesAnalyticIrradiance) {
   fs::remove_all(d);
 }
 
-TEST(Renderer, PunctualLightsGiveAnalyticIrradiance) {
+TEST(PathIntegrator, PunctualLightsGiveAnalyticIrradiance) {
   fs::path d = tempDir();
   const float rho = 0.5f;
   for (const char* type : {"point", "directional", "spot"}) {
@@ -246,7 +248,7 @@ TEST(Renderer, PunctualLightsGiveAnalyticIrradiance) {
   fs::remove_all(d);
 }
 
-TEST(Renderer, FixedSeedIsDeterministicAndLayersAddUp) {
+TEST(PathIntegrator, FixedSeedIsDeterministicAndLayersAddUp) {
   std::string cornell = test::referencePath("cornell/cornell.gltf");
   Rendered a = renderFile(cornell, 16, 4, 7);
   Rendered b = renderFile(cornell, 16, 4, 7);
@@ -260,7 +262,21 @@ TEST(Renderer, FixedSeedIsDeterministicAndLayersAddUp) {
   EXPECT_GT(mean(a.film.indirect), 0.05 * mean(a.film.combined));  // the box interreflects
 }
 
-TEST(Renderer, PreviewIsAlbedoTimesHeadlightCosine) {
+// Batching groups samples into submissions differently but never changes which samples run.
+TEST(PathIntegrator, BatchingDoesNotChangeTheImage) {
+  const std::string cornell = test::referencePath("cornell/cornell.gltf");
+  render::RenderStats one, many;
+  // batchTargetS 0: one sample per submission; 100: 1, then the other 11 in one submission.
+  Rendered a = renderFile(cornell, 16, 12, 5, nullptr, pt::Mode::Path, 0.0, &one);
+  Rendered b = renderFile(cornell, 16, 12, 5, nullptr, pt::Mode::Path, 100.0, &many);
+  EXPECT_EQ(one.submissions, 12u);
+  EXPECT_EQ(many.submissions, 2u);
+  EXPECT_EQ(a.film.samples, 12u);
+  EXPECT_EQ(a.film.combined, b.film.combined);
+  EXPECT_EQ(a.film.albedo, b.film.albedo);
+}
+
+TEST(PathIntegrator, PreviewIsAlbedoTimesHeadlightCosine) {
   fs::path d = tempDir();
   GltfWriter g;
   glm::vec3 albedo(0.2f, 0.5f, 0.8f);
@@ -268,7 +284,7 @@ TEST(Renderer, PreviewIsAlbedoTimesHeadlightCosine) {
   g.camera({0.f, 2.f, 2.f}, {0.f, 0.f, 0.f}, 0.5f);
   std::string path = (d / "preview.gltf").string();
   g.write(path);
-  Rendered r = renderFile(path, 8, 64, 1, nullptr, gpu::pt::kIntegratorPreview);
+  Rendered r = renderFile(path, 8, 64, 1, nullptr, pt::Mode::Preview);
   for (uint32_t py = 0; py < 8; ++py)
     for (uint32_t px = 0; px < 8; ++px) {
       glm::vec3 o, dir;
@@ -281,7 +297,7 @@ TEST(Renderer, PreviewIsAlbedoTimesHeadlightCosine) {
   fs::remove_all(d);
 }
 
-TEST(Renderer, AlphaMaskIsSeenThroughAndCastsNoShadowThroughHoles) {
+TEST(PathIntegrator, AlphaMaskIsSeenThroughAndCastsNoShadowThroughHoles) {
   fs::path d = tempDir();
   GltfWriter g;
   // Ground: red only. Masked quad at y = 1: green only, its texture opaque on the left half

@@ -3,12 +3,12 @@
 
 #include <cmath>
 
-#include "app/image_metrics.h"
+#include "image/image_metrics.h"
 
 using namespace osr;
 
 namespace {
-app::RgbImage constant(int w, int h, float v) {
+image::RgbImage constant(int w, int h, float v) {
   return {w, h, std::vector<float>(size_t(w) * h * 3, v)};
 }
 double toneMapped(double x) {
@@ -18,9 +18,9 @@ double toneMapped(double x) {
 }  // namespace
 
 TEST(ImageMetrics, IdenticalImages) {
-  app::RgbImage a = constant(13, 9, 0.5f);
+  image::RgbImage a = constant(13, 9, 0.5f);
   a.rgb[4] = 3.f;
-  auto m = app::compareImages(a, a);
+  auto m = image::compareImages(a, a);
   EXPECT_EQ(m.relmse, 0.0);
   EXPECT_TRUE(std::isinf(m.psnr));
   EXPECT_NEAR(m.ssim, 1.0, 1e-12);
@@ -28,8 +28,8 @@ TEST(ImageMetrics, IdenticalImages) {
 }
 
 TEST(ImageMetrics, ConstantImagesMatchClosedForms) {
-  app::RgbImage a = constant(16, 12, 1.0f), b = constant(16, 12, 0.5f);
-  auto m = app::compareImages(a, b);
+  image::RgbImage a = constant(16, 12, 1.0f), b = constant(16, 12, 0.5f);
+  auto m = image::compareImages(a, b);
   EXPECT_NEAR(m.relmse, 0.25 / (0.25 + 0.01), 1e-9);
   EXPECT_NEAR(m.lumRatio, 2.0, 1e-9);
   double d = toneMapped(1.0) - toneMapped(0.5);
@@ -40,12 +40,12 @@ TEST(ImageMetrics, ConstantImagesMatchClosedForms) {
 }
 
 TEST(ImageMetrics, DownsampleAveragesBlocks) {
-  app::RgbImage a{4, 2, {}};
+  image::RgbImage a{4, 2, {}};
   for (int i = 0; i < 24; ++i) a.rgb.push_back(float(i));
-  app::RgbImage d = app::downsample(a, 2);
+  image::RgbImage d = image::downsample(a, 2);
   ASSERT_EQ(d.width, 2);
   ASSERT_EQ(d.height, 1);
   // Block (0,0): pixels 0, 1, 4, 5 -> R values 0, 3, 12, 15.
   EXPECT_FLOAT_EQ(d.rgb[0], 7.5f);
-  EXPECT_NEAR(app::meanLuminance(a), app::meanLuminance(d), 1e-5);
+  EXPECT_NEAR(image::meanLuminance(a), image::meanLuminance(d), 1e-5);
 }

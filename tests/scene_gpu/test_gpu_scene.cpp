@@ -6,7 +6,7 @@
 
 #include "common/error.h"
 #include "common/vk_test.h"
-#include "scene/gpu_scene.h"
+#include "scene_gpu/gpu_scene.h"
 
 using namespace osr;
 namespace gs = osr::gpu::scene;

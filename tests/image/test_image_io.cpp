@@ -6,9 +6,9 @@
 #include <filesystem>
 #include <fstream>
 
-#include "app/image_io.h"
+#include "image/image_io.h"
 #include "common/error.h"
-#include "common/vk_test.h"
+#include "common/test_paths.h"
 
 using namespace osr;
 namespace fs = std::filesystem;
@@ -16,9 +16,9 @@ namespace fs = std::filesystem;
 namespace {
 fs::path tempDir() { return test::tempDir("image_io"); }
 
-app::LayeredImage testImage(int w, int h) {
-  app::LayeredImage img{w, h, {}};
-  app::ImageLayer rgb{"", {"R", "G", "B"}, {}}, depth{"depth", {"Z"}, {}};
+image::LayeredImage testImage(int w, int h) {
+  image::LayeredImage img{w, h, {}};
+  image::ImageLayer rgb{"", {"R", "G", "B"}, {}}, depth{"depth", {"Z"}, {}};
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
       rgb.data.insert(rgb.data.end(), {x * 0.25f, y * 1.5f, 1000.f + x});
@@ -31,16 +31,16 @@ app::LayeredImage testImage(int w, int h) {
 
 TEST(ImageIo, ExrRoundTripsFloatAndHalf) {
   fs::path d = tempDir();
-  app::LayeredImage img = testImage(7, 5);  // odd sizes
-  for (auto type : {app::ExrPixelType::Float, app::ExrPixelType::Half}) {
+  image::LayeredImage img = testImage(7, 5);  // odd sizes
+  for (auto type : {image::ExrPixelType::Float, image::ExrPixelType::Half}) {
     std::string path = (d / "rt.exr").string();
-    app::writeExr(path, img, type);
-    app::RgbImage back = app::readExrRgb(path);
+    image::writeExr(path, img, type);
+    image::RgbImage back = image::readExrRgb(path);
     ASSERT_EQ(back.width, 7);
     ASSERT_EQ(back.height, 5);
     for (size_t i = 0; i < back.rgb.size(); ++i) {
       float want = img.layers[0].data[i];
-      float tol = type == app::ExrPixelType::Float ? 0.f : std::abs(want) * 1e-3f;
+      float tol = type == image::ExrPixelType::Float ? 0.f : std::abs(want) * 1e-3f;
       ASSERT_NEAR(back.rgb[i], want, tol) << i;
     }
   }
@@ -51,7 +51,7 @@ TEST(ImageIo, ExrRoundTripsFloatAndHalf) {
 }
 
 TEST(ImageIo, ReadsTheCyclesReferences) {
-  app::RgbImage img = app::readExrRgb(test::referencePath("cornell/cornell_cycles_4096spp.exr"));
+  image::RgbImage img = image::readExrRgb(test::referencePath("cornell/cornell_cycles_4096spp.exr"));
   EXPECT_EQ(img.width, 256);
   EXPECT_EQ(img.height, 256);
   double sum = 0;
@@ -66,14 +66,14 @@ TEST(ImageIo, FailuresAreInputErrorsAndKeepExistingFiles) {
   fs::path d = tempDir();
   std::string existing = (d / "keep.exr").string();
   { std::ofstream(existing) << "precious"; }
-  EXPECT_THROW(app::readExrRgb(existing), InputError);  // not an EXR
-  EXPECT_THROW(app::readExrRgb((d / "missing.exr").string()), InputError);
+  EXPECT_THROW(image::readExrRgb(existing), InputError);  // not an EXR
+  EXPECT_THROW(image::readExrRgb((d / "missing.exr").string()), InputError);
   EXPECT_THROW(
-      app::writeExr((d / "no_dir" / "x.exr").string(), testImage(2, 2), app::ExrPixelType::Half),
+      image::writeExr((d / "no_dir" / "x.exr").string(), testImage(2, 2), image::ExrPixelType::Half),
       InputError);
-  EXPECT_THROW(app::checkWritable((d / "no_dir" / "x.exr").string()), InputError);
-  EXPECT_THROW(app::checkWritable(d.string()), InputError);
-  app::checkWritable(existing);
+  EXPECT_THROW(image::checkWritable((d / "no_dir" / "x.exr").string()), InputError);
+  EXPECT_THROW(image::checkWritable(d.string()), InputError);
+  image::checkWritable(existing);
   std::ifstream in(existing);
   std::string content;
   in >> content;
@@ -82,11 +82,11 @@ TEST(ImageIo, FailuresAreInputErrorsAndKeepExistingFiles) {
 }
 
 TEST(ImageIo, PngAutoExposureMapsLogAverageToMiddleGrey) {
-  app::RgbImage img{4, 2, std::vector<float>(24, 0.045f)};
-  EXPECT_NEAR(app::autoExposureEv(img), std::log2(0.18 / (0.045 + 1e-4)), 1e-6);
+  image::RgbImage img{4, 2, std::vector<float>(24, 0.045f)};
+  EXPECT_NEAR(image::autoExposureEv(img), std::log2(0.18 / (0.045 + 1e-4)), 1e-6);
   fs::path d = tempDir();
   std::string path = (d / "p.png").string();
-  app::writePng(path, img, std::nullopt);
+  image::writePng(path, img, std::nullopt);
   std::ifstream f(path, std::ios::binary);
   char sig[8] = {};
   f.read(sig, 8);

@@ -7,7 +7,7 @@
 #include "vk/buffer.h"
 #include "vk/pipeline.h"
 
-namespace osr::render {
+namespace osr::pt {
 
 class BsdfProbe {
  public:
@@ -29,4 +29,4 @@ class BsdfProbe {
   vk::ComputePipeline pipeline_;
 };
 
-}  // namespace osr::render
+}  // namespace osr::pt

@@ -7,7 +7,7 @@
 #include <string>
 #include <vector>
 
-namespace osr::app {
+namespace osr::image {
 
 // One layer: `name` "" is the default layer (channels R, G, B); others are written as
 // "<name>.<channel>". channelNames has 1 or 3 entries; data is interleaved, row-major,
@@ -52,4 +52,4 @@ void writePng(const std::string& path, const RgbImage& image, std::optional<doub
 // writable, or the path is a directory. Leaves no file behind.
 void checkWritable(const std::string& path);
 
-}  // namespace osr::app
+}  // namespace osr::image

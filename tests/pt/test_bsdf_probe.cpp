@@ -8,7 +8,7 @@
 #include <cstdio>
 
 #include "common/vk_test.h"
-#include "render/bsdf_probe.h"
+#include "pt/bsdf_probe.h"
 
 using namespace osr;
 namespace probe = osr::gpu::bsdf;
@@ -49,7 +49,7 @@ struct Quadrature {
   double pdfMass = 0.0;
 };
 
-std::vector<Quadrature> integrate(const render::BsdfProbe& p,
+std::vector<Quadrature> integrate(const pt::BsdfProbe& p,
                                   const std::vector<probe::ProbeCase>& cases) {
   probe::ProbePush push{probe::kProbeEval, 0, kTheta, kPhi, 0, 0};
   auto out = p.run(cases, push);
@@ -74,7 +74,7 @@ struct Sampled {
   bool finite = true;
 };
 
-std::vector<Sampled> sample(const render::BsdfProbe& p,
+std::vector<Sampled> sample(const pt::BsdfProbe& p,
                             const std::vector<probe::ProbeCase>& cases) {
   probe::ProbePush push{probe::kProbeSample, 0, 0, 0, kSamples, 7};
   auto out = p.run(cases, push);
@@ -102,7 +102,7 @@ std::vector<Sampled> sample(const render::BsdfProbe& p,
 }  // namespace
 
 TEST(BsdfProbe, SampledAlbedoMatchesIntegratedAlbedo) {
-  render::BsdfProbe p(test::context());
+  pt::BsdfProbe p(test::context());
   std::vector<probe::ProbeCase> cases;
   glm::vec3 base(0.8f, 0.5f, 0.2f);
   for (float rough : {0.3f, 0.6f, 1.0f})
@@ -136,7 +136,7 @@ TEST(BsdfProbe, SampledAlbedoMatchesIntegratedAlbedo) {
 }
 
 TEST(BsdfProbe, LambertianIsBaseColorOverPi) {
-  render::BsdfProbe p(test::context());
+  pt::BsdfProbe p(test::context());
   // What Blender's exporter writes for a Diffuse BSDF: specular colour 0, roughness 1.
   glm::vec3 base(0.63f, 0.065f, 0.05f);
   std::vector<probe::ProbeCase> cases = {
@@ -155,7 +155,7 @@ TEST(BsdfProbe, LambertianIsBaseColorOverPi) {
 }
 
 TEST(BsdfProbe, SmoothWhiteDielectricConservesEnergy) {
-  render::BsdfProbe p(test::context());
+  pt::BsdfProbe p(test::context());
   std::vector<probe::ProbeCase> cases;
   for (float eta : {1.5f, 1.f / 1.5f})
     for (float theta : {0.f, 30.f, 60.f, 85.f})

@@ -1,11 +1,11 @@
-#include "app/image_metrics.h"
+#include "image/image_metrics.h"
 
 #include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
 
-namespace osr::app {
+namespace osr::image {
 
 namespace {
 
@@ -114,4 +114,4 @@ ImageMetrics compareImages(const RgbImage& a, const RgbImage& b) {
   return m;
 }
 
-}  // namespace osr::app
+}  // namespace osr::image

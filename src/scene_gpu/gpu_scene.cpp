@@ -1,4 +1,4 @@
-#include "scene/gpu_scene.h"
+#include "scene_gpu/gpu_scene.h"
 
 #include "common/error.h"
 #include "scene/environment.h"
@@ -99,21 +99,43 @@ GpuScene::GpuScene(const vk::Context& ctx, const Scene& scene, const Environment
   texelFetch = coversV && coversT && coversM;
 }
 
+// Texels per element that shaders/lib/scene.glsl reads (Material's layout is asserted in
+// shaders/shared/scene.h against its kMaterialWord* constants).
 static_assert(sizeof(gpu::Vertex) == 32 && sizeof(gpu::Triangle) == 16 &&
-                  sizeof(gpu::Material) == 112,
+                  sizeof(gpu::Material) == 16 * gpu::kMaterialTexels,
               "texel counts in shaders/lib/scene.glsl");
 
 std::array<vk::BufferRange, gpu::kSceneBindingCount> GpuScene::bindings() const {
-  return {vertices, triangles, materials, textureInfos, texels,
-          lights,   emissive,  info,      environment,  environmentCdf};
+  std::array<vk::BufferRange, gpu::kSceneBindingCount> b;
+  b[gpu::kSceneBindingVertices] = vertices;
+  b[gpu::kSceneBindingTriangles] = triangles;
+  b[gpu::kSceneBindingMaterials] = materials;
+  b[gpu::kSceneBindingTextureInfos] = textureInfos;
+  b[gpu::kSceneBindingTexels] = texels;
+  b[gpu::kSceneBindingLights] = lights;
+  b[gpu::kSceneBindingEmissive] = emissive;
+  b[gpu::kSceneBindingInfo] = info;
+  b[gpu::kSceneBindingEnvironment] = environment;
+  b[gpu::kSceneBindingEnvironmentCdf] = environmentCdf;
+  return b;
 }
 
-std::vector<vk::BufferRange> GpuScene::withBindings(
-    std::initializer_list<vk::BufferRange> passBuffers) const {
-  std::vector<vk::BufferRange> all(passBuffers);
-  auto scene = bindings();
-  all.insert(all.end(), scene.begin(), scene.end());
-  return all;
+std::array<VkBufferView, gpu::kSceneTexelBindingCount> GpuScene::texelViews() const {
+  std::array<VkBufferView, gpu::kSceneTexelBindingCount> v;
+  v[gpu::kSceneTexelBindingVertices] = vertexTexels_.handle();
+  v[gpu::kSceneTexelBindingTriangles] = triangleTexels_.handle();
+  v[gpu::kSceneTexelBindingMaterials] = materialTexels_.handle();
+  return v;
+}
+
+void GpuScene::bind(vk::Binder& binder, uint32_t base) const {
+  const auto b = bindings();
+  for (uint32_t i = 0; i < gpu::kSceneBindingCount; ++i) binder.set(base + i, b[i]);
+}
+
+void GpuScene::bindTexels(vk::Binder& binder, uint32_t base) const {
+  const auto v = texelViews();
+  for (uint32_t i = 0; i < gpu::kSceneTexelBindingCount; ++i) binder.setTexel(base + i, v[i]);
 }
 
 uint64_t GpuScene::bytes() const {

@@ -5,9 +5,9 @@
 //             C2 = 0.03^2, mean over pixels and RGB)
 //   lumRatio  mean Rec.709 luminance of a over that of b
 #pragma once
-#include "app/image_io.h"
+#include "image/image_io.h"
 
-namespace osr::app {
+namespace osr::image {
 
 inline constexpr double kRelMseEpsilon = 0.01;
 inline constexpr const char* kToneMapDescription = "srgb(x/(1+x))";
@@ -26,4 +26,4 @@ double meanLuminance(const RgbImage& image);
 // Box-filters by an integer factor (width and height divisible by it).
 RgbImage downsample(const RgbImage& image, int factor);
 
-}  // namespace osr::app
+}  // namespace osr::image

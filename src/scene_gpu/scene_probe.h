@@ -6,7 +6,7 @@
 #pragma once
 #include <vulkan/vulkan.h>
 
-#include "scene/gpu_scene.h"
+#include "scene_gpu/gpu_scene.h"
 #include "shaders/shared/scene_env_probe.h"
 #include "shaders/shared/scene_probe.h"
 #include "vk/pipeline.h"

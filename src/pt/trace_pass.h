@@ -8,26 +8,31 @@
 #pragma once
 #include "bvh/bvh.h"
 #include "render/film.h"
-#include "scene/gpu_scene.h"
+#include "scene_gpu/gpu_scene.h"
 #include "shaders/shared/pt.h"
 #include "vk/pipeline.h"
 
-namespace osr::render {
+namespace osr::pt {
+
+// What a sample computes.
+enum class Mode {
+  Path,     // unidirectional path tracing, NEE + MIS
+  Preview,  // primary hit: albedo x headlight cosine
+};
 
 class TracePass {
  public:
-  // integrator: gpu::pt::kIntegratorPath or kIntegratorPreview. sceneFeatures: the scene's
-  // kSceneFeature* bits (scene::GpuScene::features); code for absent features is compiled out.
-  // sceneTexelFetch: read vertices, triangles, materials through the scene's texel views
-  // (scene::GpuScene::texelFetch).
-  TracePass(const vk::Context& ctx, uint32_t integrator,
+  // sceneFeatures: the scene's kSceneFeature* bits (scene::GpuScene::features); code for absent
+  // features is compiled out. sceneTexelFetch: read vertices, triangles, materials through the
+  // scene's texel views (scene::GpuScene::texelFetch).
+  TracePass(const vk::Context& ctx, Mode mode,
             uint32_t sceneFeatures = gpu::scene::kSceneFeatureAll, bool sceneTexelFetch = false);
 
   static constexpr uint32_t kMaxPixelsPerDispatch = 1u << 20;
   static constexpr uint32_t kMaxSamplesPerDispatch = 8;
 
   struct Args {
-    const Film* film = nullptr;
+    const render::Film* film = nullptr;
     const vk::Buffer* frame = nullptr;  // gpu::camera::CameraFrame
     const bvh::Bvh* bvh = nullptr;
     const scene::GpuScene* scene = nullptr;
@@ -42,4 +47,4 @@ class TracePass {
   vk::ComputePipeline pipeline_;
 };
 
-}  // namespace osr::render
+}  // namespace osr::pt

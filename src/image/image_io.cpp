@@ -1,4 +1,4 @@
-#include "app/image_io.h"
+#include "image/image_io.h"
 
 #include <ImfChannelList.h>
 #include <ImfFrameBuffer.h>
@@ -20,7 +20,7 @@
 
 #include "common/error.h"
 
-namespace osr::app {
+namespace osr::image {
 
 namespace fs = std::filesystem;
 
@@ -163,4 +163,4 @@ void writePng(const std::string& path, const RgbImage& image, std::optional<doub
   commit(tmp, path);
 }
 
-}  // namespace osr::app
+}  // namespace osr::image

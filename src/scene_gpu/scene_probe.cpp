@@ -1,4 +1,6 @@
-#include "scene/scene_probe.h"
+#include "scene_gpu/scene_probe.h"
+
+#include "vk/binder.h"
 
 namespace osr::scene {
 
@@ -6,8 +8,6 @@ namespace probe = osr::gpu::scene_probe;
 namespace env_probe = osr::gpu::scene_env_probe;
 
 // The two shaders must agree on everything this class assumes.
-static_assert(probe::kBindingQueries == 0 && probe::kBindingResults == 1 &&
-              probe::kBindingScene == 2);
 static_assert(env_probe::kBindingQueries == probe::kBindingQueries &&
               env_probe::kBindingResults == probe::kBindingResults &&
               env_probe::kBindingScene == probe::kBindingScene);
@@ -20,8 +20,10 @@ SceneProbe::SceneProbe(const vk::Context& ctx, ProbeKind kind)
           probe::kBindingScene + gpu::kSceneBindingCount, sizeof(probe::Push)) {}
 
 void SceneProbe::record(VkCommandBuffer cmd, const Args& args) const {
-  auto buffers = args.scene->withBindings({*args.queries, *args.results});
-  pipeline_.bindSpan(cmd, buffers, probe::Push{args.count});
+  vk::Binder binder(pipeline_);
+  binder.set(probe::kBindingQueries, *args.queries).set(probe::kBindingResults, *args.results);
+  args.scene->bind(binder, probe::kBindingScene);
+  binder.bind(cmd, probe::Push{args.count});
   pipeline_.dispatch(cmd, vk::groupCount(args.count, probe::kWorkgroupSize));
   vk::computeBarrier(cmd);
 }

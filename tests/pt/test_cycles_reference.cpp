@@ -12,12 +12,12 @@
 
 #include <cmath>
 
-#include "app/image_io.h"
-#include "app/image_metrics.h"
+#include "image/image_io.h"
+#include "image/image_metrics.h"
 #include "bvh/bvh.h"
 #include "common/vk_test.h"
-#include "render/renderer.h"
-#include "scene/gpu_scene.h"
+#include "pt/path_integrator.h"
+#include "scene_gpu/gpu_scene.h"
 #include "scene/scene.h"
 
 using namespace osr;
@@ -34,27 +34,27 @@ Comparison compareWithCycles(const std::string& name, uint32_t size, uint32_t sp
   scene::Camera cam = scene::selectCamera(sc, "", 1.f);
   scene::GpuScene gs(ctx, sc);
   bvh::Bvh tree = bvh::buildGpu(ctx, gs.vertices, gs.triangles, gs.triangleCount);
-  app::RgbImage ref =
-      app::readExrRgb(test::referencePath(name + "/" + name + "_cycles_4096spp.exr"));
-  ref = app::downsample(ref, ref.width / int(size));
-  render::RenderSettings s;
+  image::RgbImage ref =
+      image::readExrRgb(test::referencePath(name + "/" + name + "_cycles_4096spp.exr"));
+  ref = image::downsample(ref, ref.width / int(size));
+  pt::RenderSettings s;
   s.width = s.height = size;
   s.spp = sppEach;
   s.seed = 11;
-  render::FilmLayers a = render::render(ctx, gs, tree, cam, s);
+  render::FilmLayers a = pt::render(ctx, gs, tree, cam, s);
   s.seed = 12;
-  render::FilmLayers b = render::render(ctx, gs, tree, cam, s);
-  app::RgbImage m{int(size), int(size), a.combined};
+  render::FilmLayers b = pt::render(ctx, gs, tree, cam, s);
+  image::RgbImage m{int(size), int(size), a.combined};
   double noise = 0;
   for (size_t i = 0; i < m.rgb.size(); ++i) {
     double d = double(a.combined[i]) - b.combined[i];
-    noise += d * d / (4.0 * (double(ref.rgb[i]) * ref.rgb[i] + app::kRelMseEpsilon));
+    noise += d * d / (4.0 * (double(ref.rgb[i]) * ref.rgb[i] + image::kRelMseEpsilon));
     m.rgb[i] = 0.5f * (a.combined[i] + b.combined[i]);
   }
   Comparison c;
   c.noise = noise / double(m.rgb.size());
-  c.relmse = app::relMse(m, ref);
-  c.lumRatio = app::meanLuminance(m) / app::meanLuminance(ref);
+  c.relmse = image::relMse(m, ref);
+  c.lumRatio = image::meanLuminance(m) / image::meanLuminance(ref);
   std::printf(
       "%s %ux%u, 2 x %u spp: relmse %.5f, estimated noise %.5f, relmse - noise %.5f, "
       "lum_ratio %.4f\n",

@@ -1,0 +1,51 @@
+#include "pt/path_integrator.h"
+
+#include "render/camera_frame.h"
+#include "vk/timer.h"
+
+namespace osr::pt {
+
+const char* modeName(Mode mode) { return mode == Mode::Preview ? "preview" : "path"; }
+
+std::optional<Mode> parseMode(const std::string& name) {
+  if (name == "path") return Mode::Path;
+  if (name == "preview") return Mode::Preview;
+  return std::nullopt;
+}
+
+PathIntegrator::PathIntegrator(const vk::Context& ctx, const scene::GpuScene& scene,
+                               const bvh::Bvh& bvh, uint32_t width, uint32_t height, Mode mode)
+    : ctx_(ctx),
+      scene_(scene),
+      bvh_(bvh),
+      mode_(mode),
+      film_(ctx, width, height),
+      frame_(ctx, sizeof(gpu::camera::CameraFrame), vk::MemoryUse::DeviceLocal, "pt frame"),
+      pass_(ctx, mode, scene.features, scene.texelFetch) {}
+
+void PathIntegrator::restart(const scene::Camera& camera, uint32_t seed) {
+  const gpu::camera::CameraFrame f = render::makeFrame(camera, film_.width(), film_.height(), seed);
+  frame_.upload(&f, sizeof f);
+  ctx_.submitAndWait([&](VkCommandBuffer cmd) { film_.recordClear(cmd); });
+}
+
+void PathIntegrator::record(VkCommandBuffer cmd, uint32_t first, uint32_t count,
+                            vk::GpuTimer* timer) {
+  vk::TimedScope scope(timer, cmd, "pt_trace");
+  pass_.record(cmd, {&film_, &frame_, &bvh_, &scene_, first, count});
+}
+
+render::FilmLayers render(const vk::Context& ctx, const scene::GpuScene& scene, const bvh::Bvh& bvh,
+                          const scene::Camera& camera, const RenderSettings& settings,
+                          const std::function<void(const render::Progress&)>& onProgress,
+                          render::RenderStats* stats, const std::atomic<bool>* cancel) {
+  PathIntegrator integrator(ctx, scene, bvh, settings.width, settings.height, settings.mode);
+  render::ProgressiveDriver driver(ctx, integrator,
+                                   {settings.spp, settings.timeLimitS, settings.batchTargetS});
+  driver.restart(camera, settings.seed);
+  driver.run(onProgress, cancel);
+  if (stats) *stats = driver.stats();
+  return integrator.resolve();
+}
+
+}  // namespace osr::pt

@@ -1,0 +1,68 @@
+// The path tracer and its preview as an Integrator (render/integrator.h): one unit is one
+// sample per pixel, recorded by TracePass into the film. Also pt::render(), the whole loop
+// (integrator + progressive driver) for callers that want one image.
+#pragma once
+#include <functional>
+#include <optional>
+#include <string>
+
+#include "bvh/bvh.h"
+#include "pt/trace_pass.h"
+#include "render/film.h"
+#include "render/integrator.h"
+#include "render/progressive_driver.h"
+#include "scene_gpu/gpu_scene.h"
+#include "vk/buffer.h"
+
+namespace osr::pt {
+
+// "path" / "preview", as --mode spells them.
+const char* modeName(Mode mode);
+std::optional<Mode> parseMode(const std::string& name);
+
+class PathIntegrator : public render::Integrator {
+ public:
+  // scene and bvh must outlive the integrator. width, height >= 1.
+  PathIntegrator(const vk::Context& ctx, const scene::GpuScene& scene, const bvh::Bvh& bvh,
+                 uint32_t width, uint32_t height, Mode mode);
+
+  const char* name() const override { return modeName(mode_); }
+  const char* unitName() const override { return "spp"; }
+  uint32_t maxUnitsPerSubmission() const override { return kMaxSamplesPerSubmission; }
+  void restart(const scene::Camera& camera, uint32_t seed) override;
+  // Opens timer scope "pt_trace".
+  void record(VkCommandBuffer cmd, uint32_t first, uint32_t count, vk::GpuTimer* timer) override;
+  const render::Film& film() const override { return film_; }
+
+  static constexpr uint32_t kMaxSamplesPerSubmission = 1024;
+
+ private:
+  const vk::Context& ctx_;
+  const scene::GpuScene& scene_;
+  const bvh::Bvh& bvh_;
+  Mode mode_;
+  render::Film film_;
+  vk::Buffer frame_;  // gpu::camera::CameraFrame
+  TracePass pass_;
+};
+
+struct RenderSettings {
+  uint32_t width = 512;
+  uint32_t height = 512;
+  uint32_t spp = 64;        // upper bound on samples per pixel
+  double timeLimitS = 0.0;  // 0: no limit; otherwise stop starting batches past it
+  uint32_t seed = 0;
+  Mode mode = Mode::Path;
+  double batchTargetS = 0.25;  // aim for submissions this long (progress, time limit)
+};
+
+// Renders `camera`'s view of the uploaded scene with a PathIntegrator under a
+// ProgressiveDriver. onProgress (optional) is called after each submission; cancel (optional)
+// is checked between submissions.
+render::FilmLayers render(const vk::Context& ctx, const scene::GpuScene& scene, const bvh::Bvh& bvh,
+                          const scene::Camera& camera, const RenderSettings& settings,
+                          const std::function<void(const render::Progress&)>& onProgress = {},
+                          render::RenderStats* stats = nullptr,
+                          const std::atomic<bool>* cancel = nullptr);
+
+}  // namespace osr::pt

@@ -1,0 +1,58 @@
+#include "pt/trace_pass.h"
+
+#include <algorithm>
+#include <vector>
+
+#include "vk/binder.h"
+
+namespace osr::pt {
+
+namespace g = gpu::pt;
+
+static_assert(g::kPtSceneBinding == g::kPtBvhBinding + gpu::bvh::kBvhBindingCount);
+static_assert(g::kPtSceneTexelBinding == g::kPtSceneBinding + gpu::scene::kSceneBindingCount);
+static_assert(g::kPtBindingCount == g::kPtSceneTexelBinding + gpu::scene::kSceneTexelBindingCount);
+
+namespace {
+std::vector<VkDescriptorType> descriptorTypes() {
+  std::vector<VkDescriptorType> types(g::kPtBindingCount, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
+  auto bvhTypes = bvh::Bvh::descriptorTypes();
+  std::copy(bvhTypes.begin(), bvhTypes.end(), types.begin() + g::kPtBvhBinding);
+  std::fill(types.begin() + g::kPtSceneTexelBinding, types.end(),
+            VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER);
+  return types;
+}
+
+uint32_t shaderIntegrator(Mode mode) {
+  return mode == Mode::Preview ? g::kIntegratorPreview : g::kIntegratorPath;
+}
+}  // namespace
+
+TracePass::TracePass(const vk::Context& ctx, Mode mode, uint32_t sceneFeatures,
+                     bool sceneTexelFetch)
+    : pipeline_(ctx, shaders::Id::pt_trace, descriptorTypes(), sizeof(g::Push),
+                {vk::specUint(g::kPtSpecIntegrator, shaderIntegrator(mode)),
+                 vk::specUint(g::kPtSpecSceneFeatures, sceneFeatures), bvh::traversalSpec(ctx),
+                 vk::specUint(gpu::scene::kSceneSpecTexelFetch, sceneTexelFetch ? 1u : 0u)}) {}
+
+void TracePass::record(VkCommandBuffer cmd, const Args& a) const {
+  vk::Binder binder(pipeline_);
+  binder.set(g::kPtBindingFilm, a.film->buffer()).set(g::kPtBindingFrame, *a.frame);
+  a.bvh->bind(binder, g::kPtBvhBinding);
+  a.scene->bind(binder, g::kPtSceneBinding);
+  a.scene->bindTexels(binder, g::kPtSceneTexelBinding);
+  const uint32_t pixels = a.film->pixelCount();
+  for (uint32_t done = 0; done < a.sampleCount;) {
+    const uint32_t samples = std::min(kMaxSamplesPerDispatch, a.sampleCount - done);
+    for (uint32_t first = 0; first < pixels; first += kMaxPixelsPerDispatch) {
+      g::Push push{first, std::min(kMaxPixelsPerDispatch, pixels - first), a.sampleIndex + done,
+                   samples};
+      binder.bind(cmd, push);
+      pipeline_.dispatch(cmd, vk::groupCount(push.pixelCount, g::kPtWorkgroupSize));
+      vk::computeBarrier(cmd);
+    }
+    done += samples;
+  }
+}
+
+}  // namespace osr::pt

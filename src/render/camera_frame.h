@@ -1,0 +1,14 @@
+// The per-render camera constants every integrator's camera rays start from.
+#pragma once
+#include <cstdint>
+
+#include "scene/scene.h"
+#include "shaders/shared/camera.h"
+
+namespace osr::render {
+
+// The frame of `camera` for a width x height image and `seed` (width, height >= 1).
+gpu::camera::CameraFrame makeFrame(const scene::Camera& camera, uint32_t width, uint32_t height,
+                         uint32_t seed);
+
+}  // namespace osr::render

@@ -1,0 +1,114 @@
+#include "render/progressive_driver.h"
+
+#include <algorithm>
+
+#include "common/error.h"
+
+namespace osr::render {
+
+namespace {
+// Timer scopes one submission may open (every pass of an OSR progressive pass, with room).
+constexpr uint32_t kMaxScopesPerSubmission = 128;
+}  // namespace
+
+double RenderStats::gpuMs(const std::string& scope) const {
+  for (const vk::PassTime& t : gpuScopes)
+    if (t.name == scope) return t.ms;
+  return 0.0;
+}
+
+double RenderStats::gpuTotalMs() const {
+  double sum = 0.0;
+  for (const vk::PassTime& t : gpuScopes) sum += t.ms;
+  return sum;
+}
+
+ProgressiveDriver::ProgressiveDriver(const vk::Context& ctx, Integrator& integrator,
+                                     const DriverSettings& settings)
+    : ctx_(ctx), integrator_(integrator), settings_(settings), timer_(ctx, kMaxScopesPerSubmission) {
+  if (settings_.maxUnits == 0) throw InputError("render: the unit budget must be at least 1");
+}
+
+double ProgressiveDriver::elapsed() const {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
+}
+
+void ProgressiveDriver::restart(const scene::Camera& camera, uint32_t seed) {
+  integrator_.restart(camera, seed);
+  done_ = 0;
+  batch_ = 1;
+  secondsPerUnit_ = 0.0;
+  stats_ = {};
+  started_ = true;
+  start_ = std::chrono::steady_clock::now();
+}
+
+bool ProgressiveDriver::finished() const {
+  if (!started_) return true;
+  if (done_ >= settings_.maxUnits) return true;
+  // Stop when one more unit would end further past the budget than we are before it.
+  return settings_.timeLimitS > 0.0 && done_ > 0 &&
+         elapsed() + 0.5 * secondsPerUnit_ >= settings_.timeLimitS;
+}
+
+uint32_t ProgressiveDriver::nextBatch() const {
+  uint32_t n = std::min(batch_, settings_.maxUnits - done_);
+  if (settings_.timeLimitS > 0.0 && secondsPerUnit_ > 0.0) {
+    // Do not plan past the time budget (at least one unit per submission).
+    const double left = settings_.timeLimitS - elapsed();
+    n = std::max<uint32_t>(1, std::min<uint32_t>(n, uint32_t(std::max(0.0, left) / secondsPerUnit_)));
+  }
+  return n;
+}
+
+bool ProgressiveDriver::step() {
+  if (finished()) return false;
+  const uint32_t n = nextBatch();
+  const double t0 = elapsed();
+  ctx_.submitAndWait([&](VkCommandBuffer cmd) {
+    timer_.reset(cmd);
+    integrator_.record(cmd, done_, n, &timer_);
+  });
+  for (const vk::PassTime& t : timer_.results()) {
+    auto it = std::find_if(stats_.gpuScopes.begin(), stats_.gpuScopes.end(),
+                           [&](const vk::PassTime& s) { return s.name == t.name; });
+    if (it == stats_.gpuScopes.end())
+      stats_.gpuScopes.push_back(t);
+    else
+      it->ms += t.ms;
+  }
+  const double dt = elapsed() - t0;
+  done_ += n;
+  secondsPerUnit_ = dt / n;
+  // Grow or shrink the batch towards the target submission length.
+  batch_ = std::clamp<uint32_t>(
+      uint32_t(settings_.batchTargetS / std::max(secondsPerUnit_, 1e-6)), 1u,
+      std::max(1u, integrator_.maxUnitsPerSubmission()));
+  stats_.units = done_;
+  stats_.submissions++;
+  stats_.seconds = elapsed();
+  return true;
+}
+
+const RenderStats& ProgressiveDriver::run(const std::function<void(const Progress&)>& onProgress,
+                                          const std::atomic<bool>* cancel) {
+  while (!(cancel && cancel->load(std::memory_order_relaxed)) && step())
+    if (onProgress) onProgress(progress());
+  stats_.seconds = elapsed();
+  return stats_;
+}
+
+Progress ProgressiveDriver::progress() const {
+  Progress p;
+  p.units = done_;
+  p.targetUnits = settings_.maxUnits;
+  p.unitName = integrator_.unitName();
+  p.elapsedS = started_ ? elapsed() : 0.0;
+  const double byUnits = (settings_.maxUnits - done_) * secondsPerUnit_;
+  p.remainingS = settings_.timeLimitS > 0.0
+                     ? std::max(0.0, std::min(byUnits, settings_.timeLimitS - p.elapsedS))
+                     : byUnits;
+  return p;
+}
+
+}  // namespace osr::render

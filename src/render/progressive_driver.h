@@ -1,0 +1,84 @@
+// The progressive driver: runs an Integrator (render/integrator.h) one submission at a time
+// until a stop rule holds, and owns what every front end shares: the unit and time budgets,
+// batching (units per submission sized from the measured seconds per unit), progress,
+// cancellation and per-pass GPU timings. The CLI calls run(); a viewer calls step() once per
+// frame and restart() when the camera moves. The same seed gives the same image: batching
+// changes how units are grouped into submissions, never which units are computed.
+#pragma once
+#include <atomic>
+#include <chrono>
+#include <cstdint>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "render/integrator.h"
+#include "vk/context.h"
+#include "vk/timer.h"
+
+namespace osr::render {
+
+struct DriverSettings {
+  uint32_t maxUnits = 64;      // stop after this many units (>= 1)
+  double timeLimitS = 0.0;     // 0: no limit; otherwise stop starting submissions past it
+  double batchTargetS = 0.25;  // aim for submissions this long (progress, time limit, viewer)
+};
+
+struct Progress {
+  uint32_t units = 0;
+  uint32_t targetUnits = 0;
+  const char* unitName = "";  // Integrator::unitName()
+  double elapsedS = 0.0;
+  double remainingS = 0.0;  // estimate
+};
+
+struct RenderStats {
+  uint32_t units = 0;
+  uint32_t submissions = 0;
+  double seconds = 0.0;  // wall time since restart (excludes setup and resolve)
+  // GPU time of each named timer scope, summed over the render, in first-recorded order
+  // (empty where the device has no timestamps).
+  std::vector<vk::PassTime> gpuScopes;
+  double gpuMs(const std::string& scope) const;  // 0 for a scope never recorded
+  double gpuTotalMs() const;
+};
+
+class ProgressiveDriver {
+ public:
+  // `integrator` and `ctx` must outlive the driver. Call restart() before the first step().
+  ProgressiveDriver(const vk::Context& ctx, Integrator& integrator, const DriverSettings& settings);
+
+  // Starts a new image (Integrator::restart) and resets units, clock and stats.
+  void restart(const scene::Camera& camera, uint32_t seed);
+  // Whether a stop rule holds: every unit done, or the time budget used up (one more unit
+  // would end further past the budget than we are before it).
+  bool finished() const;
+  // Records, submits and waits for one submission unless finished(); returns whether it did.
+  bool step();
+  // step() until finished() or *cancel (checked between submissions) becomes true; onProgress
+  // (optional) after each submission. Returns the stats.
+  const RenderStats& run(const std::function<void(const Progress&)>& onProgress = {},
+                         const std::atomic<bool>* cancel = nullptr);
+
+  Progress progress() const;
+  const RenderStats& stats() const { return stats_; }
+  const DriverSettings& settings() const { return settings_; }
+  Integrator& integrator() const { return integrator_; }
+
+ private:
+  double elapsed() const;
+  uint32_t nextBatch() const;
+
+  const vk::Context& ctx_;
+  Integrator& integrator_;
+  DriverSettings settings_;
+  vk::GpuTimer timer_;
+  std::chrono::steady_clock::time_point start_;
+  uint32_t done_ = 0;
+  uint32_t batch_ = 1;
+  double secondsPerUnit_ = 0.0;
+  bool started_ = false;
+  RenderStats stats_;
+};
+
+}  // namespace osr::render

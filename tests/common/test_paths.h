@@ -1,0 +1,17 @@
+// Paths for every test, with or without a device: test data, reference scenes, scratch folders.
+#pragma once
+#include <filesystem>
+#include <string>
+
+namespace osr::test {
+
+// Path of a file under tests/data.
+std::string dataPath(const std::string& name);
+// A fresh-or-existing scratch folder under the system temp dir, unique to this process and
+// `tag` (the test file's name), so parallel CTest runs never share one.
+std::filesystem::path tempDir(const std::string& tag);
+
+// Path of a reference scene file, e.g. referencePath("cornell/cornell.gltf").
+std::string referencePath(const std::string& name);
+
+}  // namespace osr::test

@@ -1,0 +1,140 @@
+// The progressive driver against a scripted integrator: unit budget, batching bounds, the time
+// budget's stop rule, cancellation, step()/restart() and per-scope GPU times. The path tracer
+// under the driver is tested in tests/pt/test_path_integrator.cpp.
+#include <gtest/gtest.h>
+
+#include <atomic>
+#include <chrono>
+#include <thread>
+#include <vector>
+
+#include "common/vk_test.h"
+#include "render/progressive_driver.h"
+
+using namespace osr;
+
+namespace {
+
+// Records one film clear per submission inside a "fake_pass" scope and sleeps `unitS` per
+// unit on the host, so wall time per unit is known. Remembers every [first, first + count).
+class ScriptedIntegrator : public render::Integrator {
+ public:
+  ScriptedIntegrator(const vk::Context& ctx, double unitS, uint32_t maxPerSubmission)
+      : ctx_(ctx), unitS_(unitS), max_(maxPerSubmission), film_(ctx, 4, 4) {}
+  const char* name() const override { return "scripted"; }
+  const char* unitName() const override { return "units"; }
+  uint32_t maxUnitsPerSubmission() const override { return max_; }
+  void restart(const scene::Camera&, uint32_t seed) override {
+    seed_ = seed;
+    ranges.clear();
+    ctx_.submitAndWait([&](VkCommandBuffer cmd) { film_.recordClear(cmd); });
+  }
+  void record(VkCommandBuffer cmd, uint32_t first, uint32_t count, vk::GpuTimer* timer) override {
+    ranges.push_back({first, count});
+    vk::TimedScope scope(timer, cmd, "fake_pass");
+    film_.recordClear(cmd);
+    std::this_thread::sleep_for(std::chrono::duration<double>(unitS_ * count));
+  }
+  const render::Film& film() const override { return film_; }
+
+  std::vector<std::pair<uint32_t, uint32_t>> ranges;
+
+ private:
+  const vk::Context& ctx_;
+  double unitS_;
+  uint32_t max_;
+  render::Film film_;
+  uint32_t seed_ = 0;
+};
+
+void expectContiguous(const std::vector<std::pair<uint32_t, uint32_t>>& ranges, uint32_t total,
+                      uint32_t maxPerSubmission) {
+  uint32_t next = 0;
+  for (auto [first, count] : ranges) {
+    EXPECT_EQ(first, next);
+    EXPECT_GE(count, 1u);
+    EXPECT_LE(count, maxPerSubmission);
+    next = first + count;
+  }
+  EXPECT_EQ(next, total);
+}
+
+TEST(ProgressiveDriver, RunsEveryUnitOnceInBoundedSubmissions) {
+  auto& ctx = test::context();
+  ScriptedIntegrator integ(ctx, 0.0, 5);
+  render::ProgressiveDriver driver(ctx, integ, {37, 0.0, 10.0});
+  driver.restart({}, 3);
+  std::vector<render::Progress> seen;
+  const render::RenderStats& stats = driver.run([&](const render::Progress& p) { seen.push_back(p); });
+  EXPECT_EQ(stats.units, 37u);
+  expectContiguous(integ.ranges, 37, 5);
+  // A long target grows the batch to the integrator's cap after the first unit.
+  EXPECT_EQ(integ.ranges.front().second, 1u);
+  EXPECT_EQ(integ.ranges[1].second, 5u);
+  ASSERT_EQ(seen.size(), integ.ranges.size());
+  EXPECT_EQ(seen.back().units, 37u);
+  EXPECT_EQ(seen.back().targetUnits, 37u);
+  EXPECT_STREQ(seen.back().unitName, "units");
+  EXPECT_EQ(seen.back().remainingS, 0.0);
+  EXPECT_TRUE(driver.finished());
+  EXPECT_FALSE(driver.step());
+  // Per-scope GPU time is summed over the render under the scope's name.
+  ASSERT_EQ(stats.gpuScopes.size(), ctx.caps().timestamps ? 1u : 0u);
+  if (ctx.caps().timestamps) {
+    EXPECT_EQ(stats.gpuScopes[0].name, "fake_pass");
+    EXPECT_GE(stats.gpuMs("fake_pass"), 0.0);
+    EXPECT_EQ(stats.gpuMs("fake_pass"), stats.gpuTotalMs());
+  }
+  EXPECT_EQ(stats.gpuMs("absent"), 0.0);
+}
+
+TEST(ProgressiveDriver, TimeBudgetStopsNearTheBudget) {
+  auto& ctx = test::context();
+  const double unitS = 0.02, budgetS = 0.3;
+  ScriptedIntegrator integ(ctx, unitS, 1000);
+  render::ProgressiveDriver driver(ctx, integ, {1u << 20, budgetS, 0.05});
+  driver.restart({}, 0);
+  const render::RenderStats& stats = driver.run();
+  // About budget / unit units; the stop rule never starts a unit that ends more than half a
+  // unit past the budget, and batches are planned not to overrun it.
+  EXPECT_GE(stats.units, 5u);
+  EXPECT_LE(stats.units, uint32_t(budgetS / unitS) + 1);
+  EXPECT_LT(stats.seconds, budgetS + 0.25);  // host scheduling slack on a loaded machine
+  expectContiguous(integ.ranges, stats.units, 1000);
+}
+
+TEST(ProgressiveDriver, CancelStopsBetweenSubmissions) {
+  auto& ctx = test::context();
+  ScriptedIntegrator integ(ctx, 0.0, 1);
+  render::ProgressiveDriver driver(ctx, integ, {100, 0.0, 0.25});
+  driver.restart({}, 0);
+  std::atomic<bool> cancel{false};
+  driver.run([&](const render::Progress& p) { cancel = p.units >= 3; }, &cancel);
+  EXPECT_EQ(driver.stats().units, 3u);
+  EXPECT_FALSE(driver.finished());
+}
+
+TEST(ProgressiveDriver, StepAndRestartForAViewer) {
+  auto& ctx = test::context();
+  ScriptedIntegrator integ(ctx, 0.0, 2);
+  render::ProgressiveDriver driver(ctx, integ, {4, 0.0, 10.0});
+  EXPECT_FALSE(driver.step()) << "no image before restart()";
+  driver.restart({}, 1);
+  EXPECT_TRUE(driver.step());
+  EXPECT_EQ(driver.progress().units, 1u);
+  driver.restart({}, 2);  // the camera moved: start over
+  EXPECT_EQ(driver.progress().units, 0u);
+  EXPECT_EQ(driver.stats().submissions, 0u);
+  while (driver.step()) {
+  }
+  EXPECT_EQ(driver.stats().units, 4u);
+  expectContiguous(integ.ranges, 4, 2);
+}
+
+TEST(ProgressiveDriver, RefusesAZeroUnitBudget) {
+  auto& ctx = test::context();
+  ScriptedIntegrator integ(ctx, 0.0, 1);
+  EXPECT_ANY_THROW(render::ProgressiveDriver(ctx, integ, {0, 0.0, 0.25}));
+}
+
+}  // namespace
