@@ -21,4 +21,8 @@ inline constexpr char kUnetUsage[] =
     "               [--no-pytorch] [--min-seconds S] [--tile HxW] [--chunk N] [--share N]\n"
     "               [--profile]";
 int runUnet(const std::vector<std::string>& args);  // U-Net maps/s vs PyTorch
+inline constexpr char kOsrUsage[] =
+    "osr-bench osr [--scene cornell|room] [--size N] [--budgets 2,5,10,30,60]\n"
+    "              [--denoiser blur|none|unet] [--weights FILE] [--modes osr,path]";
+int runOsr(const std::vector<std::string>& args);   // OSR vs path tracing at equal time
 }  // namespace osr::bench

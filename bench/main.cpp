@@ -28,6 +28,7 @@ const Benchmark kBenchmarks[] = {
     {"bvh", osr::bench::kBvhUsage, osr::bench::runBvh},
     {"trace", osr::bench::kTraceUsage, osr::bench::runTrace},
     {"unet", osr::bench::kUnetUsage, osr::bench::runUnet},
+    {"osr", osr::bench::kOsrUsage, osr::bench::runOsr},
 };
 
 // The worse of two exit codes: bad input, then any other failure, then success.

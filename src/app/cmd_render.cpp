@@ -86,6 +86,7 @@ void writeMapDump(const std::string& dir, const oneshot::OsrIntegrator::MapDump&
   if (!d.oneShot.empty()) image::writePng(dir + "/oneshot.png", atlas(d.oneShot, 7), {});
   image::writePng(dir + "/clean.png", atlas(d.clean, 3), {});
   image::RgbImage frame{film.width, film.height, film.combined};
+  const double ev = image::autoExposureEv(frame);  // metered before the markers
   for (const auto& r : d.records) {
     if (r.position.w < 0.5f) continue;
     for (int dy = -1; dy <= 1; ++dy)
@@ -93,10 +94,10 @@ void writeMapDump(const std::string& dir, const oneshot::OsrIntegrator::MapDump&
         int x = int(r.pixel.x) + dx, y = int(r.pixel.y) + dy;
         if (x < 0 || y < 0 || x >= film.width || y >= film.height) continue;
         float* p = &frame.rgb[(size_t(y) * film.width + x) * 3];
-        p[0] = 1e3f, p[1] = 0.f, p[2] = 0.f;
+        p[0] = 1e6f, p[1] = 0.f, p[2] = 0.f;
       }
   }
-  image::writePng(dir + "/grid.png", frame, {});
+  image::writePng(dir + "/grid.png", frame, ev);
 }
 
 }  // namespace

@@ -81,6 +81,16 @@ OsrIntegrator::OsrIntegrator(const vk::Context& ctx, const scene::GpuScene& scen
 
 OsrIntegrator::~OsrIntegrator() = default;
 
+double OsrIntegrator::unitCost(uint32_t pass) const {
+  const GridPass p = schedule_.pass(pass);
+  const double pixelWork = (0.5 + 0.5 * settings_.directSamples + settings_.residualSamples) *
+                           double(width_) * height_;
+  const double mapWork =
+      p.traceMaps ? double(schedule_.mapsOfRadius(p.radius)) * 1024.0 * settings_.pathsPerTexel
+                  : 0.0;
+  return pixelWork + mapWork;
+}
+
 OsrIntegrator::Grid OsrIntegrator::gridOf(uint32_t radius, uint32_t mapPass) const {
   Grid g;
   g.radius = radius;
@@ -93,6 +103,7 @@ OsrIntegrator::Grid OsrIntegrator::gridOf(uint32_t radius, uint32_t mapPass) con
 void OsrIntegrator::restart(const scene::Camera& camera, uint32_t seed) {
   seed_ = seed;
   current_ = Grid{};
+  mapsTraced_ = 0;
   auto frame = render::makeFrame(camera, width_, height_, seed);
   buffers_->frame.upload(&frame, sizeof frame);
   ctx_.submitAndWait([&](VkCommandBuffer cmd) {
@@ -123,6 +134,7 @@ void OsrIntegrator::recordPass(VkCommandBuffer cmd, uint32_t k, vk::GpuTimer* ti
   push.gridSeed = current_.seed;
   if (gp.traceMaps) {
     const uint32_t maps = current_.cellsX * current_.cellsY;
+    mapsTraced_ += maps;
     for (uint32_t first = 0; first < maps; first += buffers_->chunkMaps) {
       push.mapOffset = first;
       push.mapCount = std::min(buffers_->chunkMaps, maps - first);

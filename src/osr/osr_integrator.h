@@ -30,6 +30,8 @@ class OsrIntegrator : public render::Integrator {
   const char* name() const override { return "osr"; }
   const char* unitName() const override { return "passes"; }
   uint32_t maxUnitsPerSubmission() const override { return 1; }
+  // The schedule's cost model: map passes cost their maps' paths on top of the pixel work.
+  double unitCost(uint32_t pass) const override;
   void restart(const scene::Camera& camera, uint32_t seed) override;
   void record(VkCommandBuffer cmd, uint32_t first, uint32_t count,
               vk::GpuTimer* timer) override;
@@ -43,6 +45,8 @@ class OsrIntegrator : public render::Integrator {
     std::vector<gpu::osr::MapRecord> records;
   };
   MapDump downloadMaps() const;
+  // Maps traced since restart() (recorded, i.e. after the submissions complete).
+  uint64_t mapsTraced() const { return mapsTraced_; }
 
  private:
   struct Grid {
@@ -56,7 +60,7 @@ class OsrIntegrator : public render::Integrator {
   const bvh::Bvh& bvh_;
   uint32_t width_, height_;
   OsrSettings settings_;
-  GridSchedule schedule_;
+  mutable GridSchedule schedule_;  // lazily extended by pass()
   render::Film film_;
   std::unique_ptr<OsrBuffers> buffers_;
   std::unique_ptr<nn::UNet> unet_;
@@ -65,6 +69,7 @@ class OsrIntegrator : public render::Integrator {
   OsrBindings bindings_;
   uint32_t seed_ = 0;
   Grid current_;  // maps in mapRecords / mapClean
+  uint64_t mapsTraced_ = 0;
 };
 
 }  // namespace osr::oneshot

@@ -27,6 +27,9 @@ class Integrator {
   virtual const char* unitName() const = 0;
   // Largest number of units one submission may hold (OSR: 1 pass; path tracer: many samples).
   virtual uint32_t maxUnitsPerSubmission() const = 0;
+  // Predicted cost of unit k relative to the others (any scale): the driver plans its time
+  // budget in seconds per cost, so units of unequal work (OSR's map passes) do not overrun.
+  virtual double unitCost(uint32_t /*unit*/) const { return 1.0; }
 
   // Starts a new image of `camera` with `seed`: clears the film and every accumulated state.
   // Submits and waits (called between submissions only).

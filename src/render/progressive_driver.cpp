@@ -38,6 +38,7 @@ void ProgressiveDriver::restart(const scene::Camera& camera, uint32_t seed) {
   done_ = 0;
   batch_ = 1;
   secondsPerUnit_ = 0.0;
+  secondsPerCost_ = 0.0;
   stats_ = {};
   started_ = true;
   start_ = std::chrono::steady_clock::now();
@@ -48,15 +49,22 @@ bool ProgressiveDriver::finished() const {
   if (done_ >= settings_.maxUnits) return true;
   // Stop when one more unit would end further past the budget than we are before it.
   return settings_.timeLimitS > 0.0 && done_ > 0 &&
-         elapsed() + 0.5 * secondsPerUnit_ >= settings_.timeLimitS;
+         elapsed() + 0.5 * secondsPerCost_ * integrator_.unitCost(done_) >= settings_.timeLimitS;
 }
 
 uint32_t ProgressiveDriver::nextBatch() const {
   uint32_t n = std::min(batch_, settings_.maxUnits - done_);
-  if (settings_.timeLimitS > 0.0 && secondsPerUnit_ > 0.0) {
+  if (settings_.timeLimitS > 0.0 && secondsPerCost_ > 0.0) {
     // Do not plan past the time budget (at least one unit per submission).
     const double left = settings_.timeLimitS - elapsed();
-    n = std::max<uint32_t>(1, std::min<uint32_t>(n, uint32_t(std::max(0.0, left) / secondsPerUnit_)));
+    double planned = 0.0;
+    uint32_t fit = 0;
+    while (fit < n) {
+      planned += secondsPerCost_ * integrator_.unitCost(done_ + fit);
+      if (planned > left) break;
+      ++fit;
+    }
+    n = std::max<uint32_t>(1, fit);
   }
   return n;
 }
@@ -78,8 +86,11 @@ bool ProgressiveDriver::step() {
       it->ms += t.ms;
   }
   const double dt = elapsed() - t0;
+  double cost = 0.0;
+  for (uint32_t k = done_; k < done_ + n; ++k) cost += integrator_.unitCost(k);
   done_ += n;
   secondsPerUnit_ = dt / n;
+  secondsPerCost_ = dt / std::max(cost, 1e-12);
   // Grow or shrink the batch towards the target submission length.
   batch_ = std::clamp<uint32_t>(
       uint32_t(settings_.batchTargetS / std::max(secondsPerUnit_, 1e-6)), 1u,

@@ -77,6 +77,7 @@ class ProgressiveDriver {
   uint32_t done_ = 0;
   uint32_t batch_ = 1;
   double secondsPerUnit_ = 0.0;
+  double secondsPerCost_ = 0.0;  // of Integrator::unitCost, from the last submission
   bool started_ = false;
   RenderStats stats_;
 };
