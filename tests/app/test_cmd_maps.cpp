@@ -124,7 +124,7 @@ TEST(CmdMaps, GridWithReferenceGivesConsistentMaps) {
       if (dist > 0.f) {
         ++hits;
         if (std::fabs(len - 1.0) > 1e-3) ++bad;
-      } else if (dist != -1.f || len != 0.0) {
+      } else if (dist != -1.f || len != 0.0) {  // (0 is below-surface; cornell is flat)
         ++bad;
       }
     }
