@@ -15,6 +15,7 @@
 #include "app/args.h"
 #include "app/device_options.h"
 #include "app/commands.h"
+#include "app/scene_setup.h"
 #include "image/image_io.h"
 #include "bvh/bvh.h"
 #include "common/error.h"
@@ -108,13 +109,10 @@ int runRender(const std::vector<std::string>& args) {
   auto exrPath = a.value("--offline");
   auto pngPath = a.value("--png");
   auto exposure = a.number("--exposure", -64, 64);
-  auto width = a.integer("--width", 1, 16384);
-  auto height = a.integer("--height", 1, 16384);
   auto spp = a.integer("--spp", 1, 1 << 24);
   auto timeLimit = a.number("--time", 0.001, 1e7);
   auto seed = a.integer("--seed", 0, 0xffffffffll);
-  std::string cameraSelector = a.value("--camera").value_or("");
-  auto envPath = a.value("--env");
+  SceneOptions sceneOptions = readSceneOptions(a);
   bool exrFloat = a.flag("--exr-float");
   bool quiet = a.flag("--quiet");
   auto passes = a.integer("--passes", 1, 1 << 24);
@@ -166,23 +164,8 @@ int runRender(const std::vector<std::string>& args) {
   if (exrPath) image::checkWritable(*exrPath);
   if (pngPath) image::checkWritable(*pngPath);
 
-  scene::Scene sc = scene::loadScene(files[0]);
-  std::optional<scene::Environment> env;
-  if (envPath) env = scene::loadEnvironment(*envPath);
-  float requestedAspect = width && height ? float(*width) / float(*height) : 0.f;
-  scene::Camera camera = scene::selectCamera(sc, cameraSelector, requestedAspect);
-  float aspect = camera.aspect > 0.f ? camera.aspect : 1.f;
-  uint32_t width_, height_;
-  if (width && height) {
-    width_ = uint32_t(*width);
-    height_ = uint32_t(*height);
-  } else if (height) {
-    height_ = uint32_t(*height);
-    width_ = std::max(1u, uint32_t(std::lround(*height * aspect)));
-  } else {
-    width_ = width ? uint32_t(*width) : 512u;
-    height_ = std::max(1u, uint32_t(std::lround(width_ / aspect)));
-  }
+  const HostScene host = loadHostScene(files[0], sceneOptions);
+  const uint32_t width_ = host.width, height_ = host.height;
   // Preview is deterministic after one sample per pixel but antialiases with more.
   // Units: samples per pixel (path, preview) or passes (osr). Preview is deterministic after
   // one sample per pixel but antialiases with more; OSR's defaults give a converged-looking
@@ -197,23 +180,22 @@ int runRender(const std::vector<std::string>& args) {
   const uint32_t renderSeed = seed ? uint32_t(*seed) : 0u;
 
   vk::Context ctx(vkOptions);
-  scene::GpuScene gpuScene(ctx, sc, env ? &*env : nullptr);
-  bvh::Bvh tree = bvh::buildGpu(ctx, gpuScene.vertices, gpuScene.triangles, gpuScene.triangleCount);
+  const DeviceScene dev(ctx, host);
   ProgressPrinter progress(quiet);
   std::unique_ptr<render::Integrator> integrator;
   oneshot::OsrIntegrator* osr = nullptr;
   if (osrMode) {
     osrSettings.keepAllMaps = bool(dumpMaps);
-    auto o = std::make_unique<oneshot::OsrIntegrator>(ctx, gpuScene, tree, width_, height_,
+    auto o = std::make_unique<oneshot::OsrIntegrator>(ctx, dev.gpu, dev.bvh, width_, height_,
                                                       osrSettings);
     osr = o.get();
     integrator = std::move(o);
   } else {
-    integrator = std::make_unique<pt::PathIntegrator>(ctx, gpuScene, tree, width_, height_,
+    integrator = std::make_unique<pt::PathIntegrator>(ctx, dev.gpu, dev.bvh, width_, height_,
                                                       *ptMode);
   }
   render::ProgressiveDriver driver(ctx, *integrator, ds);
-  driver.restart(camera, renderSeed);
+  driver.restart(host.camera, renderSeed);
   const render::RenderStats& stats =
       driver.run([&](const render::Progress& p) { progress(p); });
   render::FilmLayers film = integrator->resolve();

@@ -6,6 +6,9 @@
 
 namespace osr::app {
 
+// The version osr-vk --version prints and maps writes into index.json.
+inline constexpr char kVersion[] = "0.1.0";
+
 // osr-vk [options] scene.gltf: render (viewer, or --offline out.exr).
 int runRender(const std::vector<std::string>& args);
 // osr-vk --list-devices
@@ -25,5 +28,19 @@ inline constexpr char kCompareUsage[] =
     "usage: osr-vk compare a.exr b.exr\n"
     "  prints relmse, psnr, ssim and lum_ratio (a over b) as one JSON line\n";
 int runCompare(const std::vector<std::string>& args);
+// osr-vk maps scene.gltf --out DIR (--grid R | --pixels x,y;...)
+inline constexpr char kMapsUsage[] =
+    "usage: osr-vk maps scene.gltf|scene.glb --out DIR (--grid R | --pixels x,y;x,y;...)\n"
+    "                   [--reference-spp N] [--views V] [--width W] [--height H]\n"
+    "                   [--camera N|name] [--env file] [--seed S] [--device N|name]\n"
+    "                   [--validation] [--quiet]\n"
+    "  traces hemisphere maps for training (docs/maps_format.md): for each view v < V (default\n"
+    "  1, the camera jittered per view) at the --pixels given or one jittered pixel per R x R\n"
+    "  cell, skipping pixels that see no surface, the one-shot input (1 path per texel) and,\n"
+    "  with --reference-spp N > 0, an independent reference of the same points (N per texel).\n"
+    "  Writes DIR/input.npy [N,7,32,32] float32 (radiance RGB, hit normal XYZ, distance),\n"
+    "  DIR/target.npy [N,3,32,32] float32 (reference radiance; with --reference-spp),\n"
+    "  DIR/points.npy [N,3] int32 (view, x, y) and DIR/index.json (the settings)\n";
+int runMaps(const std::vector<std::string>& args);
 
 }  // namespace osr::app

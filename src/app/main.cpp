@@ -13,13 +13,13 @@
 
 namespace {
 
-constexpr const char* kVersion = "0.1.0";
-
 constexpr const char* kUsage =
     "usage: osr-vk [options] scene.gltf|scene.glb\n"
     "       osr-vk --list-devices\n"
     "       osr-vk unet --weights FILE --in maps.f32 --out pred.f32 [--precision fp32|fp16]\n"
     "       osr-vk compare a.exr b.exr   relmse, psnr, ssim, lum_ratio as one JSON line\n"
+    "       osr-vk maps scene.gltf --out DIR (--grid R | --pixels x,y;...) [--reference-spp N]\n"
+    "                                    hemisphere maps for training (osr-vk maps --help)\n"
     "\n"
     "render options:\n"
     "  --offline out.exr     render without a window and write a multi-layer OpenEXR\n"
@@ -49,6 +49,7 @@ const Command kCommands[] = {
     {"--list-devices", osr::app::kListDevicesUsage, osr::app::runListDevices},
     {"unet", osr::app::kUnetUsage, osr::app::runUnet},
     {"compare", osr::app::kCompareUsage, osr::app::runCompare},
+    {"maps", osr::app::kMapsUsage, osr::app::runMaps},
 };
 
 const Command* findCommand(const std::string& name) {
@@ -67,7 +68,7 @@ int main(int argc, char** argv) {
       return osr::kExitBadInput;
     }
     if (args[0] == "--version") {
-      std::printf("osr-vk %s (packed weights format %u)\n", kVersion, osr::nn::kWeightsVersion);
+      std::printf("osr-vk %s (packed weights format %u)\n", osr::app::kVersion, osr::nn::kWeightsVersion);
       return osr::kExitOk;
     }
     if (args[0] == "help") {  // `osr-vk help [COMMAND]`

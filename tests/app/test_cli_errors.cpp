@@ -116,6 +116,8 @@ TEST(CliErrors, HelpAnywherePrintsTheUsage) {
       {"unet --weights w.osrw -h", "usage: osr-vk unet --weights FILE"},
       {"help unet", "usage: osr-vk unet --weights FILE"},
       {"compare --help", "usage: osr-vk compare a.exr b.exr"},
+      {"maps --grid 4 --help", "usage: osr-vk maps scene.gltf"},
+      {"help maps", "usage: osr-vk maps scene.gltf"},
       {"compare a.exr --bogus --help", "usage: osr-vk compare a.exr b.exr"},
       {"--list-devices --help", "usage: osr-vk --list-devices"},
   };

@@ -1,0 +1,43 @@
+// What render and maps share before their own work: the scene options (--camera, --env,
+// --width, --height), loading the scene and choosing the camera and image size on the host,
+// then uploading it and building the BVH on the device.
+#pragma once
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include "app/args.h"
+#include "bvh/bvh.h"
+#include "scene/scene.h"
+#include "scene_gpu/gpu_scene.h"
+#include "vk/context.h"
+
+namespace osr::app {
+
+struct SceneOptions {
+  std::string camera;              // --camera N|name ("" = default)
+  std::optional<std::string> env;  // --env file.exr|.hdr
+  std::optional<long long> width, height;
+};
+
+// Consumes --camera, --env, --width and --height from `args`.
+SceneOptions readSceneOptions(Args& args);
+
+// The scene on the host with its camera and image size: --width and --height as given, one of
+// them from the camera's aspect, or 512 wide by default.
+struct HostScene {
+  scene::Scene scene;
+  std::optional<scene::Environment> env;
+  scene::Camera camera;
+  uint32_t width = 0, height = 0;
+};
+HostScene loadHostScene(const std::string& path, const SceneOptions& options);
+
+// The host scene on the device, with its BVH.
+struct DeviceScene {
+  DeviceScene(const vk::Context& ctx, const HostScene& host);
+  scene::GpuScene gpu;
+  bvh::Bvh bvh;
+};
+
+}  // namespace osr::app
