@@ -3,7 +3,7 @@
 // line per mode with relMSE against the 4096-spp Cycles reference, passes or samples done,
 // and for OSR the GPU time per pass kind (gbuffer, direct, maps, normalize, unet, denoise,
 // project, composite, residual, resolve), maps traced per second, and the wall time of the
-// first (noise-free) image. Verified before timing: one OSR pass at 32 x 32 must be finite
+// first (noise-free) image. Verified before timing: 8 OSR passes at 32 x 32 must be finite
 // and within 15% of the reference's mean luminance.
 //   osr-bench osr [--scene cornell|room] [--size N] [--budgets 2,5,10,30,60]
 //                 [--denoiser blur|none|unet] [--weights FILE] [--modes osr,path]
@@ -82,7 +82,7 @@ int runOsr(const std::vector<std::string>& args) {
     image::RgbImage ref = image::readExrRgb(referencePath(name, name + "_cycles_4096spp.exr"));
     {
       oneshot::OsrIntegrator check(ctx, gs, tree, 32, 32, settings);
-      Run r = runFor(ctx, check, cam, 0.0, 1);
+      Run r = runFor(ctx, check, cam, 0.0, 8);
       double ratio = image::meanLuminance({32, 32, r.film.combined}) / image::meanLuminance(ref);
       if (!std::isfinite(ratio) || std::abs(ratio - 1.0) > 0.15) {
         std::fprintf(stderr, "osr-bench: osr %s: verification failed (mean luminance %.4g of "

@@ -124,6 +124,7 @@ int runRender(const std::vector<std::string>& args) {
   auto residualSpp = a.integer("--residual-spp", 0, 1024);
   auto residualRamp = a.number("--residual-ramp", 0.0, 1e9);
   auto mapSpp = a.integer("--map-spp", 1, 1 << 16);
+  auto mapShare = a.number("--map-share", 0.0, 1.0);
   auto dumpMaps = a.value("--dump-maps");
   vk::ContextOptions vkOptions = readDeviceOptions(a);
   auto files = a.positional();
@@ -134,7 +135,7 @@ int runRender(const std::vector<std::string>& args) {
   if (!osrMode && !ptMode)
     throw InputError("--mode: unknown integrator '" + mode + "' (osr, path, preview)");
   if (!osrMode && (passes || denoiser || weights || gridStart || gridMin || directSpp ||
-                   residualSpp || residualRamp || mapSpp))
+                   residualSpp || residualRamp || mapSpp || mapShare))
     throw InputError("render: --passes, --denoiser, --weights, --grid-*, --direct-spp, "
                      "--residual-*, --map-spp are options of --mode osr");
   if (osrMode && spp)
@@ -151,6 +152,7 @@ int runRender(const std::vector<std::string>& args) {
   if (residualSpp) osrSettings.residualSamples = uint32_t(*residualSpp);
   if (residualRamp) osrSettings.residualRamp = *residualRamp;
   if (mapSpp) osrSettings.pathsPerTexel = uint32_t(*mapSpp);
+  if (mapShare) osrSettings.mapShare = *mapShare;
   if (osrSettings.gridMin > osrSettings.gridStart)
     throw InputError("--grid-min: " + std::to_string(osrSettings.gridMin) +
                      " is coarser than --grid-start " + std::to_string(osrSettings.gridStart));

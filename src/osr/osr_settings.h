@@ -21,13 +21,13 @@ struct OsrSettings {
   Denoiser denoiser = Denoiser::Blur;
   std::string weightsPath;       // packed U-Net (tools/weights_pack.py); needed for Unet
   uint32_t gridStart = 16;       // grid spacing r of the first pass, pixels
-  uint32_t gridMin = 8;          // finest spacing the schedule refines to
-  double mapShare = 0.5;         // largest share of the work map passes may take
+  uint32_t gridMin = 16;         // finest spacing the schedule refines to
+  double mapShare = 0.25;        // largest share of the work map passes may take
   uint32_t pathsPerTexel = 1;    // paths per map texel (1: the one-shot maps of DESIGN.md)
-  uint32_t directSamples = 4;    // light samples per pixel per pass
+  uint32_t directSamples = 16;   // light samples per pixel per pass
   uint32_t residualSamples = 1;  // residual paths per pixel per pass (0: maps only, biased)
   uint32_t glossySamples = 4;    // map lookups per pixel for wide glossy lobes
-  double residualRamp = 16.0;    // n0: the residual is blended in by n / (n + n0)
+  double residualRamp = 64.0;    // n0: the residual is blended in by n / (n + n0)
   uint32_t maxChunkMaps = 512;   // maps traced and denoised per chunk (memory bound)
   bool keepAllMaps = false;      // one chunk for all maps of a pass (for --dump-maps)
 };
