@@ -11,7 +11,6 @@
 #include "osr/map_cpu.h"
 #include "osr/map_tracer.h"
 #include "osr/osr_test_util.h"
-#include "pt/gltf_writer.h"
 
 using namespace osr;
 namespace o = osr::gpu::osr;
@@ -20,22 +19,7 @@ constexpr uint32_t kT = osr::gpu::hemi::kMapTexels;
 TEST(MapTracer, EmissiveFurnaceGivesItsAnalyticConstantMap) {
   // Inside a closed box whose walls all emit Le and reflect with albedo rho, radiance is
   // Le / (1 - rho) everywhere; arriving after at least one bounce it is Le rho / (1 - rho).
-  test::GltfWriter g;
-  auto m = test::GltfWriter::diffuse(glm::vec3(0.5f));
-  m["emissiveFactor"] = {1.0, 1.0, 1.0};
-  int wall = g.material(m);
-  glm::vec3 c[8];
-  for (int i = 0; i < 8; ++i) c[i] = glm::vec3(i & 1 ? 1 : -1, i & 2 ? 1 : -1, i & 4 ? 1 : -1);
-  g.quad(c[0], c[1], c[3], c[2], wall);
-  g.quad(c[4], c[6], c[7], c[5], wall);
-  g.quad(c[0], c[4], c[5], c[1], wall);
-  g.quad(c[2], c[3], c[7], c[6], wall);
-  g.quad(c[0], c[2], c[6], c[4], wall);
-  g.quad(c[1], c[5], c[7], c[3], wall);
-  g.camera({0.2f, -0.1f, 0.3f}, {0.5f, -0.6f, -1.f}, 1.2f);
-  auto path = (test::tempDir("map_tracer") / "furnace.gltf").string();
-  g.write(path);
-  auto s = test::loadForTest(path);
+  auto s = test::loadForTest(test::writeEmissiveFurnace("map_tracer"));
   oneshot::MapTracer tracer(test::context(), *s.gpu, s.bvh, s.camera, 16, 16, 7);
   std::vector<glm::uvec2> pixels = {{3, 4}, {8, 8}, {15, 1}, {0, 15}};
   auto maps = tracer.trace(pixels, 16, 1);

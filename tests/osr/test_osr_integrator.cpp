@@ -11,7 +11,6 @@
 #include "image/image_metrics.h"
 #include "osr/grid_schedule.h"
 #include "osr/osr_test_util.h"
-#include "pt/gltf_writer.h"
 #include "pt/path_integrator.h"
 
 using namespace osr;
@@ -154,22 +153,7 @@ TEST(GridSchedule, RefinesWeightsDenserPassesAndBoundsTheMapShare) {
 TEST(OsrIntegrator, EmissiveFurnaceSplitsDirectAndIndirectExactly) {
   // Closed box, every wall emitting 1 with albedo 0.5: radiance 2 everywhere, of which the
   // direct layer (emission seen + one bounce) holds 1.5 and the indirect 0.5.
-  test::GltfWriter g;
-  auto m = test::GltfWriter::diffuse(glm::vec3(0.5f));
-  m["emissiveFactor"] = {1.0, 1.0, 1.0};
-  int wall = g.material(m);
-  glm::vec3 c[8];
-  for (int i = 0; i < 8; ++i) c[i] = glm::vec3(i & 1 ? 1 : -1, i & 2 ? 1 : -1, i & 4 ? 1 : -1);
-  g.quad(c[0], c[1], c[3], c[2], wall);
-  g.quad(c[4], c[6], c[7], c[5], wall);
-  g.quad(c[0], c[4], c[5], c[1], wall);
-  g.quad(c[2], c[3], c[7], c[6], wall);
-  g.quad(c[0], c[2], c[6], c[4], wall);
-  g.quad(c[1], c[5], c[7], c[3], wall);
-  g.camera({0.2f, -0.1f, 0.3f}, {0.5f, -0.6f, -1.f}, 1.2f);
-  auto path = (test::tempDir("osr_integrator") / "furnace.gltf").string();
-  g.write(path);
-  auto s = test::loadForTest(path);
+  auto s = test::loadForTest(test::writeEmissiveFurnace("osr_integrator"));
   oneshot::OsrSettings set;
   set.denoiser = oneshot::Denoiser::None;
   set.gridStart = set.gridMin = 1;
@@ -191,4 +175,36 @@ TEST(OsrIntegrator, EmissiveFurnaceSplitsDirectAndIndirectExactly) {
   EXPECT_NEAR(so / n, 0.5, 0.01);  // maps: 2 x 64 x 1024 paths
   EXPECT_NEAR(dop / n, 1.5, 0.04);  // 2 passes x 4 light samples per pixel
   EXPECT_NEAR(sp / n, 0.5, 0.01);
+}
+
+TEST(MapWeight, FallsWithScreenDistanceNormalsAndDepthGaps) {
+  namespace o = osr::gpu::osr;
+  const glm::vec3 x(0, 0, 0), n(0, 1, 0);
+  const float r = 8.f, scale = 0.1f;  // scale: world size of r pixels
+  // The same surface point and normal at the same pixel: full weight.
+  EXPECT_FLOAT_EQ(o::mapWeight({4, 4}, {4, 4}, r, x, n, x, n, scale), 1.f);
+  // Screen distance: falls monotonically and is 0 from 1.5 r on.
+  float last = 2.f;
+  for (float d = 0.f; d <= 1.6f * r; d += 1.f) {
+    float w = o::mapWeight({4 + d, 4}, {4, 4}, r, x, n, x + glm::vec3(d * 0.01f, 0, 0), n, scale);
+    EXPECT_LE(w, last) << d;
+    last = w;
+  }
+  EXPECT_EQ(o::mapWeight({4 + 1.5f * r, 4}, {4, 4}, r, x, n, x, n, scale), 0.f);
+  // Points on one plane keep their weight; a map off the pixel's plane by a depth gap of a few
+  // grid spacings loses it (the seed's weight grew with depth similarity, backwards).
+  float onPlane = o::mapWeight({6, 4}, {4, 4}, r, x, n, {0.05f, 0, 0}, n, scale);
+  float gap = o::mapWeight({6, 4}, {4, 4}, r, x, n, {0.05f, 0.3f, 0}, n, scale);
+  EXPECT_GT(onPlane, 0.8f);
+  EXPECT_LT(gap, 1e-3f * onPlane);
+  // Normals: perpendicular surfaces (a wall above a floor) do not share maps; the weight falls
+  // as cos^8.
+  EXPECT_EQ(o::mapWeight({4, 4}, {4, 4}, r, x, n, x, {1, 0, 0}, scale), 0.f);
+  glm::vec3 tilted = glm::normalize(glm::vec3(0.5f, 1.f, 0.f));
+  EXPECT_NEAR(o::mapWeight({4, 4}, {4, 4}, r, x, n, x, tilted, scale),
+              std::pow(glm::dot(n, tilted), 8.f), 1e-5f);
+  // Symmetric in the two points' roles.
+  glm::vec3 xg(0.03f, 0.01f, 0.02f), ng = glm::normalize(glm::vec3(0.1f, 1.f, 0.f));
+  EXPECT_FLOAT_EQ(o::mapWeight({5, 4}, {4, 4}, r, x, n, xg, ng, scale),
+                  o::mapWeight({4, 4}, {5, 4}, r, xg, ng, x, n, scale));
 }
