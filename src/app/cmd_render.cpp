@@ -4,10 +4,8 @@
 // so a failed render leaves existing files untouched.
 #include <unistd.h>
 
-#include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <filesystem>
 #include <memory>
 #include <optional>
@@ -25,7 +23,6 @@
 #include "scene_gpu/gpu_scene.h"
 #include "scene/scene.h"
 #include "vk/context.h"
-#include "vk/timer.h"
 
 namespace osr::app {
 
@@ -156,9 +153,6 @@ int runRender(const std::vector<std::string>& args) {
   if (osrSettings.gridMin > osrSettings.gridStart)
     throw InputError("--grid-min: " + std::to_string(osrSettings.gridMin) +
                      " is coarser than --grid-start " + std::to_string(osrSettings.gridStart));
-  if (osrSettings.denoiser == oneshot::Denoiser::Unet && osrSettings.weightsPath.empty())
-    throw InputError("--denoiser unet: no trained model is shipped yet; give --weights FILE "
-                     "(tools/weights_pack.py) or use --denoiser blur");
   if (dumpMaps && !osrMode) throw InputError("--dump-maps: an option of --mode osr");
   if (!exrPath && !pngPath)
     throw InputError("render: give --offline out.exr and/or --png out.png (no live viewer yet)");

@@ -5,7 +5,6 @@
 // "Hemisphere maps".
 #pragma once
 #include <glm/glm.hpp>
-#include <memory>
 #include <vector>
 
 #include "bvh/bvh.h"

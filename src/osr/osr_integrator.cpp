@@ -143,17 +143,14 @@ void OsrIntegrator::recordPass(VkCommandBuffer cmd, uint32_t k, vk::GpuTimer* ti
         vk::TimedScope scope(timer, cmd, "maps");
         maps_.record(cmd, bindings_, push);
       }
-      if (unet_) {
-        {
-          vk::TimedScope scope(timer, cmd, "normalize");
-          normalize_.record(cmd, bindings_, push);
-        }
-        vk::TimedScope scope(timer, cmd, "unet");
-        unet_->record(cmd, buffers_->netIn, 0, buffers_->netOut, 0, push.mapCount);
-      } else {
-        // The blur and raw denoisers keep each channel's mean: they need its statistics.
+      {
+        // Every denoiser needs the per-map statistics; only the U-Net its normalized input.
         vk::TimedScope scope(timer, cmd, "normalize");
         normalize_.record(cmd, bindings_, push);
+      }
+      if (unet_) {
+        vk::TimedScope scope(timer, cmd, "unet");
+        unet_->record(cmd, buffers_->netIn, 0, buffers_->netOut, 0, push.mapCount);
       }
       {
         vk::TimedScope scope(timer, cmd, "denoise");
