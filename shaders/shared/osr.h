@@ -63,7 +63,7 @@ OSR_CONST(float, kNearSpecularAlpha, 0.01f);
 OSR_CONST(uint, kMaxSpecularChain, 8u);
 // Lobes narrower than about a texel of a 32 x 32 map (GGX alpha below this) are not looked up
 // in maps: the residual path tracer answers for them in full.
-OSR_CONST(float, kNarrowLobeAlpha, 0.1f);
+OSR_CONST(float, kNarrowLobeAlpha, 0.05f);
 
 // The first surface through a pixel that is not near-specular, for this pass's jitter.
 struct GBufferPixel {
