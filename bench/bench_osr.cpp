@@ -58,7 +58,8 @@ int runOsr(const std::vector<std::string>& args) {
   app::Args a(args, "osr");
   auto sceneName = a.value("--scene");
   uint32_t size = uint32_t(a.integer("--size", 8, 4096).value_or(256));
-  auto budgets = a.integerList("--budgets", 1, 3600).value_or(std::vector<long long>{2, 5, 10, 30, 60});
+  auto budgets =
+      a.integerList("--budgets", 1, 3600).value_or(std::vector<long long>{2, 5, 10, 30, 60});
   auto denoiser = a.value("--denoiser");
   auto weights = a.value("--weights");
   std::string modes = a.value("--modes").value_or("osr,path");
@@ -85,8 +86,10 @@ int runOsr(const std::vector<std::string>& args) {
       Run r = runFor(ctx, check, cam, 0.0, 8);
       double ratio = image::meanLuminance({32, 32, r.film.combined}) / image::meanLuminance(ref);
       if (!std::isfinite(ratio) || std::abs(ratio - 1.0) > 0.15) {
-        std::fprintf(stderr, "osr-bench: osr %s: verification failed (mean luminance %.4g of "
-                     "the reference's)\n", name.c_str(), ratio);
+        std::fprintf(stderr,
+                     "osr-bench: osr %s: verification failed (mean luminance %.4g of "
+                     "the reference's)\n",
+                     name.c_str(), ratio);
         return kExitInternal;
       }
     }
@@ -107,8 +110,12 @@ int runOsr(const std::vector<std::string>& args) {
         Run r = runFor(ctx, integrator, cam, double(budget), 1u << 24);
         image::RgbImage img{int(size), int(size), r.film.combined};
         JsonLine j;
-        j.str("bench", "osr").str("scene", name).str("mode", mode).integer("size", size)
-            .integer("budget_s", budget).num("seconds", r.stats.seconds)
+        j.str("bench", "osr")
+            .str("scene", name)
+            .str("mode", mode)
+            .integer("size", size)
+            .integer("budget_s", budget)
+            .num("seconds", r.stats.seconds)
             .num("relmse", image::relMse(img, ref))
             .num("lum_ratio", image::meanLuminance(img) / image::meanLuminance(ref))
             .integer(isOsr ? "passes" : "spp", r.stats.units);
@@ -118,8 +125,7 @@ int runOsr(const std::vector<std::string>& args) {
           const double mapMs = r.stats.gpuMs("maps");
           j.integer("maps", long(osr.mapsTraced()))
               .num("maps_per_s", mapMs > 0 ? osr.mapsTraced() / (mapMs * 1e-3) : 0.0);
-          for (const auto& t : r.stats.gpuScopes)
-            j.num((t.name + "_ms").c_str(), t.ms);
+          for (const auto& t : r.stats.gpuScopes) j.num((t.name + "_ms").c_str(), t.ms);
         }
         j.str("device", ctx.caps().deviceName).print();
       }

@@ -4,6 +4,7 @@
 // so a failed render leaves existing files untouched.
 #include <unistd.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
@@ -11,17 +12,17 @@
 #include <optional>
 
 #include "app/args.h"
-#include "app/device_options.h"
 #include "app/commands.h"
+#include "app/device_options.h"
 #include "app/scene_setup.h"
-#include "image/image_io.h"
 #include "bvh/bvh.h"
 #include "common/error.h"
+#include "image/image_io.h"
 #include "osr/osr_integrator.h"
 #include "pt/path_integrator.h"
 #include "render/progressive_driver.h"
-#include "scene_gpu/gpu_scene.h"
 #include "scene/scene.h"
+#include "scene_gpu/gpu_scene.h"
 #include "vk/context.h"
 
 namespace osr::app {
@@ -76,7 +77,8 @@ void writeMapDump(const std::string& dir, const oneshot::OsrIntegrator::MapDump&
     for (uint32_t m = 0; m < d.maps; ++m)
       for (uint32_t t = 0; t < 1024; ++t)
         for (int c = 0; c < 3; ++c) {
-          int x = int(m % d.cellsX) * tile + int(t % 32), y = int(m / d.cellsX) * tile + int(t / 32);
+          int x = int(m % d.cellsX) * tile + int(t % 32),
+              y = int(m / d.cellsX) * tile + int(t / 32);
           img.rgb[(size_t(y) * w + x) * 3 + c] = maps[(size_t(m) * channels + c) * 1024 + t];
         }
     return img;
@@ -133,8 +135,9 @@ int runRender(const std::vector<std::string>& args) {
     throw InputError("--mode: unknown integrator '" + mode + "' (osr, path, preview)");
   if (!osrMode && (passes || denoiser || weights || gridStart || gridMin || directSpp ||
                    residualSpp || residualRamp || mapSpp || mapShare))
-    throw InputError("render: --passes, --denoiser, --weights, --grid-*, --direct-spp, "
-                     "--residual-*, --map-spp are options of --mode osr");
+    throw InputError(
+        "render: --passes, --denoiser, --weights, --grid-*, --direct-spp, "
+        "--residual-*, --map-spp are options of --mode osr");
   if (osrMode && spp)
     throw InputError("--spp: --mode osr counts progressive passes; use --passes N");
   oneshot::OsrSettings osrSettings;
@@ -144,7 +147,10 @@ int runRender(const std::vector<std::string>& args) {
     if (!denoiser) osrSettings.denoiser = oneshot::Denoiser::Unet;
   }
   if (gridStart) osrSettings.gridStart = uint32_t(*gridStart);
-  if (gridMin) osrSettings.gridMin = uint32_t(*gridMin);
+  if (gridMin)
+    osrSettings.gridMin = uint32_t(*gridMin);
+  else
+    osrSettings.gridMin = std::min(osrSettings.gridMin, osrSettings.gridStart);
   if (directSpp) osrSettings.directSamples = uint32_t(*directSpp);
   if (residualSpp) osrSettings.residualSamples = uint32_t(*residualSpp);
   if (residualRamp) osrSettings.residualRamp = *residualRamp;
@@ -161,8 +167,7 @@ int runRender(const std::vector<std::string>& args) {
   if (pngPath) image::checkWritable(*pngPath);
 
   const HostScene host = loadHostScene(files[0], sceneOptions);
-  const uint32_t width_ = host.width, height_ = host.height;
-  // Preview is deterministic after one sample per pixel but antialiases with more.
+  const uint32_t imageWidth = host.width, imageHeight = host.height;
   // Units: samples per pixel (path, preview) or passes (osr). Preview is deterministic after
   // one sample per pixel but antialiases with more; OSR's defaults give a converged-looking
   // image in about the path tracer's default time.
@@ -182,31 +187,32 @@ int runRender(const std::vector<std::string>& args) {
   oneshot::OsrIntegrator* osr = nullptr;
   if (osrMode) {
     osrSettings.keepAllMaps = bool(dumpMaps);
-    auto o = std::make_unique<oneshot::OsrIntegrator>(ctx, dev.gpu, dev.bvh, width_, height_,
-                                                      osrSettings);
+    auto o = std::make_unique<oneshot::OsrIntegrator>(ctx, dev.gpu, dev.bvh, imageWidth,
+                                                      imageHeight, osrSettings);
     osr = o.get();
     integrator = std::move(o);
   } else {
-    integrator = std::make_unique<pt::PathIntegrator>(ctx, dev.gpu, dev.bvh, width_, height_,
-                                                      *ptMode);
+    integrator = std::make_unique<pt::PathIntegrator>(ctx, dev.gpu, dev.bvh, imageWidth,
+                                                      imageHeight, *ptMode);
   }
   render::ProgressiveDriver driver(ctx, *integrator, ds);
   driver.restart(host.camera, renderSeed);
-  const render::RenderStats& stats =
-      driver.run([&](const render::Progress& p) { progress(p); });
+  const render::RenderStats& stats = driver.run([&](const render::Progress& p) { progress(p); });
   render::FilmLayers film = integrator->resolve();
   progress.finish();
   if (film.droppedSamples > 0)
     std::fprintf(stderr, "osr-vk: warning: %llu non-finite samples dropped\n",
                  static_cast<unsigned long long>(film.droppedSamples));
   if (exrPath)
-    image::writeExr(*exrPath, toLayers(film), exrFloat ? image::ExrPixelType::Float : image::ExrPixelType::Half);
+    image::writeExr(*exrPath, toLayers(film),
+                    exrFloat ? image::ExrPixelType::Float : image::ExrPixelType::Half);
   if (pngPath) image::writePng(*pngPath, {film.width, film.height, film.combined}, exposure);
   if (dumpMaps) writeMapDump(*dumpMaps, osr->downloadMaps(), film);
   if (!quiet) {
-    std::fprintf(stderr, "osr-vk: %ux%u, %u %s in %.2f s", width_, height_, stats.units,
+    std::fprintf(stderr, "osr-vk: %ux%u, %u %s in %.2f s", imageWidth, imageHeight, stats.units,
                  integrator->unitName(), stats.seconds);
-    for (const auto& t : stats.gpuScopes) std::fprintf(stderr, ", %s %.0f ms", t.name.c_str(), t.ms);
+    for (const auto& t : stats.gpuScopes)
+      std::fprintf(stderr, ", %s %.0f ms", t.name.c_str(), t.ms);
     std::fputc('\n', stderr);
   }
   return 0;

@@ -24,7 +24,9 @@ uint32_t GridSchedule::mapsOfRadius(uint32_t r) const {
   return ((width_ + r - 1) / r) * ((height_ + r - 1) / r);
 }
 
-uint32_t GridSchedule::maxMaps() const { return mapsOfRadius(min_); }
+uint32_t GridSchedule::maxMaps() const {
+  return mapsOfRadius(min_);
+}
 
 GridPass GridSchedule::pass(uint32_t k) {
   while (passes_.size() <= k) {

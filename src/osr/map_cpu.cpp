@@ -19,8 +19,14 @@ glm::vec3 texelDirection(uint32_t t) {
 }
 
 std::array<double, 9> shBasis(glm::vec3 d) {
-  return {0.282095, 0.488603 * d.y, 0.488603 * d.z, 0.488603 * d.x, 1.092548 * d.x * d.y,
-          1.092548 * d.y * d.z, 0.315392 * (3.0 * d.z * d.z - 1.0), 1.092548 * d.x * d.z,
+  return {0.282095,
+          0.488603 * d.y,
+          0.488603 * d.z,
+          0.488603 * d.x,
+          1.092548 * d.x * d.y,
+          1.092548 * d.y * d.z,
+          0.315392 * (3.0 * d.z * d.z - 1.0),
+          1.092548 * d.x * d.z,
           0.546274 * (d.x * d.x - d.y * d.y)};
 }
 }  // namespace
@@ -75,8 +81,8 @@ std::vector<float> denoiseMapCpu(Denoiser d, const float* oneShot, const float* 
       if (d == Denoiser::None)
         out[c * kT + t] = float(v[t]);
       else
-        out[c * kT + t] = mean > 0 ? float(v[t] * stats.meanRadiance[c] / mean)
-                                   : stats.meanRadiance[c];
+        out[c * kT + t] =
+            mean > 0 ? float(v[t] * stats.meanRadiance[c] / mean) : stats.meanRadiance[c];
     }
   }
   return out;
@@ -98,8 +104,7 @@ void projectMapCpu(const float* clean, glm::vec3& mean, std::array<glm::vec3, 9>
   mean = glm::vec3(sum / double(kT));
 }
 
-glm::vec3 mapIrradianceCpu(const glm::vec3& mean, const std::array<glm::vec3, 9>& sh,
-                           glm::vec3 n) {
+glm::vec3 mapIrradianceCpu(const glm::vec3& mean, const std::array<glm::vec3, 9>& sh, glm::vec3 n) {
   auto eval = [&](glm::vec3 d) {
     auto y = shBasis(d);
     glm::dvec3 e(0.0);

@@ -3,9 +3,8 @@
 // formulas of shaders/shared/osr.h and the mapping of shaders/shared/hemisphere.h.
 #pragma once
 #include <array>
-#include <vector>
-
 #include <glm/glm.hpp>
+#include <vector>
 
 #include "osr/osr_settings.h"
 #include "shaders/shared/osr.h"
@@ -20,8 +19,7 @@ std::vector<float> denoiseMapCpu(Denoiser d, const float* oneShot, const float* 
 // Mean radiance and irradiance SH of a clean map (MapRecord.mean / .sh).
 void projectMapCpu(const float* clean, glm::vec3& mean, std::array<glm::vec3, 9>& sh);
 // Irradiance at local normal n from the projection, as the composite computes it.
-glm::vec3 mapIrradianceCpu(const glm::vec3& mean, const std::array<glm::vec3, 9>& sh,
-                           glm::vec3 n);
+glm::vec3 mapIrradianceCpu(const glm::vec3& mean, const std::array<glm::vec3, 9>& sh, glm::vec3 n);
 // Irradiance at local normal n by summing the texels (each pi / 1024 of projected solid angle
 // around the map's normal), the cosine to n clamped at 0.
 glm::vec3 bruteForceIrradiance(const float* clean, glm::vec3 n);

@@ -36,8 +36,8 @@ void MapTracer::setView(uint32_t view) {
   });
 }
 
-std::vector<float> MapTracer::trace(const std::vector<glm::uvec2>& pixels,
-                                    uint32_t pathsPerTexel, uint32_t stream) {
+std::vector<float> MapTracer::trace(const std::vector<glm::uvec2>& pixels, uint32_t pathsPerTexel,
+                                    uint32_t stream) {
   const size_t mapFloats = size_t(o::kMapChannels) * gpu::hemi::kMapTexels;
   std::vector<float> out(pixels.size() * mapFloats);
   for (size_t first = 0; first < pixels.size(); first += kChunkMaps) {

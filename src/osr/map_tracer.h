@@ -10,8 +10,8 @@
 #include "bvh/bvh.h"
 #include "osr/osr_buffers.h"
 #include "osr/osr_pass.h"
-#include "scene_gpu/gpu_scene.h"
 #include "scene/scene.h"
+#include "scene_gpu/gpu_scene.h"
 
 namespace osr::oneshot {
 

@@ -2,16 +2,16 @@
 // per-pixel G-buffer and running sums, the maps of the current pass (records and clean
 // radiance), and the per-chunk scratch of map tracing and denoising.
 #pragma once
-#include <vector>
 #include <cstdint>
+#include <vector>
 
 #include "bvh/bvh.h"
 #include "common/error.h"
 #include "render/film.h"
 #include "scene_gpu/gpu_scene.h"
 #include "shaders/shared/osr.h"
-#include "vk/buffer.h"
 #include "vk/binder.h"
+#include "vk/buffer.h"
 #include "vk/pipeline.h"
 
 namespace osr::oneshot {

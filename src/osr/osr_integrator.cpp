@@ -21,22 +21,28 @@ Denoiser parseDenoiser(const std::string& name) {
 
 const char* denoiserName(Denoiser d) {
   switch (d) {
-    case Denoiser::Unet: return "unet";
-    case Denoiser::Blur: return "blur";
-    case Denoiser::None: return "none";
+    case Denoiser::Unet:
+      return "unet";
+    case Denoiser::Blur:
+      return "blur";
+    case Denoiser::None:
+      return "none";
   }
   return "?";
 }
 
 namespace {
 
-uint32_t cellsFor(uint32_t pixels, uint32_t r) { return (pixels + r - 1) / r; }
+uint32_t cellsFor(uint32_t pixels, uint32_t r) {
+  return (pixels + r - 1) / r;
+}
 
 std::unique_ptr<nn::UNet> loadNetwork(const vk::Context& ctx, const OsrSettings& s) {
   if (s.denoiser != Denoiser::Unet) return nullptr;
   if (s.weightsPath.empty())
-    throw InputError("--denoiser unet: no trained model is shipped yet; give --weights FILE "
-                     "(tools/weights_pack.py) or use --denoiser blur");
+    throw InputError(
+        "--denoiser unet: no trained model is shipped yet; give --weights FILE "
+        "(tools/weights_pack.py) or use --denoiser blur");
   nn::UNetWeights w = nn::UNetWeights::load(s.weightsPath);
   // The maps fed to it are cosine-concentric and normalized per DESIGN.md (shared/osr.h).
   w.requireConventions(nn::kMappingConcentric, nn::kNormalizationLogMean10);
@@ -69,8 +75,7 @@ OsrIntegrator::OsrIntegrator(const vk::Context& ctx, const scene::GpuScene& scen
       denoise_(ctx, shaders::Id::osr_map_denoise, Domain::Maps, scene.features, scene.texelFetch,
                {vk::specUint(o::kOsrSpecDenoiser, uint32_t(settings.denoiser))}),
       project_(ctx, shaders::Id::osr_map_project, Domain::Maps, scene.features, scene.texelFetch),
-      composite_(ctx, shaders::Id::osr_composite, Domain::Pixels, scene.features,
-                 scene.texelFetch),
+      composite_(ctx, shaders::Id::osr_composite, Domain::Pixels, scene.features, scene.texelFetch),
       residual_(ctx, shaders::Id::osr_residual, Domain::Pixels, scene.features, scene.texelFetch),
       resolve_(ctx, shaders::Id::osr_resolve, Domain::Pixels, scene.features, scene.texelFetch) {
   const uint32_t maxMaps = schedule_.maxMaps();
@@ -83,8 +88,8 @@ OsrIntegrator::~OsrIntegrator() = default;
 
 double OsrIntegrator::unitCost(uint32_t pass) const {
   const GridPass p = schedule_.pass(pass);
-  const double pixelWork = (0.5 + 0.5 * settings_.directSamples + settings_.residualSamples) *
-                           double(width_) * height_;
+  const double pixelWork =
+      (0.5 + 0.5 * settings_.directSamples + settings_.residualSamples) * double(width_) * height_;
   const double mapWork =
       p.traceMaps ? double(schedule_.mapsOfRadius(p.radius)) * 1024.0 * settings_.pathsPerTexel
                   : 0.0;

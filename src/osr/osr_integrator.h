@@ -33,8 +33,7 @@ class OsrIntegrator : public render::Integrator {
   // The schedule's cost model: map passes cost their maps' paths on top of the pixel work.
   double unitCost(uint32_t pass) const override;
   void restart(const scene::Camera& camera, uint32_t seed) override;
-  void record(VkCommandBuffer cmd, uint32_t first, uint32_t count,
-              vk::GpuTimer* timer) override;
+  void record(VkCommandBuffer cmd, uint32_t first, uint32_t count, vk::GpuTimer* timer) override;
   const render::Film& film() const override { return film_; }
 
   // Maps of the last map pass, downloaded (after the last submission): one-shot input
@@ -64,8 +63,7 @@ class OsrIntegrator : public render::Integrator {
   render::Film film_;
   std::unique_ptr<OsrBuffers> buffers_;
   std::unique_ptr<nn::UNet> unet_;
-  OsrPass gbuffer_, direct_, maps_, normalize_, denoise_, project_, composite_, residual_,
-      resolve_;
+  OsrPass gbuffer_, direct_, maps_, normalize_, denoise_, project_, composite_, residual_, resolve_;
   OsrBindings bindings_;
   uint32_t seed_ = 0;
   Grid current_;  // maps in mapRecords / mapClean

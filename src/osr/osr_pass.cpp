@@ -20,9 +20,8 @@ std::vector<vk::SpecConstant> specs(const vk::Context& ctx, uint32_t sceneFeatur
 }
 }  // namespace
 
-OsrPass::OsrPass(const vk::Context& ctx, shaders::Id shader, Domain domain,
-                 uint32_t sceneFeatures, bool sceneTexelFetch,
-                 std::vector<vk::SpecConstant> extraSpec)
+OsrPass::OsrPass(const vk::Context& ctx, shaders::Id shader, Domain domain, uint32_t sceneFeatures,
+                 bool sceneTexelFetch, std::vector<vk::SpecConstant> extraSpec)
     : domain_(domain),
       pipeline_(ctx, shader, osrDescriptorTypes(), sizeof(o::OsrPush),
                 specs(ctx, sceneFeatures, sceneTexelFetch, std::move(extraSpec))) {}
@@ -39,9 +38,8 @@ void OsrPass::record(VkCommandBuffer cmd, const OsrBindings& bindings, o::OsrPus
       pipeline_.dispatch(cmd, vk::groupCount(push.pixelCount, o::kOsrWorkgroupSize));
     }
   } else if (push.mapCount > 0) {
-    uint64_t items = domain_ == Domain::MapTexels
-                         ? uint64_t(push.mapCount) * gpu::hemi::kMapTexels
-                         : uint64_t(push.mapCount);
+    uint64_t items = domain_ == Domain::MapTexels ? uint64_t(push.mapCount) * gpu::hemi::kMapTexels
+                                                  : uint64_t(push.mapCount);
     uint32_t x, y;
     nn::splitGroups(vk::groupCount(items, o::kOsrWorkgroupSize), x, y);
     binder.bind(cmd, push);

@@ -2,6 +2,9 @@
 // grid option out of range, OSR options without --mode osr: one line on stderr naming the
 // problem, exit 2, and the output files (which exist beforehand) untouched. And a good run
 // writes every layer.
+#include <OpenEXR/ImfChannelList.h>
+#include <OpenEXR/ImfHeader.h>
+#include <OpenEXR/ImfInputFile.h>
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
@@ -11,9 +14,6 @@
 #include <sstream>
 
 #include "common/vk_test.h"
-#include <OpenEXR/ImfChannelList.h>
-#include <OpenEXR/ImfHeader.h>
-#include <OpenEXR/ImfInputFile.h>
 
 namespace fs = std::filesystem;
 
@@ -26,8 +26,8 @@ struct Outcome {
 
 Outcome run(const std::string& args) {
   fs::path errFile = osr::test::tempDir("cmd_render_osr") / "stderr.txt";
-  std::string cmd = std::string(OSR_BINARY_DIR) + "/osr-vk " + args + " >/dev/null 2>" +
-                    errFile.string();
+  std::string cmd =
+      std::string(OSR_BINARY_DIR) + "/osr-vk " + args + " >/dev/null 2>" + errFile.string();
   int status = std::system(cmd.c_str());
   std::ifstream in(errFile);
   std::stringstream ss;
@@ -35,7 +35,9 @@ Outcome run(const std::string& args) {
   return {WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status), ss.str()};
 }
 
-std::string cornell() { return osr::test::referencePath("cornell/cornell.gltf"); }
+std::string cornell() {
+  return osr::test::referencePath("cornell/cornell.gltf");
+}
 
 }  // namespace
 
@@ -97,8 +99,7 @@ TEST(CmdRenderOsr, WritesEveryLayerAndTheMapAtlases) {
   ASSERT_EQ(r.exitCode, 0) << r.err;
   Imf::InputFile file(exr.c_str());
   const Imf::ChannelList& channels = file.header().channels();
-  for (const char* c : {"R", "G", "B", "direct.R", "indirect.G", "albedo.B", "normal.X",
-                        "depth.Z"})
+  for (const char* c : {"R", "G", "B", "direct.R", "indirect.G", "albedo.B", "normal.X", "depth.Z"})
     EXPECT_NE(channels.findChannel(c), nullptr) << "channel " << c;
   for (const char* f : {"oneshot.png", "clean.png", "grid.png"})
     EXPECT_TRUE(fs::exists(maps / f)) << f;

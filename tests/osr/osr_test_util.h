@@ -6,8 +6,8 @@
 #include "common/vk_test.h"
 #include "osr/osr_integrator.h"
 #include "pt/gltf_writer.h"
-#include "scene_gpu/gpu_scene.h"
 #include "scene/scene.h"
+#include "scene_gpu/gpu_scene.h"
 
 namespace osr::test {
 

@@ -10,8 +10,8 @@
 
 #include "common/vk_test.h"
 #include "shaders/shared/hemisphere.h"
-#include "vk/buffer.h"
 #include "vk/binder.h"
+#include "vk/buffer.h"
 #include "vk/pipeline.h"
 
 using namespace osr;
@@ -96,7 +96,7 @@ TEST(Hemisphere, GpuMatchesCpp) {
   }
   cases[0].square = glm::vec4(0.5f, 0.5f, 0, 0);  // the centre (the pole)
   cases[1].direction = glm::vec4(0, 0, 1, 0);
-  cases[2].normal = glm::vec4(0, 0, -1, 0);       // the frame's sign switch
+  cases[2].normal = glm::vec4(0, 0, -1, 0);  // the frame's sign switch
   vk::Buffer buf(ctx, cases.size() * sizeof(hemi::HemiProbeCase), vk::MemoryUse::DeviceLocal,
                  "hemisphere probe");
   buf.uploadVector(cases);

@@ -81,8 +81,7 @@ TEST_P(RawDenseMaps, MatchThePathTracer) {
   for (auto [name, a, b] : {std::tuple{"direct", &o.direct, &p.direct},
                             std::tuple{"indirect", &o.indirect, &p.indirect}}) {
     auto ag = agree(*a, *b, size);
-    std::printf("%s %s: relmse %.5f lum ratio %.4f\n", scene.c_str(), name, ag.relmse,
-                ag.lumRatio);
+    std::printf("%s %s: relmse %.5f lum ratio %.4f\n", scene.c_str(), name, ag.relmse, ag.lumRatio);
   }
   EXPECT_LT(combined.relmse, tol) << scene << " combined";
   EXPECT_NEAR(combined.lumRatio, 1.0, 0.03) << scene << " combined";
@@ -172,7 +171,7 @@ TEST(OsrIntegrator, EmissiveFurnaceSplitsDirectAndIndirectExactly) {
   const double n = double(o.indirect.size());
   std::printf("furnace indirect osr %.4f pt %.4f direct osr %.4f pt %.4f\n", so / n, sp / n,
               dop / n, dpp / n);
-  EXPECT_NEAR(so / n, 0.5, 0.01);  // maps: 2 x 64 x 1024 paths
+  EXPECT_NEAR(so / n, 0.5, 0.01);   // maps: 2 x 64 x 1024 paths
   EXPECT_NEAR(dop / n, 1.5, 0.04);  // 2 passes x 4 light samples per pixel
   EXPECT_NEAR(sp / n, 0.5, 0.01);
 }
