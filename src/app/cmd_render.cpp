@@ -151,8 +151,10 @@ int runRender(const std::vector<std::string>& args) {
     osrSettings.gridMin = uint32_t(*gridMin);
   else
     osrSettings.gridMin = std::min(osrSettings.gridMin, osrSettings.gridStart);
-  if (directSpp) osrSettings.directSamples = uint32_t(*directSpp);
-  if (residualSpp) osrSettings.residualSamples = uint32_t(*residualSpp);
+  // Given explicitly, a sample count holds for every pass.
+  if (directSpp) osrSettings.directSamples = osrSettings.directSamplesLate = uint32_t(*directSpp);
+  if (residualSpp)
+    osrSettings.residualSamples = osrSettings.residualSamplesLate = uint32_t(*residualSpp);
   if (residualRamp) osrSettings.residualRamp = *residualRamp;
   if (mapSpp) osrSettings.pathsPerTexel = uint32_t(*mapSpp);
   if (mapShare) osrSettings.mapShare = *mapShare;

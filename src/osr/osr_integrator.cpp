@@ -61,9 +61,8 @@ OsrIntegrator::OsrIntegrator(const vk::Context& ctx, const scene::GpuScene& scen
       height_(height),
       settings_(settings),
       schedule_(width, height, settings.gridStart, settings.gridMin, settings.mapShare,
-                // Per-pixel path units of a pass: G-buffer and direct rays are about half a
-                // path each, a residual sample one.
-                0.5 + 0.5 * settings.directSamples + settings.residualSamples,
+                // The late passes' per-pixel work: what the map share is measured against.
+                settings.pixelCost(settings.settlePasses),
                 settings.pathsPerTexel),
       film_(ctx, width, height),
       unet_(loadNetwork(ctx, settings)),
@@ -88,8 +87,7 @@ OsrIntegrator::~OsrIntegrator() = default;
 
 double OsrIntegrator::unitCost(uint32_t pass) const {
   const GridPass p = schedule_.pass(pass);
-  const double pixelWork =
-      (0.5 + 0.5 * settings_.directSamples + settings_.residualSamples) * double(width_) * height_;
+  const double pixelWork = settings_.pixelCost(pass) * double(width_) * height_;
   const double mapWork =
       p.traceMaps ? double(schedule_.mapsOfRadius(p.radius)) * 1024.0 * settings_.pathsPerTexel
                   : 0.0;
@@ -129,7 +127,7 @@ void OsrIntegrator::recordPass(VkCommandBuffer cmd, uint32_t k, vk::GpuTimer* ti
   }
   {
     vk::TimedScope scope(timer, cmd, "direct");
-    push.samples = settings_.directSamples;
+    push.samples = settings_.samplesOfPass(k).direct;
     direct_.record(cmd, bindings_, push, pixels);
   }
   if (gp.traceMaps) current_ = gridOf(gp.radius, gp.mapPass);
@@ -172,9 +170,9 @@ void OsrIntegrator::recordPass(VkCommandBuffer cmd, uint32_t k, vk::GpuTimer* ti
     push.samples = settings_.glossySamples;
     composite_.record(cmd, bindings_, push, pixels);
   }
-  if (settings_.residualSamples > 0) {
+  if (settings_.samplesOfPass(k).residual > 0) {
     vk::TimedScope scope(timer, cmd, "residual");
-    push.samples = settings_.residualSamples;
+    push.samples = settings_.samplesOfPass(k).residual;
     residual_.record(cmd, bindings_, push, pixels);
   }
 }
@@ -182,9 +180,10 @@ void OsrIntegrator::recordPass(VkCommandBuffer cmd, uint32_t k, vk::GpuTimer* ti
 void OsrIntegrator::record(VkCommandBuffer cmd, uint32_t first, uint32_t count,
                            vk::GpuTimer* timer) {
   for (uint32_t k = first; k < first + count; ++k) recordPass(cmd, k, timer);
-  // Blend the residual in as its samples accumulate: none in the first images (noise-free),
-  // all of it in the limit (unbiased).
-  const double n = double(first + count) * settings_.residualSamples;
+  // Blend the residual in as passes accumulate: none in the first images (noise-free), all of
+  // it in the limit (unbiased). By passes, not samples: the late passes' extra residual paths
+  // lower its noise instead of showing it sooner.
+  const double n = settings_.samplesOfPass(0).residual > 0 ? double(first + count) : 0.0;
   o::OsrPush push{};
   push.residualBlend = settings_.residualRamp > 0.0 ? float(n / (n + settings_.residualRamp))
                                                     : (n > 0.0 ? 1.f : 0.f);

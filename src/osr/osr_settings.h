@@ -17,6 +17,10 @@ enum class Denoiser : uint32_t {
 Denoiser parseDenoiser(const std::string& name);
 const char* denoiserName(Denoiser d);
 
+struct PassSamples {
+  uint32_t direct, residual;
+};
+
 struct OsrSettings {
   Denoiser denoiser = Denoiser::Blur;
   std::string weightsPath;       // packed U-Net (tools/weights_pack.py); needed for Unet
@@ -24,12 +28,27 @@ struct OsrSettings {
   uint32_t gridMin = 16;         // finest spacing the schedule refines to
   double mapShare = 0.25;        // largest share of the work map passes may take
   uint32_t pathsPerTexel = 1;    // paths per map texel (1: the one-shot maps of DESIGN.md)
-  uint32_t directSamples = 16;   // light samples per pixel per pass
-  uint32_t residualSamples = 1;  // residual paths per pixel per pass (0: maps only, biased)
+  // Samples per pixel per pass. The first `settlePasses` passes favour a clean first image
+  // (many light samples, one residual path); later ones shift the work to the residual.
+  uint32_t directSamples = 16;       // light samples, first passes
+  uint32_t residualSamples = 1;      // residual paths, first passes (0: maps only, biased)
+  uint32_t directSamplesLate = 4;    // light samples from pass settlePasses on
+  uint32_t residualSamplesLate = 4;  // residual paths from pass settlePasses on
+  uint32_t settlePasses = 8;
   uint32_t glossySamples = 4;    // map lookups per pixel for wide glossy lobes
-  double residualRamp = 64.0;    // n0: the residual is blended in by n / (n + n0)
+  double residualRamp = 64.0;    // n0: the residual is blended in by k / (k + n0), k passes
   uint32_t maxChunkMaps = 512;   // maps traced and denoised per chunk (memory bound)
   bool keepAllMaps = false;      // one chunk for all maps of a pass (for --dump-maps)
+
+  PassSamples samplesOfPass(uint32_t pass) const {
+    return pass < settlePasses ? PassSamples{directSamples, residualSamples}
+                               : PassSamples{directSamplesLate, residualSamplesLate};
+  }
+  // Per-pixel work of pass k in path units (G-buffer and light samples about half a path).
+  double pixelCost(uint32_t pass) const {
+    PassSamples s = samplesOfPass(pass);
+    return 0.5 + 0.5 * s.direct + s.residual;
+  }
 };
 
 }  // namespace osr::oneshot

@@ -66,8 +66,8 @@ TEST_P(RawDenseMaps, MatchThePathTracer) {
   set.denoiser = oneshot::Denoiser::None;
   set.gridStart = set.gridMin = 1;
   set.pathsPerTexel = 2;
-  set.directSamples = 32;
-  set.residualSamples = 8;
+  set.directSamples = set.directSamplesLate = 32;
+  set.residualSamples = set.residualSamplesLate = 8;
   set.residualRamp = 1e12;
   set.mapShare = 1.0;  // maps every pass
   oneshot::OsrIntegrator osr(test::context(), *s.gpu, s.bvh, size, size, set);
