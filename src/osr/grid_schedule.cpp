@@ -20,8 +20,17 @@ uint32_t GridSchedule::radiusOfMapPass(uint32_t m) const {
   return std::max(min_, uint32_t(std::lround(r)));
 }
 
+glm::uvec2 GridSchedule::cellsOfRadius(uint32_t r) const {
+  return {(width_ + r - 1) / r, (height_ + r - 1) / r};
+}
+
 uint32_t GridSchedule::mapsOfRadius(uint32_t r) const {
-  return ((width_ + r - 1) / r) * ((height_ + r - 1) / r);
+  const glm::uvec2 c = cellsOfRadius(r);
+  return c.x * c.y;
+}
+
+double GridSchedule::mapWork(const GridPass& p) const {
+  return p.traceMaps ? double(mapsOfRadius(p.radius)) * 1024.0 * texelPaths_ : 0.0;
 }
 
 uint32_t GridSchedule::maxMaps() const {
@@ -38,10 +47,8 @@ GridPass GridSchedule::pass(uint32_t k) {
     const double density = double(min_) / double(p.radius);
     p.weight = float(density * density);
     const double pixelWork = pixelCost_ * double(width_) * height_;
-    const double mapWork =
-        p.traceMaps ? double(mapsOfRadius(p.radius)) * 1024.0 * texelPaths_ : 0.0;
-    mapCost_ += mapWork;
-    totalCost_ += mapWork + pixelWork;
+    mapCost_ += mapWork(p);
+    totalCost_ += mapWork(p) + pixelWork;
     passes_.push_back(p);
   }
   return passes_[k];

@@ -11,6 +11,8 @@
 #include <cstdint>
 #include <vector>
 
+#include <glm/glm.hpp>
+
 namespace osr::oneshot {
 
 struct GridPass {
@@ -31,6 +33,9 @@ class GridSchedule {
   uint32_t radiusOfMapPass(uint32_t m) const;
   uint32_t maxMaps() const;
   uint32_t mapsOfRadius(uint32_t r) const;
+  glm::uvec2 cellsOfRadius(uint32_t r) const;  // grid cells across and down
+  // Path units of the maps pass p traces (0 when it keeps the previous maps).
+  double mapWork(const GridPass& p) const;
 
  private:
   uint32_t width_, height_, start_, min_;

@@ -1,7 +1,6 @@
 #include "osr/osr_integrator.h"
 
 #include <algorithm>
-#include <cmath>
 
 #include "common/error.h"
 #include "nn_kernels/weights_format.h"
@@ -32,10 +31,6 @@ const char* denoiserName(Denoiser d) {
 }
 
 namespace {
-
-uint32_t cellsFor(uint32_t pixels, uint32_t r) {
-  return (pixels + r - 1) / r;
-}
 
 std::unique_ptr<nn::UNet> loadNetwork(const vk::Context& ctx, const OsrSettings& s) {
   if (s.denoiser != Denoiser::Unet) return nullptr;
@@ -88,17 +83,15 @@ OsrIntegrator::~OsrIntegrator() = default;
 double OsrIntegrator::unitCost(uint32_t pass) const {
   const GridPass p = schedule_.pass(pass);
   const double pixelWork = settings_.pixelCost(pass) * double(width_) * height_;
-  const double mapWork =
-      p.traceMaps ? double(schedule_.mapsOfRadius(p.radius)) * 1024.0 * settings_.pathsPerTexel
-                  : 0.0;
-  return pixelWork + mapWork;
+  return pixelWork + schedule_.mapWork(p);
 }
 
 OsrIntegrator::Grid OsrIntegrator::gridOf(uint32_t radius, uint32_t mapPass) const {
   Grid g;
   g.radius = radius;
-  g.cellsX = cellsFor(width_, radius);
-  g.cellsY = cellsFor(height_, radius);
+  const glm::uvec2 cells = schedule_.cellsOfRadius(radius);
+  g.cellsX = cells.x;
+  g.cellsY = cells.y;
   g.seed = seed_ * 0x9e3779b9u + mapPass * 0x85ebca6bu + 0x27d4eb2fu;
   return g;
 }
