@@ -5,120 +5,15 @@ kind of bad input). The output is committed; rerun after changing this script:
     /usr/bin/python3 tools/make_scene_test_data.py tests/data/scene
 """
 import argparse
-import base64
-import json
 import math
 import struct
-import zlib
 from pathlib import Path
 from typing import Any
 
-FLOAT, BYTE, UBYTE, SHORT, USHORT, UINT = 5126, 5120, 5121, 5122, 5123, 5125
-REPEAT, CLAMP, MIRROR = 10497, 33071, 33648
-NEAREST = 9728
+from gltf_build import (BYTE, CLAMP, FLOAT, MIRROR, NEAREST, REPEAT, SHORT, UBYTE, UINT, USHORT,
+                        Gltf, data_uri, png)
 
-
-def png(width: int, height: int, texels: list[tuple[int, int, int, int]], bits: int = 8) -> bytes:
-    """Minimal RGBA PNG encoder, 8 or 16 bits per channel (filter 0 on every row)."""
-
-    def chunk(kind: bytes, data: bytes) -> bytes:
-        body = kind + data
-        return struct.pack(">I", len(data)) + body + struct.pack(">I", zlib.crc32(body))
-
-    fmt = ">4B" if bits == 8 else ">4H"
-    rows = b""
-    for y in range(height):
-        rows += b"\x00" + b"".join(struct.pack(fmt, *texels[y * width + x]) for x in range(width))
-    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", struct.pack(">IIBBBBB", width, height, bits, 6, 0, 0, 0))
-            + chunk(b"IDAT", zlib.compress(rows)) + chunk(b"IEND", b""))
-
-
-def data_uri(data: bytes, mime: str) -> str:
-    return f"data:{mime};base64," + base64.b64encode(data).decode()
-
-
-class Gltf:
-    """Accumulates one buffer and the JSON that views it."""
-
-    def __init__(self) -> None:
-        self.bin = bytearray()
-        self.doc: dict[str, Any] = {"asset": {"version": "2.0", "generator": "osr-vk make_scene_test_data.py"},
-                                    "scene": 0, "scenes": [{"nodes": []}], "nodes": [], "meshes": [],
-                                    "accessors": [], "bufferViews": [], "buffers": []}
-
-    def view(self, data: bytes) -> int:
-        while len(self.bin) % 4:
-            self.bin.append(0)
-        self.doc["bufferViews"].append({"buffer": 0, "byteOffset": len(self.bin), "byteLength": len(data)})
-        self.bin += data
-        return len(self.doc["bufferViews"]) - 1
-
-    def accessor(self, values: list, kind: str, component: int = FLOAT, normalized: bool = False,
-                 stride: int = 0) -> int:
-        fmt = {FLOAT: "f", BYTE: "b", UBYTE: "B", SHORT: "h", USHORT: "H", UINT: "I"}[component]
-        flat = [c for v in values for c in (v if isinstance(v, (list, tuple)) else [v])]
-        data = struct.pack("<" + fmt * len(flat), *flat)
-        if stride:  # interleave padding: each element starts `stride` bytes after the last
-            size = len(data) // len(values)
-            data = b"".join(data[i * size:(i + 1) * size] + b"\xee" * (stride - size) for i in range(len(values)))
-        acc: dict[str, Any] = {"bufferView": self.view(data),
-                               "componentType": component, "count": len(values), "type": kind}
-        if stride:
-            self.doc["bufferViews"][-1]["byteStride"] = stride
-        if normalized:
-            acc["normalized"] = True
-        if kind == "VEC3" and component == FLOAT and all(map(math.isfinite, flat)):
-            acc["min"] = [min(v[i] for v in values) for i in range(3)]
-            acc["max"] = [max(v[i] for v in values) for i in range(3)]
-        self.doc["accessors"].append(acc)
-        return len(self.doc["accessors"]) - 1
-
-    def mesh(self, positions: list, indices: list | None = None, normals: list | None = None,
-             uvs: list | None = None, material: int | None = None, index_type: int = USHORT,
-             mode: int | None = None) -> int:
-        prim: dict[str, Any] = {"attributes": {"POSITION": self.accessor(positions, "VEC3")}}
-        if normals is not None:
-            prim["attributes"]["NORMAL"] = self.accessor(normals, "VEC3")
-        if uvs is not None:
-            prim["attributes"]["TEXCOORD_0"] = self.accessor(uvs, "VEC2")
-        if indices is not None:
-            prim["indices"] = self.accessor(indices, "SCALAR", index_type)
-        if material is not None:
-            prim["material"] = material
-        if mode is not None:
-            prim["mode"] = mode
-        self.doc["meshes"].append({"primitives": [prim]})
-        return len(self.doc["meshes"]) - 1
-
-    def node(self, root: bool = True, **fields: Any) -> int:
-        self.doc["nodes"].append(fields)
-        index = len(self.doc["nodes"]) - 1
-        if root:
-            self.doc["scenes"][0]["nodes"].append(index)
-        return index
-
-    def add(self, key: str, item: dict) -> int:
-        self.doc.setdefault(key, []).append(item)
-        return len(self.doc[key]) - 1
-
-    def gltf(self, path: Path, external_bin: str | None = None) -> None:
-        if external_bin:
-            (path.parent / external_bin).write_bytes(bytes(self.bin))
-            uri = external_bin
-        else:
-            uri = data_uri(bytes(self.bin), "application/octet-stream")
-        self.doc["buffers"] = [{"byteLength": len(self.bin), "uri": uri}]
-        path.write_text(json.dumps(self.doc, indent=1) + "\n")
-
-    def glb(self, path: Path) -> None:
-        while len(self.bin) % 4:
-            self.bin.append(0)
-        self.doc["buffers"] = [{"byteLength": len(self.bin)}]
-        text = json.dumps(self.doc).encode()
-        text += b" " * (-len(text) % 4)
-        body = (struct.pack("<II", len(text), 0x4E4F534A) + text
-                + struct.pack("<II", len(self.bin), 0x004E4942) + bytes(self.bin))
-        path.write_bytes(struct.pack("<III", 0x46546C67, 2, 12 + len(body)) + body)
+GENERATOR = "osr-vk make_scene_test_data.py"
 
 
 # A unit quad in the z = 0 plane facing +Z, two triangles, uv (0,0) at the top left.
@@ -134,7 +29,7 @@ def checker(n: int, a: tuple, b: tuple) -> bytes:
 
 def hierarchy(out: Path) -> None:
     """Matrix parent, TRS child, mirrored node (det < 0), non-uniform scale on a slanted face."""
-    g = Gltf()
+    g = Gltf(GENERATOR)
     quad = g.mesh(QUAD_P, QUAD_I, QUAD_N)
     # Slanted triangle: normal (0, 1, 1)/sqrt(2).
     s = 1 / math.sqrt(2)
@@ -150,7 +45,7 @@ def hierarchy(out: Path) -> None:
 
 def nonindexed(out: Path) -> None:
     """Two triangles without indices and without normals (flat normals generated)."""
-    g = Gltf()
+    g = Gltf(GENERATOR)
     g.mesh([(0, 0, 0), (1, 0, 0), (0, 1, 0), (0, 0, 1), (0, 0, 2), (0, 1, 1)])
     g.node(name="tris", mesh=0)
     g.gltf(out / "nonindexed.gltf")
@@ -158,7 +53,7 @@ def nonindexed(out: Path) -> None:
 
 def index_types(out: Path) -> None:
     """The same quad indexed with u8, u16 and u32 indices; external .bin buffer."""
-    g = Gltf()
+    g = Gltf(GENERATOR)
     for i, kind in enumerate([UBYTE, USHORT, UINT]):
         g.mesh(QUAD_P, QUAD_I, QUAD_N, index_type=kind)
         g.node(name=f"quad{i}", mesh=i, translation=[2.0 * i, 0, 0])
@@ -169,7 +64,7 @@ def textured(out: Path) -> None:
     """Every texture slot: base colour from a PNG file, the others from data: URIs."""
     red, blue = (255, 0, 0, 255), (0, 0, 255, 128)
     (out / "checker.png").write_bytes(checker(4, red, blue))
-    g = Gltf()
+    g = Gltf(GENERATOR)
     g.doc["images"] = [
         {"uri": "checker.png"},
         {"uri": data_uri(png(2, 2, [(0, 64, 255, 255), (0, 128, 128, 255), (0, 255, 0, 255), (0, 32, 64, 255)]), "image/png")},
@@ -204,7 +99,7 @@ def textured(out: Path) -> None:
 
 def alpha_mask(out: Path) -> None:
     """MASK material with an alpha checker texture, next to an OPAQUE one with the same texture."""
-    g = Gltf()
+    g = Gltf(GENERATOR)
     g.doc["images"] = [{"uri": data_uri(checker(2, (255, 255, 255, 255), (255, 255, 255, 0)), "image/png")}]
     g.doc["samplers"] = [{"wrapS": CLAMP, "wrapT": CLAMP}]
     g.doc["textures"] = [{"source": 0, "sampler": 0}]
@@ -221,7 +116,7 @@ def alpha_mask(out: Path) -> None:
 
 def lights(out: Path) -> None:
     """KHR_lights_punctual: point, spot and directional on transformed nodes."""
-    g = Gltf()
+    g = Gltf(GENERATOR)
     g.doc["extensionsUsed"] = ["KHR_lights_punctual"]
     g.doc["extensions"] = {"KHR_lights_punctual": {"lights": [
         {"type": "point", "color": [1, 0.5, 0.25], "intensity": 683, "range": 10},
@@ -240,7 +135,7 @@ def lights(out: Path) -> None:
 
 def cameras(out: Path) -> None:
     """Two perspective cameras (one without aspect ratio) and an orthographic one (skipped)."""
-    g = Gltf()
+    g = Gltf(GENERATOR)
     g.doc["cameras"] = [
         {"type": "perspective", "name": "wide", "perspective": {"yfov": 1.2, "aspectRatio": 1.5, "znear": 0.1}},
         {"type": "perspective", "perspective": {"yfov": 0.5, "znear": 0.1}},
@@ -257,7 +152,7 @@ def cameras(out: Path) -> None:
 def materials(out: Path) -> None:
     """Factors of every supported extension, an unsupported extension, a lines primitive, and a
     primitive without material (gets the default material)."""
-    g = Gltf()
+    g = Gltf(GENERATOR)
     g.doc["extensionsUsed"] = ["KHR_materials_specular", "KHR_materials_ior", "KHR_materials_transmission",
                                "KHR_materials_emissive_strength", "KHR_materials_clearcoat"]
     g.add("materials", {"name": "glass", "pbrMetallicRoughness": {"baseColorFactor": [0.9, 0.95, 1, 1],
@@ -285,7 +180,7 @@ def materials(out: Path) -> None:
 
 def binary(out: Path) -> None:
     """.glb with the image in a buffer view; also the source of the truncated copy."""
-    g = Gltf()
+    g = Gltf(GENERATOR)
     image = checker(2, (10, 20, 30, 255), (200, 210, 220, 255))
     g.doc["images"] = [{"bufferView": g.view(image), "mimeType": "image/png"}]
     g.doc["textures"] = [{"source": 0}]
@@ -315,7 +210,7 @@ def sparse_accessor(g: Gltf, base: int | None, indices: list[int], values: list)
 
 def sparse(out: Path) -> None:
     """Sparse POSITION accessors: one over a buffer view, one over zeros (no buffer view)."""
-    g = Gltf()
+    g = Gltf(GENERATOR)
     g.mesh(QUAD_P, QUAD_I, QUAD_N)
     sparse_accessor(g, g.doc["meshes"][0]["primitives"][0]["attributes"]["POSITION"], [2], [(1, 1, 1)])
     g.mesh(QUAD_P, QUAD_I, QUAD_N)
@@ -324,7 +219,7 @@ def sparse(out: Path) -> None:
     g.node(name="over_view", mesh=0)
     g.node(name="over_zeros", mesh=1, translation=[0, 0, 2])
     g.gltf(out / "sparse.gltf")
-    bad = Gltf()
+    bad = Gltf(GENERATOR)
     bad.mesh(QUAD_P, QUAD_I, QUAD_N)
     sparse_accessor(bad, 0, [9], [(1, 1, 1)])
     bad.node(mesh=0)
@@ -333,7 +228,7 @@ def sparse(out: Path) -> None:
 
 def texture16(out: Path) -> None:
     """A 16-bit-per-channel PNG: rounded to RGBA8."""
-    g = Gltf()
+    g = Gltf(GENERATOR)
     g.doc["images"] = [{"uri": data_uri(png(2, 1, [(0x1234, 0xABCD, 0xFFFF, 0xFFFF), (0x00FF, 0x0100, 0x8000, 0x7FFF)], 16), "image/png")}]
     g.doc["textures"] = [{"source": 0}]
     g.add("materials", {"pbrMetallicRoughness": {"baseColorTexture": {"index": 0}}})
@@ -345,7 +240,7 @@ def texture16(out: Path) -> None:
 def degenerate_attributes(out: Path) -> None:
     """Loadable with warnings: a NaN uv, a zero normal, a texture whose image only an
     unsupported extension names."""
-    g = Gltf()
+    g = Gltf(GENERATOR)
     g.doc["extensionsUsed"] = ["EXT_texture_webp"]
     g.doc["images"] = [{"uri": "never_read.webp"}]
     g.doc["textures"] = [{"extensions": {"EXT_texture_webp": {"source": 0}}}]
@@ -359,7 +254,7 @@ def degenerate_attributes(out: Path) -> None:
 def texture_transform(out: Path) -> None:
     """KHR_texture_transform: offset + scale, the extension's rotated example, and a material whose
     slots disagree (warned; the first slot's transform is used)."""
-    g = Gltf()
+    g = Gltf(GENERATOR)
     g.doc["extensionsUsed"] = ["KHR_texture_transform"]
     g.doc["images"] = [{"uri": data_uri(checker(2, (255, 255, 255, 255), (0, 0, 0, 255)), "image/png")}]
     g.doc["textures"] = [{"source": 0}]
@@ -381,7 +276,7 @@ def texture_transform(out: Path) -> None:
 def quantized(out: Path) -> None:
     """KHR_mesh_quantization: int16 positions (scaled back by the node), int8 normalized
     normals, uint16 normalized uvs, positions in a strided buffer view."""
-    g = Gltf()
+    g = Gltf(GENERATOR)
     g.doc["extensionsUsed"] = ["KHR_mesh_quantization"]
     g.doc["extensionsRequired"] = ["KHR_mesh_quantization"]
     prim = {"attributes": {
@@ -397,14 +292,14 @@ def quantized(out: Path) -> None:
 def bad_inputs(out: Path) -> None:
     """One file per kind of bad input the loader must refuse with one line."""
     def quad_file(name: str, edit=None, positions=QUAD_P, indices=QUAD_I, **kw: Any) -> None:
-        g = Gltf()
+        g = Gltf(GENERATOR)
         g.mesh(positions, indices, QUAD_N, **kw)
         g.node(name="quad", mesh=0)
         if edit:
             edit(g)
         g.gltf(out / name)
 
-    good = Gltf()
+    good = Gltf(GENERATOR)
     good.mesh(QUAD_P, QUAD_I, QUAD_N)
     good.node(mesh=0)
     good.gltf(out / "bad_json.gltf")
@@ -434,7 +329,7 @@ def bad_inputs(out: Path) -> None:
         g.doc["meshes"][0]["primitives"][0]["mode"] = 0  # POINTS only
     quad_file("bad_no_triangles.gltf", no_triangles)
 
-    g = Gltf()
+    g = Gltf(GENERATOR)
     g.mesh(QUAD_P, QUAD_I, QUAD_N)
     g.node(mesh=0)
     g.gltf(out / "bad_missing_bin.gltf", external_bin="bad_missing_bin.bin")
