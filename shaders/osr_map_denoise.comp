@@ -12,6 +12,7 @@
 #include "shared/osr.h"
 
 layout(constant_id = kOsrSpecDenoiser) const uint kDenoiser = kDenoiserUnet;
+layout(constant_id = kOsrSpecNetOutput) const uint kNetOutput = kNetOutputRescaled;
 layout(local_size_x = kOsrWorkgroupSize) in;
 layout(std430, binding = kOsrBindingMapClean) writeonly buffer OsrMapClean { float gMapClean[]; };
 layout(std430, binding = kOsrBindingMapOneShot) readonly buffer OsrOneShot { float gOneShot[]; };
@@ -47,6 +48,13 @@ void main() {
   uint out0 = (gPush.mapOffset + local) * 3u * kMapTexels;
   vec3 target = gStats[local].meanRadiance.rgb;
   for (uint c = 0u; c < 3u; ++c) {
+    if (kDenoiser == kDenoiserUnet && kNetOutput == kNetOutputAbsolute) {
+      // The network predicts the level too (a 1-path map's mean is its noisiest statistic).
+      float unit = 10.0 * gStats[local].meanRadiance.w;
+      for (uint t = 0u; t < kMapTexels; ++t)
+        gMapClean[out0 + c * kMapTexels + t] = unit * max(sourceValue(local, c, t), 0.0);
+      continue;
+    }
     if (kDenoiser == kDenoiserNone) {
       for (uint t = 0u; t < kMapTexels; ++t)
         gMapClean[out0 + c * kMapTexels + t] = gOneShot[(local * kMapChannels + c) * kMapTexels + t];

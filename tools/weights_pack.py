@@ -226,6 +226,8 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--golden", metavar="DIR", help="also write a random input batch and PyTorch's output for it")
     parser.add_argument("--golden-maps", type=int, default=3, help="maps in the golden batch (default 3)")
     parser.add_argument("--seed", type=int, default=1, help="seed of the golden input (default 1)")
+    parser.add_argument("--normalization", help="the header's normalization, overriding the checkpoint's "
+                        "(log1p_mean10_v1: output rescaled to the one-shot means; log1p_mean10_abs_v1: as predicted)")
     args = parser.parse_args(argv)
     try:
         import torch
@@ -235,7 +237,13 @@ def main(argv: list[str] | None = None) -> int:
             raise PackError(f"{args.checkpoint}: no such file")
         state = load_state_dict(args.checkpoint)
         model, k = build_model(args.checkpoint, state)
-        blob = pack(model, k, args.fp16, args.checkpoint, fmt, checkpoint_metadata(args.checkpoint))
+        metadata = checkpoint_metadata(args.checkpoint)
+        if args.normalization:
+            known = (fmt["kNormalizationLogMean10"], fmt["kNormalizationLogMean10Absolute"])
+            if args.normalization not in known:
+                raise PackError(f"--normalization {args.normalization}: not one of {', '.join(known)}")
+            metadata["normalization"] = args.normalization
+        blob = pack(model, k, args.fp16, args.checkpoint, fmt, metadata)
         Path(args.out).write_bytes(blob)
         if args.golden:
             write_golden(model, args.golden, args.golden_maps, args.seed, k)

@@ -53,9 +53,14 @@ OSR_CONST(uint, kOsrBindingCount, 27u);
 // Specialization constants.
 OSR_CONST(uint, kOsrSpecSceneFeatures, 0u);  // the scene's kSceneFeature* bits
 OSR_CONST(uint, kOsrSpecDenoiser, 1u);       // osr_map_denoise: kDenoiser*
+OSR_CONST(uint, kOsrSpecNetOutput, 2u);      // osr_map_denoise: kNetOutput*
 OSR_CONST(uint, kDenoiserUnet, 0u);   // the U-Net's output, denormalized
 OSR_CONST(uint, kDenoiserBlur, 1u);   // a fixed Gaussian blur of the one-shot radiance
 OSR_CONST(uint, kDenoiserNone, 2u);   // the one-shot radiance as traced
+
+// How the U-Net's output y becomes radiance (the weights' normalization, nn/weights_format.h).
+OSR_CONST(uint, kNetOutputRescaled, 0u);  // exp(y) - 1, each channel rescaled to the one-shot mean
+OSR_CONST(uint, kNetOutputAbsolute, 1u);  // 10 m (exp(y) - 1), m the one-shot mean of all channels
 
 // Surfaces the G-buffer follows through (mirror-like metal, smooth glass) instead of shading:
 // GGX alpha below this is "near-specular".

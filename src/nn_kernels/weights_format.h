@@ -34,5 +34,9 @@ inline constexpr uint32_t kOutChannels = 3;
 // the input/target normalization (DESIGN.md "Normalization": log(1 + x / (10 mean)) - 0.1).
 inline constexpr char kMappingConcentric[] = "concentric";
 inline constexpr char kNormalizationLogMean10[] = "log1p_mean10_v1";
+// The same input; the output is radiance 10 m (exp(y) - 1) as predicted, m the one-shot map's
+// mean, instead of rescaled to the one-shot channel means (docs/training.md: measured better,
+// since a 1-path map's mean is its noisiest statistic).
+inline constexpr char kNormalizationLogMean10Absolute[] = "log1p_mean10_abs_v1";
 
 }  // namespace osr::nn

@@ -52,7 +52,8 @@ std::vector<float> normalizeMapCpu(const float* m, o::MapStats& stats) {
 }
 
 std::vector<float> denoiseMapCpu(Denoiser d, const float* oneShot, const float* netOut,
-                                 const o::MapStats& stats) {
+                                 const o::MapStats& stats, uint32_t netOutput) {
+  const bool absolute = d == Denoiser::Unet && netOutput == o::kNetOutputAbsolute;
   std::vector<float> out(3 * kT);
   const double g[3] = {0.40262, 0.24420, 0.05448};
   for (int c = 0; c < 3; ++c) {
@@ -80,6 +81,8 @@ std::vector<float> denoiseMapCpu(Denoiser d, const float* oneShot, const float* 
     for (uint32_t t = 0; t < kT; ++t) {
       if (d == Denoiser::None)
         out[c * kT + t] = float(v[t]);
+      else if (absolute)
+        out[c * kT + t] = float(10.0 * stats.meanRadiance.w * v[t]);
       else
         out[c * kT + t] =
             mean > 0 ? float(v[t] * stats.meanRadiance[c] / mean) : stats.meanRadiance[c];

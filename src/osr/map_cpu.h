@@ -13,9 +13,11 @@ namespace osr::oneshot {
 
 // One-shot map [7][32][32] -> normalized [7][32][32] and its statistics.
 std::vector<float> normalizeMapCpu(const float* oneShot, gpu::osr::MapStats& stats);
-// Clean radiance [3][32][32] from the one-shot map (blur, none) or the network's output (unet).
+// Clean radiance [3][32][32] from the one-shot map (blur, none) or the network's output (unet,
+// turned into radiance as netOutput, gpu::osr::kNetOutput*, says).
 std::vector<float> denoiseMapCpu(Denoiser d, const float* oneShot, const float* netOut,
-                                 const gpu::osr::MapStats& stats);
+                                 const gpu::osr::MapStats& stats,
+                                 uint32_t netOutput = gpu::osr::kNetOutputRescaled);
 // Mean radiance and irradiance SH of a clean map (MapRecord.mean / .sh).
 void projectMapCpu(const float* clean, glm::vec3& mean, std::array<glm::vec3, 9>& sh);
 // Irradiance at local normal n from the projection, as the composite computes it.

@@ -32,7 +32,9 @@ const char* denoiserName(Denoiser d) {
 
 namespace {
 
-std::unique_ptr<nn::UNet> loadNetwork(const vk::Context& ctx, const OsrSettings& s) {
+// The network, and how its output becomes radiance (netOutput: o::kNetOutput*).
+std::unique_ptr<nn::UNet> loadNetwork(const vk::Context& ctx, const OsrSettings& s,
+                                      uint32_t& netOutput) {
   if (s.denoiser != Denoiser::Unet) return nullptr;
   if (s.weightsPath.empty())
     throw InputError(
@@ -40,7 +42,10 @@ std::unique_ptr<nn::UNet> loadNetwork(const vk::Context& ctx, const OsrSettings&
         "(tools/weights_pack.py) or use --denoiser blur");
   nn::UNetWeights w = nn::UNetWeights::load(s.weightsPath);
   // The maps fed to it are cosine-concentric and normalized per DESIGN.md (shared/osr.h).
-  w.requireConventions(nn::kMappingConcentric, nn::kNormalizationLogMean10);
+  const bool absolute = w.normalization == nn::kNormalizationLogMean10Absolute;
+  w.requireConventions(nn::kMappingConcentric, absolute ? nn::kNormalizationLogMean10Absolute
+                                                        : nn::kNormalizationLogMean10);
+  netOutput = absolute ? o::kNetOutputAbsolute : o::kNetOutputRescaled;
   return std::make_unique<nn::UNet>(ctx, w);
 }
 
@@ -60,14 +65,15 @@ OsrIntegrator::OsrIntegrator(const vk::Context& ctx, const scene::GpuScene& scen
                 settings.pixelCost(settings.settlePasses),
                 settings.pathsPerTexel),
       film_(ctx, width, height),
-      unet_(loadNetwork(ctx, settings)),
+      unet_(loadNetwork(ctx, settings, netOutput_)),
       gbuffer_(ctx, shaders::Id::osr_gbuffer, Domain::Pixels, scene.features, scene.texelFetch),
       direct_(ctx, shaders::Id::osr_direct, Domain::Pixels, scene.features, scene.texelFetch),
       maps_(ctx, shaders::Id::osr_maps, Domain::MapTexels, scene.features, scene.texelFetch),
       normalize_(ctx, shaders::Id::osr_map_normalize, Domain::Maps, scene.features,
                  scene.texelFetch),
       denoise_(ctx, shaders::Id::osr_map_denoise, Domain::Maps, scene.features, scene.texelFetch,
-               {vk::specUint(o::kOsrSpecDenoiser, uint32_t(settings.denoiser))}),
+               {vk::specUint(o::kOsrSpecDenoiser, uint32_t(settings.denoiser)),
+                vk::specUint(o::kOsrSpecNetOutput, netOutput_)}),
       project_(ctx, shaders::Id::osr_map_project, Domain::Maps, scene.features, scene.texelFetch),
       composite_(ctx, shaders::Id::osr_composite, Domain::Pixels, scene.features, scene.texelFetch),
       residual_(ctx, shaders::Id::osr_residual, Domain::Pixels, scene.features, scene.texelFetch),

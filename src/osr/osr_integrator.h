@@ -62,6 +62,7 @@ class OsrIntegrator : public render::Integrator {
   mutable GridSchedule schedule_;  // lazily extended by pass()
   render::Film film_;
   std::unique_ptr<OsrBuffers> buffers_;
+  uint32_t netOutput_ = gpu::osr::kNetOutputRescaled;  // from the weights' normalization
   std::unique_ptr<nn::UNet> unet_;
   OsrPass gbuffer_, direct_, maps_, normalize_, denoise_, project_, composite_, residual_, resolve_;
   OsrBindings bindings_;

@@ -6,8 +6,13 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
+#include <fstream>
+#include <iterator>
 
 #include "nn_kernels/unet_cpu.h"
+#include "nn_kernels/weights.h"
+#include "nn_kernels/weights_format.h"
 #include "osr/map_cpu.h"
 #include "osr/map_tracer.h"
 #include "osr/osr_test_util.h"
@@ -102,26 +107,55 @@ TEST(MapPasses, DenoiseAndProjectMatchCpuTwins) {
   }
 }
 
+// The test network's file with its header's normalization renamed (header length and checksum
+// rewritten; the data offset has room for the longer name).
+std::string withNormalization(const std::string& weights, const std::string& normalization) {
+  std::ifstream in(weights, std::ios::binary);
+  std::vector<uint8_t> file((std::istreambuf_iterator<char>(in)), {});
+  uint64_t headerBytes = 0;
+  std::memcpy(&headerBytes, file.data() + nn::kOffsetHeaderBytes, 8);
+  std::string header(file.begin() + nn::kPrefixBytes, file.begin() + nn::kPrefixBytes + headerBytes);
+  const std::string from = std::string("\"") + nn::kNormalizationLogMean10 + "\"";
+  header.replace(header.find(from), from.size(), "\"" + normalization + "\"");
+  uint64_t dataOffset = 0;
+  std::memcpy(&dataOffset, file.data() + nn::kOffsetDataOffset, 8);
+  EXPECT_LE(nn::kPrefixBytes + header.size(), dataOffset);
+  std::fill(file.begin() + nn::kPrefixBytes, file.begin() + dataOffset, 0);
+  std::copy(header.begin(), header.end(), file.begin() + nn::kPrefixBytes);
+  headerBytes = header.size();
+  std::memcpy(file.data() + nn::kOffsetHeaderBytes, &headerBytes, 8);
+  uint32_t crc = nn::crc32(file.data() + nn::kPrefixBytes, file.size() - nn::kPrefixBytes);
+  std::memcpy(file.data() + nn::kOffsetChecksum, &crc, 4);
+  std::string path = (test::tempDir("map_tracer") / ("unet_" + normalization + ".osrw")).string();
+  std::ofstream(path, std::ios::binary).write(reinterpret_cast<const char*>(file.data()), file.size());
+  return path;
+}
+
 TEST(MapPasses, UnetInsideOsrMatchesTheCpuNetwork) {
   // The packed random-weight test network (K = 8): normalize -> U-Net -> denormalize on the
-  // device equals the CPU twins and the CPU U-Net on the same one-shot maps.
+  // device equals the CPU twins and the CPU U-Net on the same one-shot maps, with the output
+  // rescaled to the one-shot channel means and taken as predicted (absolute).
   auto s = test::loadForTest(test::referencePath("cornell/cornell.gltf"));
-  std::string weights = test::dataPath("unet_k8.osrw");
-  auto dump = onePass(s, oneshot::Denoiser::Unet, weights);
-  auto w = nn::UNetWeights::load(weights);
-  const uint32_t n = 6;  // maps checked (the CPU network is slow)
-  nn::Tensor in(n, o::kMapChannels, 32, 32);
-  std::vector<o::MapStats> stats(n);
-  for (uint32_t m = 0; m < n; ++m) {
-    auto norm = oneshot::normalizeMapCpu(dump.oneShot.data() + m * o::kMapChannels * kT, stats[m]);
-    std::copy(norm.begin(), norm.end(), in.data.begin() + m * o::kMapChannels * kT);
-  }
-  nn::Tensor out = nn::unetCpu(w, in);
-  for (uint32_t m = 0; m < n; ++m) {
-    auto clean = oneshot::denoiseMapCpu(oneshot::Denoiser::Unet,
-                                        dump.oneShot.data() + m * o::kMapChannels * kT,
-                                        out.data.data() + m * 3 * kT, stats[m]);
-    expectClose(clean, dump.clean.data() + m * 3 * kT, 2e-3, "unet");
+  const std::string rescaled = test::dataPath("unet_k8.osrw");
+  const std::string absolute = withNormalization(rescaled, nn::kNormalizationLogMean10Absolute);
+  for (auto [weights, netOutput] : {std::pair{rescaled, o::kNetOutputRescaled},
+                                    std::pair{absolute, o::kNetOutputAbsolute}}) {
+    auto dump = onePass(s, oneshot::Denoiser::Unet, weights);
+    auto w = nn::UNetWeights::load(weights);
+    const uint32_t n = 6;  // maps checked (the CPU network is slow)
+    nn::Tensor in(n, o::kMapChannels, 32, 32);
+    std::vector<o::MapStats> stats(n);
+    for (uint32_t m = 0; m < n; ++m) {
+      auto norm = oneshot::normalizeMapCpu(dump.oneShot.data() + m * o::kMapChannels * kT, stats[m]);
+      std::copy(norm.begin(), norm.end(), in.data.begin() + m * o::kMapChannels * kT);
+    }
+    nn::Tensor out = nn::unetCpu(w, in);
+    for (uint32_t m = 0; m < n; ++m) {
+      auto clean = oneshot::denoiseMapCpu(oneshot::Denoiser::Unet,
+                                          dump.oneShot.data() + m * o::kMapChannels * kT,
+                                          out.data.data() + m * 3 * kT, stats[m], netOutput);
+      expectClose(clean, dump.clean.data() + m * 3 * kT, 2e-3, weights.c_str());
+    }
   }
 }
 
