@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Trains osr-vk's U-Net (tools/unet.py) on hemisphere maps and exports packed weights.
 
-usage: train.py DATA [DATA ...] --val VAL --out RUN [--k 16] [--minutes 30] [--batch 64]
+usage: train.py DATA [DATA ...] --val VAL --out RUN [--k 16] [--minutes 30 | --steps N] [--batch 64]
                 [--lr 1e-3] [--loss relmse|l1log] [--threads 2] [--seed 1]
 
 DATA and VAL are make_dataset.py folders (docs/training.md); VAL holds scenes that DATA does
@@ -141,6 +141,7 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--out", required=True, help="run folder (resumed if it holds checkpoint.pt)")
     p.add_argument("--k", type=int, default=16, help="base width K of the U-Net (default 16)")
     p.add_argument("--minutes", type=float, default=30.0, help="training time budget (default 30)")
+    p.add_argument("--steps", type=int, help="a budget in steps instead of time (comparisons on a busy machine)")
     p.add_argument("--batch", type=int, default=64, help="batch size (default 64)")
     p.add_argument("--lr", type=float, default=1e-3, help="initial Adam learning rate (default 1e-3)")
     p.add_argument("--loss", choices=["relmse", "l1log"], default="relmse", help="loss (default relmse)")
@@ -227,12 +228,18 @@ def main(argv: list[str] | None = None) -> int:
                          "examples": state["examples"], "epochs": entry["epoch"], **errors,
                          "train_minutes": entry["minutes"]}, best_path)
 
+    def done_fraction() -> float:
+        if args.steps:
+            return state["step"] / args.steps
+        return (time.monotonic() - start) / budget
+
     while True:
         elapsed = time.monotonic() - start
-        if elapsed >= budget:
+        frac = done_fraction()
+        if frac >= 1.0:
             break
-        for group in opt.param_groups:  # cosine decay over the time budget
-            group["lr"] = args.lr * 0.5 * (1 + math.cos(math.pi * min(elapsed / budget, 1.0)))
+        for group in opt.param_groups:  # cosine decay over the budget
+            group["lr"] = args.lr * 0.5 * (1 + math.cos(math.pi * frac))
         rows = rng.integers(0, train.count, args.batch)
         sym = int(rng.integers(0, 8))
         xb = torch.from_numpy(maps_data.symmetry(train.x[rows], sym, normals=True))
@@ -256,9 +263,9 @@ def main(argv: list[str] | None = None) -> int:
             rate = window_n / max(now - window_t, 1e-9)
             if now - window_t > 30:
                 window_t, window_n = now, 0
-            sys.stderr.write(progress_line(min(elapsed / budget, 1.0), state["step"],
-                                           state["examples"] / train.count, running, rate, val_err,
-                                           budget - elapsed))
+            left = elapsed * (1 - frac) / max(frac, 1e-9)
+            sys.stderr.write(progress_line(frac, state["step"], state["examples"] / train.count, running, rate,
+                                           val_err, left))
             sys.stderr.flush()
     validate()
     checkpoint()
