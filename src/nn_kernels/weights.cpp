@@ -149,7 +149,7 @@ double UNetWeights::flopsPerMap() const {
 namespace {
 
 template <class T>
-T readLe(const std::vector<uint8_t>& bytes, size_t offset) {
+T readLe(std::span<const uint8_t> bytes, size_t offset) {
   T v;
   std::memcpy(&v, bytes.data() + offset, sizeof(T));  // the format and every host are little-endian
   return v;
@@ -160,7 +160,7 @@ T readLe(const std::vector<uint8_t>& bytes, size_t offset) {
 }
 
 // Reads tensor `key` of layer `layer` with the expected shape into `out` as floats.
-void readTensor(const std::string& path, const std::vector<uint8_t>& file, uint64_t dataOffset,
+void readTensor(const std::string& path, std::span<const uint8_t> file, uint64_t dataOffset,
                 uint64_t dataBytes, const nlohmann::json& layer, const char* key,
                 const std::vector<uint64_t>& shape, std::vector<float>& out) {
   const std::string where = layer.value("name", std::string("?")) + "." + key;
@@ -203,6 +203,10 @@ UNetWeights UNetWeights::load(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   if (!in) fail(path, "cannot open weights file");
   std::vector<uint8_t> file((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  return parse(file, path);
+}
+
+UNetWeights UNetWeights::parse(std::span<const uint8_t> file, const std::string& path) {
   if (file.size() < kPrefixBytes) fail(path, "truncated: " + std::to_string(file.size()) + " bytes");
   if (std::memcmp(file.data(), kWeightsMagic, 8) != 0)
     fail(path, "not a packed U-Net weights file (bad magic)");

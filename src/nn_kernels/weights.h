@@ -4,6 +4,7 @@
 // the device copy is bit-identical to the file.
 #pragma once
 #include <cstdint>
+#include <span>
 #include <string>
 #include <string_view>
 #include <vector>
@@ -52,6 +53,9 @@ struct UNetWeights {
   static UNetWeights random(uint32_t k, uint32_t seed, bool half = false);
   // Throws InputError "<path>: <problem>" on any mismatch with weights_format.h.
   static UNetWeights load(const std::string& path);
+  // The same from the bytes of a packed file (e.g. the model built into the executable);
+  // `source` names it in messages.
+  static UNetWeights parse(std::span<const uint8_t> bytes, const std::string& source);
   // Throws InputError "<source>: <problem>" unless the model was trained for this mapping and
   // normalization, so that a caller refuses a model made for other maps.
   void requireConventions(std::string_view mapping, std::string_view normalization) const;

@@ -4,6 +4,7 @@
 
 #include "common/error.h"
 #include "nn_kernels/weights_format.h"
+#include "osr/default_model.h"
 #include "render/camera_frame.h"
 #include "vk/timer.h"
 
@@ -16,6 +17,10 @@ Denoiser parseDenoiser(const std::string& name) {
   if (name == "blur") return Denoiser::Blur;
   if (name == "none") return Denoiser::None;
   throw InputError("--denoiser: unknown denoiser '" + name + "' (unet, blur, none)");
+}
+
+Denoiser defaultDenoiser() {
+  return defaultModelBytes().empty() ? Denoiser::Blur : Denoiser::Unet;
 }
 
 const char* denoiserName(Denoiser d) {
@@ -36,11 +41,13 @@ namespace {
 std::unique_ptr<nn::UNet> loadNetwork(const vk::Context& ctx, const OsrSettings& s,
                                       uint32_t& netOutput) {
   if (s.denoiser != Denoiser::Unet) return nullptr;
-  if (s.weightsPath.empty())
+  if (s.weightsPath.empty() && defaultModelBytes().empty())
     throw InputError(
-        "--denoiser unet: no trained model is shipped yet; give --weights FILE "
-        "(tools/weights_pack.py) or use --denoiser blur");
-  nn::UNetWeights w = nn::UNetWeights::load(s.weightsPath);
+        "--denoiser unet: this build has no built-in model (models/osr_unet.osrw); give "
+        "--weights FILE (tools/weights_pack.py) or use --denoiser blur");
+  nn::UNetWeights w = s.weightsPath.empty()
+                          ? nn::UNetWeights::parse(defaultModelBytes(), kDefaultModelName)
+                          : nn::UNetWeights::load(s.weightsPath);
   // The maps fed to it are cosine-concentric and normalized per DESIGN.md (shared/osr.h).
   const bool absolute = w.normalization == nn::kNormalizationLogMean10Absolute;
   w.requireConventions(nn::kMappingConcentric, absolute ? nn::kNormalizationLogMean10Absolute

@@ -16,14 +16,16 @@ enum class Denoiser : uint32_t {
 // "unet" | "blur" | "none"; throws InputError naming --denoiser otherwise.
 Denoiser parseDenoiser(const std::string& name);
 const char* denoiserName(Denoiser d);
+Denoiser defaultDenoiser();
 
 struct PassSamples {
   uint32_t direct, residual;
 };
 
 struct OsrSettings {
-  Denoiser denoiser = Denoiser::Blur;
-  std::string weightsPath;       // packed U-Net (tools/weights_pack.py); needed for Unet
+  // The U-Net when the build has a model built in (models/osr_unet.osrw), else the blur.
+  Denoiser denoiser = defaultDenoiser();
+  std::string weightsPath;       // packed U-Net (tools/weights_pack.py); empty: the built-in one
   uint32_t gridStart = 16;       // grid spacing r of the first pass, pixels
   uint32_t gridMin = 16;         // finest spacing the schedule refines to
   double mapShare = 0.25;        // largest share of the work map passes may take
