@@ -73,7 +73,7 @@ def predict(path: str, x: np.ndarray) -> tuple[str, np.ndarray]:
     with torch.no_grad():
         for i in range(0, len(x), 128):
             out.append(np.expm1(model(torch.from_numpy(xn[i:i + 128])).numpy()))
-    name = f"U-Net K={base_width(state)}"
+    name = f"U-Net K={base_width(state)} ({Path(path).parent.name})"
     return name, np.concatenate(out) * maps_data.target_scale(x)
 
 

@@ -100,6 +100,8 @@ def main(argv: list[str] | None = None) -> int:
                           f"{r.stderr.strip().splitlines()[-1] if r.stderr.strip() else r.returncode}",
                           file=sys.stderr)
                     return 1
+                for line in r.stderr.splitlines():  # osr-vk's warnings (it ran with --quiet)
+                    print(f"{name}: {line}", file=sys.stderr)
                 index = shard_done(shard, settings)
             shards[name] = {"path": name, "count": index["count"], "seed": seed, "camera": cam,
                             "lighting": info.get("lighting"), "seconds": round(seconds, 2)}

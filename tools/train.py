@@ -149,6 +149,7 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--seed", type=int, default=1, help="seed of initialization and batches (default 1)")
     p.add_argument("--eval-s", type=float, default=120.0, help="seconds between validations (default 120)")
     p.add_argument("--checkpoint-s", type=float, default=60.0, help="seconds between checkpoints (default 60)")
+    p.add_argument("--init", help="start from this checkpoint's weights (best.pt or checkpoint.pt of the same K)")
     p.add_argument("--no-export", action="store_true", help="do not pack model.osrw at the end")
     args = p.parse_args(argv)
 
@@ -181,6 +182,10 @@ def main(argv: list[str] | None = None) -> int:
     opt = torch.optim.Adam(model.parameters(), lr=args.lr)
     state = {"step": 0, "examples": 0, "elapsed": 0.0, "best": math.inf, "rng": args.seed}
     ckpt_path, best_path, log_path = run / "checkpoint.pt", run / "best.pt", run / "train.log"
+    if args.init and not ckpt_path.is_file():
+        ck = torch.load(args.init, map_location="cpu")
+        model.load_state_dict(ck.get("state_dict", ck.get("model", ck)))
+        print(f"train.py: starting from the weights of {args.init}", file=sys.stderr)
     if ckpt_path.is_file():
         ck = torch.load(ckpt_path, map_location="cpu")
         if ck["k"] != args.k:
@@ -194,7 +199,8 @@ def main(argv: list[str] | None = None) -> int:
     meta = {"k": args.k, "loss": args.loss, "datasets": ",".join(args.data), "validation": args.val,
             "train_scenes": seeds_text(train.scenes), "val_scenes": seeds_text(val.scenes),
             "target_spp": ",".join(str(s) for s in sorted(train.spp)), "train_maps": train.count,
-            "val_maps": val.count, "batch": args.batch, "lr": args.lr, "git_commit": git_commit()}
+            "val_maps": val.count, "batch": args.batch, "lr": args.lr, "git_commit": git_commit(),
+            "init": args.init or ""}
     print(f"train.py: {train.count} maps from {len(train.scenes)} scenes ({train.dropped} unlit dropped), "
           f"validation {val.count} maps from {len(val.scenes)} scenes; K={args.k}, loss {args.loss}",
           file=sys.stderr)
