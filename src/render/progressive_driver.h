@@ -3,7 +3,9 @@
 // batching (units per submission sized from the measured seconds per unit), progress,
 // cancellation and per-pass GPU timings. The CLI calls run(); a viewer calls step() once per
 // frame and restart() when the camera moves. The same seed gives the same image: batching
-// changes how units are grouped into submissions, never which units are computed.
+// changes how units are grouped into submissions, never which units are computed. A unit
+// longer than the batch target is split into slices (Integrator::maxSlicesPerUnit), so no
+// submission is much longer than the target where the integrator allows it.
 #pragma once
 #include <atomic>
 #include <chrono>
@@ -25,7 +27,8 @@ struct DriverSettings {
 };
 
 struct Progress {
-  uint32_t units = 0;
+  uint32_t units = 0;           // complete units
+  double unitFraction = 0.0;    // of the unit in progress, in slices (0 between units)
   uint32_t targetUnits = 0;
   const char* unitName = "";  // Integrator::unitName()
   double elapsedS = 0.0;
@@ -68,6 +71,8 @@ class ProgressiveDriver {
  private:
   double elapsed() const;
   uint32_t nextBatch() const;
+  uint32_t slicesFor(double unitSeconds) const;
+  void addTimes();
 
   const vk::Context& ctx_;
   Integrator& integrator_;
@@ -79,6 +84,12 @@ class ProgressiveDriver {
   double secondsPerUnit_ = 0.0;
   double secondsPerCost_ = 0.0;  // of Integrator::unitCost, from the last submission
   bool started_ = false;
+  // The unit being recorded in slices: slice_ of slices_ done (slices_ 0 between units).
+  uint32_t slice_ = 0, slices_ = 0;
+  double sliceSeconds_ = 0.0;  // wall time of the current unit's slices so far
+  // Seconds of the last complete unit, kept across restart(): the same integrator after a
+  // camera move costs about the same, so the first unit is sliced too (the viewer's latency).
+  double lastUnitSeconds_ = 0.0;
   RenderStats stats_;
 };
 
