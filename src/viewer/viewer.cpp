@@ -66,7 +66,7 @@ double percentile(std::vector<double> v, double q) {
 
 class Viewer {
  public:
-  Viewer(const vk::Context& ctx, const ViewerConfig& config);
+  Viewer(const vk::Context& ctx, const ViewerConfig& config, std::vector<ScriptCommand> script);
   int run();
 
  private:
@@ -141,17 +141,18 @@ class Viewer {
   Pacing pacing_;
   std::optional<Clock::time_point> moveTime_;  // a restart whose first image is not shown yet
   bool countLatency_ = false;
+  uint32_t restarts_ = 0;  // refinements started, the first included
   bool firstMoveShown_ = false;
   double lastMoveToCompleteMs_ = 0.0;
   double lastMoveToImageMs_ = 0.0;
   double uiFps_ = 0.0;
 };
 
-Viewer::Viewer(const vk::Context& ctx, const ViewerConfig& config)
+Viewer::Viewer(const vk::Context& ctx, const ViewerConfig& config,
+               std::vector<ScriptCommand> script)
     : ctx_(ctx),
       config_(config),
-      script_(config.scriptPath.empty() ? std::vector<ScriptCommand>{}
-                                        : readViewerScript(config.scriptPath)),
+      script_(std::move(script)),
       window_(int(config.width) + kPanelWidth, int(config.height),
               "osr-vk - " + std::filesystem::path(config.scenePath).filename().string()),
       presenter_(ctx, window_.createSurface(ctx.instance(), ctx.physicalDevice(), ctx.queueFamily()),
@@ -223,6 +224,7 @@ void Viewer::stepRender() {
         driver_->settings().timeLimitS != ds.timeLimitS)
       driver_ = std::make_unique<render::ProgressiveDriver>(ctx_, *integrator_, ds);
     driver_->restart(camera_.camera(), uint32_t(seed_));
+    ++restarts_;
     restartPending_ = false;
     paused_ = false;
     shownFinal_ = false;
@@ -473,13 +475,14 @@ void Viewer::printStats() const {
   const double n = double(pacing_.frameMs.size());
   std::printf(
       "{\"benchmark\": \"viewer\", \"device\": \"%s\", \"scene\": \"%s\", \"mode\": \"%s\", "
-      "\"width\": %u, \"height\": %u, \"frames_while_rendering\": %.0f, "
+      "\"width\": %u, \"height\": %u, \"restarts\": %u, \"units_on_screen\": %u, "
+      "\"frames_while_rendering\": %.0f, "
       "\"ui_fps_while_rendering\": %.2f, \"frame_ms_p50\": %.2f, \"frame_ms_p95\": %.2f, "
       "\"frame_ms_max\": %.2f, \"camera_moves\": %zu, \"move_to_image_ms_p50\": %.1f, "
       "\"move_to_image_ms_max\": %.1f, \"move_to_complete_image_ms_p50\": %.1f, "
       "\"move_to_complete_image_ms_max\": %.1f}\n",
       ctx_.caps().deviceName.c_str(), config_.scenePath.c_str(), mode_.c_str(), renderWidth_,
-      renderHeight_, n, pacing_.renderingS > 0 ? n / pacing_.renderingS : 0.0,
+      renderHeight_, restarts_, shownUnits_, n, pacing_.renderingS > 0 ? n / pacing_.renderingS : 0.0,
       percentile(pacing_.frameMs, 0.5), percentile(pacing_.frameMs, 0.95),
       percentile(pacing_.frameMs, 1.0), pacing_.moveToImageMs.size(),
       percentile(pacing_.moveToImageMs, 0.5), percentile(pacing_.moveToImageMs, 1.0),
@@ -680,7 +683,10 @@ void Viewer::drawPanel() {
 }  // namespace
 
 int runViewer(const vk::Context& ctx, const ViewerConfig& config) {
-  Viewer viewer(ctx, config);
+  // A bad script is bad input: refused before the window opens.
+  std::vector<ScriptCommand> script;
+  if (!config.scriptPath.empty()) script = readViewerScript(config.scriptPath);
+  Viewer viewer(ctx, config, std::move(script));
   return viewer.run();
 }
 
