@@ -50,7 +50,7 @@ render::FilmLayers render(const vk::Context& ctx, const scene::GpuScene& scene, 
                           render::RenderStats* stats, const std::atomic<bool>* cancel) {
   PathIntegrator integrator(ctx, scene, bvh, settings.width, settings.height, settings.mode);
   render::ProgressiveDriver driver(ctx, integrator,
-                                   {settings.spp, settings.timeLimitS, settings.batchTargetS});
+                                   {settings.spp, settings.timeLimitS, settings.batchTargetS, settings.sliceUnits});
   driver.restart(camera, settings.seed);
   driver.run(onProgress, cancel);
   if (stats) *stats = driver.stats();

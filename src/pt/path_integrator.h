@@ -59,6 +59,7 @@ struct RenderSettings {
   uint32_t seed = 0;
   Mode mode = Mode::Path;
   double batchTargetS = 0.25;  // aim for submissions this long (progress, time limit)
+  bool sliceUnits = false;     // split samples into pixel bands (render::DriverSettings)
 };
 
 // Renders `camera`'s view of the uploaded scene with a PathIntegrator under a

@@ -75,8 +75,8 @@ uint32_t ProgressiveDriver::nextBatch() const {
 
 uint32_t ProgressiveDriver::slicesFor(double unitSeconds) const {
   const uint32_t most = std::max(1u, integrator_.maxSlicesPerUnit());
-  if (most == 1 || unitSeconds <= settings_.batchTargetS) return 1;
-  return uint32_t(std::min<double>(most, std::ceil(unitSeconds / settings_.batchTargetS)));
+  if (!settings_.sliceUnits || most == 1 || unitSeconds <= settings_.batchTargetS) return 1;
+  return uint32_t(std::min<double>(most, std::ceil(unitSeconds / std::max(settings_.batchTargetS, 1e-6))));
 }
 
 void ProgressiveDriver::addTimes() {

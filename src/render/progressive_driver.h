@@ -3,9 +3,10 @@
 // batching (units per submission sized from the measured seconds per unit), progress,
 // cancellation and per-pass GPU timings. The CLI calls run(); a viewer calls step() once per
 // frame and restart() when the camera moves. The same seed gives the same image: batching
-// changes how units are grouped into submissions, never which units are computed. A unit
-// longer than the batch target is split into slices (Integrator::maxSlicesPerUnit), so no
-// submission is much longer than the target where the integrator allows it.
+// changes how units are grouped into submissions, never which units are computed. With
+// sliceUnits, a unit longer than the batch target is split into slices
+// (Integrator::maxSlicesPerUnit), so no submission is much longer than the target where the
+// integrator allows it.
 #pragma once
 #include <atomic>
 #include <chrono>
@@ -24,6 +25,10 @@ struct DriverSettings {
   uint32_t maxUnits = 64;      // stop after this many units (>= 1)
   double timeLimitS = 0.0;     // 0: no limit; otherwise stop starting submissions past it
   double batchTargetS = 0.25;  // aim for submissions this long (progress, time limit, viewer)
+  // Split a unit longer than batchTargetS into slices (Integrator::maxSlicesPerUnit): the
+  // viewer's submissions must stay short while the window redraws; a CLI render needs no more
+  // submissions than units.
+  bool sliceUnits = false;
 };
 
 struct Progress {

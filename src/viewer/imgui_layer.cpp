@@ -19,6 +19,11 @@ ImGuiLayer::ImGuiLayer(const vk::Context& ctx, Window& window, const Presenter& 
   ImGuiIO& io = ImGui::GetIO();
   io.IniFilename = nullptr;  // no imgui.ini dropped into the user's directory
   ImGui::StyleColorsDark();
+  // Compact: the whole panel fits beside a 512-pixel-high image.
+  ImGuiStyle& style = ImGui::GetStyle();
+  style.ItemSpacing = ImVec2(6.f, 3.f);
+  style.FramePadding = ImVec2(4.f, 2.f);
+  style.WindowPadding = ImVec2(6.f, 6.f);
   try {
     // The font atlas is the only descriptor set the backend allocates.
     VkDescriptorPoolSize size{VK_DESCRIPTOR_TYPE_COMBINED_IMAGE_SAMPLER, 4};

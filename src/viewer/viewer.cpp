@@ -217,6 +217,7 @@ void Viewer::stepRender() {
     ds.maxUnits = uint32_t(std::max(1, targetUnits_));
     ds.timeLimitS = double(std::max(0.f, timeLimit_));
     ds.batchTargetS = kStepTargetS;
+    ds.sliceUnits = true;
     // The same driver keeps its measured unit time, so even the first unit after a camera
     // move is sliced; a new integrator or budget needs a new one.
     if (!driver_ || &driver_->integrator() != integrator_.get() ||
@@ -576,8 +577,11 @@ void Viewer::drawPanel() {
   ImGui::Begin("osr-vk", nullptr,
                ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse |
                    ImGuiWindowFlags_NoTitleBar);
+  ImGui::PushItemWidth(-110.f);
   ImGui::TextUnformatted(std::filesystem::path(config_.scenePath).filename().string().c_str());
-  ImGui::TextDisabled("%s, %ux%u", ctx_.caps().deviceName.c_str(), renderWidth_, renderHeight_);
+  ImGui::SameLine();
+  ImGui::TextDisabled("%ux%u", renderWidth_, renderHeight_);
+  ImGui::TextDisabled("%s", ctx_.caps().deviceName.c_str());
 
   // Progress.
   const render::Progress p = driver_ ? driver_->progress() : render::Progress{};
@@ -585,18 +589,25 @@ void Viewer::drawPanel() {
   const char* state = restartPending_ ? "restarting" : paused_ ? "paused"
                       : driver_ && driver_->finished() ? "done" : "rendering";
   ImGui::Text("%s: %u / %u %s", state, p.units, p.targetUnits, p.unitName);
+  const bool done = driver_ && driver_->finished();
   char overlay[64];
-  std::snprintf(overlay, sizeof overlay, "pass %u: %.0f%%", p.units + 1, 100.0 * p.unitFraction);
-  ImGui::ProgressBar(driver_ && driver_->finished() ? 1.f : float(p.unitFraction), ImVec2(-1, 0), overlay);
+  if (done)
+    std::snprintf(overlay, sizeof overlay, "all %s done", p.unitName);
+  else
+    std::snprintf(overlay, sizeof overlay, "%s %u: %.0f%%", p.unitName, p.units + 1,
+                  100.0 * p.unitFraction);
+  ImGui::ProgressBar(done ? 1.f : float(p.unitFraction), ImVec2(-1, 0), overlay);
   double whole = p.targetUnits ? (p.units + p.unitFraction) / p.targetUnits : 0.0;
   if (driver_ && driver_->settings().timeLimitS > 0.0)
     whole = std::max(whole, p.elapsedS / driver_->settings().timeLimitS);
   if (driver_ && driver_->finished()) whole = 1.0;
   std::snprintf(overlay, sizeof overlay, "render: %.0f%%", 100.0 * std::min(1.0, whole));
   ImGui::ProgressBar(float(std::min(1.0, whole)), ImVec2(-1, 0), overlay);
-  ImGui::Text("elapsed %.1f s, ~%.1f s left", p.elapsedS, p.remainingS);
-  ImGui::Text("on screen: %u %s", shownUnits_, p.unitName);
+  ImGui::Text("%.1f s, ~%.1f s left; shown: %u", p.elapsedS, p.remainingS, shownUnits_);
   if (ImGui::Button(paused_ ? "Resume (Space)" : "Pause (Space)")) paused_ = !paused_;
+  ImGui::SameLine();
+  if (ImGui::Button("Save EXR+PNG (S)")) save();
+  if (!status_.empty()) ImGui::TextWrapped("%s", status_.c_str());
 
   // Display.
   ImGui::Separator();
@@ -607,7 +618,9 @@ void Viewer::drawPanel() {
     layer_ = render::Layer(layer);
     retonemap();
   }
-  if (ImGui::Checkbox("auto exposure", &autoExposure_)) retonemap();
+  if (ImGui::Checkbox("auto", &autoExposure_)) retonemap();
+  ImGui::SameLine();
+  ImGui::SetNextItemWidth(ImGui::CalcItemWidth() - ImGui::GetCursorPosX() + ImGui::GetStyle().WindowPadding.x);
   if (ImGui::SliderFloat("EV (+/-)", &exposureEv_, -16.f, 16.f, "%.1f")) {
     autoExposure_ = false;
     retonemap();
@@ -648,11 +661,15 @@ void Viewer::drawPanel() {
 
   // Camera.
   ImGui::Separator();
-  ImGui::TextUnformatted("camera");
-  for (size_t i = 0; i < config_.scene->cameras.size(); ++i) {
-    const std::string label = std::to_string(i) + ": " + config_.scene->cameras[i].name;
-    if (ImGui::Selectable(label.c_str(), false)) {
-      camera_.set(config_.scene->cameras[i]);
+  if (!config_.scene->cameras.empty()) {
+    std::vector<std::string> names;
+    std::vector<const char*> labels;
+    for (size_t i = 0; i < config_.scene->cameras.size(); ++i)
+      names.push_back(std::to_string(i) + ": " + config_.scene->cameras[i].name);
+    for (const std::string& n : names) labels.push_back(n.c_str());
+    int pick = -1;
+    if (ImGui::Combo("file camera", &pick, labels.data(), int(labels.size())) && pick >= 0) {
+      camera_.set(config_.scene->cameras[size_t(pick)]);
       requestRestart();
     }
   }
@@ -660,23 +677,26 @@ void Viewer::drawPanel() {
   ImGui::SameLine();
   if (ImGui::Button("Frame (F)")) camera_.frame(), requestRestart();
 
-  // Timings.
+  // Timings: GPU time of each pass per unit, two passes a row.
   ImGui::Separator();
-  if (driver_ && ImGui::CollapsingHeader("per-pass GPU ms", ImGuiTreeNodeFlags_DefaultOpen)) {
+  if (driver_ && ImGui::BeginTable("timings", 4, ImGuiTableFlags_SizingStretchProp)) {
     const render::RenderStats& st = driver_->stats();
     const double units = std::max(1.0, double(st.units) + p.unitFraction);
-    for (const vk::PassTime& t : st.gpuScopes)
-      ImGui::Text("%-12s %8.1f ms/%s", t.name.c_str(), t.ms / units, p.unitName);
-    ImGui::Text("%-12s %8.1f ms/%s", "total", st.gpuTotalMs() / units, p.unitName);
+    std::vector<vk::PassTime> rows = st.gpuScopes;
+    rows.push_back({"total", st.gpuTotalMs()});
+    for (const vk::PassTime& t : rows) {
+      ImGui::TableNextColumn();
+      ImGui::TextDisabled("%s", t.name.c_str());
+      ImGui::TableNextColumn();
+      ImGui::Text("%.1f ms", t.ms / units);
+    }
+    ImGui::EndTable();
   }
-  ImGui::Text("UI %.1f fps", uiFps_);
-  ImGui::Text("move->image %.0f ms, complete %.0f ms", lastMoveToImageMs_, lastMoveToCompleteMs_);
-
-  // Save.
-  ImGui::Separator();
-  if (ImGui::Button("Save EXR + PNG (S)")) save();
-  if (!status_.empty()) ImGui::TextWrapped("%s", status_.c_str());
+  ImGui::TextDisabled("GPU ms per %s", p.unitName == std::string("spp") ? "sample" : "pass");
+  ImGui::Text("UI %.1f fps; move->image %.0f ms (full %.0f)", uiFps_, lastMoveToImageMs_,
+              lastMoveToCompleteMs_);
   if (ImGui::CollapsingHeader("keys")) ImGui::TextUnformatted(kViewerHelp);
+  ImGui::PopItemWidth();
   ImGui::End();
 }
 
