@@ -75,7 +75,10 @@ uint32_t ProgressiveDriver::nextBatch() const {
 
 uint32_t ProgressiveDriver::slicesFor(double unitSeconds) const {
   const uint32_t most = std::max(1u, integrator_.maxSlicesPerUnit());
-  if (!settings_.sliceUnits || most == 1 || unitSeconds <= settings_.batchTargetS) return 1;
+  if (!settings_.sliceUnits || most == 1) return 1;
+  // Nothing measured yet: as many slices as allowed, since a whole unit may take seconds.
+  if (unitSeconds <= 0.0) return most;
+  if (unitSeconds <= settings_.batchTargetS) return 1;
   return uint32_t(std::min<double>(most, std::ceil(unitSeconds / std::max(settings_.batchTargetS, 1e-6))));
 }
 

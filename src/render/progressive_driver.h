@@ -93,7 +93,7 @@ class ProgressiveDriver {
   uint32_t slice_ = 0, slices_ = 0;
   double sliceSeconds_ = 0.0;  // wall time of the current unit's slices so far
   // Seconds of the last complete unit, kept across restart(): the same integrator after a
-  // camera move costs about the same, so the first unit is sliced too (the viewer's latency).
+  // camera move costs about the same, so its first unit gets fitting slices (the viewer).
   double lastUnitSeconds_ = 0.0;
   RenderStats stats_;
 };

@@ -39,12 +39,12 @@ namespace {
 using Clock = std::chrono::steady_clock;
 constexpr int kPanelWidth = 320;
 constexpr int kMinRenderSize = 16;
-// While a unit is in slices the film is downloaded and tone mapped at most this often (it
-// costs about a UI frame on lavapipe); at once for the first slice after a restart and for
-// every completed unit.
+// While the render refines the film is downloaded and tone mapped at most this often (it
+// costs about a UI frame on lavapipe); at once for the first slice and the first complete
+// unit after a restart, and for the last unit.
 constexpr double kResolveIntervalS = 0.5;
 // Submissions this long keep the window above 20 redraws a second with the UI's own work.
-constexpr double kStepTargetS = 0.02;
+constexpr double kStepTargetS = 0.015;
 
 double secondsSince(Clock::time_point t) {
   return std::chrono::duration<double>(Clock::now() - t).count();
@@ -74,7 +74,7 @@ class Viewer {
   void makeIntegrator(const std::string& mode, uint32_t width, uint32_t height);
   void requestRestart();
   void stepRender();
-  void refreshImage(bool force);
+  void refreshImage();
   void retonemap();
   // Frame.
   void handleResize();
@@ -208,7 +208,8 @@ void Viewer::makeIntegrator(const std::string& mode, uint32_t width, uint32_t he
 
 void Viewer::requestRestart() {
   restartPending_ = true;
-  if (!moveTime_) moveTime_ = Clock::now();
+  // Latency runs from the oldest move not yet answered by an image on screen.
+  if (!moveTime_ || firstMoveShown_) moveTime_ = Clock::now(), firstMoveShown_ = false;
 }
 
 void Viewer::stepRender() {
@@ -236,14 +237,13 @@ void Viewer::stepRender() {
   if (driver_->step()) filmChanged_ = true;
 }
 
-void Viewer::refreshImage(bool force) {
+void Viewer::refreshImage() {
   if (!filmChanged_) return;
   // Shown as soon as the first slice after a restart lands: the new view fills in band by
   // band over black (pixels without a sample resolve to 0), never over the old view.
   const render::Progress p = driver_->progress();
   const bool first = (moveTime_ && !firstMoveShown_) || (p.units >= 1 && shownUnits_ == 0);
-  const bool newUnit = p.units > shownUnits_;
-  if (!force && !first && !newUnit && !driver_->finished() &&
+  if (!first && !driver_->finished() &&
       secondsSince(lastResolve_) < kResolveIntervalS)
     return;
   film_ = integrator_->resolve();
@@ -514,12 +514,9 @@ int Viewer::run() {
     runScript();
     if (quit_) break;
     handleResize();
-    auto tA = Clock::now();
     stepRender();
     lastRendering = rendering();
-    auto tB = Clock::now();
-    refreshImage(false);
-    auto tC = Clock::now();
+    refreshImage();
 
     uint8_t* pixels = presenter_.beginFrame();
     if (!pixels) {
@@ -553,11 +550,6 @@ int Viewer::run() {
         firstMoveShown_ = false;
       }
     }
-    if (std::getenv("OSR_VIEWER_TRACE"))
-      std::fprintf(stderr, "frame: step %.1f ms resolve %.1f ms rest %.1f units %u frac %.3f\n",
-                   1000 * std::chrono::duration<double>(tB - tA).count(),
-                   1000 * std::chrono::duration<double>(tC - tB).count(), 1000 * secondsSince(tC), driver_->progress().units,
-                   driver_->progress().unitFraction);
     ++fpsFrames;
     const double now = secondsSince(opened_);
     if (now - fpsWindowStart >= 0.5) {
