@@ -159,8 +159,9 @@ int runRender(const std::vector<std::string>& args) {
   if (dumpMaps && !osrMode) throw InputError("--dump-maps: an option of --mode osr");
   const bool live = !exrPath && !pngPath;  // no output file: the viewer
   if (!live && (viewerScript || saveDir))
-    throw InputError("render: --viewer-script and --save-dir are options of the viewer "
-                     "(without --offline/--png)");
+    throw InputError(
+        "render: --viewer-script and --save-dir are options of the viewer "
+        "(without --offline/--png)");
   if (live) {
     // Before any work: no display means one line suggesting --offline and exit 2.
     vkOptions.instanceExtensions = viewer::requireDisplay();
@@ -193,7 +194,8 @@ int runRender(const std::vector<std::string>& args) {
     viewer::IntegratorChoice c;
     if (m == "osr") {
       osrSettings.keepAllMaps = bool(dumpMaps);
-      c.integrator = std::make_unique<oneshot::OsrIntegrator>(ctx, dev.gpu, dev.bvh, w, h, osrSettings);
+      c.integrator =
+          std::make_unique<oneshot::OsrIntegrator>(ctx, dev.gpu, dev.bvh, w, h, osrSettings);
       c.defaultUnits = 32;
     } else {
       const pt::Mode pm = *pt::parseMode(m);
@@ -220,7 +222,8 @@ int runRender(const std::vector<std::string>& args) {
     vc.saveDir = saveDir.value_or(".");
     return viewer::runViewer(ctx, vc);
   }
-  std::unique_ptr<render::Integrator> integrator = makeIntegrator(mode, imageWidth, imageHeight).integrator;
+  std::unique_ptr<render::Integrator> integrator =
+      makeIntegrator(mode, imageWidth, imageHeight).integrator;
   auto* osr = dynamic_cast<oneshot::OsrIntegrator*>(integrator.get());
   render::ProgressiveDriver driver(ctx, *integrator, ds);
   driver.restart(host.camera, renderSeed);

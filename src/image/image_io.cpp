@@ -150,9 +150,12 @@ uint8_t srgb8(float x) {
 float toneMapped(float x, ToneMap op) {
   if (!std::isfinite(x) || x < 0.f) return 0.f;
   switch (op) {
-    case ToneMap::Reinhard: return x / (1.f + x);
-    case ToneMap::Aces: return std::clamp(x * (2.51f * x + 0.03f) / (x * (2.43f * x + 0.59f) + 0.14f), 0.f, 1.f);
-    case ToneMap::Clamp: break;
+    case ToneMap::Reinhard:
+      return x / (1.f + x);
+    case ToneMap::Aces:
+      return std::clamp(x * (2.51f * x + 0.03f) / (x * (2.43f * x + 0.59f) + 0.14f), 0.f, 1.f);
+    case ToneMap::Clamp:
+      break;
   }
   return std::min(x, 1.f);
 }
@@ -160,9 +163,12 @@ float toneMapped(float x, ToneMap op) {
 
 const char* toneMapName(ToneMap op) {
   switch (op) {
-    case ToneMap::Reinhard: return "reinhard";
-    case ToneMap::Aces: return "aces";
-    case ToneMap::Clamp: break;
+    case ToneMap::Reinhard:
+      return "reinhard";
+    case ToneMap::Aces:
+      return "aces";
+    case ToneMap::Clamp:
+      break;
   }
   return "clamp";
 }

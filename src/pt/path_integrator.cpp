@@ -49,8 +49,9 @@ render::FilmLayers render(const vk::Context& ctx, const scene::GpuScene& scene, 
                           const std::function<void(const render::Progress&)>& onProgress,
                           render::RenderStats* stats, const std::atomic<bool>* cancel) {
   PathIntegrator integrator(ctx, scene, bvh, settings.width, settings.height, settings.mode);
-  render::ProgressiveDriver driver(ctx, integrator,
-                                   {settings.spp, settings.timeLimitS, settings.batchTargetS, settings.sliceUnits});
+  render::ProgressiveDriver driver(
+      ctx, integrator,
+      {settings.spp, settings.timeLimitS, settings.batchTargetS, settings.sliceUnits});
   driver.restart(camera, settings.seed);
   driver.run(onProgress, cancel);
   if (stats) *stats = driver.stats();

@@ -6,12 +6,18 @@ namespace osr::render {
 
 const char* layerName(Layer layer) {
   switch (layer) {
-    case Layer::Direct: return "direct";
-    case Layer::Indirect: return "indirect";
-    case Layer::Albedo: return "albedo";
-    case Layer::Normal: return "normal";
-    case Layer::Depth: return "depth";
-    case Layer::Combined: break;
+    case Layer::Direct:
+      return "direct";
+    case Layer::Indirect:
+      return "indirect";
+    case Layer::Albedo:
+      return "albedo";
+    case Layer::Normal:
+      return "normal";
+    case Layer::Depth:
+      return "depth";
+    case Layer::Combined:
+      break;
   }
   return "combined";
 }
@@ -29,10 +35,18 @@ image::LayeredImage toLayeredImage(const FilmLayers& f) {
 image::RgbImage layerImage(const FilmLayers& f, Layer layer) {
   image::RgbImage img{f.width, f.height, {}};
   switch (layer) {
-    case Layer::Combined: img.rgb = f.combined; break;
-    case Layer::Direct: img.rgb = f.direct; break;
-    case Layer::Indirect: img.rgb = f.indirect; break;
-    case Layer::Albedo: img.rgb = f.albedo; break;
+    case Layer::Combined:
+      img.rgb = f.combined;
+      break;
+    case Layer::Direct:
+      img.rgb = f.direct;
+      break;
+    case Layer::Indirect:
+      img.rgb = f.indirect;
+      break;
+    case Layer::Albedo:
+      img.rgb = f.albedo;
+      break;
     case Layer::Normal:
       img.rgb.resize(f.normal.size());
       std::transform(f.normal.begin(), f.normal.end(), img.rgb.begin(),

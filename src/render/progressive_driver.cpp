@@ -79,7 +79,8 @@ uint32_t ProgressiveDriver::slicesFor(double unitSeconds) const {
   // Nothing measured yet: as many slices as allowed, since a whole unit may take seconds.
   if (unitSeconds <= 0.0) return most;
   if (unitSeconds <= settings_.batchTargetS) return 1;
-  return uint32_t(std::min<double>(most, std::ceil(unitSeconds / std::max(settings_.batchTargetS, 1e-6))));
+  return uint32_t(
+      std::min<double>(most, std::ceil(unitSeconds / std::max(settings_.batchTargetS, 1e-6))));
 }
 
 void ProgressiveDriver::addTimes() {

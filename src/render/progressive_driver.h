@@ -32,8 +32,8 @@ struct DriverSettings {
 };
 
 struct Progress {
-  uint32_t units = 0;           // complete units
-  double unitFraction = 0.0;    // of the unit in progress, in slices (0 between units)
+  uint32_t units = 0;         // complete units
+  double unitFraction = 0.0;  // of the unit in progress, in slices (0 between units)
   uint32_t targetUnits = 0;
   const char* unitName = "";  // Integrator::unitName()
   double elapsedS = 0.0;

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-
 #include <glm/gtc/matrix_transform.hpp>
 
 namespace osr::viewer {
@@ -85,7 +84,8 @@ void CameraController::look(float yawDeg, float pitchDeg) {
 void CameraController::frame() {
   const glm::vec3 back = glm::normalize(eye_ - target_);
   const float aspect = camera_.aspect > 0.f ? camera_.aspect : 1.f;
-  const float halfFov = 0.5f * std::min(camera_.yfov, 2.f * std::atan(aspect * std::tan(0.5f * camera_.yfov)));
+  const float halfFov =
+      0.5f * std::min(camera_.yfov, 2.f * std::atan(aspect * std::tan(0.5f * camera_.yfov)));
   const float dist = radius_ / std::sin(halfFov);
   update(centre_ + dist * back, centre_);
 }

@@ -1,15 +1,17 @@
 #include "viewer/imgui_layer.h"
 
-#include <imgui.h>
 #include <backends/imgui_impl_glfw.h>
 #include <backends/imgui_impl_vulkan.h>
+#include <imgui.h>
 
 #include "vk/check.h"
 
 namespace osr::viewer {
 
 namespace {
-void checkImGuiVk(VkResult r) { vk::check(r, "ImGui Vulkan backend"); }
+void checkImGuiVk(VkResult r) {
+  vk::check(r, "ImGui Vulkan backend");
+}
 }  // namespace
 
 ImGuiLayer::ImGuiLayer(const vk::Context& ctx, Window& window, const Presenter& presenter)

@@ -75,8 +75,8 @@ Presenter::Presenter(const vk::Context& ctx, VkSurfaceKHR surface, VkExtent2D ex
   poolInfo.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
   poolInfo.queueFamilyIndex = ctx.queueFamily();
   vk::check(vkCreateCommandPool(ctx.device(), &poolInfo, nullptr, &pool_), "vkCreateCommandPool");
-  swapchain_ = std::make_unique<Swapchain>(ctx, surface, format_, renderPass_, extent,
-                                           VK_NULL_HANDLE);
+  swapchain_ =
+      std::make_unique<Swapchain>(ctx, surface, format_, renderPass_, extent, VK_NULL_HANDLE);
   for (Slot& s : slots_) {
     VkCommandBufferAllocateInfo alloc{VK_STRUCTURE_TYPE_COMMAND_BUFFER_ALLOCATE_INFO};
     alloc.commandPool = pool_;
@@ -186,8 +186,8 @@ bool Presenter::endFrame(const std::function<void(VkCommandBuffer)>& drawPanel,
   VkBufferImageCopy region{};
   region.imageSubresource = {VK_IMAGE_ASPECT_COLOR_BIT, 0, 0, 1};
   region.imageExtent = {e.width, e.height, 1};
-  vkCmdCopyBufferToImage(s.cmd, s.staging->handle(), image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
-                         1, &region);
+  vkCmdCopyBufferToImage(s.cmd, s.staging->handle(), image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL, 1,
+                         &region);
   imageBarrier(s.cmd, image, VK_IMAGE_LAYOUT_TRANSFER_DST_OPTIMAL,
                VK_IMAGE_LAYOUT_COLOR_ATTACHMENT_OPTIMAL, VK_PIPELINE_STAGE_TRANSFER_BIT,
                VK_ACCESS_TRANSFER_WRITE_BIT, VK_PIPELINE_STAGE_COLOR_ATTACHMENT_OUTPUT_BIT,

@@ -19,8 +19,9 @@ VkSurfaceFormatKHR chooseSurfaceFormat(const vk::Context& ctx, VkSurfaceKHR surf
   for (VkFormat want : {VK_FORMAT_B8G8R8A8_UNORM, VK_FORMAT_R8G8B8A8_UNORM})
     for (const VkSurfaceFormatKHR& f : formats)
       if (f.format == want && f.colorSpace == VK_COLOR_SPACE_SRGB_NONLINEAR_KHR) return f;
-  throw InputError("viewer: the window offers no 8-bit BGRA/RGBA UNORM surface format; use "
-                   "--offline out.exr");
+  throw InputError(
+      "viewer: the window offers no 8-bit BGRA/RGBA UNORM surface format; use "
+      "--offline out.exr");
 }
 
 Swapchain::Swapchain(const vk::Context& ctx, VkSurfaceKHR surface, VkSurfaceFormatKHR format,
@@ -99,7 +100,9 @@ Swapchain::Swapchain(const vk::Context& ctx, VkSurfaceKHR surface, VkSurfaceForm
   }
 }
 
-Swapchain::~Swapchain() { release(); }
+Swapchain::~Swapchain() {
+  release();
+}
 
 void Swapchain::release() noexcept {
   for (VkSemaphore s : renderFinished_) vkDestroySemaphore(ctx_.device(), s, nullptr);

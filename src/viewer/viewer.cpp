@@ -119,12 +119,12 @@ class Viewer {
   uint64_t shownVersion_ = 1;  // changes with shown_; composed[slot] says what each slot holds
   std::pair<uint64_t, uint64_t> composed_[Presenter::kFramesInFlight] = {};
   uint32_t shownUnits_ = 0;
-  bool shownFinal_ = false;     // the image of a finished render
+  bool shownFinal_ = false;  // the image of a finished render
   bool filmChanged_ = false;
   Clock::time_point lastResolve_;
   render::Layer layer_ = render::Layer::Combined;
   bool autoExposure_ = true;
-  float exposureEv_ = 0.f;     // manual EV, or the last automatic one for display
+  float exposureEv_ = 0.f;  // manual EV, or the last automatic one for display
   image::ToneMap toneMap_ = image::ToneMap::Clamp;
 
   // Input state.
@@ -155,7 +155,8 @@ Viewer::Viewer(const vk::Context& ctx, const ViewerConfig& config,
       script_(std::move(script)),
       window_(int(config.width) + kPanelWidth, int(config.height),
               "osr-vk - " + std::filesystem::path(config.scenePath).filename().string()),
-      presenter_(ctx, window_.createSurface(ctx.instance(), ctx.physicalDevice(), ctx.queueFamily()),
+      presenter_(ctx,
+                 window_.createSurface(ctx.instance(), ctx.physicalDevice(), ctx.queueFamily()),
                  VkExtent2D{config.width + kPanelWidth, config.height}),
       imgui_(ctx, window_, presenter_),
       camera_(config.camera, config.scene->boundsMin, config.scene->boundsMax),
@@ -243,9 +244,7 @@ void Viewer::refreshImage() {
   // band over black (pixels without a sample resolve to 0), never over the old view.
   const render::Progress p = driver_->progress();
   const bool first = (moveTime_ && !firstMoveShown_) || (p.units >= 1 && shownUnits_ == 0);
-  if (!first && !driver_->finished() &&
-      secondsSince(lastResolve_) < kResolveIntervalS)
-    return;
+  if (!first && !driver_->finished() && secondsSince(lastResolve_) < kResolveIntervalS) return;
   film_ = integrator_->resolve();
   lastResolve_ = Clock::now();
   filmChanged_ = false;
@@ -297,7 +296,8 @@ void Viewer::composeFrame(uint8_t* px) {
     px[4 * i + 0] = px[4 * i + 1] = px[4 * i + 2] = 24;
     px[4 * i + 3] = 255;
   }
-  const int w = std::min<int>(shownWidth_, int(e.width)), h = std::min<int>(shownHeight_, int(e.height));
+  const int w = std::min<int>(shownWidth_, int(e.width)),
+            h = std::min<int>(shownHeight_, int(e.height));
   for (int y = 0; y < h; ++y)
     for (int x = 0; x < w; ++x) {
       const uint8_t* s = &shown_[(size_t(y) * shownWidth_ + x) * 3];
@@ -310,9 +310,15 @@ void Viewer::composeFrame(uint8_t* px) {
 
 void Viewer::onKey(int key, int mods) {
   switch (key) {
-    case GLFW_KEY_ESCAPE: quit_ = true; break;
-    case GLFW_KEY_SPACE: paused_ = !paused_; break;
-    case GLFW_KEY_S: save(); break;
+    case GLFW_KEY_ESCAPE:
+      quit_ = true;
+      break;
+    case GLFW_KEY_SPACE:
+      paused_ = !paused_;
+      break;
+    case GLFW_KEY_S:
+      save();
+      break;
     case GLFW_KEY_F:
       camera_.frame();
       requestRestart();
@@ -346,8 +352,10 @@ void Viewer::pollMouseAndFly(double dt) {
   const bool inImage = x < double(renderWidth_) && y < double(renderHeight_);
   for (int b = 0; b < 3; ++b) {
     const bool down = glfwGetMouseButton(w, b) == GLFW_PRESS;
-    if (!down) dragging_[b] = false;
-    else if (!dragging_[b] && inImage && !io.WantCaptureMouse) dragging_[b] = true;
+    if (!down)
+      dragging_[b] = false;
+    else if (!dragging_[b] && inImage && !io.WantCaptureMouse)
+      dragging_[b] = true;
   }
   const bool shift = glfwGetKey(w, GLFW_KEY_LEFT_SHIFT) == GLFW_PRESS ||
                      glfwGetKey(w, GLFW_KEY_RIGHT_SHIFT) == GLFW_PRESS;
@@ -356,7 +364,8 @@ void Viewer::pollMouseAndFly(double dt) {
     if (dragging_[GLFW_MOUSE_BUTTON_LEFT] && !shift) {
       camera_.orbit(float(dx) * 0.25f, float(dy) * 0.25f);
       moved = true;
-    } else if (dragging_[GLFW_MOUSE_BUTTON_MIDDLE] || (dragging_[GLFW_MOUSE_BUTTON_LEFT] && shift)) {
+    } else if (dragging_[GLFW_MOUSE_BUTTON_MIDDLE] ||
+               (dragging_[GLFW_MOUSE_BUTTON_LEFT] && shift)) {
       camera_.pan(-float(dx) / float(renderHeight_), float(dy) / float(renderHeight_));
       moved = true;
     } else if (dragging_[GLFW_MOUSE_BUTTON_RIGHT]) {
@@ -419,10 +428,10 @@ bool Viewer::runScript() {
     }
     if (c.name == "key") {
       static const std::pair<const char*, int> kNames[] = {
-          {"s", GLFW_KEY_S},        {"space", GLFW_KEY_SPACE}, {"1", GLFW_KEY_1},
-          {"2", GLFW_KEY_2},        {"3", GLFW_KEY_3},         {"4", GLFW_KEY_4},
-          {"5", GLFW_KEY_5},        {"6", GLFW_KEY_6},         {"plus", GLFW_KEY_EQUAL},
-          {"minus", GLFW_KEY_MINUS}, {"f", GLFW_KEY_F},        {"escape", GLFW_KEY_ESCAPE}};
+          {"s", GLFW_KEY_S},         {"space", GLFW_KEY_SPACE}, {"1", GLFW_KEY_1},
+          {"2", GLFW_KEY_2},         {"3", GLFW_KEY_3},         {"4", GLFW_KEY_4},
+          {"5", GLFW_KEY_5},         {"6", GLFW_KEY_6},         {"plus", GLFW_KEY_EQUAL},
+          {"minus", GLFW_KEY_MINUS}, {"f", GLFW_KEY_F},         {"escape", GLFW_KEY_ESCAPE}};
       for (auto [name, key] : kNames)
         if (c.text == name) onKey(key, 0);
     }
@@ -473,21 +482,29 @@ void Viewer::save() {
 }
 
 void Viewer::printStats() const {
-  const double n = double(pacing_.frameMs.size());
+  // A percentile of no samples is null, not 0.
+  const auto pct = [](const std::vector<double>& v, double q) {
+    char buf[32];
+    if (v.empty()) return std::string("null");
+    std::snprintf(buf, sizeof buf, "%.1f", percentile(v, q));
+    return std::string(buf);
+  };
+  const std::vector<double>& f = pacing_.frameMs;
   std::printf(
       "{\"benchmark\": \"viewer\", \"device\": \"%s\", \"scene\": \"%s\", \"mode\": \"%s\", "
       "\"width\": %u, \"height\": %u, \"restarts\": %u, \"units_on_screen\": %u, "
-      "\"frames_while_rendering\": %.0f, "
-      "\"ui_fps_while_rendering\": %.2f, \"frame_ms_p50\": %.2f, \"frame_ms_p95\": %.2f, "
-      "\"frame_ms_max\": %.2f, \"camera_moves\": %zu, \"move_to_image_ms_p50\": %.1f, "
-      "\"move_to_image_ms_max\": %.1f, \"move_to_complete_image_ms_p50\": %.1f, "
-      "\"move_to_complete_image_ms_max\": %.1f}\n",
+      "\"frames_while_rendering\": %zu, \"ui_fps_while_rendering\": %.2f, "
+      "\"frame_ms_p50\": %s, \"frame_ms_p95\": %s, \"frame_ms_max\": %s, "
+      "\"camera_moves\": %zu, \"move_to_image_ms_p50\": %s, \"move_to_image_ms_max\": %s, "
+      "\"complete_images\": %zu, \"move_to_complete_image_ms_p50\": %s, "
+      "\"move_to_complete_image_ms_max\": %s}\n",
       ctx_.caps().deviceName.c_str(), config_.scenePath.c_str(), mode_.c_str(), renderWidth_,
-      renderHeight_, restarts_, shownUnits_, n, pacing_.renderingS > 0 ? n / pacing_.renderingS : 0.0,
-      percentile(pacing_.frameMs, 0.5), percentile(pacing_.frameMs, 0.95),
-      percentile(pacing_.frameMs, 1.0), pacing_.moveToImageMs.size(),
-      percentile(pacing_.moveToImageMs, 0.5), percentile(pacing_.moveToImageMs, 1.0),
-      percentile(pacing_.moveToCompleteMs, 0.5), percentile(pacing_.moveToCompleteMs, 1.0));
+      renderHeight_, restarts_, shownUnits_, f.size(),
+      pacing_.renderingS > 0 ? double(f.size()) / pacing_.renderingS : 0.0, pct(f, 0.5).c_str(),
+      pct(f, 0.95).c_str(), pct(f, 1.0).c_str(), pacing_.moveToImageMs.size(),
+      pct(pacing_.moveToImageMs, 0.5).c_str(), pct(pacing_.moveToImageMs, 1.0).c_str(),
+      pacing_.moveToCompleteMs.size(), pct(pacing_.moveToCompleteMs, 0.5).c_str(),
+      pct(pacing_.moveToCompleteMs, 1.0).c_str());
   std::fflush(stdout);
 }
 
@@ -578,8 +595,10 @@ void Viewer::drawPanel() {
   // Progress.
   const render::Progress p = driver_ ? driver_->progress() : render::Progress{};
   ImGui::Separator();
-  const char* state = restartPending_ ? "restarting" : paused_ ? "paused"
-                      : driver_ && driver_->finished() ? "done" : "rendering";
+  const char* state = restartPending_                  ? "restarting"
+                      : paused_                        ? "paused"
+                      : driver_ && driver_->finished() ? "done"
+                                                       : "rendering";
   ImGui::Text("%s: %u / %u %s", state, p.units, p.targetUnits, p.unitName);
   const bool done = driver_ && driver_->finished();
   char overlay[64];
@@ -612,7 +631,8 @@ void Viewer::drawPanel() {
   }
   if (ImGui::Checkbox("auto", &autoExposure_)) retonemap();
   ImGui::SameLine();
-  ImGui::SetNextItemWidth(ImGui::CalcItemWidth() - ImGui::GetCursorPosX() + ImGui::GetStyle().WindowPadding.x);
+  ImGui::SetNextItemWidth(ImGui::CalcItemWidth() - ImGui::GetCursorPosX() +
+                          ImGui::GetStyle().WindowPadding.x);
   if (ImGui::SliderFloat("EV (+/-)", &exposureEv_, -16.f, 16.f, "%.1f")) {
     autoExposure_ = false;
     retonemap();

@@ -43,8 +43,8 @@ struct ViewerConfig {
   uint32_t seed = 0;
   std::optional<double> exposureEv;  // empty: automatic
   image::ToneMap toneMap = image::ToneMap::Clamp;
-  std::string scriptPath;           // --viewer-script FILE (viewer_script.h); empty: none
-  std::string saveDir = ".";        // S / the save buttons write here, never over a file
+  std::string scriptPath;     // --viewer-script FILE (viewer_script.h); empty: none
+  std::string saveDir = ".";  // S / the save buttons write here, never over a file
 };
 
 // The context must have been made with requireDisplay()'s instance extensions and

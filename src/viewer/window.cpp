@@ -20,7 +20,9 @@ bool envSet(const char* name) {
 
 // GLFW reports errors through a callback; keep the last one for the exception text.
 std::string gLastGlfwError;
-void onGlfwError(int, const char* text) { gLastGlfwError = text ? text : ""; }
+void onGlfwError(int, const char* text) {
+  gLastGlfwError = text ? text : "";
+}
 }  // namespace
 
 std::vector<std::string> requireDisplay() {
@@ -65,7 +67,8 @@ VkSurfaceKHR Window::createSurface(VkInstance instance, VkPhysicalDevice physica
             "vkGetPhysicalDeviceSurfaceSupportKHR");
   if (!supported)
     throw InputError(std::string("viewer: the Vulkan device's queue cannot present to this "
-                                 "window") + kUseOffline);
+                                 "window") +
+                     kUseOffline);
   return surface_;
 }
 
@@ -73,8 +76,12 @@ void Window::framebufferSize(int& width, int& height) const {
   glfwGetFramebufferSize(window_, &width, &height);
 }
 
-void Window::resize(int width, int height) { glfwSetWindowSize(window_, width, height); }
+void Window::resize(int width, int height) {
+  glfwSetWindowSize(window_, width, height);
+}
 
-bool Window::shouldClose() const { return glfwWindowShouldClose(window_); }
+bool Window::shouldClose() const {
+  return glfwWindowShouldClose(window_);
+}
 
 }  // namespace osr::viewer

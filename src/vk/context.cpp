@@ -174,8 +174,7 @@ void Context::release() noexcept {
   instance_ = VK_NULL_HANDLE;
 }
 
-void Context::createInstance(bool wantValidation,
-                             const std::vector<std::string>& extraExtensions) {
+void Context::createInstance(bool wantValidation, const std::vector<std::string>& extraExtensions) {
   std::vector<const char*> layers;
   std::vector<const char*> extensions;
   for (const std::string& e : extraExtensions) {
@@ -310,8 +309,8 @@ void Context::createDevice(bool swapchain) {
     // the viewer's contract is one line suggesting --offline and exit 2.
     if (!hasDeviceExtension(physicalDevice_, VK_KHR_SWAPCHAIN_EXTENSION_NAME))
       throw InputError(std::string("vulkan: device \"") + props2.properties.deviceName +
-                        "\" cannot present to a window (no " VK_KHR_SWAPCHAIN_EXTENSION_NAME
-                        "); use --offline");
+                       "\" cannot present to a window (no " VK_KHR_SWAPCHAIN_EXTENSION_NAME
+                       "); use --offline");
     extensions.push_back(VK_KHR_SWAPCHAIN_EXTENSION_NAME);
   }
 

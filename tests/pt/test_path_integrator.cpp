@@ -293,9 +293,8 @@ TEST(PathIntegrator, SlicedUnitsGiveTheSameImage) {
   s.batchTargetS = 1e-9;  // every unit in as many slices as the integrator allows
   s.sliceUnits = true;
   std::vector<render::Progress> seen;
-  const render::FilmLayers b =
-      pt::render(ctx, gs, tree, cam, s, [&](const render::Progress& p) { seen.push_back(p); },
-                 &sliced);
+  const render::FilmLayers b = pt::render(
+      ctx, gs, tree, cam, s, [&](const render::Progress& p) { seen.push_back(p); }, &sliced);
   EXPECT_EQ(sliced.units, 5u);
   EXPECT_EQ(sliced.submissions, 5u * pt::PathIntegrator::kMaxSlicesPerUnit);
   EXPECT_EQ(a.samples, b.samples);

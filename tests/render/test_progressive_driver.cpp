@@ -135,7 +135,8 @@ TEST(ProgressiveDriver, StepAndRestartForAViewer) {
 // order, one per submission, then the next unit; without sliceUnits units stay whole.
 class SlicedIntegrator : public ScriptedIntegrator {
  public:
-  SlicedIntegrator(const vk::Context& ctx, double unitS) : ScriptedIntegrator(ctx, unitS, 1), unitS_(unitS) {}
+  SlicedIntegrator(const vk::Context& ctx, double unitS)
+      : ScriptedIntegrator(ctx, unitS, 1), unitS_(unitS) {}
   uint32_t maxSlicesPerUnit() const override { return 8; }
   void recordSlice(VkCommandBuffer, uint32_t unit, uint32_t slice, uint32_t slices,
                    vk::GpuTimer*) override {

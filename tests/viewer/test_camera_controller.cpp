@@ -4,7 +4,6 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
-
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "viewer/camera_controller.h"
@@ -19,8 +18,12 @@ scene::Camera lookingAt(glm::vec3 eye, glm::vec3 target) {
   c.aspect = 1.f;
   return c;
 }
-glm::vec3 eyeOf(const scene::Camera& c) { return glm::vec3(c.worldFromCamera[3]); }
-glm::vec3 forwardOf(const scene::Camera& c) { return -glm::vec3(c.worldFromCamera[2]); }
+glm::vec3 eyeOf(const scene::Camera& c) {
+  return glm::vec3(c.worldFromCamera[3]);
+}
+glm::vec3 forwardOf(const scene::Camera& c) {
+  return -glm::vec3(c.worldFromCamera[2]);
+}
 void expectRigid(const scene::Camera& c) {
   const glm::mat3 r(c.worldFromCamera);
   for (int i = 0; i < 3; ++i) {

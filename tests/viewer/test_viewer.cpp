@@ -7,8 +7,6 @@
 #include <gtest/gtest.h>
 #include <stb/stb_image.h>
 
-#include <sys/wait.h>
-
 #include <algorithm>
 #include <cmath>
 #include <cstdlib>
@@ -92,9 +90,11 @@ TEST(Viewer, ScreenshotAfterNSamplesEqualsTheOfflineRender) {
   const std::string shot = (d / "shot.png").string();
   const std::string script = writeScript(d, "s.txt",
                                          "wait-done\n"
-                                         "screenshot " + shot + "\n"
-                                         "key s\n"
-                                         "key escape\n");
+                                         "screenshot " +
+                                             shot +
+                                             "\n"
+                                             "key s\n"
+                                             "key escape\n");
   fs::remove_all(d / "saved");
   fs::create_directories(d / "saved");
   test::CliResult r = test::runOsrVk(settings + "--viewer-script " + script + " --save-dir " +
@@ -130,15 +130,18 @@ TEST(Viewer, ScriptedOrbitChangesTheImageAndRestarts) {
   const std::string a = (d / "a.png").string(), b = (d / "b.png").string();
   const std::string script = writeScript(d, "s.txt",
                                          "wait-units 2\n"
-                                         "screenshot " + a + "\n"
-                                         "orbit 40 10\n"
-                                         "wait-units 1\n"
-                                         "screenshot " + b + "\n"
-                                         "stats\n"
-                                         "key escape\n");
-  test::CliResult r =
-      test::runOsrVk("--mode preview --spp 64 --seed 3" + kSize + " --viewer-script " + script +
-                     " " + kRoom);
+                                         "screenshot " +
+                                             a +
+                                             "\n"
+                                             "orbit 40 10\n"
+                                             "wait-units 1\n"
+                                             "screenshot " +
+                                             b +
+                                             "\n"
+                                             "stats\n"
+                                             "key escape\n");
+  test::CliResult r = test::runOsrVk("--mode preview --spp 64 --seed 3" + kSize +
+                                     " --viewer-script " + script + " " + kRoom);
   ASSERT_EQ(r.code, 0) << r.out;
   expectClean(r);
   // Two refinements: the opening one and the orbit's; the orbit's image came from it.
@@ -158,11 +161,13 @@ TEST(Viewer, ResizeMidRenderIsClean) {
                                          "wait-units 1\n"
                                          "resize 520 200\n"
                                          "wait-units 1\n"
-                                         "screenshot " + c + "\n"
-                                         "resize 400 300\n"
-                                         "key escape\n");
-  test::CliResult r = test::runOsrVk("--mode path --spp 256" + kSize + " --viewer-script " +
-                                     script + " " + kRoom);
+                                         "screenshot " +
+                                             c +
+                                             "\n"
+                                             "resize 400 300\n"
+                                             "key escape\n");
+  test::CliResult r =
+      test::runOsrVk("--mode path --spp 256" + kSize + " --viewer-script " + script + " " + kRoom);
   ASSERT_EQ(r.code, 0) << r.out;
   expectClean(r);
   const Png pc = readPng(c);
@@ -176,46 +181,47 @@ TEST(Viewer, ResizeMidRenderIsClean) {
   fs::remove_all(d);
 }
 
-TEST(Viewer, EscapeExitsZero) {
-  const fs::path d = test::tempDir("viewer_esc");
-  const std::string script = writeScript(d, "s.txt", "key escape\n");
-  test::CliResult r = test::runOsrVk("--mode preview" + kSize + " --viewer-script " + script +
-                                     " " + kRoom);
-  EXPECT_EQ(r.code, 0) << r.out;
-  expectClean(r);
+// Runs the viewer on the room at the test size with `script` (written to a scratch folder).
+test::CliResult runScripted(const std::string& tag, const std::string& script,
+                            const std::string& args) {
+  const fs::path d = test::tempDir(tag);
+  const std::string path = writeScript(d, "s.txt", script);
+  test::CliResult r = test::runOsrVk(args + kSize + " --viewer-script " + path + " " + kRoom);
   fs::remove_all(d);
+  return r;
 }
 
-TEST(Viewer, NoDisplaySaysUseOfflineAndExitsTwo) {
-  const char* binary = std::getenv("OSR_BINARY_DIR");
-  const std::string cmd = "env -u DISPLAY -u WAYLAND_DISPLAY " +
-                          std::string(binary ? binary : OSR_BINARY_DIR) + "/osr-vk " + kRoom +
-                          " 2>&1";
-  FILE* p = popen(cmd.c_str(), "r");
-  std::string out;
-  char buf[512];
-  while (fgets(buf, sizeof buf, p)) out += buf;
-  const int status = pclose(p);
-  EXPECT_EQ(WEXITSTATUS(status), 2) << out;
-  EXPECT_NE(out.find("no display"), std::string::npos) << out;
-  EXPECT_NE(out.find("--offline"), std::string::npos) << out;
-  EXPECT_EQ(std::count(out.begin(), out.end(), '\n'), 1) << out;
+TEST(Viewer, EscapeExitsZero) {
+  test::CliResult r = runScripted("viewer_esc", "key escape\n", "--mode preview");
+  EXPECT_EQ(r.code, 0) << r.out;
+  expectClean(r);
 }
 
 TEST(Viewer, BadScriptIsOneLineAndExitTwo) {
-  const fs::path d = test::tempDir("viewer_badscript");
-  const std::string script = writeScript(d, "s.txt", "wait 1\norbit 10\n");
-  test::CliResult r = test::runOsrVk("--mode preview" + kSize + " --viewer-script " + script +
-                                     " " + kRoom);
+  test::CliResult r = runScripted("viewer_badscript", "wait 1\norbit 10\n", "--mode preview");
   EXPECT_EQ(r.code, 2) << r.out;
   EXPECT_NE(r.out.find("s.txt:2: orbit needs 2 number(s)"), std::string::npos) << r.out;
-  fs::remove_all(d);
+}
+
+TEST(Viewer, NoDisplaySaysUseOfflineAndExitsTwo) {
+  // The child inherits this process's environment: take the display away for it.
+  const std::string display = std::getenv("DISPLAY") ? std::getenv("DISPLAY") : "";
+  const std::string wayland = std::getenv("WAYLAND_DISPLAY") ? std::getenv("WAYLAND_DISPLAY") : "";
+  unsetenv("DISPLAY");
+  unsetenv("WAYLAND_DISPLAY");
+  test::CliResult r = test::runOsrVk(kRoom);
+  if (!display.empty()) setenv("DISPLAY", display.c_str(), 1);
+  if (!wayland.empty()) setenv("WAYLAND_DISPLAY", wayland.c_str(), 1);
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("no display"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("--offline"), std::string::npos) << r.out;
+  EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
 }
 
 TEST(Viewer, HelpListsTheKeys) {
   test::CliResult r = test::runOsrVk("--help");
   EXPECT_EQ(r.code, 0);
-  for (const char* key : {"Space pause", "1-6 layer", "F frame", "Esc quit", "S save",
-                          "--viewer-script"})
+  for (const char* key :
+       {"Space pause", "1-6 layer", "F frame", "Esc quit", "S save", "--viewer-script"})
     EXPECT_NE(r.out.find(key), std::string::npos) << key << " missing from --help";
 }

@@ -28,12 +28,12 @@ std::string errorOf(const std::string& text) {
 }  // namespace
 
 TEST(ViewerScript, ReadsEveryCommand) {
-  const auto cmds = viewer::readViewerScript(write(
-      "# a demo\n"
-      "at 1.5\n\n"
-      "wait 0.25   # trailing comment\n"
-      "wait-units 4\nwait-done\nkey space\norbit 10 -5\npan 0.1 0\nzoom 0.8\n"
-      "fly 0.1 0 -0.2\ncamera 0\nreset\nresize 640 480\nscreenshot out.png\nstats\nquit\n"));
+  const auto cmds = viewer::readViewerScript(
+      write("# a demo\n"
+            "at 1.5\n\n"
+            "wait 0.25   # trailing comment\n"
+            "wait-units 4\nwait-done\nkey space\norbit 10 -5\npan 0.1 0\nzoom 0.8\n"
+            "fly 0.1 0 -0.2\ncamera 0\nreset\nresize 640 480\nscreenshot out.png\nstats\nquit\n"));
   ASSERT_EQ(cmds.size(), 15u);
   EXPECT_EQ(cmds[0].name, "at");
   EXPECT_EQ(cmds[0].numbers, std::vector<double>{1.5});
