@@ -70,6 +70,17 @@ void imageBarrier(VkCommandBuffer cmd, VkImage image, VkImageLayout from, VkImag
 
 Presenter::Presenter(const vk::Context& ctx, VkSurfaceKHR surface, VkExtent2D extent)
     : ctx_(ctx), surface_(surface), format_(chooseSurfaceFormat(ctx, surface)) {
+  try {
+    create(extent);
+  } catch (...) {
+    release();  // a throwing constructor runs no destructor
+    throw;
+  }
+}
+
+void Presenter::create(VkExtent2D extent) {
+  const vk::Context& ctx = ctx_;
+  const VkSurfaceKHR surface = surface_;
   renderPass_ = makeRenderPass(ctx, format_.format);
   VkCommandPoolCreateInfo poolInfo{VK_STRUCTURE_TYPE_COMMAND_POOL_CREATE_INFO};
   poolInfo.flags = VK_COMMAND_POOL_CREATE_RESET_COMMAND_BUFFER_BIT;
@@ -94,16 +105,24 @@ Presenter::Presenter(const vk::Context& ctx, VkSurfaceKHR surface, VkExtent2D ex
 }
 
 Presenter::~Presenter() {
+  release();
+}
+
+void Presenter::release() noexcept {
   (void)vkDeviceWaitIdle(ctx_.device());
   for (Retired& r : retired_) r.destroy();
+  retired_.clear();
   for (Slot& s : slots_) {
     s.staging.reset();
-    vkDestroySemaphore(ctx_.device(), s.imageAcquired, nullptr);
-    vkDestroyFence(ctx_.device(), s.fence, nullptr);
+    if (s.imageAcquired) vkDestroySemaphore(ctx_.device(), s.imageAcquired, nullptr);
+    if (s.fence) vkDestroyFence(ctx_.device(), s.fence, nullptr);
+    s = Slot{};
   }
   swapchain_.reset();
-  vkDestroyCommandPool(ctx_.device(), pool_, nullptr);
-  vkDestroyRenderPass(ctx_.device(), renderPass_, nullptr);
+  if (pool_) vkDestroyCommandPool(ctx_.device(), pool_, nullptr);  // frees the command buffers
+  if (renderPass_) vkDestroyRenderPass(ctx_.device(), renderPass_, nullptr);
+  pool_ = VK_NULL_HANDLE;
+  renderPass_ = VK_NULL_HANDLE;
 }
 
 void Presenter::makeStaging(Slot& slot) {

@@ -64,6 +64,8 @@ class Presenter {
     uint64_t lastFrame;  // the last frame that may use it
     std::function<void()> destroy;
   };
+  void create(VkExtent2D extent);
+  void release() noexcept;
   bool frameDone(uint64_t frame) const;
   void retire(std::function<void()> destroy);
   void collectRetired();

@@ -84,7 +84,7 @@ class Viewer {
   void onKey(int key, int mods);
   void pollMouseAndFly(double dt);
   bool runScript();
-  void save();
+  void save(bool exr, bool png);
   void printStats() const;
   bool rendering() const { return !paused_ && !driver_->finished(); }
 
@@ -317,7 +317,7 @@ void Viewer::onKey(int key, int mods) {
       paused_ = !paused_;
       break;
     case GLFW_KEY_S:
-      save();
+      save(true, true);
       break;
     case GLFW_KEY_F:
       camera_.frame();
@@ -455,24 +455,25 @@ bool Viewer::runScript() {
   return false;
 }
 
-void Viewer::save() {
+void Viewer::save(bool exr, bool png) {
   if (film_.width == 0) {
     status_ = "nothing to save yet";
     return;
   }
   namespace fs = std::filesystem;
   const std::string stem = fs::path(config_.scenePath).stem().string();
-  // The first free number: saving never replaces a file.
+  // The first number free for both extensions: saving never replaces a file.
   for (int n = 1; n < 100000; ++n) {
     char suffix[16];
     std::snprintf(suffix, sizeof suffix, "-%03d", n);
-    const fs::path exr = fs::path(config_.saveDir) / (stem + suffix + ".exr");
-    const fs::path png = fs::path(config_.saveDir) / (stem + suffix + ".png");
-    if (fs::exists(exr) || fs::exists(png)) continue;
+    const fs::path base = fs::path(config_.saveDir) / (stem + suffix);
+    const std::string exrPath = base.string() + ".exr", pngPath = base.string() + ".png";
+    if (fs::exists(exrPath) || fs::exists(pngPath)) continue;
     try {
-      image::writeExr(exr.string(), render::toLayeredImage(film_), image::ExrPixelType::Half);
-      image::writePng8(png.string(), shownWidth_, shownHeight_, shown_);
-      status_ = "saved " + exr.string() + " and .png";
+      // The EXR holds every layer as --offline writes it; the PNG is what the window shows.
+      if (exr) image::writeExr(exrPath, render::toLayeredImage(film_), image::ExrPixelType::Half);
+      if (png) image::writePng8(pngPath, shownWidth_, shownHeight_, shown_);
+      status_ = "saved " + (exr ? exrPath : pngPath) + (exr && png ? " and .png" : "");
     } catch (const InputError& e) {
       status_ = std::string("save failed: ") + e.what();
     }
@@ -514,7 +515,12 @@ int Viewer::run() {
   double fpsWindowStart = 0.0;
   int fpsFrames = 0;
   while (!quit_ && !window_.shouldClose()) {
-    glfwPollEvents();
+    // Idle (paused or done, no script waiting on time): sleep until input, at most 50 ms, so a
+    // finished render does not spin the CPU it shares with everything else.
+    if (driver_ && !rendering() && !restartPending_ && scriptNext_ >= script_.size())
+      glfwWaitEventsTimeout(0.05);
+    else
+      glfwPollEvents();
     // The frame period just ended counts towards pacing if the render was refining in it.
     const double dt = secondsSince(last);
     last = Clock::now();
@@ -617,7 +623,13 @@ void Viewer::drawPanel() {
   ImGui::Text("%.1f s, ~%.1f s left; shown: %u", p.elapsedS, p.remainingS, shownUnits_);
   if (ImGui::Button(paused_ ? "Resume (Space)" : "Pause (Space)")) paused_ = !paused_;
   ImGui::SameLine();
-  if (ImGui::Button("Save EXR+PNG (S)")) save();
+  ImGui::TextUnformatted("save");
+  ImGui::SameLine();
+  if (ImGui::Button("EXR")) save(true, false);
+  ImGui::SameLine();
+  if (ImGui::Button("PNG")) save(false, true);
+  ImGui::SameLine();
+  if (ImGui::Button("both (S)")) save(true, true);
   if (!status_.empty()) ImGui::TextWrapped("%s", status_.c_str());
 
   // Display.
