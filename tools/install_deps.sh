@@ -7,7 +7,8 @@ packages=(
   libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers vulkan-tools
   glslang-tools spirv-tools
   libglm-dev libtinygltf-dev nlohmann-json3-dev libstb-dev
-  libopenexr-dev libimath-dev libglfw3-dev
+  libopenexr-dev libimath-dev libglfw3-dev libimgui-dev
+  xvfb xauth
   libgtest-dev libembree-dev
   python3-torch python3-numpy
 )

@@ -20,24 +20,17 @@
 #include "image/image_io.h"
 #include "osr/osr_integrator.h"
 #include "pt/path_integrator.h"
+#include "render/film_export.h"
 #include "render/progressive_driver.h"
 #include "scene/scene.h"
 #include "scene_gpu/gpu_scene.h"
+#include "viewer/viewer.h"
+#include "viewer/window.h"
 #include "vk/context.h"
 
 namespace osr::app {
 
 namespace {
-
-image::LayeredImage toLayers(const render::FilmLayers& f) {
-  image::LayeredImage img;
-  img.width = f.width;
-  img.height = f.height;
-  const std::vector<std::string> rgb = {"R", "G", "B"}, xyz = {"X", "Y", "Z"};
-  img.layers = {{"", rgb, f.combined},     {"direct", rgb, f.direct}, {"indirect", rgb, f.indirect},
-                {"albedo", rgb, f.albedo}, {"normal", xyz, f.normal}, {"depth", {"Z"}, f.depth}};
-  return img;
-}
 
 // One progress line on stderr: rewritten in place on a terminal, else at most every 5 s.
 class ProgressPrinter {
@@ -125,6 +118,8 @@ int runRender(const std::vector<std::string>& args) {
   auto mapSpp = a.integer("--map-spp", 1, 1 << 16);
   auto mapShare = a.number("--map-share", 0.0, 1.0);
   auto dumpMaps = a.value("--dump-maps");
+  auto viewerScript = a.value("--viewer-script");
+  auto saveDir = a.value("--save-dir");
   vk::ContextOptions vkOptions = readDeviceOptions(a);
   auto files = a.positional();
   a.finish();
@@ -162,8 +157,16 @@ int runRender(const std::vector<std::string>& args) {
     throw InputError("--grid-min: " + std::to_string(osrSettings.gridMin) +
                      " is coarser than --grid-start " + std::to_string(osrSettings.gridStart));
   if (dumpMaps && !osrMode) throw InputError("--dump-maps: an option of --mode osr");
-  if (!exrPath && !pngPath)
-    throw InputError("render: give --offline out.exr and/or --png out.png (no live viewer yet)");
+  const bool live = !exrPath && !pngPath;  // no output file: the viewer
+  if (!live && (viewerScript || saveDir))
+    throw InputError(
+        "render: --viewer-script and --save-dir are options of the viewer "
+        "(without --offline/--png)");
+  if (live) {
+    // Before any work: no display means one line suggesting --offline and exit 2.
+    vkOptions.instanceExtensions = viewer::requireDisplay();
+    vkOptions.swapchain = true;
+  }
   // Fail before the (long) render, not after it.
   if (exrPath) image::checkWritable(*exrPath);
   if (pngPath) image::checkWritable(*pngPath);
@@ -185,18 +188,43 @@ int runRender(const std::vector<std::string>& args) {
   vk::Context ctx(vkOptions);
   const DeviceScene dev(ctx, host);
   ProgressPrinter progress(quiet);
-  std::unique_ptr<render::Integrator> integrator;
-  oneshot::OsrIntegrator* osr = nullptr;
-  if (osrMode) {
-    osrSettings.keepAllMaps = bool(dumpMaps);
-    auto o = std::make_unique<oneshot::OsrIntegrator>(ctx, dev.gpu, dev.bvh, imageWidth,
-                                                      imageHeight, osrSettings);
-    osr = o.get();
-    integrator = std::move(o);
-  } else {
-    integrator = std::make_unique<pt::PathIntegrator>(ctx, dev.gpu, dev.bvh, imageWidth,
-                                                      imageHeight, *ptMode);
+  // One factory for --offline and the viewer (which makes a new integrator on a mode change
+  // or a resize).
+  auto makeIntegrator = [&](const std::string& m, uint32_t w, uint32_t h) {
+    viewer::IntegratorChoice c;
+    if (m == "osr") {
+      osrSettings.keepAllMaps = bool(dumpMaps);
+      c.integrator =
+          std::make_unique<oneshot::OsrIntegrator>(ctx, dev.gpu, dev.bvh, w, h, osrSettings);
+      c.defaultUnits = 32;
+    } else {
+      const pt::Mode pm = *pt::parseMode(m);
+      c.integrator = std::make_unique<pt::PathIntegrator>(ctx, dev.gpu, dev.bvh, w, h, pm);
+      c.defaultUnits = pm == pt::Mode::Preview ? 4u : 64u;
+    }
+    return c;
+  };
+  if (live) {
+    viewer::ViewerConfig vc;
+    vc.scenePath = files[0];
+    vc.scene = &host.scene;
+    vc.camera = host.camera;
+    vc.width = imageWidth;
+    vc.height = imageHeight;
+    vc.modes = {"path", "preview", "osr"};
+    vc.mode = mode;
+    vc.makeIntegrator = makeIntegrator;
+    vc.maxUnits = ds.maxUnits;
+    vc.timeLimitS = ds.timeLimitS;
+    vc.seed = renderSeed;
+    vc.exposureEv = exposure;
+    vc.scriptPath = viewerScript.value_or("");
+    vc.saveDir = saveDir.value_or(".");
+    return viewer::runViewer(ctx, vc);
   }
+  std::unique_ptr<render::Integrator> integrator =
+      makeIntegrator(mode, imageWidth, imageHeight).integrator;
+  auto* osr = dynamic_cast<oneshot::OsrIntegrator*>(integrator.get());
   render::ProgressiveDriver driver(ctx, *integrator, ds);
   driver.restart(host.camera, renderSeed);
   const render::RenderStats& stats = driver.run([&](const render::Progress& p) { progress(p); });
@@ -206,7 +234,7 @@ int runRender(const std::vector<std::string>& args) {
     std::fprintf(stderr, "osr-vk: warning: %llu non-finite samples dropped\n",
                  static_cast<unsigned long long>(film.droppedSamples));
   if (exrPath)
-    image::writeExr(*exrPath, toLayers(film),
+    image::writeExr(*exrPath, render::toLayeredImage(film),
                     exrFloat ? image::ExrPixelType::Float : image::ExrPixelType::Half);
   if (pngPath) image::writePng(*pngPath, {film.width, film.height, film.combined}, exposure);
   if (dumpMaps) writeMapDump(*dumpMaps, osr->downloadMaps(), film);

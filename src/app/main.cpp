@@ -10,6 +10,7 @@
 #include "app/commands.h"
 #include "common/error.h"
 #include "nn_kernels/weights_format.h"
+#include "viewer/viewer.h"
 
 namespace {
 
@@ -23,6 +24,7 @@ constexpr const char* kUsage =
     "\n"
     "render options:\n"
     "  --offline out.exr     render without a window and write a multi-layer OpenEXR\n"
+    "                        (without --offline and --png: the live viewer, below)\n"
     "  --png out.png         also write a tone-mapped PNG preview\n"
     "  --mode path|preview   integrator (default path; preview: albedo x headlight cosine)\n"
     "  --spp N               samples per pixel (default 64; preview 4)\n"
@@ -74,6 +76,7 @@ int main(int argc, char** argv) {
     if (args[0] == "help") {  // `osr-vk help [COMMAND]`
       const Command* c = args.size() > 1 ? findCommand(args[1]) : nullptr;
       std::fputs(c ? c->usage : kUsage, stdout);
+      if (!c) std::fputs(osr::viewer::kViewerHelp, stdout);
       return osr::kExitOk;
     }
     if (const Command* c = findCommand(args[0])) {
@@ -86,6 +89,7 @@ int main(int argc, char** argv) {
     }
     if (osr::app::helpRequested(args)) {  // render options, e.g. `osr-vk scene.gltf --help`
       std::fputs(kUsage, stdout);
+      std::fputs(osr::viewer::kViewerHelp, stdout);
       return osr::kExitOk;
     }
     return osr::app::runRender(args);

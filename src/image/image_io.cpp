@@ -142,25 +142,58 @@ double autoExposureEv(const RgbImage& image) {
 }
 
 namespace {
-uint8_t srgb8(float linear) {
-  if (!std::isfinite(linear)) linear = 0.f;
-  float x = std::clamp(linear, 0.f, 1.f);
+uint8_t srgb8(float x) {
   float s = x <= 0.0031308f ? 12.92f * x : 1.055f * std::pow(x, 1.f / 2.4f) - 0.055f;
   return static_cast<uint8_t>(std::lround(s * 255.f));
 }
+
+float toneMapped(float x, ToneMap op) {
+  if (!std::isfinite(x) || x < 0.f) return 0.f;
+  switch (op) {
+    case ToneMap::Reinhard:
+      return x / (1.f + x);
+    case ToneMap::Aces:
+      return std::clamp(x * (2.51f * x + 0.03f) / (x * (2.43f * x + 0.59f) + 0.14f), 0.f, 1.f);
+    case ToneMap::Clamp:
+      break;
+  }
+  return std::min(x, 1.f);
+}
 }  // namespace
 
-void writePng(const std::string& path, const RgbImage& image, std::optional<double> exposureEv) {
-  const float scale = float(std::exp2(exposureEv ? *exposureEv : autoExposureEv(image)));
+const char* toneMapName(ToneMap op) {
+  switch (op) {
+    case ToneMap::Reinhard:
+      return "reinhard";
+    case ToneMap::Aces:
+      return "aces";
+    case ToneMap::Clamp:
+      break;
+  }
+  return "clamp";
+}
+
+std::vector<uint8_t> toneMapSrgb8(const RgbImage& image, double exposureEv, ToneMap op) {
+  const float scale = float(std::exp2(exposureEv));
   std::vector<uint8_t> px(image.rgb.size());
-  for (size_t i = 0; i < px.size(); ++i) px[i] = srgb8(image.rgb[i] * scale);
+  for (size_t i = 0; i < px.size(); ++i) px[i] = srgb8(toneMapped(image.rgb[i] * scale, op));
+  return px;
+}
+
+void writePng8(const std::string& path, int width, int height, const std::vector<uint8_t>& rgb) {
   const std::string tmp = tempNameFor(path);
-  if (!stbi_write_png(tmp.c_str(), image.width, image.height, 3, px.data(), image.width * 3)) {
+  if (!stbi_write_png(tmp.c_str(), width, height, 3, rgb.data(), width * 3)) {
     std::error_code ec;
     fs::remove(tmp, ec);
     throw InputError(path + ": cannot write PNG");
   }
   commit(tmp, path);
+}
+
+void writePng(const std::string& path, const RgbImage& image, std::optional<double> exposureEv,
+              ToneMap op) {
+  writePng8(path, image.width, image.height,
+            toneMapSrgb8(image, exposureEv ? *exposureEv : autoExposureEv(image), op));
 }
 
 }  // namespace osr::image

@@ -45,8 +45,22 @@ RgbImage readExrRgb(const std::string& path);
 // Automatic exposure (EV) that maps the log-average luminance to middle grey (0.18; Reinhard
 // et al. 2002's key value), ignoring non-finite pixels.
 double autoExposureEv(const RgbImage& image);
-// PNG preview: sRGB OETF of clamp(x * 2^ev, 0, 1); auto exposure when ev is empty.
-void writePng(const std::string& path, const RgbImage& image, std::optional<double> exposureEv);
+// How exposed linear values above 1 are brought into [0, 1] before the sRGB OETF.
+enum class ToneMap {
+  Clamp,     // clamp(x, 0, 1): the default; what the seed's PNGs did
+  Reinhard,  // x / (1 + x) per channel (Reinhard et al. 2002)
+  Aces,      // Narkowicz 2015's fit of the ACES filmic curve
+};
+const char* toneMapName(ToneMap op);
+// Interleaved 8-bit sRGB of `image` exposed by 2^exposureEv and tone mapped by `op`;
+// non-finite values become 0. What writePng writes and the viewer shows.
+std::vector<uint8_t> toneMapSrgb8(const RgbImage& image, double exposureEv,
+                                  ToneMap op = ToneMap::Clamp);
+// PNG preview: toneMapSrgb8 of the image; auto exposure when ev is empty.
+void writePng(const std::string& path, const RgbImage& image, std::optional<double> exposureEv,
+              ToneMap op = ToneMap::Clamp);
+// PNG of interleaved 8-bit sRGB (width * height * 3 bytes), e.g. a viewer screenshot.
+void writePng8(const std::string& path, int width, int height, const std::vector<uint8_t>& rgb);
 
 // Fails early (InputError) if `path` cannot be created: its directory is missing or not
 // writable, or the path is a directory. Leaves no file behind.

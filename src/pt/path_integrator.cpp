@@ -35,13 +35,23 @@ void PathIntegrator::record(VkCommandBuffer cmd, uint32_t first, uint32_t count,
   pass_.record(cmd, {&film_, &frame_, &bvh_, &scene_, first, count});
 }
 
+void PathIntegrator::recordSlice(VkCommandBuffer cmd, uint32_t unit, uint32_t slice,
+                                 uint32_t slices, vk::GpuTimer* timer) {
+  vk::TimedScope scope(timer, cmd, "pt_trace");
+  const uint64_t pixels = film_.pixelCount();
+  const auto bound = [&](uint32_t s) { return uint32_t(pixels * s / slices); };
+  pass_.record(cmd, {&film_, &frame_, &bvh_, &scene_, unit, 1, bound(slice),
+                     bound(slice + 1) - bound(slice)});
+}
+
 render::FilmLayers render(const vk::Context& ctx, const scene::GpuScene& scene, const bvh::Bvh& bvh,
                           const scene::Camera& camera, const RenderSettings& settings,
                           const std::function<void(const render::Progress&)>& onProgress,
                           render::RenderStats* stats, const std::atomic<bool>* cancel) {
   PathIntegrator integrator(ctx, scene, bvh, settings.width, settings.height, settings.mode);
-  render::ProgressiveDriver driver(ctx, integrator,
-                                   {settings.spp, settings.timeLimitS, settings.batchTargetS});
+  render::ProgressiveDriver driver(
+      ctx, integrator,
+      {settings.spp, settings.timeLimitS, settings.batchTargetS, settings.sliceUnits});
   driver.restart(camera, settings.seed);
   driver.run(onProgress, cancel);
   if (stats) *stats = driver.stats();

@@ -32,9 +32,14 @@ class PathIntegrator : public render::Integrator {
   void restart(const scene::Camera& camera, uint32_t seed) override;
   // Opens timer scope "pt_trace".
   void record(VkCommandBuffer cmd, uint32_t first, uint32_t count, vk::GpuTimer* timer) override;
+  // A slice is a band of whole rows' worth of pixels (row-major), one sample each.
+  uint32_t maxSlicesPerUnit() const override { return kMaxSlicesPerUnit; }
+  void recordSlice(VkCommandBuffer cmd, uint32_t unit, uint32_t slice, uint32_t slices,
+                   vk::GpuTimer* timer) override;
   const render::Film& film() const override { return film_; }
 
   static constexpr uint32_t kMaxSamplesPerSubmission = 1024;
+  static constexpr uint32_t kMaxSlicesPerUnit = 256;
 
  private:
   const vk::Context& ctx_;
@@ -54,6 +59,7 @@ struct RenderSettings {
   uint32_t seed = 0;
   Mode mode = Mode::Path;
   double batchTargetS = 0.25;  // aim for submissions this long (progress, time limit)
+  bool sliceUnits = false;     // split samples into pixel bands (render::DriverSettings)
 };
 
 // Renders `camera`'s view of the uploaded scene with a PathIntegrator under a

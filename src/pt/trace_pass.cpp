@@ -41,11 +41,12 @@ void TracePass::record(VkCommandBuffer cmd, const Args& a) const {
   a.bvh->bind(binder, g::kPtBvhBinding);
   a.scene->bind(binder, g::kPtSceneBinding);
   a.scene->bindTexels(binder, g::kPtSceneTexelBinding);
-  const uint32_t pixels = a.film->pixelCount();
+  const uint32_t begin = std::min(a.pixelFirst, a.film->pixelCount());
+  const uint32_t end = begin + std::min(a.pixelCount, a.film->pixelCount() - begin);
   for (uint32_t done = 0; done < a.sampleCount;) {
     const uint32_t samples = std::min(kMaxSamplesPerDispatch, a.sampleCount - done);
-    for (uint32_t first = 0; first < pixels; first += kMaxPixelsPerDispatch) {
-      g::Push push{first, std::min(kMaxPixelsPerDispatch, pixels - first), a.sampleIndex + done,
+    for (uint32_t first = begin; first < end; first += kMaxPixelsPerDispatch) {
+      g::Push push{first, std::min(kMaxPixelsPerDispatch, end - first), a.sampleIndex + done,
                    samples};
       binder.bind(cmd, push);
       pipeline_.dispatch(cmd, vk::groupCount(push.pixelCount, g::kPtWorkgroupSize));

@@ -38,9 +38,13 @@ class TracePass {
     const scene::GpuScene* scene = nullptr;
     uint32_t sampleIndex = 0;  // first sample
     uint32_t sampleCount = 1;
+    // Pixels [pixelFirst, pixelFirst + pixelCount) in row-major order, clamped to the film
+    // (a slice of the image, so the viewer's submissions stay short).
+    uint32_t pixelFirst = 0;
+    uint32_t pixelCount = ~0u;
   };
-  // Records samples [sampleIndex, sampleIndex + sampleCount) for every pixel, in dispatches of
-  // bounded size, with barriers.
+  // Records samples [sampleIndex, sampleIndex + sampleCount) for the pixel range, in
+  // dispatches of bounded size, with barriers.
   void record(VkCommandBuffer cmd, const Args& args) const;
 
  private:

@@ -39,6 +39,16 @@ class Integrator {
   virtual void record(VkCommandBuffer cmd, uint32_t first, uint32_t count,
                       vk::GpuTimer* timer) = 0;
 
+  // Largest number of slices one unit may be split into, each recorded in its own submission,
+  // so a front end that must redraw often (the viewer) never waits on a whole unit. 1: a unit
+  // is indivisible (OSR's stages each need every pixel of the stage before).
+  virtual uint32_t maxSlicesPerUnit() const { return 1; }
+  // Records slice `slice` of `slices` (2 <= slices <= maxSlicesPerUnit()) of unit `unit`. The
+  // driver records a unit's slices in order, one per submission, before any later unit; the
+  // unit is complete after its last slice, and equals the unit recorded whole.
+  virtual void recordSlice(VkCommandBuffer /*cmd*/, uint32_t /*unit*/, uint32_t /*slice*/,
+                           uint32_t /*slices*/, vk::GpuTimer* /*timer*/) {}
+
   // The film the passes accumulate into (the viewer displays it; resolve() downloads it).
   virtual const Film& film() const = 0;
   // Downloads the film as averaged layers (after the last submission has completed).

@@ -1,6 +1,7 @@
 #include "render/progressive_driver.h"
 
 #include <algorithm>
+#include <cmath>
 
 #include "common/error.h"
 
@@ -39,6 +40,8 @@ void ProgressiveDriver::restart(const scene::Camera& camera, uint32_t seed) {
   batch_ = 1;
   secondsPerUnit_ = 0.0;
   secondsPerCost_ = 0.0;
+  slice_ = slices_ = 0;
+  sliceSeconds_ = 0.0;
   stats_ = {};
   started_ = true;
   start_ = std::chrono::steady_clock::now();
@@ -47,6 +50,7 @@ void ProgressiveDriver::restart(const scene::Camera& camera, uint32_t seed) {
 bool ProgressiveDriver::finished() const {
   if (!started_) return true;
   if (done_ >= settings_.maxUnits) return true;
+  if (slices_ > 0) return false;  // a unit in slices is finished before any stop rule
   // Stop when one more unit would end further past the budget than we are before it.
   return settings_.timeLimitS > 0.0 && done_ > 0 &&
          elapsed() + 0.5 * secondsPerCost_ * integrator_.unitCost(done_) >= settings_.timeLimitS;
@@ -69,14 +73,17 @@ uint32_t ProgressiveDriver::nextBatch() const {
   return n;
 }
 
-bool ProgressiveDriver::step() {
-  if (finished()) return false;
-  const uint32_t n = nextBatch();
-  const double t0 = elapsed();
-  ctx_.submitAndWait([&](VkCommandBuffer cmd) {
-    timer_.reset(cmd);
-    integrator_.record(cmd, done_, n, &timer_);
-  });
+uint32_t ProgressiveDriver::slicesFor(double unitSeconds) const {
+  const uint32_t most = std::max(1u, integrator_.maxSlicesPerUnit());
+  if (!settings_.sliceUnits || most == 1) return 1;
+  // Nothing measured yet: as many slices as allowed, since a whole unit may take seconds.
+  if (unitSeconds <= 0.0) return most;
+  if (unitSeconds <= settings_.batchTargetS) return 1;
+  return uint32_t(
+      std::min<double>(most, std::ceil(unitSeconds / std::max(settings_.batchTargetS, 1e-6))));
+}
+
+void ProgressiveDriver::addTimes() {
   for (const vk::PassTime& t : timer_.results()) {
     auto it = std::find_if(stats_.gpuScopes.begin(), stats_.gpuScopes.end(),
                            [&](const vk::PassTime& s) { return s.name == t.name; });
@@ -85,18 +92,51 @@ bool ProgressiveDriver::step() {
     else
       it->ms += t.ms;
   }
-  const double dt = elapsed() - t0;
+}
+
+bool ProgressiveDriver::step() {
+  if (finished()) return false;
+  const double t0 = elapsed();
+  uint32_t n = 0;  // units completed by this submission
+  if (slices_ == 0) {
+    n = nextBatch();
+    if (n == 1) {
+      const uint32_t s = slicesFor(secondsPerUnit_ > 0.0 ? secondsPerUnit_ : lastUnitSeconds_);
+      if (s > 1) slices_ = s, slice_ = 0, sliceSeconds_ = 0.0;
+    }
+  }
+  if (slices_ > 0) {
+    ctx_.submitAndWait([&](VkCommandBuffer cmd) {
+      timer_.reset(cmd);
+      integrator_.recordSlice(cmd, done_, slice_, slices_, &timer_);
+    });
+    addTimes();
+    sliceSeconds_ += elapsed() - t0;
+    stats_.submissions++;
+    stats_.seconds = elapsed();
+    if (++slice_ < slices_) return true;
+    slices_ = 0;
+    n = 1;
+  } else {
+    ctx_.submitAndWait([&](VkCommandBuffer cmd) {
+      timer_.reset(cmd);
+      integrator_.record(cmd, done_, n, &timer_);
+    });
+    addTimes();
+    sliceSeconds_ = elapsed() - t0;
+    stats_.submissions++;
+  }
+  const double dt = sliceSeconds_;
   double cost = 0.0;
   for (uint32_t k = done_; k < done_ + n; ++k) cost += integrator_.unitCost(k);
   done_ += n;
-  secondsPerUnit_ = dt / n;
+  secondsPerUnit_ = lastUnitSeconds_ = dt / n;
   secondsPerCost_ = dt / std::max(cost, 1e-12);
   // Grow or shrink the batch towards the target submission length.
   batch_ = std::clamp<uint32_t>(
       uint32_t(settings_.batchTargetS / std::max(secondsPerUnit_, 1e-6)), 1u,
       std::max(1u, integrator_.maxUnitsPerSubmission()));
   stats_.units = done_;
-  stats_.submissions++;
   stats_.seconds = elapsed();
   return true;
 }
@@ -112,6 +152,7 @@ const RenderStats& ProgressiveDriver::run(const std::function<void(const Progres
 Progress ProgressiveDriver::progress() const {
   Progress p;
   p.units = done_;
+  p.unitFraction = slices_ > 0 ? double(slice_) / slices_ : 0.0;
   p.targetUnits = settings_.maxUnits;
   p.unitName = integrator_.unitName();
   p.elapsedS = started_ ? elapsed() : 0.0;

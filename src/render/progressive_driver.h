@@ -3,7 +3,10 @@
 // batching (units per submission sized from the measured seconds per unit), progress,
 // cancellation and per-pass GPU timings. The CLI calls run(); a viewer calls step() once per
 // frame and restart() when the camera moves. The same seed gives the same image: batching
-// changes how units are grouped into submissions, never which units are computed.
+// changes how units are grouped into submissions, never which units are computed. With
+// sliceUnits, a unit longer than the batch target is split into slices
+// (Integrator::maxSlicesPerUnit), so no submission is much longer than the target where the
+// integrator allows it.
 #pragma once
 #include <atomic>
 #include <chrono>
@@ -22,10 +25,15 @@ struct DriverSettings {
   uint32_t maxUnits = 64;      // stop after this many units (>= 1)
   double timeLimitS = 0.0;     // 0: no limit; otherwise stop starting submissions past it
   double batchTargetS = 0.25;  // aim for submissions this long (progress, time limit, viewer)
+  // Split a unit longer than batchTargetS into slices (Integrator::maxSlicesPerUnit): the
+  // viewer's submissions must stay short while the window redraws; a CLI render needs no more
+  // submissions than units.
+  bool sliceUnits = false;
 };
 
 struct Progress {
-  uint32_t units = 0;
+  uint32_t units = 0;         // complete units
+  double unitFraction = 0.0;  // of the unit in progress, in slices (0 between units)
   uint32_t targetUnits = 0;
   const char* unitName = "";  // Integrator::unitName()
   double elapsedS = 0.0;
@@ -68,6 +76,8 @@ class ProgressiveDriver {
  private:
   double elapsed() const;
   uint32_t nextBatch() const;
+  uint32_t slicesFor(double unitSeconds) const;
+  void addTimes();
 
   const vk::Context& ctx_;
   Integrator& integrator_;
@@ -79,6 +89,12 @@ class ProgressiveDriver {
   double secondsPerUnit_ = 0.0;
   double secondsPerCost_ = 0.0;  // of Integrator::unitCost, from the last submission
   bool started_ = false;
+  // The unit being recorded in slices: slice_ of slices_ done (slices_ 0 between units).
+  uint32_t slice_ = 0, slices_ = 0;
+  double sliceSeconds_ = 0.0;  // wall time of the current unit's slices so far
+  // Seconds of the last complete unit, kept across restart(): the same integrator after a
+  // camera move costs about the same, so its first unit gets fitting slices (the viewer).
+  double lastUnitSeconds_ = 0.0;
   RenderStats stats_;
 };
 

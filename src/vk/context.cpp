@@ -135,9 +135,9 @@ Context::Context(const ContextOptions& options) {
   // A constructor that throws runs no destructor: free what was made so far (e.g. the
   // instance and messenger when --device matches nothing), then rethrow.
   try {
-    createInstance(options.validation || envFlag("OSR_VALIDATION"));
+    createInstance(options.validation || envFlag("OSR_VALIDATION"), options.instanceExtensions);
     pickPhysicalDevice(options.device);
-    createDevice();
+    createDevice(options.swapchain);
   } catch (...) {
     release();
     throw;
@@ -174,9 +174,14 @@ void Context::release() noexcept {
   instance_ = VK_NULL_HANDLE;
 }
 
-void Context::createInstance(bool wantValidation) {
+void Context::createInstance(bool wantValidation, const std::vector<std::string>& extraExtensions) {
   std::vector<const char*> layers;
   std::vector<const char*> extensions;
+  for (const std::string& e : extraExtensions) {
+    if (!hasInstanceExtension(e.c_str()))
+      throw DeviceError("vulkan: the Vulkan loader lacks instance extension " + e);
+    extensions.push_back(e.c_str());
+  }
   if (wantValidation) {
     if (!hasInstanceLayer(kValidationLayer))
       throw DeviceError(std::string("vulkan: validation requested but ") + kValidationLayer +
@@ -264,7 +269,7 @@ void Context::pickPhysicalDevice(const std::string& selector) {
                       "\" does not support Vulkan 1.2");
 }
 
-void Context::createDevice() {
+void Context::createDevice(bool swapchain) {
   VkPhysicalDeviceProperties2 props2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
   VkPhysicalDeviceSubgroupProperties subgroup{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES};
   props2.pNext = &subgroup;
@@ -299,6 +304,15 @@ void Context::createDevice() {
     throw DeviceError(std::string("vulkan: device \"") + props2.properties.deviceName +
                       "\" lacks " + VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME);
   std::vector<const char*> extensions = {VK_KHR_PUSH_DESCRIPTOR_EXTENSION_NAME};
+  if (swapchain) {
+    // Asking for a window on a device that cannot show one is like asking without a display:
+    // the viewer's contract is one line suggesting --offline and exit 2.
+    if (!hasDeviceExtension(physicalDevice_, VK_KHR_SWAPCHAIN_EXTENSION_NAME))
+      throw InputError(std::string("vulkan: device \"") + props2.properties.deviceName +
+                       "\" cannot present to a window (no " VK_KHR_SWAPCHAIN_EXTENSION_NAME
+                       "); use --offline");
+    extensions.push_back(VK_KHR_SWAPCHAIN_EXTENSION_NAME);
+  }
 
   // Enable only what we use, and only where the device has it.
   VkPhysicalDeviceFeatures2 enable2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};

@@ -18,6 +18,11 @@ struct ContextOptions {
   std::string device;
   // Print the chosen device and its capabilities on stderr.
   bool verbose = false;
+  // Presentation (the viewer): instance extensions the window system needs (from
+  // glfwGetRequiredInstanceExtensions) and VK_KHR_swapchain on the device. Empty and false for
+  // offline work, so a headless machine never needs a window system.
+  std::vector<std::string> instanceExtensions;
+  bool swapchain = false;
 };
 
 struct DeviceInfo {
@@ -80,9 +85,9 @@ class Context {
   PFN_vkCmdPushDescriptorSetKHR cmdPushDescriptorSet = nullptr;
 
  private:
-  void createInstance(bool wantValidation);
+  void createInstance(bool wantValidation, const std::vector<std::string>& extraExtensions);
   void pickPhysicalDevice(const std::string& selector);
-  void createDevice();
+  void createDevice(bool swapchain);
   void release() noexcept;  // frees whatever handles exist, in reverse creation order
   static VKAPI_ATTR VkBool32 VKAPI_CALL debugCallback(
       VkDebugUtilsMessageSeverityFlagBitsEXT severity, VkDebugUtilsMessageTypeFlagsEXT types,

@@ -276,6 +276,37 @@ TEST(PathIntegrator, BatchingDoesNotChangeTheImage) {
   EXPECT_EQ(a.film.albedo, b.film.albedo);
 }
 
+// The viewer's slices (pixel bands, one sample each) add the same samples as whole units.
+TEST(PathIntegrator, SlicedUnitsGiveTheSameImage) {
+  auto& ctx = test::context();
+  const scene::Scene sc = scene::loadScene(test::referencePath("cornell/cornell.gltf"));
+  const scene::Camera cam = scene::selectCamera(sc, "", 1.f);
+  scene::GpuScene gs(ctx, sc, nullptr);
+  bvh::Bvh tree = bvh::buildGpu(ctx, gs.vertices, gs.triangles, gs.triangleCount);
+  pt::RenderSettings s;
+  s.width = 19;  // odd: bands split rows
+  s.height = 13;
+  s.spp = 5;
+  s.seed = 9;
+  render::RenderStats whole, sliced;
+  const render::FilmLayers a = pt::render(ctx, gs, tree, cam, s, {}, &whole);
+  s.batchTargetS = 1e-9;  // every unit in as many slices as the integrator allows
+  s.sliceUnits = true;
+  std::vector<render::Progress> seen;
+  const render::FilmLayers b = pt::render(
+      ctx, gs, tree, cam, s, [&](const render::Progress& p) { seen.push_back(p); }, &sliced);
+  EXPECT_EQ(sliced.units, 5u);
+  EXPECT_EQ(sliced.submissions, 5u * pt::PathIntegrator::kMaxSlicesPerUnit);
+  EXPECT_EQ(a.samples, b.samples);
+  EXPECT_EQ(a.combined, b.combined);
+  EXPECT_EQ(a.albedo, b.albedo);
+  EXPECT_EQ(a.depth, b.depth);
+  // Progress inside a unit counts its slices.
+  ASSERT_GT(seen.size(), 2u);
+  EXPECT_EQ(seen[0].units, 0u);
+  EXPECT_DOUBLE_EQ(seen[0].unitFraction, 1.0 / pt::PathIntegrator::kMaxSlicesPerUnit);
+}
+
 TEST(PathIntegrator, PreviewIsAlbedoTimesHeadlightCosine) {
   fs::path d = tempDir();
   GltfWriter g;

@@ -131,6 +131,66 @@ TEST(ProgressiveDriver, StepAndRestartForAViewer) {
   expectContiguous(integ.ranges, 4, 2);
 }
 
+// A unit longer than the target, for an integrator that allows slices: each unit's slices in
+// order, one per submission, then the next unit; without sliceUnits units stay whole.
+class SlicedIntegrator : public ScriptedIntegrator {
+ public:
+  SlicedIntegrator(const vk::Context& ctx, double unitS)
+      : ScriptedIntegrator(ctx, unitS, 1), unitS_(unitS) {}
+  uint32_t maxSlicesPerUnit() const override { return 8; }
+  void recordSlice(VkCommandBuffer, uint32_t unit, uint32_t slice, uint32_t slices,
+                   vk::GpuTimer*) override {
+    slicesSeen.push_back({unit, slice, slices});
+    std::this_thread::sleep_for(std::chrono::duration<double>(unitS_ / slices));
+  }
+  struct Slice {
+    uint32_t unit, slice, slices;
+  };
+  std::vector<Slice> slicesSeen;
+
+ private:
+  double unitS_;
+};
+
+TEST(ProgressiveDriver, LongUnitsAreSlicedForTheViewer) {
+  auto& ctx = test::context();
+  SlicedIntegrator integ(ctx, 0.08);
+  render::ProgressiveDriver driver(ctx, integ, {3, 0.0, 0.02, true});
+  driver.restart({}, 0);
+  std::vector<render::Progress> seen;
+  driver.run([&](const render::Progress& p) { seen.push_back(p); });
+  EXPECT_EQ(driver.stats().units, 3u);
+  // Unit 0, with no measured time yet, in the integrator's most slices; units 1 and 2 in
+  // slices of about the target.
+  EXPECT_TRUE(integ.ranges.empty());
+  ASSERT_FALSE(integ.slicesSeen.empty());
+  uint32_t unit = 0, next = 0;
+  for (const auto& s : integ.slicesSeen) {
+    if (s.unit == 0)
+      EXPECT_EQ(s.slices, 8u);
+    else
+      EXPECT_GE(s.slices, 3u);  // 0.08 s / 0.02 s, within the integrator's 8
+    EXPECT_LE(s.slices, 8u);
+    EXPECT_EQ(s.unit, unit);
+    EXPECT_EQ(s.slice, next);
+    if (++next == s.slices) ++unit, next = 0;
+  }
+  EXPECT_EQ(unit, 3u);
+  EXPECT_EQ(next, 0u);
+  EXPECT_EQ(driver.stats().submissions, integ.slicesSeen.size());
+  // Between the slices of a unit, progress says how far the unit is.
+  EXPECT_EQ(seen[0].units, 0u);
+  EXPECT_DOUBLE_EQ(seen[0].unitFraction, 1.0 / 8);
+  EXPECT_EQ(seen.back().unitFraction, 0.0);
+  // The same integrator without sliceUnits: whole units only.
+  SlicedIntegrator whole(ctx, 0.02);
+  render::ProgressiveDriver plain(ctx, whole, {3, 0.0, 0.001});
+  plain.restart({}, 0);
+  plain.run();
+  EXPECT_TRUE(whole.slicesSeen.empty());
+  EXPECT_EQ(whole.ranges.size(), 3u);
+}
+
 TEST(ProgressiveDriver, RefusesAZeroUnitBudget) {
   auto& ctx = test::context();
   ScriptedIntegrator integ(ctx, 0.0, 1);

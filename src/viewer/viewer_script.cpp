@@ -1,0 +1,79 @@
+#include "viewer/viewer_script.h"
+
+#include <cmath>
+#include <cstdlib>
+#include <fstream>
+#include <sstream>
+
+#include "common/error.h"
+
+namespace osr::viewer {
+
+namespace {
+struct Syntax {
+  const char* name;
+  int numbers;  // numeric arguments
+  bool text;    // one word argument after them
+};
+constexpr Syntax kSyntax[] = {
+    {"at", 1, false},        {"wait", 1, false},  {"wait-units", 1, false},
+    {"wait-done", 0, false}, {"key", 0, true},    {"orbit", 2, false},
+    {"pan", 2, false},       {"zoom", 1, false},  {"fly", 3, false},
+    {"camera", 1, false},    {"reset", 0, false}, {"resize", 2, false},
+    {"screenshot", 0, true}, {"stats", 0, false}, {"quit", 0, false},
+};
+constexpr const char* kKeys[] = {"s", "space", "1",    "2",     "3", "4",
+                                 "5", "6",     "plus", "minus", "f", "escape"};
+}  // namespace
+
+std::vector<ScriptCommand> readViewerScript(const std::string& path) {
+  std::ifstream in(path);
+  if (!in) throw InputError(path + ": cannot open the viewer script");
+  std::vector<ScriptCommand> out;
+  std::string raw;
+  for (int lineNo = 1; std::getline(in, raw); ++lineNo) {
+    const std::string where = path + ":" + std::to_string(lineNo) + ": ";
+    std::istringstream line(raw.substr(0, raw.find('#')));
+    ScriptCommand c;
+    c.line = lineNo;
+    if (!(line >> c.name)) continue;
+    const Syntax* syntax = nullptr;
+    for (const Syntax& s : kSyntax)
+      if (c.name == s.name) syntax = &s;
+    if (!syntax) throw InputError(where + "unknown command '" + c.name + "'");
+    for (int i = 0; i < syntax->numbers; ++i) {
+      std::string word;
+      if (!(line >> word))
+        throw InputError(where + c.name + " needs " + std::to_string(syntax->numbers) +
+                         " number(s)");
+      char* end = nullptr;
+      const double x = std::strtod(word.c_str(), &end);
+      if (*end || !std::isfinite(x))
+        throw InputError(where + c.name + ": '" + word + "' is not a number");
+      c.numbers.push_back(x);
+    }
+    if (syntax->text && !(line >> c.text)) throw InputError(where + c.name + " needs an argument");
+    std::string extra;
+    if (line >> extra) throw InputError(where + "unexpected '" + extra + "' after " + c.name);
+    if (c.name == "key") {
+      bool known = false;
+      for (const char* k : kKeys) known |= c.text == k;
+      if (!known)
+        throw InputError(where + "unknown key '" + c.text +
+                         "' (s, space, 1-6, plus, minus, f, escape)");
+    }
+    if ((c.name == "wait" || c.name == "at") && c.numbers[0] < 0)
+      throw InputError(where + c.name + " needs a time >= 0");
+    if (c.name == "zoom" && c.numbers[0] <= 0) throw InputError(where + "zoom needs a factor > 0");
+    if (c.name == "resize" &&
+        (c.numbers[0] < 64 || c.numbers[1] < 64 || c.numbers[0] > 8192 || c.numbers[1] > 8192))
+      throw InputError(where + "resize needs a size in [64, 8192]");
+    if ((c.name == "camera" || c.name == "wait-units") &&
+        (c.numbers[0] < 0 || c.numbers[0] != std::floor(c.numbers[0])))
+      throw InputError(where + c.name + " needs a whole number >= 0");
+    out.push_back(std::move(c));
+  }
+  return out;
+}
+
+}  // namespace osr::viewer

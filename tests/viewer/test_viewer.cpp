@@ -1,0 +1,227 @@
+// The live viewer as a user runs it (`osr-vk scene.gltf` without --offline), driven by
+// --viewer-script on the virtual X server CTest starts (xvfb-run), with the validation layer on
+// (OSR_VALIDATION=1 from CTest reaches the child): a screenshot after N samples equals the
+// offline render with the same settings, an orbit changes the image and restarts the
+// refinement, a resize mid-render is clean, Esc exits 0, and without a display the viewer says
+// to use --offline and exits 2.
+#include <gtest/gtest.h>
+#include <stb/stb_image.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <string>
+#include <vector>
+
+#include "app/cli_runner.h"
+#include "common/test_paths.h"
+#include "image/image_io.h"
+
+using namespace osr;
+namespace fs = std::filesystem;
+
+namespace {
+
+constexpr int kPanelWidth = 320;  // src/viewer/viewer.cpp: the panel sits right of the image
+const std::string kRoom = test::referencePath("room/room.gltf");
+// Small enough for seconds on lavapipe, large enough for a real image.
+const std::string kSize = " --width 96 --height 72";
+
+struct Png {
+  int width = 0, height = 0;
+  std::vector<unsigned char> rgb;
+  const unsigned char* at(int x, int y) const { return &rgb[(size_t(y) * width + x) * 3]; }
+};
+
+Png readPng(const std::string& path) {
+  Png p;
+  int channels = 0;
+  unsigned char* data = stbi_load(path.c_str(), &p.width, &p.height, &channels, 3);
+  if (!data) {
+    ADD_FAILURE() << path << ": not a readable PNG";
+    return p;
+  }
+  p.rgb.assign(data, data + size_t(p.width) * p.height * 3);
+  stbi_image_free(data);
+  return p;
+}
+
+// Mean absolute difference (8-bit levels) and largest one over the w x h top-left corner.
+struct Diff {
+  double mean = 0.0;
+  int max = 0;
+};
+Diff compare(const Png& a, const Png& b, int w, int h) {
+  Diff d;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x)
+      for (int c = 0; c < 3; ++c) {
+        const int e = std::abs(int(a.at(x, y)[c]) - int(b.at(x, y)[c]));
+        d.mean += e;
+        d.max = std::max(d.max, e);
+      }
+  d.mean /= double(w) * h * 3;
+  return d;
+}
+
+std::string writeScript(const fs::path& dir, const std::string& name, const std::string& text) {
+  const std::string path = (dir / name).string();
+  std::ofstream(path) << text;
+  return path;
+}
+
+// A viewer run must be free of validation messages (the child validates: OSR_VALIDATION=1).
+void expectClean(const test::CliResult& r) {
+  EXPECT_EQ(r.out.find("validation"), std::string::npos) << r.out;
+}
+
+}  // namespace
+
+TEST(Viewer, ScreenshotAfterNSamplesEqualsTheOfflineRender) {
+  const fs::path d = test::tempDir("viewer_offline");
+  const std::string settings = " --mode path --spp 3 --seed 11 --exposure 1" + kSize + " ";
+  const std::string offlinePng = (d / "offline.png").string();
+  const std::string offlineExr = (d / "offline.exr").string();
+  test::CliResult off = test::runOsrVk(settings + "--quiet --offline " + offlineExr + " --png " +
+                                       offlinePng + " " + kRoom);
+  ASSERT_EQ(off.code, 0) << off.out;
+  const std::string shot = (d / "shot.png").string();
+  const std::string script = writeScript(d, "s.txt",
+                                         "wait-done\n"
+                                         "screenshot " +
+                                             shot +
+                                             "\n"
+                                             "key s\n"
+                                             "key escape\n");
+  fs::remove_all(d / "saved");
+  fs::create_directories(d / "saved");
+  test::CliResult r = test::runOsrVk(settings + "--viewer-script " + script + " --save-dir " +
+                                     (d / "saved").string() + " " + kRoom);
+  ASSERT_EQ(r.code, 0) << r.out;
+  expectClean(r);
+  const Png viewer = readPng(shot), offline = readPng(offlinePng);
+  ASSERT_EQ(viewer.width, 96 + kPanelWidth);
+  ASSERT_EQ(viewer.height, 72);
+  ASSERT_EQ(offline.width, 96);
+  // The same samples in the same order per pixel; the viewer records one sample per pixel
+  // band, the offline render several per dispatch, so sums may round differently: allow one
+  // 8-bit level anywhere outside the panel, and almost none on average.
+  const Diff diff = compare(viewer, offline, 96, 72);
+  EXPECT_LE(diff.max, 1);
+  EXPECT_LT(diff.mean, 0.05);
+  // S saved every layer and the PNG as shown; the EXR equals the offline one.
+  const image::RgbImage savedExr = image::readExrRgb((d / "saved" / "room-001.exr").string());
+  const image::RgbImage offExr = image::readExrRgb(offlineExr);
+  ASSERT_EQ(savedExr.rgb.size(), offExr.rgb.size());
+  double worst = 0.0;
+  for (size_t i = 0; i < offExr.rgb.size(); ++i)
+    worst = std::max(worst, double(std::abs(savedExr.rgb[i] - offExr.rgb[i])) /
+                                (1e-2 + std::abs(offExr.rgb[i])));
+  EXPECT_LT(worst, 2e-3) << "saved EXR differs from the offline render";
+  const Png savedPng = readPng((d / "saved" / "room-001.png").string());
+  EXPECT_EQ(compare(savedPng, viewer, 96, 72).max, 0) << "the PNG is not what was shown";
+  fs::remove_all(d);
+}
+
+TEST(Viewer, ScriptedOrbitChangesTheImageAndRestarts) {
+  const fs::path d = test::tempDir("viewer_orbit");
+  const std::string a = (d / "a.png").string(), b = (d / "b.png").string();
+  const std::string script = writeScript(d, "s.txt",
+                                         "wait-units 2\n"
+                                         "screenshot " +
+                                             a +
+                                             "\n"
+                                             "orbit 40 10\n"
+                                             "wait-units 1\n"
+                                             "screenshot " +
+                                             b +
+                                             "\n"
+                                             "stats\n"
+                                             "key escape\n");
+  test::CliResult r = test::runOsrVk("--mode preview --spp 64 --seed 3" + kSize +
+                                     " --viewer-script " + script + " " + kRoom);
+  ASSERT_EQ(r.code, 0) << r.out;
+  expectClean(r);
+  // Two refinements: the opening one and the orbit's; the orbit's image came from it.
+  EXPECT_NE(r.out.find("\"restarts\": 2,"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("\"camera_moves\": 1,"), std::string::npos) << r.out;
+  const Png pa = readPng(a), pb = readPng(b);
+  ASSERT_EQ(pa.width, pb.width);
+  const Diff diff = compare(pa, pb, 96, 72);
+  EXPECT_GT(diff.mean, 8.0) << "the orbit did not change the image";
+  fs::remove_all(d);
+}
+
+TEST(Viewer, ResizeMidRenderIsClean) {
+  const fs::path d = test::tempDir("viewer_resize");
+  const std::string c = (d / "c.png").string();
+  const std::string script = writeScript(d, "s.txt",
+                                         "wait-units 1\n"
+                                         "resize 520 200\n"
+                                         "wait-units 1\n"
+                                         "screenshot " +
+                                             c +
+                                             "\n"
+                                             "resize 400 300\n"
+                                             "key escape\n");
+  test::CliResult r =
+      test::runOsrVk("--mode path --spp 256" + kSize + " --viewer-script " + script + " " + kRoom);
+  ASSERT_EQ(r.code, 0) << r.out;
+  expectClean(r);
+  const Png pc = readPng(c);
+  EXPECT_EQ(pc.width, 520);
+  EXPECT_EQ(pc.height, 200);
+  // The render follows the window: 200 x 200 beside the panel, and it shows the room.
+  double sum = 0.0;
+  for (int y = 0; y < 200; ++y)
+    for (int x = 0; x < 200; ++x) sum += pc.at(x, y)[0] + pc.at(x, y)[1] + pc.at(x, y)[2];
+  EXPECT_GT(sum / (200.0 * 200 * 3), 20.0) << "black image after the resize";
+  fs::remove_all(d);
+}
+
+// Runs the viewer on the room at the test size with `script` (written to a scratch folder).
+test::CliResult runScripted(const std::string& tag, const std::string& script,
+                            const std::string& args) {
+  const fs::path d = test::tempDir(tag);
+  const std::string path = writeScript(d, "s.txt", script);
+  test::CliResult r = test::runOsrVk(args + kSize + " --viewer-script " + path + " " + kRoom);
+  fs::remove_all(d);
+  return r;
+}
+
+TEST(Viewer, EscapeExitsZero) {
+  test::CliResult r = runScripted("viewer_esc", "key escape\n", "--mode preview");
+  EXPECT_EQ(r.code, 0) << r.out;
+  expectClean(r);
+}
+
+TEST(Viewer, BadScriptIsOneLineAndExitTwo) {
+  test::CliResult r = runScripted("viewer_badscript", "wait 1\norbit 10\n", "--mode preview");
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("s.txt:2: orbit needs 2 number(s)"), std::string::npos) << r.out;
+}
+
+TEST(Viewer, NoDisplaySaysUseOfflineAndExitsTwo) {
+  // The child inherits this process's environment: take the display away for it.
+  const std::string display = std::getenv("DISPLAY") ? std::getenv("DISPLAY") : "";
+  const std::string wayland = std::getenv("WAYLAND_DISPLAY") ? std::getenv("WAYLAND_DISPLAY") : "";
+  unsetenv("DISPLAY");
+  unsetenv("WAYLAND_DISPLAY");
+  test::CliResult r = test::runOsrVk(kRoom);
+  if (!display.empty()) setenv("DISPLAY", display.c_str(), 1);
+  if (!wayland.empty()) setenv("WAYLAND_DISPLAY", wayland.c_str(), 1);
+  EXPECT_EQ(r.code, 2) << r.out;
+  EXPECT_NE(r.out.find("no display"), std::string::npos) << r.out;
+  EXPECT_NE(r.out.find("--offline"), std::string::npos) << r.out;
+  EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << r.out;
+}
+
+TEST(Viewer, HelpListsTheKeys) {
+  test::CliResult r = test::runOsrVk("--help");
+  EXPECT_EQ(r.code, 0);
+  for (const char* key :
+       {"Space pause", "1-6 layer", "F frame", "Esc quit", "S save", "--viewer-script"})
+    EXPECT_NE(r.out.find(key), std::string::npos) << key << " missing from --help";
+}
