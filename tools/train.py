@@ -201,7 +201,7 @@ def main(argv: list[str] | None = None) -> int:
             "target_spp": ",".join(str(s) for s in sorted(train.spp)), "train_maps": train.count,
             "val_maps": val.count, "batch": args.batch, "lr": args.lr, "git_commit": git_commit(),
             "init": args.init or ""}
-    print(f"train.py: {train.count} maps from {len(train.scenes)} scenes ({train.dropped} unlit dropped), "
+    print(f"train.py: {train.count} maps from {len(train.scenes)} scenes ({train.dropped} dropped: unlit or off by 100x), "
           f"validation {val.count} maps from {len(val.scenes)} scenes; K={args.k}, loss {args.loss}",
           file=sys.stderr)
     rng = np.random.default_rng(state["rng"] * 1000003 + state["step"])
@@ -253,6 +253,8 @@ def main(argv: list[str] | None = None) -> int:
         loss = loss_fn(args.loss, model(xb), tb)
         opt.zero_grad()
         loss.backward()
+        # A map of rare bright paths still makes a large relative loss now and then.
+        torch.nn.utils.clip_grad_norm_(model.parameters(), 1.0)
         opt.step()
         state["step"] += 1
         state["examples"] += args.batch
