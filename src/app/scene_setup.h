@@ -16,7 +16,7 @@ namespace osr::app {
 
 struct SceneOptions {
   std::string camera;              // --camera N|name ("" = default)
-  std::optional<std::string> env;  // --env file.exr|.hdr
+  std::optional<std::string> env;  // --env file.exr|.hdr|none
   std::optional<long long> width, height;
 };
 
@@ -24,7 +24,8 @@ struct SceneOptions {
 SceneOptions readSceneOptions(Args& args);
 
 // The scene on the host with its camera and image size: --width and --height as given, one of
-// them from the camera's aspect, or 512 wide by default.
+// them from the camera's aspect, or 512 wide by default. A scene without lights and without
+// --env gets scene::neutralEnvironment() and a warning on stderr; --env none leaves it unlit.
 struct HostScene {
   scene::Scene scene;
   std::optional<scene::Environment> env;

@@ -127,18 +127,27 @@ RgbImage readExrRgb(const std::string& path) {
   }
 }
 
-double autoExposureEv(const RgbImage& image) {
-  double sumLog = 0.0;
-  size_t n = 0;
+double meteredLuminance(const RgbImage& image, const std::vector<float>& depth) {
+  std::vector<double> y;
+  y.reserve(image.rgb.size() / 3);
   for (size_t i = 0; i < image.rgb.size() / 3; ++i) {
-    double y = image.luminance(i);
-    if (!std::isfinite(y) || y < 0.0) continue;
-    sumLog += std::log(1e-4 + y);
-    ++n;
+    double v = image.luminance(i);
+    if (!std::isfinite(v) || v < 0.0) continue;
+    const bool hit = i < depth.size() && depth[i] > 0.f;
+    if (hit || v > 0.0) y.push_back(v);
   }
-  if (n == 0) return 0.0;
-  double logAverage = std::exp(sumLog / double(n));
-  return std::log2(0.18 / logAverage);
+  if (y.empty()) return 0.0;
+  const size_t k = std::min(y.size() - 1, size_t(std::floor(kMeterClipPercentile * double(y.size()))));
+  std::nth_element(y.begin(), y.begin() + k, y.end());
+  const double clip = y[k];
+  double sum = 0.0;
+  for (double v : y) sum += std::min(v, clip);
+  return sum / double(y.size());
+}
+
+double autoExposureEv(const RgbImage& image, const std::vector<float>& depth) {
+  const double metered = meteredLuminance(image, depth);
+  return metered > 0.0 ? std::log2(kExposureKey / metered) : 0.0;
 }
 
 namespace {
@@ -150,8 +159,9 @@ uint8_t srgb8(float linear) {
 }
 }  // namespace
 
-void writePng(const std::string& path, const RgbImage& image, std::optional<double> exposureEv) {
-  const float scale = float(std::exp2(exposureEv ? *exposureEv : autoExposureEv(image)));
+void writePng(const std::string& path, const RgbImage& image, std::optional<double> exposureEv,
+              const std::vector<float>& depth) {
+  const float scale = float(std::exp2(exposureEv ? *exposureEv : autoExposureEv(image, depth)));
   std::vector<uint8_t> px(image.rgb.size());
   for (size_t i = 0; i < px.size(); ++i) px[i] = srgb8(image.rgb[i] * scale);
   const std::string tmp = tempNameFor(path);

@@ -42,11 +42,21 @@ void writeExr(const std::string& path, const LayeredImage& image, ExrPixelType t
 // Reads the default layer's R, G, B (or Y as grey). Throws InputError naming the file.
 RgbImage readExrRgb(const std::string& path);
 
-// Automatic exposure (EV) that maps the log-average luminance to middle grey (0.18; Reinhard
-// et al. 2002's key value), ignoring non-finite pixels.
-double autoExposureEv(const RgbImage& image);
-// PNG preview: sRGB OETF of clamp(x * 2^ev, 0, 1); auto exposure when ev is empty.
-void writePng(const std::string& path, const RgbImage& image, std::optional<double> exposureEv);
+// Automatic exposure (EV). It meters the pixels that saw a surface (depth[i] > 0, where a
+// depth layer is given; e.g. render::FilmLayers::depth) or carry light (luminance > 0), so a
+// black background does not count: a small object on black is exposed for the object. The
+// metered luminance is the mean over those pixels, each clipped at their kMeterClipPercentile
+// (visible lights and fireflies do not darken the image), and the exposure maps it to
+// kExposureKey. A mean, not a log-average, because a 1-spp render's metered pixels are mostly
+// 0 or a few times too bright; their mean is the converged image's (the estimate is unbiased).
+// 0 EV for an image with nothing to meter.
+inline constexpr double kMeterClipPercentile = 0.99;
+inline constexpr double kExposureKey = 0.18;
+double meteredLuminance(const RgbImage& image, const std::vector<float>& depth = {});
+double autoExposureEv(const RgbImage& image, const std::vector<float>& depth = {});
+// PNG preview: sRGB OETF of clamp(x * 2^ev, 0, 1); autoExposureEv(image, depth) when ev is empty.
+void writePng(const std::string& path, const RgbImage& image, std::optional<double> exposureEv,
+              const std::vector<float>& depth = {});
 
 // Fails early (InputError) if `path` cannot be created: its directory is missing or not
 // writable, or the path is a directory. Leaves no file behind.

@@ -82,6 +82,23 @@ Environment loadEnvironment(const std::string& path) {
   return env;
 }
 
+Environment neutralEnvironment() {
+  // Row 0 is the zenith (+Y) of the equirectangular map; radiance depends on height only, so
+  // a narrow map holds it exactly enough.
+  Environment env;
+  env.width = 16;
+  env.height = 64;
+  env.texels.resize(size_t(env.width) * env.height);
+  for (uint32_t y = 0; y < env.height; ++y) {
+    const float theta = 3.14159265f * (float(y) + 0.5f) / float(env.height);
+    const float up = std::cos(theta);  // +1 zenith, -1 nadir
+    const float radiance = 0.625f + 0.375f * up;
+    for (uint32_t x = 0; x < env.width; ++x)
+      env.texels[size_t(y) * env.width + x] = glm::vec4(radiance, radiance, radiance, 1.0f);
+  }
+  return env;
+}
+
 std::vector<float> environmentCdf(const Environment& env) {
   const uint32_t w = env.width, h = env.height;
   std::vector<float> cdf;
