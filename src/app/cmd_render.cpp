@@ -184,6 +184,7 @@ int runRender(const std::vector<std::string>& args) {
   if (host.env && !host.env->path.empty()) inputs.push_back({"the --env map", host.env->path});
   if (weights) inputs.push_back({"the --weights file", *weights});
   checkOutputs(outputs, inputs);
+  warnIfNeutralSky(host);
   const uint32_t imageWidth = host.width, imageHeight = host.height;
   // Units: samples per pixel (path, preview) or passes (osr). Preview is deterministic after
   // one sample per pixel but antialiases with more; OSR's defaults give a converged-looking

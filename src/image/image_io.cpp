@@ -128,21 +128,20 @@ RgbImage readExrRgb(const std::string& path) {
 }
 
 double meteredLuminance(const RgbImage& image, const std::vector<float>& depth) {
-  std::vector<double> y;
-  y.reserve(image.rgb.size() / 3);
+  std::vector<double> metered, lit;
   for (size_t i = 0; i < image.rgb.size() / 3; ++i) {
     double v = image.luminance(i);
     if (!std::isfinite(v) || v < 0.0) continue;
     const bool hit = i < depth.size() && depth[i] > 0.f;
-    if (hit || v > 0.0) y.push_back(v);
+    if (hit || v > 0.0) metered.push_back(v);
+    if (v > 0.0) lit.push_back(v);
   }
-  if (y.empty()) return 0.0;
-  const size_t k = std::min(y.size() - 1, size_t(std::floor(kMeterClipPercentile * double(y.size()))));
-  std::nth_element(y.begin(), y.begin() + k, y.end());
-  const double clip = y[k];
+  if (lit.empty()) return 0.0;
+  std::nth_element(lit.begin(), lit.begin() + lit.size() / 2, lit.end());
+  const double clip = kMeterClipOverMedian * lit[lit.size() / 2];
   double sum = 0.0;
-  for (double v : y) sum += std::min(v, clip);
-  return sum / double(y.size());
+  for (double v : metered) sum += std::min(v, clip);
+  return sum / double(metered.size());
 }
 
 double autoExposureEv(const RgbImage& image, const std::vector<float>& depth) {

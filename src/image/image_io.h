@@ -45,12 +45,12 @@ RgbImage readExrRgb(const std::string& path);
 // Automatic exposure (EV). It meters the pixels that saw a surface (depth[i] > 0, where a
 // depth layer is given; e.g. render::FilmLayers::depth) or carry light (luminance > 0), so a
 // black background does not count: a small object on black is exposed for the object. The
-// metered luminance is the mean over those pixels, each clipped at their kMeterClipPercentile
-// (visible lights and fireflies do not darken the image), and the exposure maps it to
-// kExposureKey. A mean, not a log-average, because a 1-spp render's metered pixels are mostly
-// 0 or a few times too bright; their mean is the converged image's (the estimate is unbiased).
-// 0 EV for an image with nothing to meter.
-inline constexpr double kMeterClipPercentile = 0.99;
+// metered luminance is the mean over those pixels, each clipped at kMeterClipOverMedian times
+// the median of the lit ones (visible lights and fireflies do not darken the image), and the
+// exposure maps it to kExposureKey. A mean, not a log-average, because a 1-spp render's
+// metered pixels are mostly 0 or a few times too bright: their mean is the converged image's
+// (the estimate is unbiased), their log-average is not. 0 EV when nothing is lit.
+inline constexpr double kMeterClipOverMedian = 8.0;
 inline constexpr double kExposureKey = 0.18;
 double meteredLuminance(const RgbImage& image, const std::vector<float>& depth = {});
 double autoExposureEv(const RgbImage& image, const std::vector<float>& depth = {});
