@@ -72,9 +72,11 @@ Scene loadScene(const std::string& path);
 // Throws InputError("<path>: <problem>").
 Environment loadEnvironment(const std::string& path);
 
-// The light of a scene that has none (no emissive surfaces, no punctual lights, no --env): a
-// soft overcast sky, radiance 1 at the zenith falling to 0.25 at the nadir, white, so that
-// form shows by shading without a colour cast. path is "" (made up, not read).
+// The light of a scene that has none (no emissive surfaces, no punctual lights, no --env),
+// white so that it adds no colour cast: a sky of radiance kNeutralSkyNadir below rising to
+// kNeutralSkyZenith above, plus a broad key light (cos^16 lobe of peak kNeutralSkyKey) from the
+// upper front-left, so that form shows by shading. path is "" (made up, not read).
+inline constexpr float kNeutralSkyNadir = 0.2f, kNeutralSkyZenith = 0.6f, kNeutralSkyKey = 6.0f;
 Environment neutralEnvironment();
 
 // Whether the scene emits light by itself (emissive surfaces or punctual lights).

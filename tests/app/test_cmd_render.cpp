@@ -19,6 +19,7 @@
 #include "image/image_io.h"
 #include "common/vk_test.h"
 #include "pt/gltf_writer.h"
+#include "scene/scene.h"
 
 using namespace osr;
 namespace fs = std::filesystem;
@@ -157,8 +158,10 @@ TEST(CmdRender, ProgressLineShowsTheBudgetGiven) {
 }
 
 // A scene without lights (most glTF sample models): a one-line warning, and the neutral sky
-// lights it (a white diffuse ball under a sky of radiance 0.25 to 1 has a radiance in that
-// range); --env none renders it black without a warning.
+// lights it: a diffuse ball of albedo 0.8 under a sky of at least kNeutralSkyNadir everywhere
+// is at least 0.8 x that bright, and under a key of kNeutralSkyKey over about 0.37 sr (cos^16)
+// plus the sky, no brighter than 0.8 x (zenith + key x 0.37 / pi); --env none renders it
+// black without a warning.
 TEST(CmdRender, SceneWithoutLightsGetsANeutralSkyAndAWarning) {
   fs::path d = tempDir();
   std::string gltf = (d / "dark.gltf").string(), exr = (d / "dark.exr").string();
@@ -177,8 +180,8 @@ TEST(CmdRender, SceneWithoutLightsGetsANeutralSkyAndAWarning) {
                          ": the scene has no lights (no emissive surfaces, no KHR_lights_punctual, "
                          "no --env); lighting it with a neutral sky (--env none: leave it unlit)\n");
   const double m = meanOf(image::readExrRgb(exr));
-  EXPECT_GT(m, 0.8 * 0.25);
-  EXPECT_LT(m, 0.8 * 1.0);
+  EXPECT_GT(m, 0.8 * scene::kNeutralSkyNadir);
+  EXPECT_LT(m, 0.8 * (scene::kNeutralSkyZenith + scene::kNeutralSkyKey * 0.37 / 3.14159));
   Result dark = run("--width 8 --spp 4 --quiet --env none --offline " + exr + " " + gltf);
   ASSERT_EQ(dark.code, 0) << dark.out;
   EXPECT_EQ(dark.out, "");
