@@ -5,6 +5,7 @@
 #include <ImfHeader.h>
 #include <ImfInputFile.h>
 #include <ImfOutputFile.h>
+#include <ImfThreading.h>
 #include <half.h>
 #include <unistd.h>
 
@@ -14,6 +15,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <thread>
 
 #define STB_IMAGE_WRITE_IMPLEMENTATION
 #include <stb/stb_image_write.h>
@@ -84,7 +86,8 @@ void writeExr(const std::string& path, const LayeredImage& image, ExrPixelType t
   }
   const std::string tmp = tempNameFor(path);
   try {
-    Imf::OutputFile file(tmp.c_str(), header);
+    // ZIP compression of a 4K multi-layer image takes seconds per core: use them all.
+    Imf::OutputFile file(tmp.c_str(), header, int(std::max(1u, std::thread::hardware_concurrency())));
     file.setFrameBuffer(fb);
     file.writePixels(h);
   } catch (const std::exception& e) {
