@@ -5,24 +5,62 @@
 #include <vector>
 
 namespace osr::bench {
-inline constexpr char kFillUsage[] = "osr-bench fill";
+// Each benchmark: a one-line summary (`osr-bench` with no name lists them) and its usage with
+// every option, its range and default (`osr-bench NAME --help`).
+inline constexpr char kFillSummary[] = "memory bandwidth of the simplest pass (sanity figure)";
+inline constexpr char kFillUsage[] = "osr-bench fill   (no options)";
 int runFill(const std::vector<std::string>& args);  // memory bandwidth of util_fill
-inline constexpr char kPathtraceUsage[] = "osr-bench pathtrace [--scene cornell|room] [--size N] [--spp N]";
+inline constexpr char kPathtraceSummary[] =
+    "path tracer samples/s and Mpaths/s on the reference scenes, against Cycles";
+inline constexpr char kPathtraceUsage[] =
+    "osr-bench pathtrace [--scene cornell|room] [--size N] [--spp N]\n"
+    "  --scene NAME   one reference scene (default: cornell and room)\n"
+    "  --size N       image width and height, 8 to 4096 (default 256)\n"
+    "  --spp N        samples per pixel timed, 1 to 1048576 (default 8)";
 int runPathtrace(const std::vector<std::string>& args);  // path tracer spp/s, Mpaths/s
+inline constexpr char kBvhSummary[] = "GPU BVH build time and quality against CPU SAH and Embree";
 inline constexpr char kBvhUsage[] =
     "osr-bench bvh [--scene NAME] [--repeat N] [--treelet-rounds N] [--treelet-leaves N]\n"
-    "              [--treelet-min-triangles N]";
+    "              [--treelet-min-triangles N]\n"
+    "  --scene NAME               generated_1m, cornell or room (default: all)\n"
+    "  --repeat N                 builds timed per scene, 1 to 100 (default 3)\n"
+    "  --treelet-rounds N         treelet optimization rounds, 0 to 8\n"
+    "  --treelet-leaves N         leaves per treelet, 3 to the build's maximum\n"
+    "  --treelet-min-triangles N  smallest subtree a treelet round visits, 3 to 1048576";
 int runBvh(const std::vector<std::string>& args);   // GPU BVH build vs CPU SAH and Embree
+inline constexpr char kTraceSummary[] = "rays/s of BVH traversal against Embree";
 inline constexpr char kTraceUsage[] =
-    "osr-bench trace [--scene NAME] [--side N] [--repeat N] [--bvh-access auto|storage|texel]";
+    "osr-bench trace [--scene NAME] [--side N] [--repeat N] [--bvh-access auto|storage|texel]\n"
+    "  --scene NAME       generated_1m, cornell or room (default: all)\n"
+    "  --side N           rays = N x N, 16 to 2048 (default 1024)\n"
+    "  --repeat N         timed repeats, 1 to 100 (default 3)\n"
+    "  --bvh-access MODE  how traversal reads the BVH: storage buffers, texel fetches or the\n"
+    "                     device's choice (default auto)";
 int runTrace(const std::vector<std::string>& args); // rays/s of bvh_trace_rays vs Embree
+inline constexpr char kUnetSummary[] = "U-Net maps/s against PyTorch on the same cores";
 inline constexpr char kUnetUsage[] =
     "osr-bench unet [--k 16,64] [--batch 64,256,1024,4096] [--precision fp32,fp16]\n"
     "               [--no-pytorch] [--min-seconds S] [--tile HxW] [--chunk N] [--share N]\n"
-    "               [--profile]";
+    "               [--profile]\n"
+    "  --k LIST           network widths K, each 1 to 1024 (default 16,64)\n"
+    "  --batch LIST       maps per batch, each 1 to 1048576 (default 64,256,1024,4096)\n"
+    "  --precision LIST   fp32 and/or fp16 (default both)\n"
+    "  --no-pytorch       skip the PyTorch peer\n"
+    "  --min-seconds S    time each point for at least S seconds, 0 to 3600 (default 2)\n"
+    "  --tile HxW         convolution output tile, each 1 to 32 (default: the device's)\n"
+    "  --chunk N          largest maps per dispatch chunk, 1 to 1048576\n"
+    "  --share N          lanes sharing loads, 1 (none) to 65 (default: the device's)\n"
+    "  --profile          per-pass GPU times of one batch on stderr";
 int runUnet(const std::vector<std::string>& args);  // U-Net maps/s vs PyTorch
+inline constexpr char kOsrSummary[] = "One Shot Radiance against path tracing at equal time";
 inline constexpr char kOsrUsage[] =
     "osr-bench osr [--scene cornell|room] [--size N] [--budgets 2,5,10,30,60]\n"
-    "              [--denoiser blur|none|unet] [--weights FILE] [--modes osr,path]";
+    "              [--denoiser blur|none|unet] [--weights FILE] [--modes osr,path]\n"
+    "  --scene NAME       one reference scene (default: cornell and room)\n"
+    "  --size N           image width and height, 8 to 4096 (default 256)\n"
+    "  --budgets LIST     time budgets in seconds, each 1 to 3600 (default 2,5,10,30,60)\n"
+    "  --denoiser NAME    OSR map denoiser (default blur; unet with --weights)\n"
+    "  --weights FILE     packed U-Net weights\n"
+    "  --modes LIST       osr,path, osr or path (default osr,path)";
 int runOsr(const std::vector<std::string>& args);   // OSR vs path tracing at equal time
 }  // namespace osr::bench

@@ -18,7 +18,7 @@ void main() {
   uint local = gl_GlobalInvocationID.x;
   if (local >= gPush.pixelCount) return;
   uint pixel = gPush.pixelOffset + local;
-  GBufferPixel g = gGBuffer[pixel];
+  GBufferPixel g = gGBuffer[local];
   vec3 estimate = vec3(0.0);
   if (g.position.w > 0.5) {
     ShadingPoint sp = gbufferShadingPoint(g);
@@ -43,8 +43,8 @@ void main() {
       estimate *= g.throughput.rgb;
     }
   }
-  AccumPixel a = gAccum[pixel];
+  AccumPixel a = gAccum[local];
   if (finite3(estimate)) a.indirect.rgb += gPush.passWeight * estimate;
   a.indirect.w += gPush.passWeight;
-  gAccum[pixel] = a;
+  gAccum[local] = a;
 }

@@ -13,7 +13,7 @@ void main() {
   uint local = gl_GlobalInvocationID.x;
   if (local >= gPush.pixelCount) return;
   uint pixel = gPush.pixelOffset + local;
-  GBufferPixel g = gGBuffer[pixel];
+  GBufferPixel g = gGBuffer[local];
   vec3 sum = vec3(0.0);
   if (g.position.w > 0.5) {
     ShadingPoint sp = gbufferShadingPoint(g);
@@ -40,8 +40,8 @@ void main() {
     }
     sum *= g.throughput.rgb / float(max(gPush.samples, 1u));
   }
-  AccumPixel a = gAccum[pixel];
+  AccumPixel a = gAccum[local];
   if (finite3(sum)) a.direct.rgb += sum;
   a.direct.w += 1.0;
-  gAccum[pixel] = a;
+  gAccum[local] = a;
 }

@@ -40,7 +40,7 @@ void main() {
   g.bsdf.eta = 1.0;
   g.bsdf.transmission = 0.0;
   g.bsdf._pad0 = 0.0;
-  AccumPixel a = gAccum[pixel];
+  AccumPixel a = gAccum[local];
   vec3 beta = vec3(1.0);
   vec3 emitted = vec3(0.0);
   float rayLength = 0.0;
@@ -78,6 +78,6 @@ void main() {
     dir = wi;
   }
   if (finite3(emitted)) a.direct.rgb += emitted;
-  gGBuffer[pixel] = g;
-  gAccum[pixel] = a;
+  gGBuffer[local] = g;
+  gAccum[local] = a;
 }

@@ -45,7 +45,7 @@ float blurred(uint local, uint c, uint t) {
 void main() {
   uint local = gl_GlobalInvocationID.x;
   if (local >= gPush.mapCount) return;
-  uint out0 = (gPush.mapOffset + local) * 3u * kMapTexels;
+  uint out0 = local * 3u * kMapTexels;  // gMapClean's window starts at map mapOffset
   vec3 target = gStats[local].meanRadiance.rgb;
   for (uint c = 0u; c < 3u; ++c) {
     if (kDenoiser == kDenoiserUnet && kNetOutput == kNetOutputAbsolute) {

@@ -17,7 +17,7 @@ void main() {
   vec3 sh[9];
   for (int i = 0; i < 9; ++i) sh[i] = vec3(0.0);
   vec3 sum = vec3(0.0);
-  uint base = map * 3u * kMapTexels;
+  uint base = local * 3u * kMapTexels;  // gMapClean's window starts at map mapOffset
   for (uint t = 0u; t < kMapTexels; ++t) {
     vec3 l = vec3(gMapClean[base + t], gMapClean[base + kMapTexels + t],
                   gMapClean[base + 2u * kMapTexels + t]);

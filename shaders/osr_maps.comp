@@ -33,7 +33,7 @@ void main() {
   uint texel = id % kMapTexels;
   uint map = gPush.mapOffset + local;
   uvec2 pixel = mapPixel(map);
-  GBufferPixel g = gGBuffer[pixel.y * gFrame.width + pixel.x];
+  GBufferPixel g = gGBuffer[pixel.y * gFrame.width + pixel.x - gPush.pixelOffset];
   bool valid = g.position.w > 0.5;
   if (texel == 0u) {
     MapRecord rec;

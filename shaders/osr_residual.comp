@@ -19,7 +19,7 @@ void main() {
   uint local = gl_GlobalInvocationID.x;
   if (local >= gPush.pixelCount) return;
   uint pixel = gPush.pixelOffset + local;
-  GBufferPixel g = gGBuffer[pixel];
+  GBufferPixel g = gGBuffer[local];
   vec3 always = vec3(0.0), blended = vec3(0.0);
   if (g.position.w > 0.5) {
     ShadingPoint sp = gbufferShadingPoint(g);
@@ -82,11 +82,11 @@ void main() {
     always *= g.throughput.rgb * inv;
     blended *= g.throughput.rgb * inv;
   }
-  AccumPixel a = gAccum[pixel];
+  AccumPixel a = gAccum[local];
   if (finite3(always) && finite3(blended)) {
     a.indirect.rgb += gPush.passWeight * always;
     a.residual.rgb += gPush.passWeight * blended;
   }
   a.residual.w += float(gPush.samples);
-  gAccum[pixel] = a;
+  gAccum[local] = a;
 }

@@ -18,7 +18,7 @@ void main() {
   uint local = gl_GlobalInvocationID.x;
   if (local >= gPush.pixelCount) return;
   uint pixel = gPush.pixelOffset + local;
-  AccumPixel a = gAccum[pixel];
+  AccumPixel a = gAccum[local];
   float passes = max(a.direct.w, 1.0);
   vec3 direct = a.direct.rgb / passes;
   vec3 indirect = a.indirect.w > 0.0
@@ -31,5 +31,5 @@ void main() {
   f.albedo = vec4(a.albedo.rgb / passes, 0.0);
   f.normal = vec4(a.normal.rgb / passes, 0.0);
   f.depth = a.depth;
-  gFilm[pixel] = f;
+  gFilm[local] = f;
 }

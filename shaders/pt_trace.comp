@@ -35,6 +35,7 @@ layout(constant_id = kPtSpecSceneFeatures) const uint kSceneFeatures = kSceneFea
 
 layout(constant_id = kPtSpecIntegrator) const uint kIntegrator = kIntegratorPath;
 layout(local_size_x = kPtWorkgroupSize) in;
+// The film's window of this dispatch's pixels (src/render/film.h): gFilm[0] is pixelOffset.
 layout(std430, binding = kPtBindingFilm) buffer Film { FilmPixel gFilm[]; };
 layout(std430, binding = kPtBindingFrame) readonly buffer FrameBlock { CameraFrame gFrame; };
 layout(push_constant) uniform PushBlock { Push gPush; };
@@ -144,7 +145,7 @@ void main() {
   uint local = gl_GlobalInvocationID.x;
   if (local >= gPush.pixelCount) return;
   uint pixel = gPush.pixelOffset + local;
-  FilmPixel f = gFilm[pixel];
+  FilmPixel f = gFilm[local];
   if (kIntegrator == kIntegratorPreview) {
     for (uint i = 0u; i < gPush.sampleCount; ++i) {
       CameraPath c = startPath(pixel, gPush.sampleIndex + i);
@@ -165,5 +166,5 @@ void main() {
       }
     }
   }
-  gFilm[pixel] = f;
+  gFilm[local] = f;
 }

@@ -20,7 +20,7 @@ uvec2 mapPixel(uint map) {
 vec3 mapRadianceLocal(uint map, vec3 w) {
   uvec2 t = uvec2(hemiDirectionToSquare(w) * float(kMapSize));
   uint texel = min(t.y, kMapSize - 1u) * kMapSize + min(t.x, kMapSize - 1u);
-  uint base = map * 3u * kMapTexels + texel;
+  uint base = (map - gPush.mapOffset) * 3u * kMapTexels + texel;  // the window's first map
   return vec3(gMapClean[base], gMapClean[base + kMapTexels], gMapClean[base + 2u * kMapTexels]);
 }
 

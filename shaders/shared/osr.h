@@ -34,17 +34,21 @@ using bsdf::BsdfParams;
 OSR_CONST(uint, kOsrWorkgroupSize, 64);
 OSR_CONST(uint, kMapChannels, 7u);  // one-shot input: radiance RGB, hit normal XYZ, distance
 
-// Binding slots (one layout for every OSR pass).
+// Binding slots (one layout for every OSR pass). Per-pixel and clean-map buffers can be larger
+// than one binding (3840 x 2160 pixels of GBufferPixel is 1 GiB; lavapipe binds 128 MiB), so
+// src/osr/osr_pass.cpp binds windows of them (render/film.h): in a pixel pass, element 0 of
+// gGBuffer, gAccum and gFilm is pixel pixelOffset; in every pass, element 0 of gMapClean is
+// map mapOffset; in osr_maps, element 0 of gGBuffer is pixel pixelOffset.
 OSR_CONST(uint, kOsrBindingFrame, 0u);       // camera::CameraFrame
-OSR_CONST(uint, kOsrBindingGBuffer, 1u);     // GBufferPixel[pixels]
-OSR_CONST(uint, kOsrBindingAccum, 2u);       // AccumPixel[pixels]
+OSR_CONST(uint, kOsrBindingGBuffer, 1u);     // GBufferPixel[pixel window]
+OSR_CONST(uint, kOsrBindingAccum, 2u);       // AccumPixel[pixel window]
 OSR_CONST(uint, kOsrBindingMapRecords, 3u);  // MapRecord[maps of the pass]
-OSR_CONST(uint, kOsrBindingMapClean, 4u);    // float[maps][3][32][32]: denoised radiance
+OSR_CONST(uint, kOsrBindingMapClean, 4u);    // float[map window][3][32][32]: denoised radiance
 OSR_CONST(uint, kOsrBindingMapOneShot, 5u);  // float[chunk maps][7][32][32]: traced input
 OSR_CONST(uint, kOsrBindingMapStats, 6u);    // MapStats[chunk maps]
 OSR_CONST(uint, kOsrBindingNetIn, 7u);       // float[chunk maps][7][32][32]: normalized
 OSR_CONST(uint, kOsrBindingNetOut, 8u);      // float[chunk maps][3][32][32]: U-Net output
-OSR_CONST(uint, kOsrBindingFilm, 9u);        // film::FilmPixel[pixels] (resolve)
+OSR_CONST(uint, kOsrBindingFilm, 9u);        // film::FilmPixel[pixel window] (resolve)
 OSR_CONST(uint, kOsrBvhBinding, 10u);        // + kBvhBindingCount
 OSR_CONST(uint, kOsrSceneBinding, 14u);      // + kSceneBindingCount
 OSR_CONST(uint, kOsrSceneTexelBinding, 24u);  // + kSceneTexelBindingCount
@@ -112,10 +116,10 @@ struct OsrPush {
   uint cellsX;       // grid cells (= maps) across and down
   uint cellsY;
   uint gridSeed;     // jitter of the current maps' grid points
-  uint mapOffset;    // first map of this chunk (map passes)
+  uint mapOffset;    // first map of this chunk (map passes) or of the gMapClean window
   uint mapCount;     // maps in this chunk
   uint samples;      // samples per pixel (direct, residual) or paths per texel (maps)
-  uint pixelOffset;  // pixel range of this dispatch (pixel passes)
+  uint pixelOffset;  // pixel range of this dispatch (pixel passes); osr_maps: gGBuffer window
   uint pixelCount;
   float passWeight;     // w_k of this pass
   float residualBlend;  // resolve: weight of the accumulated residual (0..1)

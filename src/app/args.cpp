@@ -3,11 +3,26 @@
 #include <algorithm>
 #include <cerrno>
 #include <cmath>
+#include <cstdio>
 #include <cstdlib>
 
 #include "common/error.h"
 
 namespace osr::app {
+
+namespace {
+// A bound as a person writes it: 0.001, 10000000, 16777216 (not 0.001000 or 1e+07).
+std::string plainNumber(double x) {
+  if (x == std::floor(x) && std::fabs(x) < 1e15) return std::to_string((long long)x);
+  char buf[64];
+  // The shortest text that reads back as the same double.
+  for (int digits = 1; digits <= 17; ++digits) {
+    std::snprintf(buf, sizeof buf, "%.*g", digits, x);
+    if (std::strtod(buf, nullptr) == x) break;
+  }
+  return buf;
+}
+}  // namespace
 
 Args::Args(std::vector<std::string> args, std::string command)
     : args_(std::move(args)), used_(args_.size(), false), command_(std::move(command)) {}
@@ -77,8 +92,8 @@ std::optional<double> Args::number(const std::string& name, double min, double m
   if (v->empty() || *end || errno || !std::isfinite(x))
     throw InputError(command_ + ": option " + name + " expects a number, got '" + *v + "'");
   if (x < min || x > max)
-    throw InputError(command_ + ": option " + name + " must be in [" + std::to_string(min) +
-                     ", " + std::to_string(max) + "], got " + *v);
+    throw InputError(command_ + ": option " + name + " must be in [" + plainNumber(min) + ", " +
+                     plainNumber(max) + "], got " + *v);
   return x;
 }
 

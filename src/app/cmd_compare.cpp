@@ -1,4 +1,4 @@
-// osr-vk compare a.exr b.exr: one JSON line with relmse, psnr, ssim and lum_ratio (a over b);
+// osr-vk compare TEST REF: one JSON line with relmse, psnr, ssim and lum_ratio (TEST over REF);
 // see image/image_metrics.h for the definitions. Exit 2 on unreadable files or different sizes.
 #include <cmath>
 #include <cstdio>
@@ -14,7 +14,7 @@ int runCompare(const std::vector<std::string>& args) {
   Args a(args, "compare");
   auto files = a.positional();
   a.finish();
-  if (files.size() != 2) throw InputError("compare: expected two images, a.exr b.exr");
+  if (files.size() != 2) throw InputError("compare: expected two images, TEST.exr REF.exr (the reference second)");
   image::RgbImage x = image::readExrRgb(files[0]);
   image::RgbImage y = image::readExrRgb(files[1]);
   if (x.width != y.width || x.height != y.height)

@@ -165,6 +165,7 @@ int runMaps(const std::vector<std::string>& args) {
       throw InputError("--pixels: " + std::to_string(p.x) + "," + std::to_string(p.y) +
                        " is outside the " + std::to_string(host.width) + "x" +
                        std::to_string(host.height) + " image");
+  warnIfNeutralSky(host);
 
   vk::Context ctx(vkOptions);
   const DeviceScene dev(ctx, host);

@@ -14,6 +14,7 @@
 #include "app/args.h"
 #include "app/commands.h"
 #include "app/device_options.h"
+#include "app/output_paths.h"
 #include "app/scene_setup.h"
 #include "bvh/bvh.h"
 #include "common/error.h"
@@ -33,16 +34,19 @@ namespace osr::app {
 namespace {
 
 // One progress line on stderr: rewritten in place on a terminal, else at most every 5 s.
+// Format (parsed by front ends; README "Progress"): "osr-vk: U/T UNIT, E s elapsed, ~R s
+// remaining", where "/T" is left out when only --time bounds the render.
 class ProgressPrinter {
  public:
-  explicit ProgressPrinter(bool quiet) : quiet_(quiet), tty_(::isatty(2)) {}
+  ProgressPrinter(bool quiet, bool unitBound) : quiet_(quiet), unitBound_(unitBound), tty_(::isatty(2)) {}
   void operator()(const render::Progress& p) {
     if (quiet_) return;
     bool last = p.units >= p.targetUnits || p.remainingS <= 0.0;
     if (!tty_ && !last && p.elapsedS - lastPrinted_ < 5.0) return;
     lastPrinted_ = p.elapsedS;
-    std::fprintf(stderr, "%sosr-vk: %u/%u %s, %.1f s elapsed, ~%.1f s remaining%s",
-                 tty_ ? "\r" : "", p.units, p.targetUnits, p.unitName, p.elapsedS, p.remainingS,
+    const std::string target = unitBound_ ? "/" + std::to_string(p.targetUnits) : "";
+    std::fprintf(stderr, "%sosr-vk: %u%s %s, %.1f s elapsed, ~%.1f s remaining%s",
+                 tty_ ? "\r" : "", p.units, target.c_str(), p.unitName, p.elapsedS, p.remainingS,
                  tty_ ? "   " : "\n");
     std::fflush(stderr);
     printed_ = true;
@@ -52,7 +56,7 @@ class ProgressPrinter {
   }
 
  private:
-  bool quiet_, tty_;
+  bool quiet_, unitBound_, tty_;
   bool printed_ = false;
   double lastPrinted_ = -1e9;
 };
@@ -79,7 +83,7 @@ void writeMapDump(const std::string& dir, const oneshot::OsrIntegrator::MapDump&
   if (!d.oneShot.empty()) image::writePng(dir + "/oneshot.png", atlas(d.oneShot, 7), {});
   image::writePng(dir + "/clean.png", atlas(d.clean, 3), {});
   image::RgbImage frame{film.width, film.height, film.combined};
-  const double ev = image::autoExposureEv(frame);  // metered before the markers
+  const double ev = image::autoExposureEv(frame, film.depth);  // metered before the markers
   for (const auto& r : d.records) {
     if (r.position.w < 0.5f) continue;
     for (int dy = -1; dy <= 1; ++dy)
@@ -167,11 +171,23 @@ int runRender(const std::vector<std::string>& args) {
     vkOptions.instanceExtensions = viewer::requireDisplay();
     vkOptions.swapchain = true;
   }
-  // Fail before the (long) render, not after it.
-  if (exrPath) image::checkWritable(*exrPath);
-  if (pngPath) image::checkWritable(*pngPath);
 
   const HostScene host = loadHostScene(files[0], sceneOptions);
+  // Fail before the (long) render, not after it, and never write over what the render reads.
+  std::vector<OutputFile> outputs;
+  if (exrPath) outputs.push_back({"--offline", *exrPath, ".exr", "OpenEXR"});
+  if (pngPath) outputs.push_back({"--png", *pngPath, ".png", "PNG"});
+  if (dumpMaps)
+    for (const char* name : {"oneshot.png", "clean.png", "grid.png"})
+      if (std::filesystem::is_directory(*dumpMaps))
+        outputs.push_back({"--dump-maps", *dumpMaps + "/" + name, ".png", "PNG"});
+  std::vector<NamedPath> inputs;
+  for (const std::string& f : host.scene.files)
+    inputs.push_back({f == files[0] ? "the scene" : "a file of the scene", f});
+  if (host.env && !host.env->path.empty()) inputs.push_back({"the --env map", host.env->path});
+  if (weights) inputs.push_back({"the --weights file", *weights});
+  checkOutputs(outputs, inputs);
+  warnIfNeutralSky(host);
   const uint32_t imageWidth = host.width, imageHeight = host.height;
   // Units: samples per pixel (path, preview) or passes (osr). Preview is deterministic after
   // one sample per pixel but antialiases with more; OSR's defaults give a converged-looking
@@ -187,7 +203,7 @@ int runRender(const std::vector<std::string>& args) {
 
   vk::Context ctx(vkOptions);
   const DeviceScene dev(ctx, host);
-  ProgressPrinter progress(quiet);
+  ProgressPrinter progress(quiet, spp || passes || !timeLimit);
   // One factory for --offline and the viewer (which makes a new integrator on a mode change
   // or a resize).
   auto makeIntegrator = [&](const std::string& m, uint32_t w, uint32_t h) {
@@ -236,7 +252,8 @@ int runRender(const std::vector<std::string>& args) {
   if (exrPath)
     image::writeExr(*exrPath, render::toLayeredImage(film),
                     exrFloat ? image::ExrPixelType::Float : image::ExrPixelType::Half);
-  if (pngPath) image::writePng(*pngPath, {film.width, film.height, film.combined}, exposure);
+  if (pngPath)
+    image::writePng(*pngPath, {film.width, film.height, film.combined}, exposure, film.depth);
   if (dumpMaps) writeMapDump(*dumpMaps, osr->downloadMaps(), film);
   if (!quiet) {
     std::fprintf(stderr, "osr-vk: %ux%u, %u %s in %.2f s", imageWidth, imageHeight, stats.units,

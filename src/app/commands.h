@@ -23,10 +23,12 @@ inline constexpr char kUnetUsage[] =
     "  runs the packed U-Net on raw little-endian fp32 N x 7 x 32 x 32 maps and writes\n"
     "  N x 3 x 32 x 32 predictions (precision: default the weights file's storage)\n";
 int runUnet(const std::vector<std::string>& args);
-// osr-vk compare a.exr b.exr
+// osr-vk compare TEST REF
 inline constexpr char kCompareUsage[] =
-    "usage: osr-vk compare a.exr b.exr\n"
-    "  prints relmse, psnr, ssim and lum_ratio (a over b) as one JSON line\n";
+    "usage: osr-vk compare TEST.exr REF.exr\n"
+    "  compares the image under test with the reference (second): prints one JSON line with\n"
+    "  relmse (mean (TEST - REF)^2 / (REF^2 + 0.01)), psnr and ssim (tone-mapped), and\n"
+    "  lum_ratio (mean luminance of TEST over REF's)\n";
 int runCompare(const std::vector<std::string>& args);
 // osr-vk maps scene.gltf --out DIR (--grid R | --pixels x,y;...)
 inline constexpr char kMapsUsage[] =

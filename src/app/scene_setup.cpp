@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 
 namespace osr::app {
 
@@ -17,9 +18,16 @@ SceneOptions readSceneOptions(Args& args) {
 HostScene loadHostScene(const std::string& path, const SceneOptions& o) {
   HostScene h;
   h.scene = scene::loadScene(path);
-  if (o.env) h.env = scene::loadEnvironment(*o.env);
   const float requestedAspect = o.width && o.height ? float(*o.width) / float(*o.height) : 0.f;
   h.camera = scene::selectCamera(h.scene, o.camera, requestedAspect);
+  if (o.env && *o.env != "none") {
+    h.env = scene::loadEnvironment(*o.env);
+  } else if (!o.env && !scene::hasLights(h.scene)) {
+    // Most sample models carry no light: rendering them black for the whole budget helps no
+    // one. Say so, and light them as a studio would.
+    h.env = scene::neutralEnvironment();
+    h.neutralSky = true;
+  }
   const float aspect = h.camera.aspect > 0.f ? h.camera.aspect : 1.f;
   if (o.width && o.height) {
     h.width = uint32_t(*o.width);
@@ -32,6 +40,15 @@ HostScene loadHostScene(const std::string& path, const SceneOptions& o) {
     h.height = std::max(1u, uint32_t(std::lround(h.width / aspect)));
   }
   return h;
+}
+
+void warnIfNeutralSky(const HostScene& host) {
+  if (host.neutralSky)
+    std::fprintf(stderr,
+                 "osr-vk: warning: %s: the scene has no lights (no emissive surfaces, no "
+                 "KHR_lights_punctual, no --env); lighting it with a neutral sky (--env none: "
+                 "leave it unlit)\n",
+                 host.scene.path.c_str());
 }
 
 DeviceScene::DeviceScene(const vk::Context& ctx, const HostScene& host)

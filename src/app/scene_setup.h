@@ -16,7 +16,7 @@ namespace osr::app {
 
 struct SceneOptions {
   std::string camera;              // --camera N|name ("" = default)
-  std::optional<std::string> env;  // --env file.exr|.hdr
+  std::optional<std::string> env;  // --env file.exr|.hdr|none
   std::optional<long long> width, height;
 };
 
@@ -24,14 +24,19 @@ struct SceneOptions {
 SceneOptions readSceneOptions(Args& args);
 
 // The scene on the host with its camera and image size: --width and --height as given, one of
-// them from the camera's aspect, or 512 wide by default.
+// them from the camera's aspect, or 512 wide by default. A scene without lights and without
+// --env gets scene::neutralEnvironment() (neutralSky); --env none leaves it unlit.
 struct HostScene {
   scene::Scene scene;
   std::optional<scene::Environment> env;
   scene::Camera camera;
   uint32_t width = 0, height = 0;
+  bool neutralSky = false;  // env is scene::neutralEnvironment(): the scene has no lights
 };
 HostScene loadHostScene(const std::string& path, const SceneOptions& options);
+// The one-line warning for a neutral sky, on stderr: printed once the command's own checks
+// have passed, so that a refused command prints only its error.
+void warnIfNeutralSky(const HostScene& host);
 
 // The host scene on the device, with its BVH.
 struct DeviceScene {

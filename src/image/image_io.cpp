@@ -5,6 +5,7 @@
 #include <ImfHeader.h>
 #include <ImfInputFile.h>
 #include <ImfOutputFile.h>
+#include <ImfThreading.h>
 #include <half.h>
 #include <unistd.h>
 
@@ -14,6 +15,7 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <thread>
 
 #define STB_IMAGE_WRITE_IMPLEMENTATION
 #include <stb/stb_image_write.h>
@@ -84,7 +86,8 @@ void writeExr(const std::string& path, const LayeredImage& image, ExrPixelType t
   }
   const std::string tmp = tempNameFor(path);
   try {
-    Imf::OutputFile file(tmp.c_str(), header);
+    // ZIP compression of a 4K multi-layer image takes seconds per core: use them all.
+    Imf::OutputFile file(tmp.c_str(), header, int(std::max(1u, std::thread::hardware_concurrency())));
     file.setFrameBuffer(fb);
     file.writePixels(h);
   } catch (const std::exception& e) {
@@ -127,18 +130,26 @@ RgbImage readExrRgb(const std::string& path) {
   }
 }
 
-double autoExposureEv(const RgbImage& image) {
-  double sumLog = 0.0;
-  size_t n = 0;
+double meteredLuminance(const RgbImage& image, const std::vector<float>& depth) {
+  std::vector<double> metered, lit;
   for (size_t i = 0; i < image.rgb.size() / 3; ++i) {
-    double y = image.luminance(i);
-    if (!std::isfinite(y) || y < 0.0) continue;
-    sumLog += std::log(1e-4 + y);
-    ++n;
+    double v = image.luminance(i);
+    if (!std::isfinite(v) || v < 0.0) continue;
+    const bool hit = i < depth.size() && depth[i] > 0.f;
+    if (hit || v > 0.0) metered.push_back(v);
+    if (v > 0.0) lit.push_back(v);
   }
-  if (n == 0) return 0.0;
-  double logAverage = std::exp(sumLog / double(n));
-  return std::log2(0.18 / logAverage);
+  if (lit.empty()) return 0.0;
+  std::nth_element(lit.begin(), lit.begin() + lit.size() / 2, lit.end());
+  const double clip = kMeterClipOverMedian * lit[lit.size() / 2];
+  double sum = 0.0;
+  for (double v : metered) sum += std::min(v, clip);
+  return sum / double(metered.size());
+}
+
+double autoExposureEv(const RgbImage& image, const std::vector<float>& depth) {
+  const double metered = meteredLuminance(image, depth);
+  return metered > 0.0 ? std::log2(kExposureKey / metered) : 0.0;
 }
 
 namespace {
@@ -191,9 +202,9 @@ void writePng8(const std::string& path, int width, int height, const std::vector
 }
 
 void writePng(const std::string& path, const RgbImage& image, std::optional<double> exposureEv,
-              ToneMap op) {
+              const std::vector<float>& depth, ToneMap op) {
   writePng8(path, image.width, image.height,
-            toneMapSrgb8(image, exposureEv ? *exposureEv : autoExposureEv(image), op));
+            toneMapSrgb8(image, exposureEv ? *exposureEv : autoExposureEv(image, depth), op));
 }
 
 }  // namespace osr::image

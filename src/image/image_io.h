@@ -42,9 +42,18 @@ void writeExr(const std::string& path, const LayeredImage& image, ExrPixelType t
 // Reads the default layer's R, G, B (or Y as grey). Throws InputError naming the file.
 RgbImage readExrRgb(const std::string& path);
 
-// Automatic exposure (EV) that maps the log-average luminance to middle grey (0.18; Reinhard
-// et al. 2002's key value), ignoring non-finite pixels.
-double autoExposureEv(const RgbImage& image);
+// Automatic exposure (EV). It meters the pixels that saw a surface (depth[i] > 0, where a
+// depth layer is given; e.g. render::FilmLayers::depth) or carry light (luminance > 0), so a
+// black background does not count: a small object on black is exposed for the object. The
+// metered luminance is the mean over those pixels, each clipped at kMeterClipOverMedian times
+// the median of the lit ones (visible lights and fireflies do not darken the image), and the
+// exposure maps it to kExposureKey. A mean, not a log-average, because a 1-spp render's
+// metered pixels are mostly 0 or a few times too bright: their mean is the converged image's
+// (the estimate is unbiased), their log-average is not. 0 EV when nothing is lit.
+inline constexpr double kMeterClipOverMedian = 8.0;
+inline constexpr double kExposureKey = 0.18;
+double meteredLuminance(const RgbImage& image, const std::vector<float>& depth = {});
+double autoExposureEv(const RgbImage& image, const std::vector<float>& depth = {});
 // How exposed linear values above 1 are brought into [0, 1] before the sRGB OETF.
 enum class ToneMap {
   Clamp,     // clamp(x, 0, 1): the default; what the seed's PNGs did
@@ -56,9 +65,9 @@ const char* toneMapName(ToneMap op);
 // non-finite values become 0. What writePng writes and the viewer shows.
 std::vector<uint8_t> toneMapSrgb8(const RgbImage& image, double exposureEv,
                                   ToneMap op = ToneMap::Clamp);
-// PNG preview: toneMapSrgb8 of the image; auto exposure when ev is empty.
+// PNG preview: toneMapSrgb8 of the image; autoExposureEv(image, depth) when ev is empty.
 void writePng(const std::string& path, const RgbImage& image, std::optional<double> exposureEv,
-              ToneMap op = ToneMap::Clamp);
+              const std::vector<float>& depth = {}, ToneMap op = ToneMap::Clamp);
 // PNG of interleaved 8-bit sRGB (width * height * 3 bytes), e.g. a viewer screenshot.
 void writePng8(const std::string& path, int width, int height, const std::vector<uint8_t>& rgb);
 

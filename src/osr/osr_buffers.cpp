@@ -8,28 +8,37 @@ namespace o = gpu::osr;
 
 namespace {
 constexpr VkDeviceSize kMapFloats = gpu::hemi::kMapTexels;
-}
+}  // namespace
+
+// Multiples of 256 bytes (the largest minStorageBufferOffsetAlignment): windows may start at
+// any map.
+static_assert(kCleanMapBytes % 256 == 0 && kOneShotMapBytes % 256 == 0);
 
 OsrBuffers::OsrBuffers(const vk::Context& ctx, uint32_t width, uint32_t height, uint32_t maxMaps_,
                        uint32_t chunkMaps_)
     : maxMaps(std::max(1u, maxMaps_)), chunkMaps(std::max(1u, std::min(chunkMaps_, maxMaps_))) {
   const VkDeviceSize pixels = VkDeviceSize(width) * height;
-  auto make = [&](VkDeviceSize bytes, const char* name) {
-    if (bytes > ctx.caps().maxStorageBufferRange)
+  enum Binding { Whole, Windows };
+  auto make = [&](VkDeviceSize bytes, const char* name, Binding binding) {
+    const bool whole = binding == Whole;
+    const uint64_t limit =
+        whole ? ctx.caps().maxStorageBufferRange : ctx.caps().maxMemoryAllocationSize;
+    if (bytes > limit)
       throw DeviceError(std::string("osr: ") + name + " needs " + std::to_string(bytes >> 20) +
-                        " MiB, over the device's maxStorageBufferRange of " +
-                        std::to_string(ctx.caps().maxStorageBufferRange >> 20) + " MiB");
+                        " MiB, over the device's " +
+                        (whole ? "maxStorageBufferRange" : "maxMemoryAllocationSize") + " of " +
+                        std::to_string(limit >> 20) + " MiB");
     return vk::Buffer(ctx, bytes, vk::MemoryUse::DeviceLocal, std::string("osr ") + name);
   };
-  frame = make(sizeof(gpu::camera::CameraFrame), "camera frame");
-  gbuffer = make(pixels * sizeof(o::GBufferPixel), "g-buffer");
-  accum = make(pixels * sizeof(o::AccumPixel), "accumulation");
-  mapRecords = make(maxMaps * sizeof(o::MapRecord), "map records");
-  mapClean = make(maxMaps * 3 * kMapFloats * sizeof(float), "clean maps");
-  oneShot = make(chunkMaps * o::kMapChannels * kMapFloats * sizeof(float), "one-shot maps");
-  mapStats = make(chunkMaps * sizeof(o::MapStats), "map statistics");
-  netIn = make(chunkMaps * o::kMapChannels * kMapFloats * sizeof(float), "network input");
-  netOut = make(chunkMaps * 3 * kMapFloats * sizeof(float), "network output");
+  frame = make(sizeof(gpu::camera::CameraFrame), "camera frame", Whole);
+  gbuffer = make(pixels * sizeof(o::GBufferPixel), "g-buffer", Windows);
+  accum = make(pixels * sizeof(o::AccumPixel), "accumulation", Windows);
+  mapRecords = make(maxMaps * sizeof(o::MapRecord), "map records", Whole);
+  mapClean = make(maxMaps * kCleanMapBytes, "clean maps", Windows);
+  oneShot = make(chunkMaps * kOneShotMapBytes, "one-shot maps", Whole);
+  mapStats = make(chunkMaps * sizeof(o::MapStats), "map statistics", Whole);
+  netIn = make(chunkMaps * o::kMapChannels * kMapFloats * sizeof(float), "network input", Whole);
+  netOut = make(chunkMaps * 3 * kMapFloats * sizeof(float), "network output", Whole);
 }
 
 std::vector<VkDescriptorType> osrDescriptorTypes() {
@@ -42,17 +51,23 @@ std::vector<VkDescriptorType> osrDescriptorTypes() {
   return types;
 }
 
-void OsrBindings::fill(vk::Binder& b) const {
+void OsrBindings::fill(vk::Binder& b, const OsrWindow& w) const {
+  auto pixelRange = [&](const vk::Buffer& buffer, VkDeviceSize stride) {
+    return vk::BufferRange(buffer, w.pixelFirst * stride, w.pixelCount * stride);
+  };
   b.set(o::kOsrBindingFrame, buffers->frame)
-      .set(o::kOsrBindingGBuffer, buffers->gbuffer)
-      .set(o::kOsrBindingAccum, buffers->accum)
+      .set(o::kOsrBindingGBuffer, pixelRange(buffers->gbuffer, sizeof(o::GBufferPixel)))
+      .set(o::kOsrBindingAccum, pixelRange(buffers->accum, sizeof(o::AccumPixel)))
       .set(o::kOsrBindingMapRecords, buffers->mapRecords)
-      .set(o::kOsrBindingMapClean, buffers->mapClean)
-      .set(o::kOsrBindingMapOneShot, buffers->oneShot)
+      .set(o::kOsrBindingMapClean, vk::BufferRange(buffers->mapClean, w.mapFirst * kCleanMapBytes,
+                                                   w.mapCount * kCleanMapBytes))
+      .set(o::kOsrBindingMapOneShot,
+           vk::BufferRange(buffers->oneShot, w.oneShotFirst * kOneShotMapBytes,
+                           buffers->oneShot.size() - w.oneShotFirst * kOneShotMapBytes))
       .set(o::kOsrBindingMapStats, buffers->mapStats)
       .set(o::kOsrBindingNetIn, buffers->netIn)
       .set(o::kOsrBindingNetOut, buffers->netOut)
-      .set(o::kOsrBindingFilm, film->buffer());
+      .set(o::kOsrBindingFilm, film->window(w.pixelFirst, w.pixelCount));
   bvh->bind(b, o::kOsrBvhBinding);
   scene->bind(b, o::kOsrSceneBinding);
   scene->bindTexels(b, o::kOsrSceneTexelBinding);

@@ -21,7 +21,9 @@ class OsrPass {
   const char* name() const { return pipeline_.name(); }
 
   // Records the pass over push.mapCount maps (map domains) or `pixels` pixels (pixel domain,
-  // in dispatches of at most kMaxPixelsPerDispatch), then a barrier.
+  // in dispatches of at most kMaxPixelsPerDispatch), then a barrier. Each dispatch binds the
+  // windows of the per-pixel and clean-map buffers it reads (shared/osr.h), so images larger
+  // than one binding render; throws DeviceError where even one grid cell row cannot be bound.
   void record(VkCommandBuffer cmd, const OsrBindings& bindings, gpu::osr::OsrPush push,
               uint32_t pixels = 0) const;
 
@@ -30,6 +32,8 @@ class OsrPass {
  private:
   Domain domain_;
   vk::ComputePipeline pipeline_;
+  uint32_t pixelWindow_;  // most pixels of the per-pixel buffers one binding covers
+  uint32_t mapWindow_;    // most clean maps one binding covers
 };
 
 }  // namespace osr::oneshot

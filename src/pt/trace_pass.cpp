@@ -33,21 +33,24 @@ TracePass::TracePass(const vk::Context& ctx, Mode mode, uint32_t sceneFeatures,
     : pipeline_(ctx, shaders::Id::pt_trace, descriptorTypes(), sizeof(g::Push),
                 {vk::specUint(g::kPtSpecIntegrator, shaderIntegrator(mode)),
                  vk::specUint(g::kPtSpecSceneFeatures, sceneFeatures), bvh::traversalSpec(ctx),
-                 vk::specUint(gpu::scene::kSceneSpecTexelFetch, sceneTexelFetch ? 1u : 0u)}) {}
+                 vk::specUint(gpu::scene::kSceneSpecTexelFetch, sceneTexelFetch ? 1u : 0u)}),
+      filmWindow_(render::windowPixels(ctx, sizeof(gpu::film::FilmPixel))) {}
 
 void TracePass::record(VkCommandBuffer cmd, const Args& a) const {
   vk::Binder binder(pipeline_);
-  binder.set(g::kPtBindingFilm, a.film->buffer()).set(g::kPtBindingFrame, *a.frame);
+  binder.set(g::kPtBindingFrame, *a.frame);
   a.bvh->bind(binder, g::kPtBvhBinding);
   a.scene->bind(binder, g::kPtSceneBinding);
   a.scene->bindTexels(binder, g::kPtSceneTexelBinding);
   const uint32_t begin = std::min(a.pixelFirst, a.film->pixelCount());
   const uint32_t end = begin + std::min(a.pixelCount, a.film->pixelCount() - begin);
+  // Each dispatch binds its own window of the film (render/film.h).
+  const uint32_t perDispatch = std::min(kMaxPixelsPerDispatch, filmWindow_);
   for (uint32_t done = 0; done < a.sampleCount;) {
     const uint32_t samples = std::min(kMaxSamplesPerDispatch, a.sampleCount - done);
-    for (uint32_t first = begin; first < end; first += kMaxPixelsPerDispatch) {
-      g::Push push{first, std::min(kMaxPixelsPerDispatch, end - first), a.sampleIndex + done,
-                   samples};
+    for (uint32_t first = begin; first < end; first += perDispatch) {
+      g::Push push{first, std::min(perDispatch, end - first), a.sampleIndex + done, samples};
+      binder.set(g::kPtBindingFilm, a.film->window(push.pixelOffset, push.pixelCount));
       binder.bind(cmd, push);
       pipeline_.dispatch(cmd, vk::groupCount(push.pixelCount, g::kPtWorkgroupSize));
       vk::computeBarrier(cmd);

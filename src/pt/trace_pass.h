@@ -28,6 +28,7 @@ class TracePass {
   TracePass(const vk::Context& ctx, Mode mode,
             uint32_t sceneFeatures = gpu::scene::kSceneFeatureAll, bool sceneTexelFetch = false);
 
+  // A multiple of render::kWindowAlignPixels: dispatches start on film window boundaries.
   static constexpr uint32_t kMaxPixelsPerDispatch = 1u << 20;
   static constexpr uint32_t kMaxSamplesPerDispatch = 8;
 
@@ -49,6 +50,7 @@ class TracePass {
 
  private:
   vk::ComputePipeline pipeline_;
+  uint32_t filmWindow_;  // most film pixels one binding covers (render::windowPixels)
 };
 
 }  // namespace osr::pt

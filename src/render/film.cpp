@@ -1,22 +1,40 @@
 #include "render/film.h"
 
+#include <algorithm>
+
 #include "common/error.h"
 
 namespace osr::render {
 
+namespace f = gpu::film;
 
+uint32_t windowPixels(const vk::Context& ctx, uint64_t bytesPerPixel) {
+  const uint64_t fit = ctx.caps().maxStorageBufferRange / bytesPerPixel;
+  const uint64_t aligned = std::min<uint64_t>(fit, 1u << 30) / kWindowAlignPixels * kWindowAlignPixels;
+  if (aligned == 0)
+    throw DeviceError("film: " + std::to_string(kWindowAlignPixels) + " pixels of " +
+                      std::to_string(bytesPerPixel) + " bytes exceed the device's maxStorageBufferRange of " +
+                      std::to_string(ctx.caps().maxStorageBufferRange) + " bytes");
+  return uint32_t(aligned);
+}
 
 Film::Film(const vk::Context& ctx, uint32_t width, uint32_t height)
     : width_(width), height_(height) {
-  const uint64_t bytes = uint64_t(width) * height * sizeof(gpu::film::FilmPixel);
-  // One binding covers the whole film: refuse rather than truncate past the device limit.
-  // A device limit, not bad input (the same size fits a device with a larger range): exit 1.
-  if (bytes > ctx.caps().maxStorageBufferRange)
+  const uint64_t bytes = uint64_t(width) * height * sizeof(f::FilmPixel);
+  // One allocation holds the whole film (bound in windows): refuse what the device cannot
+  // allocate at all, naming its limit. A device limit, not bad input (the same size fits a
+  // device with more memory): exit 1.
+  if (bytes > ctx.caps().maxMemoryAllocationSize)
     throw DeviceError("film: " + std::to_string(width) + "x" + std::to_string(height) + " needs " +
-                     std::to_string(bytes >> 20) +
-                     " MiB, over the device's maxStorageBufferRange of " +
-                     std::to_string(ctx.caps().maxStorageBufferRange >> 20) + " MiB");
+                      std::to_string(bytes >> 20) +
+                      " MiB, over the device's maxMemoryAllocationSize of " +
+                      std::to_string(ctx.caps().maxMemoryAllocationSize >> 20) + " MiB");
   buffer_ = vk::Buffer(ctx, bytes, vk::MemoryUse::DeviceLocal, "pt film");
+}
+
+vk::BufferRange Film::window(uint32_t first, uint32_t count) const {
+  return vk::BufferRange(buffer_, VkDeviceSize(first) * sizeof(f::FilmPixel),
+                         VkDeviceSize(count) * sizeof(f::FilmPixel));
 }
 
 void Film::recordClear(VkCommandBuffer cmd) const {

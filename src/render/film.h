@@ -1,5 +1,10 @@
 // The film: per-pixel running sums written by pt_trace.comp (gpu::film::FilmPixel), and their
 // resolution into averaged layers on the host.
+//
+// A film may be larger than one storage-buffer binding (lavapipe's maxStorageBufferRange is
+// 128 MiB, 1.4 Mpx of 96-byte pixels; 3840 x 2160 needs 760 MiB): passes bind it in windows
+// of consecutive pixels, window(first, count), and index their window from 0. The buffer
+// itself is one allocation, so its limit is maxMemoryAllocationSize (2 GiB on lavapipe).
 #pragma once
 #include <cstdint>
 #include <vector>
@@ -19,6 +24,15 @@ struct FilmLayers {
   std::vector<float> depth;  // view-axis distance of the first hit; 0 where no sample hit
 };
 
+// Pixel windows start at multiples of this many pixels, so that a window's byte offset is a
+// multiple of 256, the largest minStorageBufferOffsetAlignment Vulkan allows, for any pixel
+// struct whose size is a multiple of 16 bytes (std430 vec4 rows).
+inline constexpr uint32_t kWindowAlignPixels = 256;
+
+// The most pixels of bytesPerPixel one binding can cover on this device: a multiple of
+// kWindowAlignPixels (at least one). Throws DeviceError if not even that fits.
+uint32_t windowPixels(const vk::Context& ctx, uint64_t bytesPerPixel);
+
 class Film {
  public:
   Film(const vk::Context& ctx, uint32_t width, uint32_t height);
@@ -26,6 +40,9 @@ class Film {
   uint32_t height() const { return height_; }
   uint32_t pixelCount() const { return width_ * height_; }
   const vk::Buffer& buffer() const { return buffer_; }
+  // Pixels [first, first + count) as one binding: count <= windowPixels(ctx,
+  // sizeof(FilmPixel)), first a multiple of kWindowAlignPixels.
+  vk::BufferRange window(uint32_t first, uint32_t count) const;
 
   // Zeroes the sums (recorded: transfer then a barrier).
   void recordClear(VkCommandBuffer cmd) const;

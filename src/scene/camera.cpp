@@ -23,8 +23,13 @@ Camera defaultCamera(const Scene& scene, float aspect) {
   float halfX = std::atan(std::tan(halfY) * aspect);
   float half = std::min(halfX, halfY);
   float distance = radius / std::sin(half) * 1.05f;
-  glm::vec3 eye = center + glm::vec3(0.0f, 0.0f, distance);
-  cam.worldFromCamera = glm::translate(glm::mat4(1.0f), eye);  // looks down -Z at the centre
+  // Three-quarter view: 35 degrees round from +Z towards +X, 25 degrees above the horizon
+  // (+Y up, glTF), so depth shows on boxes and faces that a face-on view would flatten.
+  const float azimuth = glm::radians(35.0f), elevation = glm::radians(25.0f);
+  const glm::vec3 towardsEye(std::sin(azimuth) * std::cos(elevation), std::sin(elevation),
+                             std::cos(azimuth) * std::cos(elevation));
+  const glm::vec3 eye = center + distance * towardsEye;
+  cam.worldFromCamera = glm::inverse(glm::lookAt(eye, center, glm::vec3(0.0f, 1.0f, 0.0f)));
   return cam;
 }
 
@@ -35,10 +40,21 @@ Camera selectCamera(const Scene& scene, const std::string& selector, float aspec
   errno = 0;
   long index = std::strtol(selector.c_str(), &end, 10);
   if (*end == '\0' && errno == 0) {
-    if (index < 0 || size_t(index) >= scene.cameras.size())
-      throw InputError(scene.path + ": camera " + selector + " does not exist (the file has " +
-                       std::to_string(scene.cameras.size()) + " camera(s))");
-    return scene.cameras[index];
+    for (const Camera& c : scene.cameras)
+      if (c.fileIndex == index) return c;
+    std::string usable;
+    for (const Camera& c : scene.cameras)
+      usable += (usable.empty() ? "" : ", ") + std::to_string(c.fileIndex);
+    usable = usable.empty() ? "none" : usable;
+    for (const Scene::SkippedCamera& c : scene.skippedCameras)
+      if (c.fileIndex == index)
+        throw InputError(scene.path + ": camera " + selector + " is " + c.type +
+                         ", which osr-vk cannot render (usable cameras: " + usable + ")");
+    const size_t count = scene.cameras.size() + scene.skippedCameras.size();
+    throw InputError(scene.path + ": camera " + selector + " does not exist (the file has " +
+                     (count == 0 ? std::string("no cameras")
+                                 : std::to_string(count) + " camera(s); usable: " + usable) +
+                     ")");
   }
   for (const Camera& c : scene.cameras)
     if (c.name == selector) return c;

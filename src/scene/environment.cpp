@@ -82,6 +82,31 @@ Environment loadEnvironment(const std::string& path) {
   return env;
 }
 
+Environment neutralEnvironment() {
+  // A studio's light, white: a soft sky brighter above than below (fill) and a broad key from
+  // the front-left above the default camera's three-quarter view (camera.cpp), so that the
+  // faces of a box get three different brightnesses. Directions as
+  // shaders/lib/scene.glsl environmentDirection().
+  constexpr float kPi = 3.14159265f;
+  const glm::vec3 key = glm::normalize(glm::vec3(-0.3f, 0.8f, 0.6f));
+  Environment env;
+  env.width = 128;
+  env.height = 64;
+  env.texels.resize(size_t(env.width) * env.height);
+  for (uint32_t y = 0; y < env.height; ++y)
+    for (uint32_t x = 0; x < env.width; ++x) {
+      const float phi = ((float(x) + 0.5f) / float(env.width) - 0.5f) * 2.0f * kPi;
+      const float theta = (float(y) + 0.5f) / float(env.height) * kPi;
+      const glm::vec3 dir(std::sin(theta) * std::cos(phi), std::cos(theta),
+                          std::sin(theta) * std::sin(phi));
+      const float fill = kNeutralSkyNadir + (kNeutralSkyZenith - kNeutralSkyNadir) * 0.5f * (1.0f + dir.y);
+      const float lobe = std::pow(std::max(0.0f, glm::dot(dir, key)), 16.0f);
+      const float radiance = fill + kNeutralSkyKey * lobe;
+      env.texels[size_t(y) * env.width + x] = glm::vec4(radiance, radiance, radiance, 1.0f);
+    }
+  return env;
+}
+
 std::vector<float> environmentCdf(const Environment& env) {
   const uint32_t w = env.width, h = env.height;
   std::vector<float> cdf;

@@ -4,6 +4,7 @@
 #include <tiny_gltf.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
 #include <cstring>
@@ -244,16 +245,44 @@ class Loader {
       ok = gltf.LoadBinaryFromMemory(&model_, &err, &warn, bytes.data(),
                                      static_cast<unsigned>(bytes.size()), baseDir);
     } else {
+      // A glTF is a JSON object: anything else (an image renamed .glb) is not a scene at all.
+      size_t first = 0;
+      while (first < bytes.size() && std::isspace(bytes[first])) ++first;
+      if (first == bytes.size() || bytes[first] != '{') fail("not a glTF or GLB file");
       ok = gltf.LoadASCIIFromString(&model_, &err, &warn,
                                     reinterpret_cast<const char*>(bytes.data()),
                                     static_cast<unsigned>(bytes.size()), baseDir);
     }
     if (!ok) fail(err.empty() ? "not a valid glTF file" : oneLine(err));
+    listFiles(baseDir);
     if (!warn.empty()) {
       // tinygltf reports an unreadable image as a warning; that is checked per texture below.
       std::string w = oneLine(warn);
       if (w.find("Failed to load external 'uri' for image") == std::string::npos) this->warn(w);
     }
+  }
+
+  // Scene::files: the scene and every external buffer and image it names (percent-decoded,
+  // relative to the scene's directory), so that an output is never one of them.
+  void listFiles(const std::string& baseDir) {
+    namespace fs = std::filesystem;
+    scene_.files = {path_};
+    auto add = [&](const std::string& uri) {
+      if (uri.empty() || uri.rfind("data:", 0) == 0) return;
+      std::string decoded;
+      for (size_t i = 0; i < uri.size(); ++i) {
+        if (uri[i] == '%' && i + 2 < uri.size() && std::isxdigit((unsigned char)uri[i + 1]) &&
+            std::isxdigit((unsigned char)uri[i + 2])) {
+          decoded += char(std::stoi(uri.substr(i + 1, 2), nullptr, 16));
+          i += 2;
+        } else {
+          decoded += uri[i];
+        }
+      }
+      scene_.files.push_back((fs::path(baseDir) / decoded).string());
+    };
+    for (const tinygltf::Buffer& b : model_.buffers) add(b.uri);
+    for (const tinygltf::Image& i : model_.images) add(i.uri);
   }
 
   // tinygltf trusts the GLB chunk lengths; a truncated file must not make it read past the end.
@@ -816,9 +845,11 @@ class Loader {
     if (c.type != "perspective") {
       warn("camera " + std::to_string(node.camera) + ": only perspective cameras supported, '" +
            c.type + "' skipped");
+      scene_.skippedCameras.push_back({node.camera, c.type});
       return;
     }
     Camera cam;
+    cam.fileIndex = node.camera;
     cam.name = !c.name.empty()      ? c.name
                : !node.name.empty() ? node.name
                                     : "camera " + std::to_string(node.camera);

@@ -25,6 +25,7 @@ struct Texture {
 // rigid (scale removed). yfov in radians; aspect = width / height, 0 when the file gives none.
 struct Camera {
   std::string name;
+  int fileIndex = -1;  // index in the glTF file's cameras; -1 for a camera made up here
   glm::mat4 worldFromCamera{1.0f};
   float yfov = 0.8f;
   float aspect = 0.0f;
@@ -40,6 +41,7 @@ struct Environment {
 
 struct Scene {
   std::string path;
+  std::vector<std::string> files;  // path, then every external buffer and image it reads
   // World space; uv is TEXCOORD_0 with the material's KHR_texture_transform applied.
   std::vector<gpu::Vertex> vertices;
   std::vector<gpu::Triangle> triangles;
@@ -48,6 +50,11 @@ struct Scene {
   std::vector<gpu::PunctualLight> lights;
   std::vector<gpu::EmissiveTriangle> emissive;  // cdf over power
   std::vector<Camera> cameras;                  // file cameras in node order
+  struct SkippedCamera {
+    int fileIndex;
+    std::string type;  // e.g. "orthographic"
+  };
+  std::vector<SkippedCamera> skippedCameras;  // file cameras osr-vk cannot render
   glm::vec3 boundsMin{0.0f}, boundsMax{0.0f};
   std::vector<std::string> warnings;  // e.g. unsupported extensions (also printed once each)
   float emissivePower = 0.0f;         // sum of emissive[i].power
@@ -65,12 +72,24 @@ Scene loadScene(const std::string& path);
 // Throws InputError("<path>: <problem>").
 Environment loadEnvironment(const std::string& path);
 
+// The light of a scene that has none (no emissive surfaces, no punctual lights, no --env),
+// white so that it adds no colour cast: a sky of radiance kNeutralSkyNadir below rising to
+// kNeutralSkyZenith above, plus a broad key light (cos^16 lobe of peak kNeutralSkyKey) from the
+// upper front-left, so that form shows by shading. path is "" (made up, not read).
+inline constexpr float kNeutralSkyNadir = 0.2f, kNeutralSkyZenith = 0.6f, kNeutralSkyKey = 6.0f;
+Environment neutralEnvironment();
+
+// Whether the scene emits light by itself (emissive surfaces or punctual lights).
+inline bool hasLights(const Scene& s) { return !s.lights.empty() || !s.emissive.empty(); }
+
 // selector "" picks the first file camera, or when there is none a camera framing the scene
 // bounds for an image of the given aspect (width / height; <= 0 means 1); a number picks a
-// file camera by index; anything else by name. Throws InputError naming the scene file.
+// file camera by its index in the file's cameras (as the loader's warnings number them);
+// anything else by name. Throws InputError naming the scene file.
 Camera selectCamera(const Scene& scene, const std::string& selector, float aspect);
 
-// A camera looking down -Z at the centre of the bounds, far enough for the bounding sphere to
+// A three-quarter view of the bounds' centre: from the front-right (+Z, +X) and above, so
+// that the front, a side and the top of a box all show; far enough for the bounding sphere to
 // fit the smaller field of view of an image with this aspect.
 Camera defaultCamera(const Scene& scene, float aspect);
 

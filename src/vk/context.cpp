@@ -272,7 +272,10 @@ void Context::pickPhysicalDevice(const std::string& selector) {
 void Context::createDevice(bool swapchain) {
   VkPhysicalDeviceProperties2 props2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
   VkPhysicalDeviceSubgroupProperties subgroup{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES};
+  VkPhysicalDeviceMaintenance3Properties maintenance3{
+      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MAINTENANCE_3_PROPERTIES};
   props2.pNext = &subgroup;
+  subgroup.pNext = &maintenance3;
   vkGetPhysicalDeviceProperties2(physicalDevice_, &props2);
   const VkPhysicalDeviceLimits& limits = props2.properties.limits;
 
@@ -355,6 +358,7 @@ void Context::createDevice(bool swapchain) {
   caps_.deviceType = props2.properties.deviceType;
   caps_.subgroupSize = subgroup.subgroupSize;
   caps_.maxStorageBufferRange = limits.maxStorageBufferRange;
+  caps_.maxMemoryAllocationSize = maintenance3.maxMemoryAllocationSize;
   caps_.maxTexelBufferElements = limits.maxTexelBufferElements;
   for (int i = 0; i < 3; ++i) caps_.maxComputeWorkGroupCount[i] = limits.maxComputeWorkGroupCount[i];
   caps_.maxPushConstantsSize = limits.maxPushConstantsSize;

@@ -38,6 +38,7 @@ struct Capabilities {
   VkPhysicalDeviceType deviceType = VK_PHYSICAL_DEVICE_TYPE_OTHER;
   uint32_t subgroupSize = 1;
   uint64_t maxStorageBufferRange = 0;
+  uint64_t maxMemoryAllocationSize = 0;  // largest single allocation (Vulkan 1.1)
   uint32_t maxTexelBufferElements = 0;
   uint32_t maxComputeWorkGroupCount[3] = {};
   uint32_t maxPushConstantsSize = 0;

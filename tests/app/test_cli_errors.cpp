@@ -115,10 +115,15 @@ TEST(CliErrors, HelpAnywherePrintsTheUsage) {
       {"unet --help", "usage: osr-vk unet --weights FILE"},
       {"unet --weights w.osrw -h", "usage: osr-vk unet --weights FILE"},
       {"help unet", "usage: osr-vk unet --weights FILE"},
-      {"compare --help", "usage: osr-vk compare a.exr b.exr"},
+      {"compare --help", "usage: osr-vk compare TEST.exr REF.exr"},
       {"maps --grid 4 --help", "usage: osr-vk maps scene.gltf"},
       {"help maps", "usage: osr-vk maps scene.gltf"},
-      {"compare a.exr --bogus --help", "usage: osr-vk compare a.exr b.exr"},
+      {"compare a.exr --bogus --help", "usage: osr-vk compare TEST.exr REF.exr"},
+      {"help compare", "the reference (second)"},
+      {"--help", "--mode path|preview|osr"},
+      {"--help", "--passes N"},
+      {"--help", "--env file.exr|.hdr|none"},
+      {"--help", "--grid-start R"},
       {"--list-devices --help", "usage: osr-vk --list-devices"},
   };
   for (const auto& [args, usage] : cases) {
@@ -136,21 +141,56 @@ TEST(CliErrors, VersionIsOneLine) {
   EXPECT_EQ(r.out.find('\n'), r.out.size() - 1) << r.out;
 }
 
-// A film larger than one binding may cover is the device's limit, not bad input: exit 1.
-// 16384^2 pixels of FilmPixel exceed any maxStorageBufferRange (a 32-bit limit).
+// A film larger than the device can allocate is the device's limit, not bad input: exit 1,
+// one line naming the size and the limit. 16384^2 pixels of FilmPixel are 24 GiB, over
+// lavapipe's (and most devices') maxMemoryAllocationSize.
 TEST(CliErrors, FilmOverTheDeviceLimitExitsOne) {
   std::string out = ::testing::TempDir() + "osr_cli_huge.exr";
   Outcome r = runOsr("--mode preview --spp 1 --quiet --width 16384 --height 16384 --offline '" +
                      out + "' " + osr::test::referencePath("cornell/cornell.gltf"));
-  expectOneLine(r, "osr-vk: error: film: 16384x16384 needs", 1);
-  EXPECT_NE(r.err.find("maxStorageBufferRange"), std::string::npos) << r.err;
+  expectOneLine(r, "osr-vk: error: film: 16384x16384 needs 24576 MiB", 1);
+  EXPECT_NE(r.err.find("maxMemoryAllocationSize"), std::string::npos) << r.err;
+}
+
+// Messages a person reads: option ranges as numbers they would type, an image renamed .glb,
+// camera numbers as the file numbers them.
+TEST(CliErrors, MessagesAgreeWithWhatTheUserWrote) {
+  const std::string cornell = osr::test::referencePath("cornell/cornell.gltf");
+  expectOneLine(runOsr("--time 100000000 --offline x.exr " + cornell),
+                "osr-vk: render: option --time must be in [0.001, 10000000], got 100000000");
+  expectOneLine(runOsr("--exposure 100 --offline x.exr " + cornell),
+                "osr-vk: render: option --exposure must be in [-64, 64], got 100");
+  const std::string png = ::testing::TempDir() + "osr_cli_image.glb";
+  {
+    std::ofstream f(png, std::ios::binary);
+    f << "\x89PNG\r\n\x1a\n" << std::string(64, '\0');
+  }
+  expectOneLine(renderScene(png), "osr-vk: " + png + ": not a glTF or GLB file");
+  const std::string cameras = osr::test::dataPath("scene/cameras.gltf");
+  // The loader's warning names camera 2 too; the error is the last line.
+  Outcome ortho = renderScene(cameras, "--camera 2");
+  EXPECT_EQ(ortho.exitCode, 2);
+  EXPECT_NE(ortho.err.find("warning: " + cameras + ": camera 2: only perspective"), std::string::npos)
+      << ortho.err;
+  EXPECT_NE(ortho.err.find("\nosr-vk: " + cameras +
+                           ": camera 2 is orthographic, which osr-vk cannot render (usable "
+                           "cameras: 0, 1)\n"),
+            std::string::npos)
+      << ortho.err;
+  expectOneLine(runOsr("compare only.exr"),
+                "osr-vk: compare: expected two images, TEST.exr REF.exr (the reference second)");
 }
 
 TEST(CliErrors, BenchHelpAnywhere) {
   const std::pair<std::string, std::string> cases[] = {
-      {"--help", "usage: osr-bench [NAME [options]]"},
-      {"-h", "usage: osr-bench [NAME [options]]"},
+      {"", "usage: osr-bench NAME [options]"},
+      {"--help", "usage: osr-bench NAME [options]"},
+      {"-h", "usage: osr-bench NAME [options]"},
       {"unet --help", "usage: osr-bench unet [--k"},
+      {"unet --help", "--min-seconds S    time each point"},
+      {"bvh --help", "usage: osr-bench bvh"},
+      {"trace --help", "usage: osr-bench trace"},
+      {"osr --help", "--budgets LIST"},
       {"unet --k 8 -h", "usage: osr-bench unet [--k"},
       {"pathtrace --size 8 --help", "usage: osr-bench pathtrace"},
       {"fill --help", "usage: osr-bench fill"},
@@ -161,6 +201,11 @@ TEST(CliErrors, BenchHelpAnywhere) {
     EXPECT_EQ(r.err, "") << args;
     EXPECT_NE(r.out.find(usage), std::string::npos) << args << ": " << r.out;
   }
+  // With no name: one line per benchmark, each named, and nothing run.
+  Outcome list = runExe("osr-bench", "");
+  for (const char* name : {"fill", "pathtrace", "bvh", "trace", "unet", "osr"})
+    EXPECT_NE(list.out.find(std::string("\n  ") + name + " "), std::string::npos) << name;
+  EXPECT_EQ(list.out.find("{\""), std::string::npos) << "ran a benchmark: " << list.out;
 }
 
 // Benchmark options go through app::Args: a bad value or an unknown option is one line on
@@ -179,6 +224,8 @@ TEST(CliErrors, BenchBadOptionsExitTwoWithOneLine) {
       {"bvh --repeat 0", "osr-bench: bvh: option --repeat must be in [1, 100]"},
       {"trace --bvh-access x", "osr-bench: trace: --bvh-access must be"},
       {"no-such-benchmark", "osr-bench: unknown benchmark 'no-such-benchmark'"},
+      {"osr --size x", "osr-bench: osr: option --size expects an integer, got 'x'"},
+      {"all --size 8", "osr-bench: all: takes no options"},
   };
   for (const auto& [args, start] : cases) {
     SCOPED_TRACE(args);

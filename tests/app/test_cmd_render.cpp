@@ -7,16 +7,19 @@
 #include <gtest/gtest.h>
 
 #include <array>
+#include <cmath>
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <regex>
 #include <tuple>
 
 #include "app/cli_runner.h"
 #include "image/image_io.h"
 #include "common/vk_test.h"
 #include "pt/gltf_writer.h"
+#include "scene/scene.h"
 
 using namespace osr;
 namespace fs = std::filesystem;
@@ -134,5 +137,87 @@ TEST(CmdRender, EnvironmentMapLightsAWhiteFurnace) {
   double sum = 0;
   for (float v : img.rgb) sum += v;
   EXPECT_NEAR(sum / img.rgb.size(), 0.5, 0.01);
+  fs::remove_all(d);
+}
+
+// --time alone: the progress line counts samples without a target ("12 spp", not
+// "12/16777216 spp"); with --spp it shows the target. The format is README's "Progress".
+TEST(CmdRender, ProgressLineShowsTheBudgetGiven) {
+  fs::path d = tempDir();
+  std::string exr = (d / "p.exr").string();
+  Result timeOnly = run("--width 16 --time 0.5 --offline " + exr + " " + kCornell);
+  ASSERT_EQ(timeOnly.code, 0) << timeOnly.out;
+  EXPECT_EQ(timeOnly.out.find("16777216"), std::string::npos) << timeOnly.out;
+  EXPECT_TRUE(std::regex_search(
+      timeOnly.out, std::regex("osr-vk: [0-9]+ spp, [0-9.]+ s elapsed, ~[0-9.]+ s remaining")))
+      << timeOnly.out;
+  Result spp = run("--width 16 --spp 3 --offline " + exr + " " + kCornell);
+  ASSERT_EQ(spp.code, 0) << spp.out;
+  EXPECT_NE(spp.out.find("osr-vk: 3/3 spp, "), std::string::npos) << spp.out;
+  fs::remove_all(d);
+}
+
+// A scene without lights (most glTF sample models): a one-line warning, and the neutral sky
+// lights it: a diffuse ball of albedo 0.8 under a sky of at least kNeutralSkyNadir everywhere
+// is at least 0.8 x that bright, and under a key of kNeutralSkyKey over about 0.37 sr (cos^16)
+// plus the sky, no brighter than 0.8 x (zenith + key x 0.37 / pi); --env none renders it
+// black without a warning.
+TEST(CmdRender, SceneWithoutLightsGetsANeutralSkyAndAWarning) {
+  fs::path d = tempDir();
+  std::string gltf = (d / "dark.gltf").string(), exr = (d / "dark.exr").string();
+  test::GltfWriter g;
+  g.sphere({0, 0, 0}, 1.f, g.material(test::GltfWriter::diffuse(glm::vec3(0.8f))));
+  g.camera({0, 0, 4}, {0, 0, 0}, 0.5f);
+  g.write(gltf);
+  auto meanOf = [](const image::RgbImage& img) {
+    double sum = 0;
+    for (float v : img.rgb) sum += v;
+    return sum / double(img.rgb.size());
+  };
+  Result lit = run("--width 8 --spp 16 --quiet --offline " + exr + " " + gltf);
+  ASSERT_EQ(lit.code, 0) << lit.out;
+  EXPECT_EQ(lit.out, "osr-vk: warning: " + gltf +
+                         ": the scene has no lights (no emissive surfaces, no KHR_lights_punctual, "
+                         "no --env); lighting it with a neutral sky (--env none: leave it unlit)\n");
+  const double m = meanOf(image::readExrRgb(exr));
+  EXPECT_GT(m, 0.8 * scene::kNeutralSkyNadir);
+  EXPECT_LT(m, 0.8 * (scene::kNeutralSkyZenith + scene::kNeutralSkyKey * 0.37 / 3.14159));
+  Result dark = run("--width 8 --spp 4 --quiet --env none --offline " + exr + " " + gltf);
+  ASSERT_EQ(dark.code, 0) << dark.out;
+  EXPECT_EQ(dark.out, "");
+  EXPECT_EQ(meanOf(image::readExrRgb(exr)), 0.0);
+  // A scene with lights gets no sky and no warning.
+  Result cornell = run("--width 8 --spp 1 --quiet --offline " + exr + " " + kCornell);
+  EXPECT_EQ(cornell.out, "");
+  fs::remove_all(d);
+}
+
+// 3840 x 2160 on lavapipe: the film (760 MiB of 96-byte pixels) is bound in windows of at most
+// maxStorageBufferRange (128 MiB), so every window must be traced: the depth layer sees the
+// floor in the bottom rows and the walls in the last window's columns, and nothing is NaN.
+TEST(CmdRender, RendersFourKAtOneSample) {
+  fs::path d = tempDir();
+  std::string exr = (d / "4k.exr").string();
+  Result r = run("--width 3840 --height 2160 --spp 1 --quiet --offline " + exr + " " + kCornell);
+  ASSERT_EQ(r.code, 0) << r.out;
+  Imf::InputFile f(exr.c_str());
+  const Imath::Box2i dw = f.header().dataWindow();
+  EXPECT_EQ(dw.max.x - dw.min.x + 1, 3840);
+  EXPECT_EQ(dw.max.y - dw.min.y + 1, 2160);
+  image::RgbImage img = image::readExrRgb(exr);
+  // Mean of each band of 270 rows (8 bands; the windows are 1 Mi pixels = 273 rows) over the
+  // middle columns (the box; the sides are black, outside the square camera's view).
+  for (int band = 0; band < 8; ++band) {
+    double sum = 0;
+    size_t n = 0;
+    for (int y = band * 270; y < (band + 1) * 270; ++y)
+      for (int x = 1300; x < 2540; ++x, ++n)
+        for (int c = 0; c < 3; ++c) {
+          const float v = img.rgb[(size_t(y) * 3840 + x) * 3 + c];
+          ASSERT_TRUE(std::isfinite(v)) << x << "," << y;
+          sum += v;
+        }
+    EXPECT_GT(sum / n, 0.05) << "band " << band << " is black";
+  }
   fs::remove_all(d);
 }

@@ -81,9 +81,9 @@ TEST(ImageIo, FailuresAreInputErrorsAndKeepExistingFiles) {
   fs::remove_all(d);
 }
 
-TEST(ImageIo, PngAutoExposureMapsLogAverageToMiddleGrey) {
+TEST(ImageIo, PngAutoExposureMapsTheMeteredMeanToTheKey) {
   image::RgbImage img{4, 2, std::vector<float>(24, 0.045f)};
-  EXPECT_NEAR(image::autoExposureEv(img), std::log2(0.18 / (0.045 + 1e-4)), 1e-6);
+  EXPECT_NEAR(image::autoExposureEv(img), std::log2(image::kExposureKey / 0.045), 1e-6);
   fs::path d = tempDir();
   std::string path = (d / "p.png").string();
   image::writePng(path, img, std::nullopt);
@@ -92,4 +92,61 @@ TEST(ImageIo, PngAutoExposureMapsLogAverageToMiddleGrey) {
   f.read(sig, 8);
   EXPECT_EQ(std::string(sig + 1, 3), "PNG");
   fs::remove_all(d);
+}
+
+namespace {
+// A grey object (a 12 x 12 square of luminance `grey`, with a 2 x 2 light of 50 on it) in
+// the middle of a 128 x 128 black image: 1% of the pixels.
+image::RgbImage objectOnBlack(float grey) {
+  image::RgbImage img{128, 128, std::vector<float>(128 * 128 * 3, 0.f)};
+  for (int y = 58; y < 70; ++y)
+    for (int x = 58; x < 70; ++x)
+      for (int c = 0; c < 3; ++c) img.rgb[(size_t(y) * 128 + x) * 3 + c] = grey;
+  for (int y = 60; y < 62; ++y)
+    for (int x = 60; x < 62; ++x)
+      for (int c = 0; c < 3; ++c) img.rgb[(size_t(y) * 128 + x) * 3 + c] = 50.f;
+  return img;
+}
+}  // namespace
+
+// A small object on black is exposed for the object: its grey lands within a stop of the key
+// (0.18), neither white (the old log-average over every pixel gave it +10 EV: 1e-4 floors
+// dominate) nor darkened by the light on it.
+TEST(ImageIo, AutoExposureOfASmallObjectOnBlack) {
+  for (float grey : {0.02f, 0.3f, 4.f}) {
+    const image::RgbImage img = objectOnBlack(grey);
+    const double exposed = grey * std::exp2(image::autoExposureEv(img));
+    EXPECT_GT(exposed, image::kExposureKey / 2) << "grey " << grey;
+    EXPECT_LT(exposed, image::kExposureKey * 2) << "grey " << grey;
+  }
+}
+
+// A 1-spp render: most pixels that see a surface are 0, the others a few times too bright
+// (here 1 in 4 pixels at 4x, unbiased). Metered with the depth layer (which says the zeros
+// saw a surface), it gets the converged image's exposure within a tenth of a stop.
+TEST(ImageIo, AutoExposureOfAOneSampleRender) {
+  const int w = 64, h = 64;
+  image::RgbImage converged{w, h, std::vector<float>(size_t(w) * h * 3, 0.f)}, noisy = converged;
+  std::vector<float> depth(size_t(w) * h, 0.f);
+  for (int y = 0; y < h; ++y)
+    for (int x = 16; x < 48; ++x) {  // an object over the middle half, black elsewhere
+      const size_t i = size_t(y) * w + x;
+      const float v = 0.05f + 0.4f * float(y) / float(h);
+      depth[i] = 3.f;
+      for (int c = 0; c < 3; ++c) {
+        converged.rgb[i * 3 + c] = v;
+        noisy.rgb[i * 3 + c] = (x + 2 * y) % 4 == 0 ? 4.f * v : 0.f;
+      }
+    }
+  const double evConverged = image::autoExposureEv(converged, depth);
+  EXPECT_NEAR(image::autoExposureEv(noisy, depth), evConverged, 0.1);
+  EXPECT_NEAR(image::autoExposureEv(converged), evConverged, 1e-9) << "black is never metered";
+  // Without the depth layer only the lit quarter counts: two stops darker, not blown out.
+  EXPECT_NEAR(image::autoExposureEv(noisy), evConverged - 2.0, 0.1);
+}
+
+TEST(ImageIo, AutoExposureOfNothingIsZero) {
+  image::RgbImage black{8, 8, std::vector<float>(8 * 8 * 3, 0.f)};
+  EXPECT_EQ(image::autoExposureEv(black), 0.0);
+  EXPECT_EQ(image::autoExposureEv(black, std::vector<float>(64, 1.f)), 0.0);
 }

@@ -36,6 +36,20 @@ TEST(Camera, CamerasAndSelection) {
   EXPECT_EQ(scene::selectCamera(s, "", 1.0f).name, "wide");
   EXPECT_EQ(scene::selectCamera(s, "1", 1.0f).name, "closeup");
   EXPECT_EQ(scene::selectCamera(s, "closeup", 1.0f).name, "closeup");
+  // Numbers are the file's camera indices, as the loader's warning numbers them: camera 2 is
+  // the orthographic one, and the message says which cameras can be used.
+  auto message = [&](const char* selector) {
+    try {
+      scene::selectCamera(s, selector, 1.0f);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("accepted");
+  };
+  EXPECT_EQ(message("2"), s.path + ": camera 2 is orthographic, which osr-vk cannot render "
+                                   "(usable cameras: 0, 1)");
+  EXPECT_EQ(message("3"), s.path + ": camera 3 does not exist (the file has 3 camera(s); "
+                                   "usable: 0, 1)");
   for (const char* bad : {"2", "-1", "nope"}) {
     try {
       scene::selectCamera(s, bad, 1.0f);
@@ -44,6 +58,24 @@ TEST(Camera, CamerasAndSelection) {
       EXPECT_EQ(std::string(e.what()).rfind(s.path + ": ", 0), 0u) << e.what();
     }
   }
+}
+
+// The default camera is a three-quarter view: it looks across the scene from the front-right
+// and from above, so that a box shows three faces (a face-on view shows one).
+TEST(Camera, DefaultCameraIsAThreeQuarterView) {
+  scene::Scene s = scene::loadScene(data("hierarchy.gltf"));
+  scene::Camera c = scene::selectCamera(s, "", 1.0f);
+  const glm::vec3 forward = -glm::vec3(c.worldFromCamera[2]);  // glTF cameras look down -Z
+  const glm::vec3 up = glm::vec3(c.worldFromCamera[1]);
+  EXPECT_LT(forward.x, -0.3f) << "looks from +X towards -X";
+  EXPECT_LT(forward.z, -0.5f) << "looks from +Z towards -Z";
+  EXPECT_LT(forward.y, -0.3f) << "looks down";
+  EXPECT_GT(up.y, 0.5f) << "upright";
+  EXPECT_NEAR(c.worldFromCamera[0].y, 0.f, 1e-5f) << "no roll: the right axis is horizontal";
+  // Its position is where it looks from: the centre minus forward times the distance.
+  const glm::vec3 center = 0.5f * (s.boundsMin + s.boundsMax);
+  const glm::vec3 eye = glm::vec3(c.worldFromCamera[3]);
+  EXPECT_LT(glm::length(glm::normalize(center - eye) - forward), 1e-4f);
 }
 
 TEST(Camera, DefaultCameraFramesTheBounds) {

@@ -145,3 +145,33 @@ TEST(Environment, DirectionMappingRoundTripsAndMatchesBlender) {
   EXPECT_NEAR(scene::environmentDirection({0.75f, 0.5f}).z, 1.0f, 1e-6f);
 }
 
+
+// The neutral sky (scene::neutralEnvironment) is white, kNeutralSkyNadir straight down and
+// about kNeutralSkyZenith straight up, and brightest towards the key, in
+// front-left above the default camera: a box's front (+Z) face sees more of it than its right
+// (+X) face, which is what makes the faces differ.
+TEST(Environment, NeutralSkyIsWhiteWithAKeyLight) {
+  const scene::Environment env = scene::neutralEnvironment();
+  ASSERT_EQ(env.texels.size(), size_t(env.width) * env.height);
+  EXPECT_EQ(env.path, "");
+  auto at = [&](uint32_t x, uint32_t y) { return env.texels[size_t(y) * env.width + x]; };
+  for (const glm::vec4& t : env.texels) {
+    EXPECT_EQ(t.r, t.g);
+    EXPECT_EQ(t.g, t.b);
+  }
+  // Straight up the key (37 degrees away, cos^16 = 0.03) adds a little to the sky.
+  EXPECT_GT(at(0, 0).r, scene::kNeutralSkyZenith - 0.01f);
+  EXPECT_LT(at(0, 0).r, scene::kNeutralSkyZenith + 0.2f);
+  EXPECT_NEAR(at(0, env.height - 1).r, scene::kNeutralSkyNadir, 0.01f);
+  size_t brightest = 0;
+  for (size_t i = 0; i < env.texels.size(); ++i)
+    if (env.texels[i].r > env.texels[brightest].r) brightest = i;
+  const float pi = 3.14159265f;
+  const float phi = ((float(brightest % env.width) + 0.5f) / float(env.width) - 0.5f) * 2.f * pi;
+  const float theta = (float(brightest / env.width) + 0.5f) / float(env.height) * pi;
+  const glm::vec3 dir(std::sin(theta) * std::cos(phi), std::cos(theta), std::sin(theta) * std::sin(phi));
+  EXPECT_GT(dir.y, 0.5f) << "above";
+  EXPECT_GT(dir.z, 0.3f) << "in front (+Z)";
+  EXPECT_LT(dir.x, 0.f) << "to the left (-X)";
+  EXPECT_GT(env.texels[brightest].r, scene::kNeutralSkyKey);
+}
