@@ -1,0 +1,196 @@
+# Run inside headless Blender by tests/blender/test_blender_addon.py:
+#   blender -b --factory-startup --python-exit-code 1 --python addon_cases.py -- CASE OSR_VK WORK
+# CASE render: renders the test scene with the osr-vk engine (path tracing, fixed samples and
+#   seed, files kept in WORK/keep) and saves the result as WORK/blender.exr (Combined, RGBA)
+#   and WORK/blender_layers.exr (every pass, multi-layer).
+# CASE cancel: starts a long render, interrupts Blender as Ctrl-C does once osr-vk runs, and
+#   checks the osr-vk child is gone (terminated and reaped) when the render returns.
+# CASE missing: an executable path that does not exist: the render must fail with a report.
+# CASE failed: osr-vk exits with an error (a weights file that is not there): a report naming it.
+# Failures raise (the exit code is 1); the driver checks the rest from the output.
+import json
+import os
+import signal
+import subprocess
+import sys
+import threading
+import time
+
+import bpy
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import blender_scene  # noqa: E402
+
+sys.path.insert(0, os.path.join(blender_scene.REPO, "blender"))
+from osr_vk import exr  # noqa: E402
+
+SEED, SAMPLES, WIDTH, HEIGHT = 7, 16, 96, 72
+# Same seed, settings and device: osr-vk's path tracer is deterministic, so Blender's image
+# must equal the hand-run one but for float rounding in the EXR round trips.
+RELMSE_TOLERANCE = 1e-6
+
+
+def save(path, fmt):
+    settings = bpy.context.scene.render.image_settings
+    settings.file_format, settings.color_depth = fmt, "32"
+    bpy.data.images["Render Result"].save_render(path)
+
+
+def _layers(path):
+    _, _, planes = exr.read_layers(path)
+    return planes
+
+
+def _relmse(a, b, eps=0.01):
+    return float(np.mean((a - b) ** 2 / (b * b + eps)))
+
+
+def case_render(executable, work):
+    scene = blender_scene.build_scene(executable, WIDTH, HEIGHT)
+    scene.osr_vk.mode, scene.osr_vk.samples, scene.osr_vk.seed = "path", SAMPLES, SEED
+    scene.osr_vk.keep_directory = keep = os.path.join(work, "keep")
+    scene.world.color = (0.02, 0.03, 0.05)  # a world colour: handed over as --env world.exr
+    start = time.monotonic()
+    bpy.ops.render.render()
+    print("osr-vk test: render in Blender took %.2f s" % (time.monotonic() - start))
+    mine = os.path.join(work, "blender.exr")
+    save(mine, "OPEN_EXR")
+    save(os.path.join(work, "blender_layers.exr"), "OPEN_EXR_MULTILAYER")
+    with open(os.path.join(keep, "osr-vk.log")) as f:
+        log = f.read()
+    if "validation" in log:
+        raise AssertionError("osr-vk reported validation messages:\n" + log)
+    env = os.path.join(keep, "world.exr")
+    if not os.path.isfile(env):
+        raise AssertionError("the world colour was not written as an --env file")
+
+    # The reference: osr-vk run by hand on the glTF the add-on exported, same settings.
+    ref = os.path.join(work, "reference.exr")
+    subprocess.run([executable, "--offline", ref, "--exr-float", "--quiet", "--mode", "path",
+                    "--spp", str(SAMPLES), "--seed", str(SEED), "--width", str(WIDTH), "--height",
+                    str(HEIGHT), "--env", env, os.path.join(keep, "scene.gltf")], check=True)
+    out = subprocess.run([executable, "compare", mine, ref], check=True, capture_output=True, text=True)
+    metrics = json.loads(out.stdout)
+    print("osr-vk test: Blender's result against osr-vk --offline: relMSE %g (tolerance %g)"
+          % (metrics["relmse"], RELMSE_TOLERANCE))
+    if not metrics["relmse"] <= RELMSE_TOLERANCE:
+        raise AssertionError("relMSE %g over %g" % (metrics["relmse"], RELMSE_TOLERANCE))
+
+    # Passes: in Blender's multi-layer EXR, each equal to osr-vk's layer (normals turned to +Z up).
+    got, want = _layers(os.path.join(work, "blender_layers.exr")), _layers(ref)
+    checks = {"Direct": ("direct.R", "direct.G", "direct.B"),
+              "Indirect": ("indirect.R", "indirect.G", "indirect.B"),
+              "Albedo": ("albedo.R", "albedo.G", "albedo.B"),
+              "Normal": ("normal.X", "-normal.Z", "normal.Y"), "Depth": ("depth.Z",)}
+    for name, sources in checks.items():
+        ids = "Z" if name == "Depth" else ("XYZ" if name == "Normal" else "RGB")
+        for cid, src in zip(ids, sources):
+            key = "ViewLayer.%s.%s" % (name, cid)
+            if key not in got:
+                raise AssertionError("pass %s missing from the render result (%s)" % (key, sorted(got)))
+            expect = -want[src[1:]] if src.startswith("-") else want[src]
+            err = float(np.max(np.abs(got[key] - expect)))
+            if err > 1e-4 * max(1.0, float(np.max(np.abs(expect)))):
+                raise AssertionError("pass %s differs from osr-vk's %s by up to %g" % (key, src, err))
+    # Not black, not mirrored: the red wall is on the left, the green one on the right.
+    r, g = got["ViewLayer.Combined.R"], got["ViewLayer.Combined.G"]
+    third = WIDTH // 3
+    if not (r.mean() > 0.05 and r[:, :third].mean() > g[:, :third].mean()
+            and g[:, -third:].mean() > r[:, -third:].mean()):
+        raise AssertionError("the image is black or mirrored")
+    up = got["ViewLayer.Normal.Z"][HEIGHT - 3, WIDTH // 2]  # floor near the bottom centre
+    if not up > 0.9:
+        raise AssertionError("the floor's normal is %g along +Z, expected 1" % up)
+
+
+def _children(name):
+    """Pids of this process's live or unreaped children called `name` (from /proc)."""
+    me, found = os.getpid(), []
+    for entry in os.listdir("/proc"):
+        if not entry.isdigit():
+            continue
+        try:
+            with open("/proc/%s/stat" % entry) as f:
+                stat = f.read()
+        except OSError:
+            continue
+        comm = stat[stat.index("(") + 1:stat.rindex(")")]
+        fields = stat[stat.rindex(")") + 2:].split()
+        if comm == name and int(fields[1]) == me:
+            found.append((int(entry), fields[0]))
+    return found
+
+
+def case_cancel(executable, work):
+    scene = blender_scene.build_scene(executable, WIDTH, HEIGHT)
+    scene.osr_vk.mode, scene.osr_vk.samples, scene.osr_vk.time_limit = "path", 1 << 20, 120.0
+    seen = []
+
+    def interrupt():  # once osr-vk renders, what Ctrl-C in Blender's terminal does
+        deadline = time.monotonic() + 60
+        while time.monotonic() < deadline and not seen:
+            seen.extend(_children("osr-vk"))
+            time.sleep(0.05)
+        time.sleep(1.0)
+        os.kill(os.getpid(), signal.SIGINT)
+
+    thread = threading.Thread(target=interrupt)
+    thread.start()
+    start = time.monotonic()
+    try:
+        bpy.ops.render.render()
+    except RuntimeError as e:
+        print("osr-vk test: render raised %s" % e)
+    took = time.monotonic() - start
+    thread.join()
+    if not seen:
+        raise AssertionError("osr-vk never started")
+    left = _children("osr-vk")
+    print("osr-vk test: cancelled after %.2f s; osr-vk pid %d; children left: %s" % (took, seen[0][0], left))
+    if left:
+        raise AssertionError("osr-vk left behind after cancel: %s" % left)
+    if took > 30:
+        raise AssertionError("cancel took %.1f s" % took)
+    # Blender still works: a second, short render completes.
+    scene.osr_vk.samples, scene.osr_vk.time_limit = 2, 0.0
+    bpy.ops.render.render()
+    print("osr-vk test: rendered again after the cancel")
+
+
+def case_missing(executable, work):
+    blender_scene.build_scene(os.path.join(work, "no-such-dir", "osr-vk"), WIDTH, HEIGHT)
+    try:
+        bpy.ops.render.render()
+    except RuntimeError as e:
+        print("osr-vk test: report: %s" % e)
+        if "osr-vk executable not found" not in str(e):
+            raise AssertionError("unexpected report: %s" % e)
+        return
+    raise AssertionError("a render without osr-vk reported no error")
+
+
+def case_failed(executable, work):
+    scene = blender_scene.build_scene(executable, WIDTH, HEIGHT)
+    scene.osr_vk.mode, scene.osr_vk.weights = "osr", os.path.join(work, "missing.osrw")
+    try:
+        bpy.ops.render.render()
+    except RuntimeError as e:
+        print("osr-vk test: report: %s" % e)
+        if "osr-vk failed (exit 2)" not in str(e) or "missing.osrw" not in str(e):
+            raise AssertionError("unexpected report: %s" % e)
+        return
+    raise AssertionError("a failed osr-vk run reported no error")
+
+
+def main():
+    args = sys.argv[sys.argv.index("--") + 1:]
+    case, executable, work = args
+    os.makedirs(work, exist_ok=True)
+    cases = {"render": case_render, "cancel": case_cancel, "missing": case_missing,
+             "failed": case_failed}
+    cases[case](executable, work)
+    print("osr-vk test: case %s done" % case)
+
+
+main()

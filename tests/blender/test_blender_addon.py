@@ -1,0 +1,74 @@
+#!/usr/bin/env python3
+"""CTest driver for the Blender add-on: runs one case of addon_cases.py in headless Blender
+and checks what only the outside can see: the exit code, that no Python traceback reached the
+output, and (cancel) that no osr-vk process outlives Blender.
+
+usage: test_blender_addon.py CASE --blender BLENDER --osr-vk OSR_VK --work DIR
+"""
+import argparse
+import os
+import shutil
+import subprocess
+import sys
+import time
+
+HERE = os.path.dirname(os.path.abspath(__file__))
+
+
+def osr_vk_processes(executable):
+    """Pids of running processes whose executable is `executable`."""
+    target, pids = os.path.realpath(executable), []
+    for entry in os.listdir("/proc"):
+        if entry.isdigit():
+            try:
+                if os.path.realpath("/proc/%s/exe" % entry) == target:
+                    pids.append(int(entry))
+            except OSError:
+                pass
+    return pids
+
+
+def main() -> int:
+    parser = argparse.ArgumentParser(description=__doc__)
+    parser.add_argument("case", choices=["render", "cancel", "missing", "failed"])
+    parser.add_argument("--blender", required=True)
+    parser.add_argument("--osr-vk", required=True)
+    parser.add_argument("--work", required=True)
+    args = parser.parse_args()
+    shutil.rmtree(args.work, ignore_errors=True)
+    os.makedirs(args.work)
+    before = set(osr_vk_processes(args.osr_vk))
+    cmd = [args.blender, "-b", "--factory-startup", "--python-exit-code", "1",
+           "--python", os.path.join(HERE, "addon_cases.py"), "--",
+           args.case, os.path.abspath(args.osr_vk), os.path.abspath(args.work)]
+    env = dict(os.environ, PYTHONDONTWRITEBYTECODE="1")  # no __pycache__ in the source tree
+    start = time.monotonic()
+    run = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=env)
+    took = time.monotonic() - start
+    out = run.stdout
+    failures = []
+    if "osr-vk test: case %s done" % args.case not in out:
+        failures.append("the case did not finish")
+    # In the background Blender exits 1 after an operator reported an error: expected when the
+    # case is an error report, a failure otherwise.
+    allowed = {0, 1} if args.case in {"missing", "failed"} else {0}
+    if run.returncode not in allowed:
+        failures.append("blender exited with %d" % run.returncode)
+    if "Traceback" in out:
+        failures.append("a Python traceback in Blender's output")
+    left = set(osr_vk_processes(args.osr_vk)) - before
+    if left:
+        failures.append("osr-vk processes left running: %s" % sorted(left))
+    for line in out.splitlines():
+        if line.startswith("osr-vk test:") or line.startswith("Error:"):
+            print(line)
+    print("blender run: %.1f s" % took)
+    if failures:
+        print(out)
+        print("FAILED: " + "; ".join(failures))
+        return 1
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
