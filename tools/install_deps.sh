@@ -10,6 +10,7 @@ packages=(
   libopenexr-dev libimath-dev libglfw3-dev
   libgtest-dev libembree-dev
   python3-torch python3-numpy
+  blender
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -51,18 +51,32 @@ def find_executable(configured, addon_dir):
         return path if os.path.isfile(path) and os.access(path, os.X_OK) else None
     name = "osr-vk.exe" if sys.platform == "win32" else "osr-vk"
     for candidate in (os.path.join(addon_dir, name), os.path.join(addon_dir, "bin", name)):
-        if os.path.isfile(candidate) and os.access(candidate, os.X_OK):
+        if os.path.isfile(candidate):
+            if not os.access(candidate, os.X_OK):
+                # Blender's add-on installer unzips without Unix modes: the bundled osr-vk
+                # arrives without its executable bit.
+                try:
+                    os.chmod(candidate, os.stat(candidate).st_mode | 0o755)
+                except OSError:
+                    continue
             return candidate
     return shutil.which(name)
 
 
-def _die_with_parent():
-    # Linux: the child gets SIGTERM if Blender itself dies mid-render (no orphan renders).
+def _parent_death_signal():
+    # Linux: the child gets SIGTERM if Blender dies mid-render (no orphan renders). Resolved
+    # here, not in the forked child, so the child only makes the call.
+    if not sys.platform.startswith("linux"):
+        return None
     try:
         import ctypes
-        ctypes.CDLL("libc.so.6", use_errno=True).prctl(1, signal.SIGTERM)  # PR_SET_PDEATHSIG
+        prctl = ctypes.CDLL(None, use_errno=True).prctl
     except (OSError, AttributeError):
-        pass
+        return None
+    return lambda: prctl(1, int(signal.SIGTERM))  # PR_SET_PDEATHSIG
+
+
+_DIE_WITH_PARENT = _parent_death_signal()
 
 
 class Cancelled(Exception):
@@ -87,8 +101,8 @@ def run(command, on_line, should_stop, poll_s=0.1):
         kwargs.update(stdout=slave, stderr=slave)
     else:
         kwargs.update(stdout=subprocess.PIPE, stderr=subprocess.STDOUT)
-    if sys.platform.startswith("linux"):
-        kwargs["preexec_fn"] = _die_with_parent
+    if _DIE_WITH_PARENT is not None:
+        kwargs["preexec_fn"] = _DIE_WITH_PARENT
     proc = subprocess.Popen(command, **kwargs)
     if slave is not None:
         os.close(slave)

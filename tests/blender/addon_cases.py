@@ -6,6 +6,8 @@
 # CASE cancel: starts a long render, interrupts Blender as Ctrl-C does once osr-vk runs, and
 #   checks the osr-vk child is gone (terminated and reaped) when the render returns.
 # CASE missing: an executable path that does not exist: the render must fail with a report.
+# CASE install: installs ZIP (the 4th argument, CMake's osr_vk.zip) with Blender's add-on
+#   installer and renders with the osr-vk bundled in it.
 # CASE failed: osr-vk exits with an error (a weights file that is not there): a report naming it.
 # Failures raise (the exit code is 1); the driver checks the rest from the output.
 import json
@@ -22,8 +24,19 @@ import numpy as np
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 import blender_scene  # noqa: E402
 
-sys.path.insert(0, os.path.join(blender_scene.REPO, "blender"))
-from osr_vk import exr  # noqa: E402
+
+def _load_exr_module():
+    # The add-on's EXR reader, loaded from its file: importing the osr_vk package here would
+    # shadow the installed add-on in the install case.
+    import importlib.util
+    path = os.path.join(blender_scene.REPO, "blender", "osr_vk", "exr.py")
+    spec = importlib.util.spec_from_file_location("osr_vk_test_exr", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+exr = _load_exr_module()
 
 SEED, SAMPLES, WIDTH, HEIGHT = 7, 16, 96, 72
 # Same seed, settings and device: osr-vk's path tracer is deterministic, so Blender's image
@@ -67,9 +80,13 @@ def case_render(executable, work):
 
     # The reference: osr-vk run by hand on the glTF the add-on exported, same settings.
     ref = os.path.join(work, "reference.exr")
-    subprocess.run([executable, "--offline", ref, "--exr-float", "--quiet", "--mode", "path",
-                    "--spp", str(SAMPLES), "--seed", str(SEED), "--width", str(WIDTH), "--height",
-                    str(HEIGHT), "--env", env, os.path.join(keep, "scene.gltf")], check=True)
+    ref_run = subprocess.run(
+        [executable, "--offline", ref, "--exr-float", "--quiet", "--mode", "path", "--spp",
+         str(SAMPLES), "--seed", str(SEED), "--width", str(WIDTH), "--height", str(HEIGHT),
+         "--env", env, os.path.join(keep, "scene.gltf")],
+        check=True, capture_output=True, text=True)
+    if "validation" in ref_run.stderr:
+        raise AssertionError("osr-vk reported validation messages:\n" + ref_run.stderr)
     out = subprocess.run([executable, "compare", mine, ref], check=True, capture_output=True, text=True)
     metrics = json.loads(out.stdout)
     print("osr-vk test: Blender's result against osr-vk --offline: relMSE %g (tolerance %g)"
@@ -183,13 +200,32 @@ def case_failed(executable, work):
     raise AssertionError("a failed osr-vk run reported no error")
 
 
+def case_install(executable, work, addon_zip):
+    # Blender's own installer, into the user script directory the driver points elsewhere.
+    bpy.ops.preferences.addon_install(filepath=addon_zip, overwrite=True)
+    scene = blender_scene.build_scene("", WIDTH, HEIGHT, from_checkout=False)
+    module = sys.modules["osr_vk"]
+    installed = bpy.utils.user_resource("SCRIPTS", path="addons")
+    if not os.path.abspath(module.__file__).startswith(os.path.abspath(installed)):
+        raise AssertionError("osr_vk loaded from %s, not from %s" % (module.__file__, installed))
+    from osr_vk import engine, process
+    found = process.find_executable("", engine.ADDON_DIR)
+    if found != os.path.join(engine.ADDON_DIR, "bin", "osr-vk"):
+        raise AssertionError("the bundled osr-vk was not found (got %s)" % found)
+    scene.osr_vk.mode, scene.osr_vk.samples = "path", 2
+    bpy.ops.render.render()  # with the bundled osr-vk
+    save(os.path.join(work, "installed.exr"), "OPEN_EXR")
+    if not _layers(os.path.join(work, "installed.exr"))["R"].mean() > 0.05:
+        raise AssertionError("the installed add-on rendered a black image")
+
+
 def main():
     args = sys.argv[sys.argv.index("--") + 1:]
-    case, executable, work = args
+    case, executable, work = args[:3]
     os.makedirs(work, exist_ok=True)
     cases = {"render": case_render, "cancel": case_cancel, "missing": case_missing,
-             "failed": case_failed}
-    cases[case](executable, work)
+             "failed": case_failed, "install": case_install}
+    cases[case](executable, work, *args[3:])
     print("osr-vk test: case %s done" % case)
 
 

@@ -12,9 +12,10 @@ import bpy
 REPO = os.path.dirname(os.path.dirname(os.path.dirname(os.path.abspath(__file__))))
 
 
-def enable_addon(executable):
+def enable_addon(executable, from_checkout=True):
+    """Enables osr_vk from this checkout (or, from_checkout False, the installed one)."""
     blender_dir = os.path.join(REPO, "blender")
-    if blender_dir not in sys.path:
+    if from_checkout and blender_dir not in sys.path:
         sys.path.insert(0, blender_dir)
     addon_utils.enable("osr_vk", default_set=True, handle_error=None)
     if "osr_vk" not in bpy.context.preferences.addons:
@@ -41,10 +42,10 @@ def _plane(name, location, rotation, size, mat):
     return obj
 
 
-def build_scene(executable, width=96, height=72):
+def build_scene(executable, width=96, height=72, from_checkout=True):
     """An empty file with the add-on enabled (osr-vk at `executable`) and the test scene."""
     bpy.ops.wm.read_factory_settings(use_empty=True)  # this also disables add-ons: enable after
-    enable_addon(executable)
+    enable_addon(executable, from_checkout)
     scene = bpy.context.scene
     white = _material("white", (0.8, 0.8, 0.8))
     red = _material("red", (0.8, 0.1, 0.1))
