@@ -2,7 +2,8 @@
 # completed where that exporter stops short of a render:
 # - only the active camera is kept (osr-vk renders the file's first camera);
 # - area lights, which KHR_lights_punctual cannot hold (the exporter drops them), become
-#   one-sided emissive polygons of the same shape and power (Cycles: radiance = P / (pi A));
+#   one-sided emissive polygons of the same shape and brightness as in Cycles, whose area
+#   light of power P and area A has radiance P / (4 A) (not P / (pi A): measured, docs/blender.md);
 # - the world's colour or equirectangular image becomes an --env file.
 # What neither can express is listed for one warning in Blender's report, never a failure.
 import json
@@ -177,7 +178,7 @@ def _add_area_lights(gltf, lights, bin_path):
             continue
         if area_vec.dot(normal) < 0:  # mirrored transform: keep the winding facing the emission
             pts.reverse()
-        radiance = [c * light.energy / (math.pi * area) for c in light.color]
+        radiance = [c * light.energy / (4.0 * area) for c in light.color]
         peak = max(radiance)
         if peak <= 0:
             continue

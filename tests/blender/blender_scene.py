@@ -42,9 +42,15 @@ def _plane(name, location, rotation, size, mat):
     return obj
 
 
-def build_scene(executable, width=96, height=72, from_checkout=True):
-    """An empty file with the add-on enabled (osr-vk at `executable`) and the test scene."""
-    bpy.ops.wm.read_factory_settings(use_empty=True)  # this also disables add-ons: enable after
+def build_scene(executable, width=96, height=72, from_checkout=True, reset=True):
+    """An empty file with the add-on enabled (osr-vk at `executable`) and the test scene.
+    reset False: in the open file instead, after deleting its objects (Blender's UI, whose
+    window a factory reset would replace)."""
+    if reset:
+        bpy.ops.wm.read_factory_settings(use_empty=True)  # also disables add-ons: enable after
+    else:
+        for obj in list(bpy.data.objects):
+            bpy.data.objects.remove(obj)
     enable_addon(executable, from_checkout)
     scene = bpy.context.scene
     white = _material("white", (0.8, 0.8, 0.8))
