@@ -14,7 +14,8 @@ from . import exr, export, process
 ADDON_DIR = os.path.dirname(os.path.abspath(__file__))
 
 # (Blender pass, channels, channel ids, pass type, osr-vk EXR channels). osr-vk's normals are
-# in glTF's +Y-up world; Blender's Normal pass is +Z-up: (x, y, z) -> (x, -z, y).
+# in glTF's +Y-up world; Blender's Normal pass is +Z-up: (x, y, z) -> (x, -z, y). Depth is the
+# view-axis distance in both; osr-vk's 0 where nothing was hit is Blender's 1e10 (Cycles').
 PASSES = (
     ("Direct", 3, "RGB", "COLOR", ("direct.R", "direct.G", "direct.B")),
     ("Indirect", 3, "RGB", "COLOR", ("indirect.R", "indirect.G", "indirect.B")),
@@ -22,6 +23,7 @@ PASSES = (
     ("Normal", 3, "XYZ", "VECTOR", ("normal.X", "-normal.Z", "normal.Y")),
     ("Depth", 1, "Z", "VALUE", ("depth.Z",)),
 )
+BACKGROUND_DEPTH = 1e10
 
 
 def addon_preferences(context=None):
@@ -183,6 +185,8 @@ class OsrVkRenderEngine(bpy.types.RenderEngine):
                 target = layer.passes.find(name)
                 if target >= 0:
                     data = np.dstack([plane(c) for c in channels]).reshape(-1, len(channels))
+                    if name == "Depth":
+                        data = np.where(data > 0.0, data, BACKGROUND_DEPTH)
                     layer.passes[target].rect.foreach_set(np.ascontiguousarray(data, np.float32))
         finally:
             self.end_result(result)
