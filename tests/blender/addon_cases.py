@@ -8,6 +8,7 @@
 # CASE missing: an executable path that does not exist: the render must fail with a report.
 # CASE install: installs ZIP (the 4th argument, CMake's osr_vk.zip) with Blender's add-on
 #   installer and renders with the osr-vk bundled in it.
+# CASE world: the world colour and image as --env files (export only).
 # CASE cycles: the area light's direct light against Cycles' (light units).
 # CASE failed: osr-vk exits with an error (a weights file that is not there): a report naming it.
 # Failures raise (the exit code is 1); the driver checks the rest from the output.
@@ -257,12 +258,51 @@ def case_cycles(executable, work):
         raise AssertionError("direct light differs from Cycles' by more than 4 %%: %s" % ratio)
 
 
+def case_world(executable, work):
+    # The world as --env, from the export alone (no render): a colour, an equirectangular
+    # image as is, the same image at strength 2 from Blender's pixels (rows bottom-up there),
+    # and a world shader it cannot carry (a warning, no environment).
+    scene = blender_scene.build_scene(executable, WIDTH, HEIGHT)
+    from osr_vk import export
+    source = os.path.join(blender_scene.REPO, "scenes", "cornell", "cornell_cycles_4096spp.exr")
+
+    def exported(name):
+        directory = os.path.join(work, name)
+        os.makedirs(directory)
+        return export.export(bpy.context.evaluated_depsgraph_get(), directory)
+
+    scene.world.color = (0.25, 0.5, 1.0)
+    got = _layers(exported("colour").env_path)
+    check = [float(np.abs(got[c] - v).max()) for c, v in zip("RGB", (0.25, 0.5, 1.0))]
+    if max(check) > 1e-6:
+        raise AssertionError("world colour written as %s" % check)
+    world = scene.world
+    world.use_nodes = True
+    tree = world.node_tree
+    texture = tree.nodes.new("ShaderNodeTexEnvironment")
+    texture.image = bpy.data.images.load(source)
+    tree.links.new(texture.outputs["Color"], tree.nodes["Background"].inputs["Color"])
+    if exported("as_is").env_path != source:
+        raise AssertionError("an .exr world at strength 1 should be handed over as is")
+    tree.nodes["Background"].inputs["Strength"].default_value = 2.0
+    got, want = _layers(exported("strength").env_path), _layers(source)
+    err = max(float(np.abs(got[c] - 2 * want[c]).max()) for c in "RGB")
+    if err > 1e-5:
+        raise AssertionError("world image at strength 2 off by %g (flipped?)" % err)
+    shader = tree.nodes.new("ShaderNodeBsdfDiffuse")
+    tree.links.new(shader.outputs[0], tree.nodes["World Output"].inputs["Surface"])
+    result = exported("shader")
+    if result.env_path is not None or not any("world shader" in w for w in result.warnings):
+        raise AssertionError("a non-Background world: %s %s" % (result.env_path, result.warnings))
+
+
 def main():
     args = sys.argv[sys.argv.index("--") + 1:]
     case, executable, work = args[:3]
     os.makedirs(work, exist_ok=True)
     cases = {"render": case_render, "cancel": case_cancel, "missing": case_missing,
-             "failed": case_failed, "install": case_install, "cycles": case_cycles}
+             "failed": case_failed, "install": case_install, "cycles": case_cycles,
+             "world": case_world}
     cases[case](executable, work, *args[3:])
     print("osr-vk test: case %s done" % case)
 
