@@ -36,11 +36,17 @@ def render_and_show():
     view3d.spaces.active.image = bpy.data.images["Render Result"]
     props = largest_area(screen, "PROPERTIES")
     props.spaces.active.context = "RENDER"
-    region = next(r for r in view3d.regions if r.type == "WINDOW")
-    with bpy.context.temp_override(window=window, area=view3d, region=region):
-        bpy.ops.image.view_all(fit_view=True)
     print("osr-vk screenshot: rendered", scene.render.resolution_x, scene.render.resolution_y)
-    bpy.app.timers.register(shoot, first_interval=2.0)
+    bpy.app.timers.register(fit, first_interval=1.0)
+
+
+def fit():  # once the new image editor has been drawn at its size
+    window = bpy.context.window_manager.windows[0]
+    editor = largest_area(window.screen, "IMAGE_EDITOR")
+    region = next(r for r in editor.regions if r.type == "WINDOW")
+    with bpy.context.temp_override(window=window, area=editor, region=region):
+        bpy.ops.image.view_all(fit_view=True)
+    bpy.app.timers.register(shoot, first_interval=1.0)
 
 
 def shoot():
@@ -54,8 +60,8 @@ def shoot():
 def start():
     window = bpy.context.window_manager.windows[0]
     with bpy.context.temp_override(window=window, area=largest_area(window.screen, "VIEW_3D")):
-        scene = blender_scene.build_scene(executable, 480, 360, reset=False)
-    scene.osr_vk.mode, scene.osr_vk.passes = "osr", 32
+        scene = blender_scene.build_scene(executable, 400, 300, reset=False)
+    scene.osr_vk.mode, scene.osr_vk.passes, scene.osr_vk.time_limit = "osr", 32, 120.0
     bpy.app.timers.register(render_and_show, first_interval=1.0)
 
 

@@ -2,6 +2,7 @@
 # child process (process.py) with its progress in Blender's bar, and loads the EXR's layers
 # into the render result: Combined plus Direct, Indirect, Albedo, Normal and Depth passes.
 import os
+import shlex
 import shutil
 import tempfile
 import traceback
@@ -121,7 +122,7 @@ class OsrVkRenderEngine(bpy.types.RenderEngine):
         cmd = build_command(executable, settings, exr_path, os.path.join(work, "render.png"),
                             width, height, scene_export)
         with open(os.path.join(work, "command.txt"), "w", encoding="utf-8") as f:
-            f.write(" ".join(cmd) + "\n")
+            f.write(shlex.join(cmd) + "\n")
         osr_warnings, log = [], open(os.path.join(work, "osr-vk.log"), "w", encoding="utf-8")
 
         def on_line(line):
@@ -129,9 +130,11 @@ class OsrVkRenderEngine(bpy.types.RenderEngine):
             progress = process.parse_progress(line)
             if progress is not None:
                 self.update_progress(progress.fraction())
-                rest = " (~%.0f s left)" % progress.remaining_s if progress.remaining_s is not None else ""
-                self.update_stats("", "osr-vk: %d/%d %s%s" % (progress.done, progress.total,
-                                                               progress.unit, rest))
+                done = ("%d %s" % (progress.done, progress.unit) if progress.total >= 1 << 20
+                        else "%d/%d %s" % (progress.done, progress.total, progress.unit))
+                if progress.remaining_s is not None:
+                    done += " (~%.0f s left)" % progress.remaining_s
+                self.update_stats("", "osr-vk: " + done)
             elif "warning:" in line:
                 osr_warnings.append(line.split("warning:", 1)[1].strip())
 
@@ -162,9 +165,9 @@ class OsrVkRenderEngine(bpy.types.RenderEngine):
         if (w, h) != (width, height):
             self.report({"ERROR"}, "osr-vk wrote a %dx%d image, %dx%d asked" % (w, h, width, height))
             return
-        self._write_result(planes, border)
+        self._write_result(planes, border, depsgraph.view_layer.name)
 
-    def _write_result(self, planes, border):
+    def _write_result(self, planes, border, view_layer):
         x0, y0, x1, y1 = border
         bw, bh = x1 - x0, y1 - y0
 
@@ -176,7 +179,7 @@ class OsrVkRenderEngine(bpy.types.RenderEngine):
                 return np.zeros((bh, bw), np.float32)
             return sign * p[::-1][y0:y1, x0:x1]
 
-        result = self.begin_result(0, 0, bw, bh)
+        result = self.begin_result(0, 0, bw, bh, layer=view_layer)
         try:
             layer = result.layers[0]
             combined = np.dstack([plane("R"), plane("G"), plane("B"), np.ones((bh, bw), np.float32)])

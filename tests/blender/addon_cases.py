@@ -8,6 +8,7 @@
 # CASE missing: an executable path that does not exist: the render must fail with a report.
 # CASE install: installs ZIP (the 4th argument, CMake's osr_vk.zip) with Blender's add-on
 #   installer and renders with the osr-vk bundled in it.
+# CASE border: resolution percentage, render region and two view layers.
 # CASE world: the world colour and image as --env files (export only).
 # CASE cycles: the area light's direct light against Cycles' (light units).
 # CASE failed: osr-vk exits with an error (a weights file that is not there): a report naming it.
@@ -296,13 +297,41 @@ def case_world(executable, work):
         raise AssertionError("a non-Background world: %s %s" % (result.env_path, result.warnings))
 
 
+def case_border(executable, work):
+    # Resolution percentage, a render region cropped to the border and a second view layer:
+    # each layer's result is the border's part of osr-vk's full frame at the scaled size.
+    scene = blender_scene.build_scene(executable, WIDTH, HEIGHT)
+    scene.osr_vk.mode, scene.osr_vk.samples, scene.osr_vk.seed = "path", 4, SEED
+    scene.osr_vk.keep_directory = keep = os.path.join(work, "keep")
+    r = scene.render
+    r.resolution_percentage = 50  # 48 x 36
+    r.use_border, r.use_crop_to_border = True, True
+    r.border_min_x, r.border_max_x, r.border_min_y, r.border_max_y = 0.25, 0.75, 0.5, 1.0
+    scene.view_layers.new("second")
+    bpy.ops.render.render()
+    path = os.path.join(work, "border_layers.exr")
+    save(path, "OPEN_EXR_MULTILAYER")
+    got = _layers(path)
+    full = _layers(os.path.join(keep, "render.exr"))
+    w, h = WIDTH // 2, HEIGHT // 2
+    x0, x1, y0, y1 = w // 4, 3 * w // 4, h // 2, h  # y0, y1 from the bottom, as Blender's
+    for layer in ("ViewLayer", "second"):
+        mine = got.get(layer + ".Combined.G")
+        if mine is None:
+            raise AssertionError("no result for view layer %s: %s" % (layer, sorted(got)))
+        want = full["G"][h - y1:h - y0, x0:x1]
+        if mine.shape != want.shape or float(np.abs(mine - want).max()) > 1e-5:
+            raise AssertionError("layer %s: %s, expected the %s border region"
+                                 % (layer, mine.shape, want.shape))
+
+
 def main():
     args = sys.argv[sys.argv.index("--") + 1:]
     case, executable, work = args[:3]
     os.makedirs(work, exist_ok=True)
     cases = {"render": case_render, "cancel": case_cancel, "missing": case_missing,
              "failed": case_failed, "install": case_install, "cycles": case_cycles,
-             "world": case_world}
+             "world": case_world, "border": case_border}
     cases[case](executable, work, *args[3:])
     print("osr-vk test: case %s done" % case)
 
