@@ -1,10 +1,11 @@
-# Screenshot of Blender's UI after an osr-vk render, for docs/blender.md. Needs a display
+# Screenshot of Blender's UI after an osr-vk render, for docs/blender.md (there scaled to
+# 1280 x 720 and saved as JPEG). Needs a display
 # (Blender cannot draw its UI headless); on a machine without one, under Xvfb (a .blend file
 # on the command line keeps the splash screen away):
 #   blender -b --factory-startup --python-expr \
 #       "import bpy; bpy.ops.wm.save_as_mainfile(filepath='/tmp/empty.blend')"
 #   xvfb-run -s "-screen 0 1600x900x24" blender --factory-startup /tmp/empty.blend \
-#       --python blender/make_screenshot.py -- build/osr-vk docs/images/blender_osr_vk.png
+#       --python blender/make_screenshot.py -- build/osr-vk shot.png
 # Builds the test scene of tests/blender, renders it with the osr-vk engine (One Shot
 # Radiance), shows the result in an image editor beside the osr-vk render panel, saves the
 # screenshot and quits.
