@@ -292,9 +292,16 @@ def case_world(executable, work):
         raise AssertionError("world image at strength 2 off by %g (flipped?)" % err)
     shader = tree.nodes.new("ShaderNodeBsdfDiffuse")
     tree.links.new(shader.outputs[0], tree.nodes["World Output"].inputs["Surface"])
+    # ... and a material node setup glTF cannot express: one more item of the same warning.
+    material = bpy.data.materials["red"]
+    diffuse = material.node_tree.nodes.new("ShaderNodeBsdfDiffuse")
+    material.node_tree.links.new(diffuse.outputs[0],
+                                 material.node_tree.nodes["Material Output"].inputs["Surface"])
     result = exported("shader")
     if result.env_path is not None or not any("world shader" in w for w in result.warnings):
         raise AssertionError("a non-Background world: %s %s" % (result.env_path, result.warnings))
+    if not any("red (Diffuse BSDF)" in w for w in result.warnings):
+        raise AssertionError("no warning for the Diffuse BSDF material: %s" % result.warnings)
 
 
 def case_border(executable, work):
