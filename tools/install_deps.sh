@@ -10,7 +10,7 @@ packages=(
   libopenexr-dev libimath-dev libglfw3-dev
   libgtest-dev libembree-dev
   python3-torch python3-numpy
-  blender
+  blender xvfb xauth
 )
 missing=()
 for p in "${packages[@]}"; do

@@ -5,6 +5,7 @@ import os
 import shlex
 import shutil
 import tempfile
+import threading
 import traceback
 
 import bpy
@@ -68,6 +69,43 @@ def build_command(executable, settings, exr_path, png_path, width, height, scene
     return cmd + [scene_export.gltf_path]
 
 
+def on_main_thread(task, should_stop):
+    """task() run on Blender's main thread, its result returned here. F12 renders in a job
+    thread whose context is empty, and the glTF exporter needs the UI's (window, active
+    object, view layer depsgraph) and must not race the UI for it: a timer hands it to the
+    main thread, which keeps running while the job waits. A render that already runs on the
+    main thread (background, or render.render() without INVOKE) calls it directly."""
+    if threading.current_thread() is threading.main_thread():
+        return task()
+    state = {"started": False, "cancelled": False}
+    lock, done = threading.Lock(), threading.Event()
+
+    def timer():
+        with lock:
+            if state["cancelled"]:
+                return None
+            state["started"] = True
+        try:
+            state["value"] = task()
+        except BaseException as e:  # handed to the render thread
+            state["error"] = e
+        finally:
+            done.set()
+        return None
+
+    bpy.app.timers.register(timer, first_interval=0.0)
+    while not done.wait(0.1):
+        if should_stop():
+            with lock:
+                if not state["started"]:
+                    state["cancelled"] = True
+                    raise process.Cancelled()
+            # Already exporting: let it finish (it writes into the work directory).
+    if "error" in state:
+        raise state["error"]
+    return state["value"]
+
+
 class OsrVkRenderEngine(bpy.types.RenderEngine):
     bl_idname = "OSR_VK"
     bl_label = "osr-vk"
@@ -114,7 +152,10 @@ class OsrVkRenderEngine(bpy.types.RenderEngine):
         width, height, border = film_size(scene.render)
         self.update_stats("", "osr-vk: exporting the scene")
         try:
-            scene_export = export.export(depsgraph, work)
+            scene_export = on_main_thread(lambda: export.export(depsgraph, work), self.test_break)
+        except process.Cancelled:
+            self.report({"INFO"}, "osr-vk: render cancelled")
+            return
         except (export.ExportError, OSError) as e:
             self.report({"ERROR"}, "osr-vk: %s" % e)
             return

@@ -117,14 +117,22 @@ def _run_gltf_exporter(depsgraph, path):
                     convert_lighting_mode="SPEC")
     props = bpy.ops.export_scene.gltf.get_rna_type().properties
     settings = {k: v for k, v in settings.items() if k in props}  # older/newer exporters
+    # The exporter reads the window's scene and sets it (then back to context.scene): keep
+    # the user's scene in the window whichever scene renders.
+    wm = bpy.context.window_manager
+    window = bpy.context.window or (wm.windows[0] if wm and wm.windows else None)
+    shown = window.scene if window else None
+    override = {"scene": scene, "view_layer": view_layer}
+    if window is not None:
+        override["window"] = window
     try:
-        if hasattr(bpy.context, "temp_override"):
-            with bpy.context.temp_override(scene=scene, view_layer=view_layer):
-                result = bpy.ops.export_scene.gltf(**settings)
-        else:
+        with bpy.context.temp_override(**override):
             result = bpy.ops.export_scene.gltf(**settings)
     except (RuntimeError, AttributeError) as e:
         raise ExportError("glTF export failed: %s" % str(e).strip().splitlines()[-1])
+    finally:
+        if window is not None and shown is not None and window.scene != shown:
+            window.scene = shown
     if "FINISHED" not in result or not os.path.isfile(path):
         raise ExportError("glTF export failed (is the glTF 2.0 add-on enabled?)")
 

@@ -8,6 +8,7 @@
 # CASE missing: an executable path that does not exist: the render must fail with a report.
 # CASE install: installs ZIP (the 4th argument, CMake's osr_vk.zip) with Blender's add-on
 #   installer and renders with the osr-vk bundled in it.
+# CASE f12 (Blender's UI, under xvfb-run): an interactive F12 render, compared as in render.
 # CASE border: resolution percentage, render region and two view layers.
 # CASE world: the world colour and image as --env files (export only).
 # CASE cycles: the area light's direct light against Cycles' (light units).
@@ -62,6 +63,31 @@ def _relmse(a, b, eps=0.01):
     return float(np.mean((a - b) ** 2 / (b * b + eps)))
 
 
+def check_against_reference(executable, work, keep, mine):
+    """Runs osr-vk by hand on the glTF the add-on exported, with the test's settings, and
+    compares Blender's saved result `mine` with it. Returns the reference EXR's path."""
+    with open(os.path.join(keep, "osr-vk.log")) as f:
+        log = f.read()
+    if "validation" in log:
+        raise AssertionError("osr-vk reported validation messages:\n" + log)
+    env = os.path.join(keep, "world.exr")
+    ref = os.path.join(work, "reference.exr")
+    ref_run = subprocess.run(
+        [executable, "--offline", ref, "--exr-float", "--quiet", "--mode", "path", "--spp",
+         str(SAMPLES), "--seed", str(SEED), "--width", str(WIDTH), "--height", str(HEIGHT)]
+        + (["--env", env] if os.path.isfile(env) else []) + [os.path.join(keep, "scene.gltf")],
+        check=True, capture_output=True, text=True)
+    if "validation" in ref_run.stderr:
+        raise AssertionError("osr-vk reported validation messages:\n" + ref_run.stderr)
+    out = subprocess.run([executable, "compare", mine, ref], check=True, capture_output=True, text=True)
+    metrics = json.loads(out.stdout)
+    print("osr-vk test: Blender's result against osr-vk --offline: relMSE %g (tolerance %g)"
+          % (metrics["relmse"], RELMSE_TOLERANCE))
+    if not metrics["relmse"] <= RELMSE_TOLERANCE:
+        raise AssertionError("relMSE %g over %g" % (metrics["relmse"], RELMSE_TOLERANCE))
+    return ref
+
+
 def case_render(executable, work):
     scene = blender_scene.build_scene(executable, WIDTH, HEIGHT)
     scene.osr_vk.mode, scene.osr_vk.samples, scene.osr_vk.seed = "path", SAMPLES, SEED
@@ -73,29 +99,9 @@ def case_render(executable, work):
     mine = os.path.join(work, "blender.exr")
     save(mine, "OPEN_EXR")
     save(os.path.join(work, "blender_layers.exr"), "OPEN_EXR_MULTILAYER")
-    with open(os.path.join(keep, "osr-vk.log")) as f:
-        log = f.read()
-    if "validation" in log:
-        raise AssertionError("osr-vk reported validation messages:\n" + log)
-    env = os.path.join(keep, "world.exr")
-    if not os.path.isfile(env):
-        raise AssertionError("the world colour was not written as an --env file")
-
-    # The reference: osr-vk run by hand on the glTF the add-on exported, same settings.
-    ref = os.path.join(work, "reference.exr")
-    ref_run = subprocess.run(
-        [executable, "--offline", ref, "--exr-float", "--quiet", "--mode", "path", "--spp",
-         str(SAMPLES), "--seed", str(SEED), "--width", str(WIDTH), "--height", str(HEIGHT),
-         "--env", env, os.path.join(keep, "scene.gltf")],
-        check=True, capture_output=True, text=True)
-    if "validation" in ref_run.stderr:
-        raise AssertionError("osr-vk reported validation messages:\n" + ref_run.stderr)
-    out = subprocess.run([executable, "compare", mine, ref], check=True, capture_output=True, text=True)
-    metrics = json.loads(out.stdout)
-    print("osr-vk test: Blender's result against osr-vk --offline: relMSE %g (tolerance %g)"
-          % (metrics["relmse"], RELMSE_TOLERANCE))
-    if not metrics["relmse"] <= RELMSE_TOLERANCE:
-        raise AssertionError("relMSE %g over %g" % (metrics["relmse"], RELMSE_TOLERANCE))
+    ref = check_against_reference(executable, work, keep, mine)
+    if "--env" not in open(os.path.join(keep, "command.txt")).read():
+        raise AssertionError("the world colour was not handed over as --env")
 
     # Passes: in Blender's multi-layer EXR, each equal to osr-vk's layer (normals turned to +Z up).
     got, want = _layers(os.path.join(work, "blender_layers.exr")), _layers(ref)
@@ -332,15 +338,47 @@ def case_border(executable, work):
                                  % (layer, mine.shape, want.shape))
 
 
+def case_f12(executable, work):
+    # Blender's UI (under Xvfb): F12 renders in a job thread, where the add-on must hand the
+    # glTF export to the main thread. Timers drive it; the script returns to the UI loop.
+    def area(kind):
+        window = bpy.context.window_manager.windows[0]
+        areas = [a for a in window.screen.areas if a.type == kind]
+        return window, max(areas, key=lambda a: a.width * a.height)
+
+    def start():
+        window, view3d = area("VIEW_3D")
+        with bpy.context.temp_override(window=window, area=view3d):
+            scene = blender_scene.build_scene(executable, WIDTH, HEIGHT, reset=False)
+        scene.osr_vk.mode, scene.osr_vk.samples, scene.osr_vk.seed = "path", SAMPLES, SEED
+        scene.osr_vk.keep_directory = os.path.join(work, "keep")
+        with bpy.context.temp_override(window=window, area=view3d):
+            bpy.ops.render.render("INVOKE_DEFAULT")
+        bpy.app.timers.register(finish, first_interval=1.0)
+
+    def finish():
+        if bpy.app.is_job_running("RENDER"):
+            return 0.25
+        mine = os.path.join(work, "blender.exr")
+        save(mine, "OPEN_EXR")
+        check_against_reference(executable, work, os.path.join(work, "keep"), mine)
+        print("osr-vk test: case f12 done")
+        bpy.ops.wm.quit_blender()
+        return None
+
+    bpy.app.timers.register(start, first_interval=0.5)
+    return "later"
+
+
 def main():
     args = sys.argv[sys.argv.index("--") + 1:]
     case, executable, work = args[:3]
     os.makedirs(work, exist_ok=True)
     cases = {"render": case_render, "cancel": case_cancel, "missing": case_missing,
              "failed": case_failed, "install": case_install, "cycles": case_cycles,
-             "world": case_world, "border": case_border}
-    cases[case](executable, work, *args[3:])
-    print("osr-vk test: case %s done" % case)
+             "world": case_world, "border": case_border, "f12": case_f12}
+    if cases[case](executable, work, *args[3:]) != "later":
+        print("osr-vk test: case %s done" % case)
 
 
 main()

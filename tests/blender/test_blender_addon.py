@@ -9,6 +9,7 @@ import argparse
 import os
 import re
 import shutil
+import signal
 import subprocess
 import sys
 import time
@@ -31,7 +32,7 @@ def osr_vk_processes(executable):
 
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__)
-    parser.add_argument("case", choices=["render", "cancel", "missing", "failed", "install", "cycles", "world", "border"])
+    parser.add_argument("case", choices=["render", "cancel", "missing", "failed", "install", "cycles", "world", "border", "f12"])
     parser.add_argument("--blender", required=True)
     parser.add_argument("--osr-vk", required=True)
     parser.add_argument("--zip", help="osr_vk.zip, for the install case")
@@ -42,15 +43,27 @@ def main() -> int:
     cmd = [args.blender, "-b", "--factory-startup", "--python-exit-code", "1",
            "--python", os.path.join(HERE, "addon_cases.py"), "--",
            args.case, os.path.abspath(args.osr_vk), os.path.abspath(args.work)]
+    if args.case == "f12":  # Blender's UI, on a virtual display
+        cmd = ["xvfb-run", "-a", "-s", "-screen 0 1280x800x24"] + [c for c in cmd if c != "-b"]
     env = dict(os.environ, PYTHONDONTWRITEBYTECODE="1")  # no __pycache__ in the source tree
     if args.case == "install":  # a user directory of its own, not the user's
         cmd.append(os.path.abspath(args.zip))
         env["BLENDER_USER_SCRIPTS"] = os.path.join(args.work, "user_scripts")
         env["BLENDER_USER_CONFIG"] = os.path.join(args.work, "user_config")
     start = time.monotonic()
-    run = subprocess.run(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True, env=env)
+    # A session of its own, so that a hung run is ended with everything it started (xvfb-run,
+    # Xvfb, Blender, osr-vk).
+    run = subprocess.Popen(cmd, stdout=subprocess.PIPE, stderr=subprocess.STDOUT, text=True,
+                           env=env, start_new_session=True)
+    try:
+        out, _ = run.communicate(timeout=240)
+    except subprocess.TimeoutExpired:
+        os.killpg(run.pid, signal.SIGKILL)
+        out, _ = run.communicate()
+        print(out)
+        print("FAILED: blender did not finish in 240 s")
+        return 1
     took = time.monotonic() - start
-    out = run.stdout
     failures = []
     if "osr-vk test: case %s done" % args.case not in out:
         failures.append("the case did not finish")
