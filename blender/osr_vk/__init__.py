@@ -1,0 +1,114 @@
+# osr-vk for Blender: a render engine that exports the scene to glTF, renders it with the
+# osr-vk executable (One Shot Radiance or path tracing on Vulkan) and shows the image and its
+# passes in Blender. User guide: docs/blender.md in the osr-vk repository.
+bl_info = {
+    "name": "osr-vk",
+    "author": "osr-vk developers",
+    "version": (0, 1, 0),
+    "blender": (3, 4, 0),
+    "location": "Properties > Render > Render Engine > osr-vk",
+    "description": "Render with osr-vk (One Shot Radiance global illumination on Vulkan)",
+    "category": "Render",
+}
+
+import bpy
+
+from . import engine
+
+
+class OsrVkPreferences(bpy.types.AddonPreferences):
+    bl_idname = __package__
+
+    executable: bpy.props.StringProperty(
+        name="osr-vk executable", subtype="FILE_PATH", default="",
+        description="Path of the osr-vk program; empty: next to the add-on, else on PATH")
+
+    def draw(self, context):
+        self.layout.prop(self, "executable")
+
+
+class OsrVkSettings(bpy.types.PropertyGroup):
+    mode: bpy.props.EnumProperty(
+        name="Integrator", default="osr",
+        items=(("osr", "One Shot Radiance", "Progressive OSR passes: a clean image fast"),
+               ("path", "Path tracing", "Unbiased path tracing (the reference)"),
+               ("preview", "Preview", "Primary hits: albedo times a headlight")))
+    time_limit: bpy.props.FloatProperty(
+        name="Time budget", default=0.0, min=0.0, soft_max=600.0, unit="TIME_ABSOLUTE",
+        description="Stop after this many seconds (0: no limit; with a pass or sample count, "
+                    "whichever ends first)")
+    passes: bpy.props.IntProperty(
+        name="Passes", default=32, min=0, soft_max=1024,
+        description="Progressive OSR passes (0: osr-vk's default, or as many as the time allows)")
+    samples: bpy.props.IntProperty(
+        name="Samples", default=64, min=0, soft_max=65536,
+        description="Samples per pixel for path tracing and preview (0: osr-vk's default)")
+    seed: bpy.props.IntProperty(name="Seed", default=0, min=0, description="Random seed")
+    weights: bpy.props.StringProperty(
+        name="Weights", subtype="FILE_PATH", default="",
+        description="Packed U-Net weights (.osrw) for the OSR denoiser; empty: osr-vk's default")
+    device: bpy.props.StringProperty(
+        name="Device", default="",
+        description="Vulkan device index or name (osr-vk --list-devices); empty: the default")
+    keep_directory: bpy.props.StringProperty(
+        name="Keep files in", subtype="DIR_PATH", default="",
+        description="Write the exported glTF, the command line, the log and the EXR here and "
+                    "keep them; empty: a temporary directory, removed after the render")
+
+
+class RENDER_PT_osr_vk(bpy.types.Panel):
+    bl_label = "osr-vk"
+    bl_space_type = "PROPERTIES"
+    bl_region_type = "WINDOW"
+    bl_context = "render"
+    COMPAT_ENGINES = {engine.OsrVkRenderEngine.bl_idname}
+
+    @classmethod
+    def poll(cls, context):
+        return context.engine in cls.COMPAT_ENGINES
+
+    def draw(self, context):
+        layout = self.layout
+        layout.use_property_split = True
+        settings = context.scene.osr_vk
+        layout.prop(settings, "mode")
+        if settings.mode == "osr":
+            layout.prop(settings, "passes")
+            layout.prop(settings, "weights")
+        else:
+            layout.prop(settings, "samples")
+        layout.prop(settings, "time_limit")
+        layout.prop(settings, "seed")
+        layout.prop(settings, "device")
+        prefs = engine.addon_preferences(context)
+        if prefs is not None:
+            layout.prop(prefs, "executable", text="Executable")
+        layout.prop(settings, "keep_directory")
+
+
+def _compatible_panels():
+    # Blender's own light, material, world and output panels work for this engine too.
+    for panel in bpy.types.Panel.__subclasses__():
+        engines = getattr(panel, "COMPAT_ENGINES", None)
+        if engines and "BLENDER_EEVEE" in engines and getattr(panel, "bl_context", "") in {
+                "material", "data", "world", "view_layer"}:
+            yield panel
+
+
+classes = (OsrVkPreferences, OsrVkSettings, engine.OsrVkRenderEngine, RENDER_PT_osr_vk)
+
+
+def register():
+    for cls in classes:
+        bpy.utils.register_class(cls)
+    bpy.types.Scene.osr_vk = bpy.props.PointerProperty(type=OsrVkSettings)
+    for panel in _compatible_panels():
+        panel.COMPAT_ENGINES.add(engine.OsrVkRenderEngine.bl_idname)
+
+
+def unregister():
+    for panel in _compatible_panels():
+        panel.COMPAT_ENGINES.discard(engine.OsrVkRenderEngine.bl_idname)
+    del bpy.types.Scene.osr_vk
+    for cls in reversed(classes):
+        bpy.utils.unregister_class(cls)

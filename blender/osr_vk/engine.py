@@ -1,0 +1,236 @@
+# The "osr-vk" render engine: F12 exports the scene (export.py), runs `osr-vk --offline` in a
+# child process (process.py) with its progress in Blender's bar, and loads the EXR's layers
+# into the render result: Combined plus Direct, Indirect, Albedo, Normal and Depth passes.
+import os
+import shlex
+import shutil
+import tempfile
+import threading
+import traceback
+
+import bpy
+import numpy as np
+
+from . import exr, export, process
+
+ADDON_DIR = os.path.dirname(os.path.abspath(__file__))
+
+# (Blender pass, channels, channel ids, pass type, osr-vk EXR channels). osr-vk's normals are
+# in glTF's +Y-up world; Blender's Normal pass is +Z-up: (x, y, z) -> (x, -z, y). Depth is the
+# view-axis distance in both; osr-vk's 0 where nothing was hit is Blender's 1e10 (Cycles').
+PASSES = (
+    ("Direct", 3, "RGB", "COLOR", ("direct.R", "direct.G", "direct.B")),
+    ("Indirect", 3, "RGB", "COLOR", ("indirect.R", "indirect.G", "indirect.B")),
+    ("Albedo", 3, "RGB", "COLOR", ("albedo.R", "albedo.G", "albedo.B")),
+    ("Normal", 3, "XYZ", "VECTOR", ("normal.X", "-normal.Z", "normal.Y")),
+    ("Depth", 1, "Z", "VALUE", ("depth.Z",)),
+)
+BACKGROUND_DEPTH = 1e10
+
+
+def addon_preferences(context=None):
+    context = context or bpy.context
+    addon = context.preferences.addons.get(__package__)
+    return addon.preferences if addon else None
+
+
+def film_size(render):
+    """The image osr-vk renders (resolution x percentage) and the border rectangle of it that
+    Blender's render result holds, (x0, y0, x1, y1) with y from the bottom as in Blender."""
+    scale = render.resolution_percentage / 100.0
+    w, h = max(1, int(render.resolution_x * scale)), max(1, int(render.resolution_y * scale))
+    if not render.use_border:
+        return w, h, (0, 0, w, h)
+    x0, x1 = int(render.border_min_x * w), int(render.border_max_x * w)
+    y0, y1 = int(render.border_min_y * h), int(render.border_max_y * h)
+    if x1 <= x0 or y1 <= y0:
+        return w, h, (0, 0, w, h)
+    return w, h, (x0, y0, x1, y1)
+
+
+def build_command(executable, settings, exr_path, png_path, width, height, scene_export):
+    cmd = [executable, "--offline", exr_path, "--exr-float", "--mode", settings.mode,
+           "--width", str(width), "--height", str(height), "--seed", str(settings.seed)]
+    if png_path:
+        cmd += ["--png", png_path]
+    if settings.mode == "osr":
+        if settings.passes > 0:
+            cmd += ["--passes", str(settings.passes)]
+        if settings.weights:
+            cmd += ["--weights", bpy.path.abspath(settings.weights)]
+    elif settings.samples > 0:
+        cmd += ["--spp", str(settings.samples)]
+    if settings.time_limit > 0:
+        cmd += ["--time", "%g" % settings.time_limit]
+    if settings.device.strip():
+        cmd += ["--device", settings.device.strip()]
+    if scene_export.env_path:
+        cmd += ["--env", scene_export.env_path]
+    return cmd + [scene_export.gltf_path]
+
+
+def on_main_thread(task, should_stop):
+    """task() run on Blender's main thread, its result returned here. F12 renders in a job
+    thread whose context is empty, and the glTF exporter needs the UI's (window, active
+    object, view layer depsgraph) and must not race the UI for it: a timer hands it to the
+    main thread, which keeps running while the job waits. A render that already runs on the
+    main thread (background, or render.render() without INVOKE) calls it directly."""
+    if threading.current_thread() is threading.main_thread():
+        return task()
+    state = {"started": False, "cancelled": False}
+    lock, done = threading.Lock(), threading.Event()
+
+    def timer():
+        with lock:
+            if state["cancelled"]:
+                return None
+            state["started"] = True
+        try:
+            state["value"] = task()
+        except BaseException as e:  # handed to the render thread
+            state["error"] = e
+        finally:
+            done.set()
+        return None
+
+    bpy.app.timers.register(timer, first_interval=0.0)
+    while not done.wait(0.1):
+        if should_stop():
+            with lock:
+                if not state["started"]:
+                    state["cancelled"] = True
+                    raise process.Cancelled()
+            # Already exporting: let it finish (it writes into the work directory).
+    if "error" in state:
+        raise state["error"]
+    return state["value"]
+
+
+class OsrVkRenderEngine(bpy.types.RenderEngine):
+    bl_idname = "OSR_VK"
+    bl_label = "osr-vk"
+    bl_use_preview = False
+    bl_use_postprocess = True
+    bl_use_eevee_viewport = True  # material preview in the viewport stays EEVEE's
+
+    def update_render_passes(self, scene=None, renderlayer=None):
+        self.register_pass(scene, renderlayer, "Combined", 4, "RGBA", "COLOR")
+        for name, channels, ids, kind, _ in PASSES:
+            self.register_pass(scene, renderlayer, name, channels, ids, kind)
+
+    def render(self, depsgraph):
+        scene = depsgraph.scene
+        settings = scene.osr_vk
+        prefs = addon_preferences()
+        configured = prefs.executable if prefs else ""
+        executable = process.find_executable(bpy.path.abspath(configured) if configured else "", ADDON_DIR)
+        if executable is None:
+            where = ("'%s' is not an executable file" % configured if configured else
+                     "not on PATH nor next to the add-on (%s)" % ADDON_DIR)
+            self.report({"ERROR"}, "osr-vk executable not found: %s; set it in the osr-vk "
+                                   "render panel or the add-on preferences" % where)
+            return
+        keep = bpy.path.abspath(settings.keep_directory) if settings.keep_directory else ""
+        try:
+            if keep:
+                os.makedirs(keep, exist_ok=True)
+            work = keep or tempfile.mkdtemp(prefix="osr-vk-")
+        except OSError as e:
+            self.report({"ERROR"}, "osr-vk: cannot create the work directory: %s" % e)
+            return
+        try:
+            self._render_in(depsgraph, settings, executable, work)
+        except Exception as e:  # a bug here: a report, the traceback to the console only
+            traceback.print_exc()
+            self.report({"ERROR"}, "osr-vk add-on: internal error: %s: %s" % (type(e).__name__, e))
+        finally:
+            if not keep:
+                shutil.rmtree(work, ignore_errors=True)
+
+    def _render_in(self, depsgraph, settings, executable, work):
+        scene = depsgraph.scene
+        width, height, border = film_size(scene.render)
+        self.update_stats("", "osr-vk: exporting the scene")
+        try:
+            scene_export = on_main_thread(lambda: export.export(depsgraph, work), self.test_break)
+        except process.Cancelled:
+            self.report({"INFO"}, "osr-vk: render cancelled")
+            return
+        except (export.ExportError, OSError) as e:
+            self.report({"ERROR"}, "osr-vk: %s" % e)
+            return
+        exr_path = os.path.join(work, "render.exr")
+        cmd = build_command(executable, settings, exr_path, os.path.join(work, "render.png"),
+                            width, height, scene_export)
+        with open(os.path.join(work, "command.txt"), "w", encoding="utf-8") as f:
+            f.write(shlex.join(cmd) + "\n")
+        osr_warnings, log = [], open(os.path.join(work, "osr-vk.log"), "w", encoding="utf-8")
+
+        def on_line(line):
+            log.write(line + "\n")
+            progress = process.parse_progress(line)
+            if progress is not None:
+                self.update_progress(progress.fraction())
+                done = ("%d %s" % (progress.done, progress.unit) if progress.total >= 1 << 20
+                        else "%d/%d %s" % (progress.done, progress.total, progress.unit))
+                if progress.remaining_s is not None:
+                    done += " (~%.0f s left)" % progress.remaining_s
+                self.update_stats("", "osr-vk: " + done)
+            elif "warning:" in line:
+                osr_warnings.append(line.split("warning:", 1)[1].strip())
+
+        self.update_stats("", "osr-vk: starting %s" % os.path.basename(executable))
+        try:
+            code, tail = process.run(cmd, on_line, self.test_break)
+        except process.Cancelled:
+            self.report({"INFO"}, "osr-vk: render cancelled")
+            return
+        except OSError as e:
+            self.report({"ERROR"}, "osr-vk: cannot run %s: %s" % (executable, e.strerror or e))
+            return
+        finally:
+            log.close()
+        problems = scene_export.warnings + osr_warnings
+        if problems:
+            self.report({"WARNING"}, "osr-vk: not rendered as in Blender: " + "; ".join(problems))
+        if code != 0:
+            errors = [l for l in tail if "warning" not in l and process.parse_progress(l) is None]
+            why = errors[-1] if errors else "exit code %d" % code
+            self.report({"ERROR"}, "osr-vk failed (exit %d): %s" % (code, why))
+            return
+        try:
+            w, h, planes = exr.read_layers(exr_path)
+        except exr.ExrError as e:
+            self.report({"ERROR"}, "osr-vk: %s" % e)
+            return
+        if (w, h) != (width, height):
+            self.report({"ERROR"}, "osr-vk wrote a %dx%d image, %dx%d asked" % (w, h, width, height))
+            return
+        self._write_result(planes, border, depsgraph.view_layer.name)
+
+    def _write_result(self, planes, border, view_layer):
+        x0, y0, x1, y1 = border
+        bw, bh = x1 - x0, y1 - y0
+
+        def plane(name):  # osr-vk's rows run top-down, Blender's bottom-up; then the border
+            sign = -1.0 if name.startswith("-") else 1.0
+            name = name.lstrip("-")
+            p = planes.get(name)
+            if p is None:
+                return np.zeros((bh, bw), np.float32)
+            return sign * p[::-1][y0:y1, x0:x1]
+
+        result = self.begin_result(0, 0, bw, bh, layer=view_layer)
+        try:
+            layer = result.layers[0]
+            combined = np.dstack([plane("R"), plane("G"), plane("B"), np.ones((bh, bw), np.float32)])
+            layer.passes["Combined"].rect.foreach_set(combined.reshape(-1, 4))
+            for name, _, _, _, channels in PASSES:
+                target = layer.passes.find(name)
+                if target >= 0:
+                    data = np.dstack([plane(c) for c in channels]).reshape(-1, len(channels))
+                    if name == "Depth":
+                        data = np.where(data > 0.0, data, BACKGROUND_DEPTH)
+                    layer.passes[target].rect.foreach_set(np.ascontiguousarray(data, np.float32))
+        finally:
+            self.end_result(result)

@@ -1,0 +1,327 @@
+# Blender scene -> what osr-vk reads: a glTF written by Blender's own exporter (io_scene_gltf2),
+# completed where that exporter stops short of a render:
+# - only the active camera is kept (osr-vk renders the file's first camera);
+# - area lights, which KHR_lights_punctual cannot hold (the exporter drops them), become
+#   one-sided emissive polygons of the same shape and brightness as in Cycles, whose area
+#   light of power P and area A has radiance P / (4 A) (not P / (pi A): measured, docs/blender.md);
+# - the world's colour or equirectangular image becomes an --env file.
+# What neither can express is listed for one warning in Blender's report, never a failure.
+import json
+import math
+import os
+import struct
+
+import bpy
+import numpy as np
+from mathutils import Vector
+
+from . import exr
+
+# glTF is +Y up: Blender (x, y, z) is glTF (x, z, -y) (the exporter's export_yup).
+def _to_gltf(v):
+    return (v[0], v[2], -v[1])
+
+
+class ExportError(Exception):
+    pass
+
+
+class Export:
+    def __init__(self, gltf_path, env_path, warnings):
+        self.gltf_path, self.env_path, self.warnings = gltf_path, env_path, warnings
+
+
+def _renderable_objects(depsgraph):
+    for inst in depsgraph.object_instances:
+        obj = inst.object
+        yield obj.original if obj.original is not None else obj
+
+
+def _material_problem(mat):
+    """Why glTF cannot express `mat`'s node setup, or None."""
+    if mat is None or not mat.use_nodes or mat.node_tree is None:
+        return None
+    outputs = [n for n in mat.node_tree.nodes if n.type == "OUTPUT_MATERIAL"]
+    out = next((n for n in outputs if n.is_active_output), outputs[0] if outputs else None)
+    if out is None:
+        return None
+    if out.inputs["Volume"].is_linked:
+        return "volume"
+    surface = out.inputs["Surface"]
+    if not surface.is_linked:
+        return None
+    root = surface.links[0].from_node
+    if root.type in {"BSDF_PRINCIPLED", "EMISSION"}:
+        return None
+    if root.type == "GROUP" and root.node_tree and "glTF" in root.node_tree.name:
+        return None
+    return "node setup (%s)" % root.bl_label
+
+
+def survey(depsgraph):
+    """Warnings for what the glTF cannot carry: node materials, volumes, hair, camera effects."""
+    scene = depsgraph.scene
+    materials, volumes, hair, others = set(), set(), set(), []
+    seen = set()
+    for obj in _renderable_objects(depsgraph):
+        if obj.name in seen:
+            continue
+        seen.add(obj.name)
+        if obj.type == "VOLUME":
+            volumes.add(obj.name)
+        if obj.type in {"CURVES", "HAIR"} or any(
+                p.settings.type == "HAIR" for p in getattr(obj, "particle_systems", [])):
+            hair.add(obj.name)
+        if obj.type == "LIGHT" and obj.data.type == "AREA" and obj.data.spread < math.pi - 1e-3:
+            others.append("area light %s: spread below 180 degrees (rendered as 180)" % obj.name)
+        for slot in getattr(obj, "material_slots", []):
+            problem = _material_problem(slot.material)
+            if problem == "volume":
+                volumes.add(slot.material.name)
+            elif problem:
+                materials.add("%s (%s)" % (slot.material.name, problem.split("(")[-1].rstrip(")")))
+    cam = scene.camera.data if scene.camera else None
+    if cam is not None and cam.type == "PERSP":
+        if abs(cam.shift_x) > 1e-6 or abs(cam.shift_y) > 1e-6:
+            others.append("camera shift")
+        if cam.dof.use_dof:
+            others.append("depth of field")
+    if scene.render.use_motion_blur:
+        others.append("motion blur")
+    if scene.render.pixel_aspect_x != scene.render.pixel_aspect_y:
+        others.append("non-square pixels")
+    world = scene.world
+    if world is not None and world.use_nodes and world.node_tree:
+        out = next((n for n in world.node_tree.nodes if n.type == "OUTPUT_WORLD" and n.is_active_output), None)
+        if out is not None and out.inputs["Volume"].is_linked:
+            volumes.add("world " + world.name)
+    parts = []
+    if materials:
+        parts.append("materials glTF cannot express, exported as plain glTF materials: "
+                     + ", ".join(sorted(materials)))
+    if volumes:
+        parts.append("volumes (skipped): " + ", ".join(sorted(volumes)))
+    if hair:
+        parts.append("hair (skipped): " + ", ".join(sorted(hair)))
+    parts += others
+    return parts
+
+
+def _run_gltf_exporter(depsgraph, path):
+    scene = depsgraph.scene.original
+    view_layer = scene.view_layers.get(depsgraph.view_layer.name)
+    settings = dict(filepath=path, export_format="GLTF_SEPARATE", export_cameras=True,
+                    export_lights=True, use_renderable=True, use_active_scene=True,
+                    export_apply=True, export_yup=True, export_animations=False,
+                    export_materials="EXPORT", export_colors=False, export_extras=False,
+                    convert_lighting_mode="SPEC")
+    props = bpy.ops.export_scene.gltf.get_rna_type().properties
+    settings = {k: v for k, v in settings.items() if k in props}  # older/newer exporters
+    # The exporter reads the window's scene and sets it (then back to context.scene): keep
+    # the user's scene in the window whichever scene renders.
+    wm = bpy.context.window_manager
+    window = bpy.context.window or (wm.windows[0] if wm and wm.windows else None)
+    shown = window.scene if window else None
+    override = {"scene": scene, "view_layer": view_layer}
+    if window is not None:
+        override["window"] = window
+    try:
+        with bpy.context.temp_override(**override):
+            result = bpy.ops.export_scene.gltf(**settings)
+    except (RuntimeError, AttributeError) as e:
+        raise ExportError("glTF export failed: %s" % str(e).strip().splitlines()[-1])
+    finally:
+        if window is not None and shown is not None and window.scene != shown:
+            window.scene = shown
+    if "FINISHED" not in result or not os.path.isfile(path):
+        raise ExportError("glTF export failed (is the glTF 2.0 add-on enabled?)")
+
+
+def _keep_active_camera(gltf, camera_name):
+    parents = {c: i for i, n in enumerate(gltf.get("nodes", [])) for c in n.get("children", [])}
+
+    def owned(i):  # the camera node, or a correction node the exporter hung under it
+        while i is not None:
+            if gltf["nodes"][i].get("name") == camera_name:
+                return True
+            i = parents.get(i)
+        return False
+
+    kept = 0
+    for i, node in enumerate(gltf.get("nodes", [])):
+        if "camera" in node:
+            if owned(i) and kept == 0:
+                kept += 1
+            else:
+                del node["camera"]
+    if kept == 0:
+        raise ExportError("the active camera %s was not exported (is it hidden from rendering?)"
+                          % camera_name)
+
+
+def _polygon(light):
+    """Corners of an area light's shape in its local XY plane, counter-clockwise seen from -Z."""
+    sx = light.size
+    sy = light.size_y if light.shape in {"RECTANGLE", "ELLIPSE"} else light.size
+    if light.shape in {"SQUARE", "RECTANGLE"}:
+        corners = [(-1, -1), (1, -1), (1, 1), (-1, 1)]
+    else:
+        n = 32
+        corners = [(math.cos(2 * math.pi * k / n), math.sin(2 * math.pi * k / n)) for k in range(n)]
+    return [Vector((0.5 * sx * x, 0.5 * sy * y, 0.0)) for x, y in reversed(corners)]
+
+
+def _add_area_lights(gltf, lights, bin_path):
+    blob, meshes = bytearray(), []
+    for obj in lights:
+        light = obj.data
+        world = obj.matrix_world
+        pts = [world @ p for p in _polygon(light)]
+        normal = (world.to_3x3() @ Vector((0.0, 0.0, -1.0))).normalized()
+        area_vec = Vector((0.0, 0.0, 0.0))
+        for k in range(1, len(pts) - 1):
+            area_vec += (pts[k] - pts[0]).cross(pts[k + 1] - pts[0])
+        area = area_vec.length / 2
+        if area <= 0 or light.energy <= 0:
+            continue
+        if area_vec.dot(normal) < 0:  # mirrored transform: keep the winding facing the emission
+            pts.reverse()
+        radiance = [c * light.energy / (4.0 * area) for c in light.color]
+        peak = max(radiance)
+        if peak <= 0:
+            continue
+        tris = [i for k in range(1, len(pts) - 1) for i in (0, k, k + 1)]
+        positions = [_to_gltf(p) for p in pts]
+        n = _to_gltf(normal)
+        base = len(blob)
+        for p in positions:
+            blob += struct.pack("<3f", *p)
+        normals_at = len(blob)
+        for _ in positions:
+            blob += struct.pack("<3f", *n)
+        index_at = len(blob)
+        blob += struct.pack("<%dI" % len(tris), *tris)
+        meshes.append((obj.name, base, normals_at, index_at, len(positions), len(tris),
+                       [c / peak for c in radiance], peak, positions))
+    if not meshes:
+        return 0
+    with open(bin_path, "wb") as f:
+        f.write(blob)
+    buffer = len(gltf.setdefault("buffers", []))
+    gltf["buffers"].append({"uri": os.path.basename(bin_path), "byteLength": len(blob)})
+    views, accessors = gltf.setdefault("bufferViews", []), gltf.setdefault("accessors", [])
+    materials, gmeshes = gltf.setdefault("materials", []), gltf.setdefault("meshes", [])
+    nodes = gltf.setdefault("nodes", [])
+    scene = gltf["scenes"][gltf.get("scene", 0)]
+    for name, base, normals_at, index_at, count, ntris, color, strength, positions in meshes:
+        def accessor(offset, length, comp, kind, cnt, **extra):
+            views.append({"buffer": buffer, "byteOffset": offset, "byteLength": length})
+            accessors.append(dict(bufferView=len(views) - 1, componentType=comp, count=cnt,
+                                  type=kind, **extra))
+            return len(accessors) - 1
+
+        lo = [min(p[i] for p in positions) for i in range(3)]
+        hi = [max(p[i] for p in positions) for i in range(3)]
+        pos = accessor(base, 12 * count, 5126, "VEC3", count, min=lo, max=hi)
+        nrm = accessor(normals_at, 12 * count, 5126, "VEC3", count)
+        idx = accessor(index_at, 4 * ntris, 5125, "SCALAR", ntris)
+        materials.append({
+            "name": name + " (area light)", "doubleSided": False,
+            "pbrMetallicRoughness": {"baseColorFactor": [0, 0, 0, 1], "metallicFactor": 0.0,
+                                     "roughnessFactor": 1.0},
+            "emissiveFactor": color,
+            "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": strength}}})
+        gmeshes.append({"name": name, "primitives": [{
+            "attributes": {"POSITION": pos, "NORMAL": nrm}, "indices": idx,
+            "material": len(materials) - 1}]})
+        nodes.append({"name": name, "mesh": len(gmeshes) - 1})
+        scene.setdefault("nodes", []).append(len(nodes) - 1)
+    used = gltf.setdefault("extensionsUsed", [])
+    if "KHR_materials_emissive_strength" not in used:
+        used.append("KHR_materials_emissive_strength")
+    return len(meshes)
+
+
+def _srgb_to_linear(c):
+    return np.where(c <= 0.04045, c / 12.92, ((c + 0.055) / 1.055) ** 2.4)
+
+
+def _world_env(world, directory, warnings):
+    """The --env file for `world`, or None for a black world."""
+    if world is None:
+        return None
+    color, strength, image = tuple(world.color), 1.0, None
+    if world.use_nodes and world.node_tree:
+        nodes = world.node_tree.nodes
+        out = next((n for n in nodes if n.type == "OUTPUT_WORLD" and n.is_active_output), None)
+        link = out.inputs["Surface"].links[0] if out and out.inputs["Surface"].is_linked else None
+        if link is None:
+            return None
+        bg = link.from_node
+        if bg.type != "BACKGROUND":
+            warnings.append("world shader %s (rendered without environment)" % bg.bl_label)
+            return None
+        strength = bg.inputs["Strength"].default_value
+        if bg.inputs["Strength"].is_linked:
+            warnings.append("world strength input (its value used)")
+        col = bg.inputs["Color"]
+        if col.is_linked:
+            src = col.links[0].from_node
+            if src.type == "TEX_ENVIRONMENT" and src.image is not None and src.projection == "EQUIRECTANGULAR":
+                image = src.image
+                if src.inputs["Vector"].is_linked:
+                    warnings.append("world texture mapping (ignored)")
+            else:
+                warnings.append("world colour from %s (rendered without environment)" % src.bl_label)
+                return None
+        else:
+            color = tuple(col.default_value)[:3]
+    if strength <= 0:
+        return None
+    path = os.path.join(directory, "world.exr")
+    if image is None:
+        rgb = np.array(color[:3], np.float32) * strength
+        if not rgb.any():
+            return None
+        exr.write_rgb(path, np.broadcast_to(rgb, (4, 8, 3)))
+        return path
+    source = bpy.path.abspath(image.filepath, library=image.library)
+    if (strength == 1.0 and not image.packed_file and os.path.isfile(source)
+            and os.path.splitext(source)[1].lower() in {".exr", ".hdr"}):
+        return source  # osr-vk reads the file itself, at full resolution
+    w, h = image.size
+    if w == 0 or h == 0:
+        warnings.append("world image %s could not be loaded (rendered without environment)" % image.name)
+        return None
+    px = np.empty(w * h * image.channels, np.float32)
+    image.pixels.foreach_get(px)
+    px = px.reshape(h, w, image.channels)[::-1, :, :3]  # Blender's rows run bottom-up
+    if not image.is_float and image.colorspace_settings.name == "sRGB":
+        px = _srgb_to_linear(px)
+    exr.write_rgb(path, px * strength)
+    return path
+
+
+def export(depsgraph, directory):
+    """Writes scene.gltf (+ world.exr) into `directory`; returns an Export."""
+    scene = depsgraph.scene
+    if scene.camera is None:
+        raise ExportError("the scene has no active camera")
+    if scene.camera.type != "CAMERA" or scene.camera.data.type != "PERSP":
+        raise ExportError("camera %s: osr-vk renders perspective cameras only" % scene.camera.name)
+    warnings = survey(depsgraph)
+    gltf_path = os.path.join(directory, "scene.gltf")
+    _run_gltf_exporter(depsgraph, gltf_path)
+    with open(gltf_path, encoding="utf-8") as f:
+        gltf = json.load(f)
+    _keep_active_camera(gltf, scene.camera.original.name if scene.camera.original else scene.camera.name)
+    seen, area_lights = set(), []
+    for obj in _renderable_objects(depsgraph):
+        if obj.type == "LIGHT" and obj.data.type == "AREA" and obj.name not in seen:
+            seen.add(obj.name)
+            area_lights.append(obj)
+    _add_area_lights(gltf, area_lights, os.path.join(directory, "area_lights.bin"))
+    with open(gltf_path, "w", encoding="utf-8") as f:
+        json.dump(gltf, f)
+    env = _world_env(scene.world, directory, warnings)
+    return Export(gltf_path, env, warnings)

@@ -1,0 +1,155 @@
+# Runs osr-vk as a child process: finds the executable, streams its progress lines, stops it
+# on cancel and always reaps it. Knows nothing of Blender (tests/blender drive it directly).
+import os
+import re
+import select
+import shutil
+import signal
+import subprocess
+import sys
+import time
+
+# "osr-vk: 12/64 spp, 3.1 s elapsed, ~13.2 s remaining" (src/app/cmd_render.cpp). Matched
+# loosely: any "N/M unit" pair, optional elapsed and remaining seconds, so that rewording the
+# line keeps the bar moving.
+_PROGRESS = re.compile(r"(\d+)\s*/\s*(\d+)\s*([A-Za-z]+)?")
+_ELAPSED = re.compile(r"([\d.]+)\s*s\s+elapsed")
+_REMAINING = re.compile(r"~?\s*([\d.]+)\s*s\s+remaining")
+
+
+class Progress:
+    def __init__(self, done, total, unit, elapsed_s, remaining_s, line):
+        self.done, self.total, self.unit = done, total, unit
+        self.elapsed_s, self.remaining_s, self.line = elapsed_s, remaining_s, line
+
+    def fraction(self):
+        # Time-limited renders announce a huge unit target: then elapsed / (elapsed + remaining).
+        if self.elapsed_s is not None and self.remaining_s is not None:
+            by_time = self.elapsed_s / max(self.elapsed_s + self.remaining_s, 1e-9)
+            if self.total <= 0 or self.total >= 1 << 20:
+                return min(1.0, by_time)
+            return min(1.0, max(self.done / self.total, by_time))
+        return min(1.0, self.done / self.total) if self.total > 0 else 0.0
+
+
+def parse_progress(line):
+    """A Progress for an osr-vk progress line, None for any other line."""
+    if not line.startswith("osr-vk:") or "warning" in line or "error" in line:
+        return None
+    m = _PROGRESS.search(line)
+    if not m:
+        return None
+    e, r = _ELAPSED.search(line), _REMAINING.search(line)
+    return Progress(int(m.group(1)), int(m.group(2)), m.group(3) or "",
+                    float(e.group(1)) if e else None, float(r.group(1)) if r else None, line)
+
+
+def find_executable(configured, addon_dir):
+    """The osr-vk to run: `configured` if set, else on PATH, else next to the add-on."""
+    if configured:
+        path = os.path.abspath(os.path.expanduser(configured))
+        return path if os.path.isfile(path) and os.access(path, os.X_OK) else None
+    name = "osr-vk.exe" if sys.platform == "win32" else "osr-vk"
+    for candidate in (os.path.join(addon_dir, name), os.path.join(addon_dir, "bin", name)):
+        if os.path.isfile(candidate):
+            if not os.access(candidate, os.X_OK):
+                # Blender's add-on installer unzips without Unix modes: the bundled osr-vk
+                # arrives without its executable bit.
+                try:
+                    os.chmod(candidate, os.stat(candidate).st_mode | 0o755)
+                except OSError:
+                    continue
+            return candidate
+    return shutil.which(name)
+
+
+def _parent_death_signal():
+    # Linux: the child gets SIGTERM if Blender dies mid-render (no orphan renders). Resolved
+    # here, not in the forked child, so the child only makes the call.
+    if not sys.platform.startswith("linux"):
+        return None
+    try:
+        import ctypes
+        prctl = ctypes.CDLL(None, use_errno=True).prctl
+    except (OSError, AttributeError):
+        return None
+    return lambda: prctl(1, int(signal.SIGTERM))  # PR_SET_PDEATHSIG
+
+
+_DIE_WITH_PARENT = _parent_death_signal()
+
+
+class Cancelled(Exception):
+    pass
+
+
+def run(command, on_line, should_stop, poll_s=0.1):
+    """Runs `command`; calls on_line(text) for each stderr/stdout line. should_stop() is polled
+    every poll_s; when it turns true the process is terminated, reaped and Cancelled raised.
+    Returns (exit code, the output's last lines)."""
+    # osr-vk rewrites its progress line in place on a terminal (every ~0.25 s) but prints one
+    # only every 5 s into a pipe: give it a pseudo-terminal where there is one.
+    master = slave = None
+    if sys.platform != "win32":
+        try:
+            import pty
+            master, slave = pty.openpty()
+        except OSError:
+            master = slave = None
+    kwargs = {"stdin": subprocess.DEVNULL}
+    if slave is not None:
+        kwargs.update(stdout=slave, stderr=slave)
+    else:
+        kwargs.update(stdout=subprocess.PIPE, stderr=subprocess.STDOUT)
+    if _DIE_WITH_PARENT is not None:
+        kwargs["preexec_fn"] = _DIE_WITH_PARENT
+    proc = subprocess.Popen(command, **kwargs)
+    if slave is not None:
+        os.close(slave)
+    fd = master if master is not None else proc.stdout.fileno()
+    tail, pending = [], ""
+    try:
+        while True:
+            if should_stop():
+                raise Cancelled()
+            ready, _, _ = select.select([fd], [], [], poll_s)
+            if not ready:
+                if proc.poll() is not None and master is None:
+                    break
+                continue
+            try:
+                chunk = os.read(fd, 65536)
+            except OSError:  # EIO: the pty's other side is closed
+                chunk = b""
+            if not chunk:
+                break
+            pending += chunk.decode("utf-8", "replace")
+            *lines, pending = re.split(r"[\r\n]+", pending)
+            if pending[-1:].isspace():  # a tty progress line is padded, not ended
+                lines.append(pending)
+                pending = ""
+            for line in lines:
+                line = line.strip()
+                if line:
+                    tail = (tail + [line])[-20:]
+                    on_line(line)
+        if pending.strip():
+            tail = (tail + [pending.strip()])[-20:]
+            on_line(pending.strip())
+        while proc.poll() is None:  # output closed; wait for the exit, still cancellable
+            if should_stop():
+                raise Cancelled()
+            time.sleep(poll_s)
+        return proc.returncode, tail
+    finally:
+        if proc.poll() is None:
+            proc.terminate()
+            try:
+                proc.wait(timeout=5)
+            except subprocess.TimeoutExpired:
+                proc.kill()
+                proc.wait()
+        if master is not None:
+            os.close(master)
+        elif proc.stdout:
+            proc.stdout.close()

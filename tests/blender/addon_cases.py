@@ -1,0 +1,384 @@
+# Run inside headless Blender by tests/blender/test_blender_addon.py:
+#   blender -b --factory-startup --python-exit-code 1 --python addon_cases.py -- CASE OSR_VK WORK
+# CASE render: renders the test scene with the osr-vk engine (path tracing, fixed samples and
+#   seed, files kept in WORK/keep) and saves the result as WORK/blender.exr (Combined, RGBA)
+#   and WORK/blender_layers.exr (every pass, multi-layer).
+# CASE cancel: starts a long render, interrupts Blender as Ctrl-C does once osr-vk runs, and
+#   checks the osr-vk child is gone (terminated and reaped) when the render returns.
+# CASE missing: an executable path that does not exist: the render must fail with a report.
+# CASE install: installs ZIP (the 4th argument, CMake's osr_vk.zip) with Blender's add-on
+#   installer and renders with the osr-vk bundled in it.
+# CASE f12 (Blender's UI, under xvfb-run): an interactive F12 render, compared as in render.
+# CASE border: resolution percentage, render region and two view layers.
+# CASE world: the world colour and image as --env files (export only).
+# CASE cycles: the area light's direct light against Cycles' (light units).
+# CASE failed: osr-vk exits with an error (a weights file that is not there): a report naming it.
+# Failures raise (the exit code is 1); the driver checks the rest from the output.
+import json
+import os
+import signal
+import subprocess
+import sys
+import threading
+import time
+
+import bpy
+import numpy as np
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+import blender_scene  # noqa: E402
+
+
+def _load_exr_module():
+    # The add-on's EXR reader, loaded from its file: importing the osr_vk package here would
+    # shadow the installed add-on in the install case.
+    import importlib.util
+    path = os.path.join(blender_scene.REPO, "blender", "osr_vk", "exr.py")
+    spec = importlib.util.spec_from_file_location("osr_vk_test_exr", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+exr = _load_exr_module()
+
+SEED, SAMPLES, WIDTH, HEIGHT = 7, 16, 96, 72
+# Same seed, settings and device: osr-vk's path tracer is deterministic, so Blender's image
+# must equal the hand-run one but for float rounding in the EXR round trips.
+RELMSE_TOLERANCE = 1e-6
+
+
+def save(path, fmt):
+    settings = bpy.context.scene.render.image_settings
+    settings.file_format, settings.color_depth = fmt, "32"
+    bpy.data.images["Render Result"].save_render(path)
+
+
+def _layers(path):
+    _, _, planes = exr.read_layers(path)
+    return planes
+
+
+def _relmse(a, b, eps=0.01):
+    return float(np.mean((a - b) ** 2 / (b * b + eps)))
+
+
+def check_against_reference(executable, work, keep, mine):
+    """Runs osr-vk by hand on the glTF the add-on exported, with the test's settings, and
+    compares Blender's saved result `mine` with it. Returns the reference EXR's path."""
+    with open(os.path.join(keep, "osr-vk.log")) as f:
+        log = f.read()
+    if "validation" in log:
+        raise AssertionError("osr-vk reported validation messages:\n" + log)
+    env = os.path.join(keep, "world.exr")
+    ref = os.path.join(work, "reference.exr")
+    ref_run = subprocess.run(
+        [executable, "--offline", ref, "--exr-float", "--quiet", "--mode", "path", "--spp",
+         str(SAMPLES), "--seed", str(SEED), "--width", str(WIDTH), "--height", str(HEIGHT)]
+        + (["--env", env] if os.path.isfile(env) else []) + [os.path.join(keep, "scene.gltf")],
+        check=True, capture_output=True, text=True)
+    if "validation" in ref_run.stderr:
+        raise AssertionError("osr-vk reported validation messages:\n" + ref_run.stderr)
+    out = subprocess.run([executable, "compare", mine, ref], check=True, capture_output=True, text=True)
+    metrics = json.loads(out.stdout)
+    print("osr-vk test: Blender's result against osr-vk --offline: relMSE %g (tolerance %g)"
+          % (metrics["relmse"], RELMSE_TOLERANCE))
+    if not metrics["relmse"] <= RELMSE_TOLERANCE:
+        raise AssertionError("relMSE %g over %g" % (metrics["relmse"], RELMSE_TOLERANCE))
+    return ref
+
+
+def case_render(executable, work):
+    scene = blender_scene.build_scene(executable, WIDTH, HEIGHT)
+    scene.osr_vk.mode, scene.osr_vk.samples, scene.osr_vk.seed = "path", SAMPLES, SEED
+    scene.osr_vk.keep_directory = keep = os.path.join(work, "keep")
+    scene.world.color = (0.02, 0.03, 0.05)  # a world colour: handed over as --env world.exr
+    start = time.monotonic()
+    bpy.ops.render.render()
+    print("osr-vk test: render in Blender took %.2f s" % (time.monotonic() - start))
+    mine = os.path.join(work, "blender.exr")
+    save(mine, "OPEN_EXR")
+    save(os.path.join(work, "blender_layers.exr"), "OPEN_EXR_MULTILAYER")
+    ref = check_against_reference(executable, work, keep, mine)
+    if "--env" not in open(os.path.join(keep, "command.txt")).read():
+        raise AssertionError("the world colour was not handed over as --env")
+
+    # Passes: in Blender's multi-layer EXR, each equal to osr-vk's layer (normals turned to +Z up).
+    got, want = _layers(os.path.join(work, "blender_layers.exr")), _layers(ref)
+    checks = {"Direct": ("direct.R", "direct.G", "direct.B"),
+              "Indirect": ("indirect.R", "indirect.G", "indirect.B"),
+              "Albedo": ("albedo.R", "albedo.G", "albedo.B"),
+              "Normal": ("normal.X", "-normal.Z", "normal.Y"), "Depth": ("depth.Z",)}
+    for name, sources in checks.items():
+        ids = "Z" if name == "Depth" else ("XYZ" if name == "Normal" else "RGB")
+        for cid, src in zip(ids, sources):
+            key = "ViewLayer.%s.%s" % (name, cid)
+            if key not in got:
+                raise AssertionError("pass %s missing from the render result (%s)" % (key, sorted(got)))
+            expect = -want[src[1:]] if src.startswith("-") else want[src]
+            if name == "Depth":  # nothing hit: 0 in osr-vk, 1e10 in Blender
+                expect = np.where(expect > 0, expect, 1e10)
+            bad = np.abs(got[key] - expect) > 1e-5 * np.maximum(1.0, np.abs(expect))
+            if bad.any():
+                raise AssertionError("pass %s differs from osr-vk's %s at %d pixels"
+                                     % (key, src, int(bad.sum())))
+    # Not black, not mirrored: the red wall is on the left, the green one on the right.
+    r, g = got["ViewLayer.Combined.R"], got["ViewLayer.Combined.G"]
+    third = WIDTH // 3
+    if not (r.mean() > 0.05 and r[:, :third].mean() > g[:, :third].mean()
+            and g[:, -third:].mean() > r[:, -third:].mean()):
+        raise AssertionError("the image is black or mirrored")
+    up = got["ViewLayer.Normal.Z"][HEIGHT - 3, WIDTH // 2]  # floor near the bottom centre
+    if not up > 0.9:
+        raise AssertionError("the floor's normal is %g along +Z, expected 1" % up)
+
+
+def _children(name):
+    """Pids of this process's live or unreaped children called `name` (from /proc)."""
+    me, found = os.getpid(), []
+    for entry in os.listdir("/proc"):
+        if not entry.isdigit():
+            continue
+        try:
+            with open("/proc/%s/stat" % entry) as f:
+                stat = f.read()
+        except OSError:
+            continue
+        comm = stat[stat.index("(") + 1:stat.rindex(")")]
+        fields = stat[stat.rindex(")") + 2:].split()
+        if comm == name and int(fields[1]) == me:
+            found.append((int(entry), fields[0]))
+    return found
+
+
+def case_cancel(executable, work):
+    scene = blender_scene.build_scene(executable, WIDTH, HEIGHT)
+    scene.osr_vk.mode, scene.osr_vk.samples, scene.osr_vk.time_limit = "path", 1 << 20, 120.0
+    seen = []
+
+    def interrupt():  # once osr-vk renders, what Ctrl-C in Blender's terminal does
+        deadline = time.monotonic() + 60
+        while time.monotonic() < deadline and not seen:
+            seen.extend(_children("osr-vk"))
+            time.sleep(0.05)
+        time.sleep(1.0)
+        os.kill(os.getpid(), signal.SIGINT)
+
+    thread = threading.Thread(target=interrupt)
+    thread.start()
+    start = time.monotonic()
+    try:
+        bpy.ops.render.render()
+    except RuntimeError as e:
+        print("osr-vk test: render raised %s" % e)
+    took = time.monotonic() - start
+    thread.join()
+    if not seen:
+        raise AssertionError("osr-vk never started")
+    left = _children("osr-vk")
+    print("osr-vk test: cancelled after %.2f s; osr-vk pid %d; children left: %s" % (took, seen[0][0], left))
+    if left:
+        raise AssertionError("osr-vk left behind after cancel: %s" % left)
+    if took > 30:
+        raise AssertionError("cancel took %.1f s" % took)
+    # Blender still works: a second, short render completes.
+    scene.osr_vk.samples, scene.osr_vk.time_limit = 2, 0.0
+    bpy.ops.render.render()
+    print("osr-vk test: rendered again after the cancel")
+
+
+def case_missing(executable, work):
+    blender_scene.build_scene(os.path.join(work, "no-such-dir", "osr-vk"), WIDTH, HEIGHT)
+    try:
+        bpy.ops.render.render()
+    except RuntimeError as e:
+        print("osr-vk test: report: %s" % e)
+        if "osr-vk executable not found" not in str(e):
+            raise AssertionError("unexpected report: %s" % e)
+        return
+    raise AssertionError("a render without osr-vk reported no error")
+
+
+def case_failed(executable, work):
+    scene = blender_scene.build_scene(executable, WIDTH, HEIGHT)
+    scene.osr_vk.mode, scene.osr_vk.weights = "osr", os.path.join(work, "missing.osrw")
+    try:
+        bpy.ops.render.render()
+    except RuntimeError as e:
+        print("osr-vk test: report: %s" % e)
+        if "osr-vk failed (exit 2)" not in str(e) or "missing.osrw" not in str(e):
+            raise AssertionError("unexpected report: %s" % e)
+        return
+    raise AssertionError("a failed osr-vk run reported no error")
+
+
+def case_install(executable, work, addon_zip):
+    # Blender's own installer, into the user script directory the driver points elsewhere.
+    bpy.ops.preferences.addon_install(filepath=addon_zip, overwrite=True)
+    scene = blender_scene.build_scene("", WIDTH, HEIGHT, from_checkout=False)
+    module = sys.modules["osr_vk"]
+    installed = bpy.utils.user_resource("SCRIPTS", path="addons")
+    if not os.path.abspath(module.__file__).startswith(os.path.abspath(installed)):
+        raise AssertionError("osr_vk loaded from %s, not from %s" % (module.__file__, installed))
+    from osr_vk import engine, process
+    found = process.find_executable("", engine.ADDON_DIR)
+    if found != os.path.join(engine.ADDON_DIR, "bin", "osr-vk"):
+        raise AssertionError("the bundled osr-vk was not found (got %s)" % found)
+    scene.osr_vk.mode, scene.osr_vk.samples = "path", 2
+    bpy.ops.render.render()  # with the bundled osr-vk
+    save(os.path.join(work, "installed.exr"), "OPEN_EXR")
+    if not _layers(os.path.join(work, "installed.exr"))["R"].mean() > 0.05:
+        raise AssertionError("the installed add-on rendered a black image")
+
+
+def case_cycles(executable, work):
+    # Units: the direct light of the area light, converted to an emissive polygon, against
+    # Cycles' direct light (max_bounces 0) of the same Blender light. Both are noisy (osr-vk
+    # 256 spp, Cycles 64): compared as mean radiance over the lit surfaces, 4 % apart at most
+    # (measured 0.97-1.0 per wall; with P / (pi A) instead of P / (4 A) it is 1.27).
+    scene = blender_scene.build_scene(executable, 80, 60)
+    scene.osr_vk.mode, scene.osr_vk.samples, scene.osr_vk.seed = "path", 256, 1
+    scene.osr_vk.keep_directory = keep = os.path.join(work, "keep")
+    bpy.ops.render.render()
+    ours = _layers(os.path.join(keep, "render.exr"))
+    scene.render.engine = "CYCLES"
+    scene.cycles.samples, scene.cycles.use_denoising, scene.cycles.max_bounces = 64, False, 0
+    scene.cycles.sample_clamp_direct = 0.0
+    scene.objects["ceiling light"].visible_camera = False
+    scene.render.filter_size = 0.01  # box-like pixels, as osr-vk's
+    bpy.ops.render.render()
+    path = os.path.join(work, "cycles_direct.exr")
+    save(path, "OPEN_EXR")
+    cycles = _layers(path)
+    # The light panel itself (black albedo) is visible only in osr-vk's image: masked out with
+    # a pixel's margin (its antialiased edge).
+    panel = ours["albedo.G"] <= 0.01
+    near = panel.copy()
+    near[1:] |= panel[:-1]
+    near[:-1] |= panel[1:]
+    near[:, 1:] |= panel[:, :-1]
+    near[:, :-1] |= panel[:, 1:]
+    lit = ~near
+    ratio = [float(ours["direct." + c][lit].mean() / cycles[c][lit].mean()) for c in "RGB"]
+    print("osr-vk test: direct light, osr-vk / Cycles: R %.3f G %.3f B %.3f" % tuple(ratio))
+    if not all(abs(r - 1.0) <= 0.04 for r in ratio):
+        raise AssertionError("direct light differs from Cycles' by more than 4 %%: %s" % ratio)
+
+
+def case_world(executable, work):
+    # The world as --env, from the export alone (no render): a colour, an equirectangular
+    # image as is, the same image at strength 2 from Blender's pixels (rows bottom-up there),
+    # and a world shader it cannot carry (a warning, no environment).
+    scene = blender_scene.build_scene(executable, WIDTH, HEIGHT)
+    from osr_vk import export
+    source = os.path.join(blender_scene.REPO, "scenes", "cornell", "cornell_cycles_4096spp.exr")
+
+    def exported(name):
+        directory = os.path.join(work, name)
+        os.makedirs(directory)
+        return export.export(bpy.context.evaluated_depsgraph_get(), directory)
+
+    scene.world.color = (0.25, 0.5, 1.0)
+    got = _layers(exported("colour").env_path)
+    check = [float(np.abs(got[c] - v).max()) for c, v in zip("RGB", (0.25, 0.5, 1.0))]
+    if max(check) > 1e-6:
+        raise AssertionError("world colour written as %s" % check)
+    world = scene.world
+    world.use_nodes = True
+    tree = world.node_tree
+    texture = tree.nodes.new("ShaderNodeTexEnvironment")
+    texture.image = bpy.data.images.load(source)
+    tree.links.new(texture.outputs["Color"], tree.nodes["Background"].inputs["Color"])
+    if exported("as_is").env_path != source:
+        raise AssertionError("an .exr world at strength 1 should be handed over as is")
+    tree.nodes["Background"].inputs["Strength"].default_value = 2.0
+    got, want = _layers(exported("strength").env_path), _layers(source)
+    err = max(float(np.abs(got[c] - 2 * want[c]).max()) for c in "RGB")
+    if err > 1e-5:
+        raise AssertionError("world image at strength 2 off by %g (flipped?)" % err)
+    shader = tree.nodes.new("ShaderNodeBsdfDiffuse")
+    tree.links.new(shader.outputs[0], tree.nodes["World Output"].inputs["Surface"])
+    # ... and a material node setup glTF cannot express: one more item of the same warning.
+    material = bpy.data.materials["red"]
+    diffuse = material.node_tree.nodes.new("ShaderNodeBsdfDiffuse")
+    material.node_tree.links.new(diffuse.outputs[0],
+                                 material.node_tree.nodes["Material Output"].inputs["Surface"])
+    result = exported("shader")
+    if result.env_path is not None or not any("world shader" in w for w in result.warnings):
+        raise AssertionError("a non-Background world: %s %s" % (result.env_path, result.warnings))
+    if not any("red (Diffuse BSDF)" in w for w in result.warnings):
+        raise AssertionError("no warning for the Diffuse BSDF material: %s" % result.warnings)
+
+
+def case_border(executable, work):
+    # Resolution percentage, a render region cropped to the border and a second view layer:
+    # each layer's result is the border's part of osr-vk's full frame at the scaled size.
+    scene = blender_scene.build_scene(executable, WIDTH, HEIGHT)
+    scene.osr_vk.mode, scene.osr_vk.samples, scene.osr_vk.seed = "path", 4, SEED
+    scene.osr_vk.keep_directory = keep = os.path.join(work, "keep")
+    r = scene.render
+    r.resolution_percentage = 50  # 48 x 36
+    r.use_border, r.use_crop_to_border = True, True
+    r.border_min_x, r.border_max_x, r.border_min_y, r.border_max_y = 0.25, 0.75, 0.5, 1.0
+    scene.view_layers.new("second")
+    bpy.ops.render.render()
+    path = os.path.join(work, "border_layers.exr")
+    save(path, "OPEN_EXR_MULTILAYER")
+    got = _layers(path)
+    full = _layers(os.path.join(keep, "render.exr"))
+    w, h = WIDTH // 2, HEIGHT // 2
+    x0, x1, y0, y1 = w // 4, 3 * w // 4, h // 2, h  # y0, y1 from the bottom, as Blender's
+    for layer in ("ViewLayer", "second"):
+        mine = got.get(layer + ".Combined.G")
+        if mine is None:
+            raise AssertionError("no result for view layer %s: %s" % (layer, sorted(got)))
+        want = full["G"][h - y1:h - y0, x0:x1]
+        if mine.shape != want.shape or float(np.abs(mine - want).max()) > 1e-5:
+            raise AssertionError("layer %s: %s, expected the %s border region"
+                                 % (layer, mine.shape, want.shape))
+
+
+def case_f12(executable, work):
+    # Blender's UI (under Xvfb): F12 renders in a job thread, where the add-on must hand the
+    # glTF export to the main thread. Timers drive it; the script returns to the UI loop.
+    def area(kind):
+        window = bpy.context.window_manager.windows[0]
+        areas = [a for a in window.screen.areas if a.type == kind]
+        return window, max(areas, key=lambda a: a.width * a.height)
+
+    def start():
+        window, view3d = area("VIEW_3D")
+        with bpy.context.temp_override(window=window, area=view3d):
+            scene = blender_scene.build_scene(executable, WIDTH, HEIGHT, reset=False)
+        scene.osr_vk.mode, scene.osr_vk.samples, scene.osr_vk.seed = "path", SAMPLES, SEED
+        scene.osr_vk.keep_directory = os.path.join(work, "keep")
+        with bpy.context.temp_override(window=window, area=view3d):
+            bpy.ops.render.render("INVOKE_DEFAULT")
+        bpy.app.timers.register(finish, first_interval=1.0)
+
+    def finish():
+        if bpy.app.is_job_running("RENDER"):
+            return 0.25
+        mine = os.path.join(work, "blender.exr")
+        save(mine, "OPEN_EXR")
+        check_against_reference(executable, work, os.path.join(work, "keep"), mine)
+        print("osr-vk test: case f12 done")
+        bpy.ops.wm.quit_blender()
+        return None
+
+    bpy.app.timers.register(start, first_interval=0.5)
+    return "later"
+
+
+def main():
+    args = sys.argv[sys.argv.index("--") + 1:]
+    case, executable, work = args[:3]
+    os.makedirs(work, exist_ok=True)
+    cases = {"render": case_render, "cancel": case_cancel, "missing": case_missing,
+             "failed": case_failed, "install": case_install, "cycles": case_cycles,
+             "world": case_world, "border": case_border, "f12": case_f12}
+    if cases[case](executable, work, *args[3:]) != "later":
+        print("osr-vk test: case %s done" % case)
+
+
+main()
