@@ -11,7 +11,7 @@ packages=(
   xvfb xauth
   libgtest-dev libembree-dev
   python3-torch python3-numpy
-  blender xvfb xauth
+  blender
 )
 missing=()
 for p in "${packages[@]}"; do
