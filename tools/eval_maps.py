@@ -64,7 +64,7 @@ def predict(path: str, x: np.ndarray) -> tuple[str, np.ndarray]:
     import torch
     from unet import UNet, base_width
     ck = torch.load(path, map_location="cpu")
-    state = ck.get("state_dict", ck)
+    state = ck.get("state_dict", ck.get("model", ck))  # best.pt, checkpoint.pt or a state_dict
     model = UNet(base_width(state))
     model.load_state_dict(state)
     model.eval()
@@ -73,7 +73,7 @@ def predict(path: str, x: np.ndarray) -> tuple[str, np.ndarray]:
     with torch.no_grad():
         for i in range(0, len(x), 128):
             out.append(np.expm1(model(torch.from_numpy(xn[i:i + 128])).numpy()))
-    name = f"U-Net K={base_width(state)} ({Path(path).parent.name})"
+    name = f"U-Net K={base_width(state)} ({Path(path).parent.name}/{Path(path).stem})"
     return name, np.concatenate(out) * maps_data.target_scale(x)
 
 

@@ -23,8 +23,9 @@ Loss (--loss):
 - l1log: |y - log(1 + t)|, the seed's L1 on log-normalized maps (median-seeking: biased with
   noisy targets).
 Validation error: relMSE (epsilon 0.01) against VAL's reference, on maps scaled to the
-reference's unit mean, of the network's map as predicted (val_relmse, which picks best.pt) and
-rescaled to the one-shot channel means (val_relmse_rescaled).
+reference's unit mean, of the network's map rescaled to the one-shot channel means
+(val_relmse_rescaled, the renderer's default; it picks best.pt unless --select absolute) and
+as predicted (val_relmse).
 """
 from __future__ import annotations
 
@@ -149,6 +150,9 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--seed", type=int, default=1, help="seed of initialization and batches (default 1)")
     p.add_argument("--eval-s", type=float, default=120.0, help="seconds between validations (default 120)")
     p.add_argument("--checkpoint-s", type=float, default=60.0, help="seconds between checkpoints (default 60)")
+    p.add_argument("--select", choices=["rescaled", "absolute"], default="rescaled",
+                   help="which validation error picks best.pt: of the map rescaled to the one-shot "
+                   "means (the shipped normalization, default) or as predicted")
     p.add_argument("--init", help="start from this checkpoint's weights (best.pt or checkpoint.pt of the same K)")
     p.add_argument("--no-export", action="store_true", help="do not pack model.osrw at the end")
     args = p.parse_args(argv)
@@ -201,6 +205,11 @@ def main(argv: list[str] | None = None) -> int:
             "target_spp": ",".join(str(s) for s in sorted(train.spp)), "train_maps": train.count,
             "val_maps": val.count, "batch": args.batch, "lr": args.lr, "git_commit": git_commit(),
             "init": args.init or ""}
+    # The header's normalization tells the renderer how to turn the output into radiance.
+    from weights_pack import read_format
+    fmt = read_format()
+    meta["normalization"] = fmt["kNormalizationLogMean10Absolute" if args.select == "absolute"
+                                else "kNormalizationLogMean10"]
     print(f"train.py: {train.count} maps from {len(train.scenes)} scenes ({train.dropped} dropped: unlit or off by 100x), "
           f"validation {val.count} maps from {len(val.scenes)} scenes; K={args.k}, loss {args.loss}",
           file=sys.stderr)
@@ -220,7 +229,7 @@ def main(argv: list[str] | None = None) -> int:
     def validate() -> None:
         nonlocal val_err
         errors = evaluate(model, val, 256, args.loss)
-        val_err = errors["val_relmse"]
+        val_err = errors["val_relmse_" + args.select] if args.select == "rescaled" else errors["val_relmse"]
         elapsed = time.monotonic() - start
         entry = {"step": state["step"], "examples": state["examples"],
                  "epoch": round(state["examples"] / train.count, 3), "train_loss": running, **errors,
