@@ -121,32 +121,73 @@ void OsrIntegrator::restart(const scene::Camera& camera, uint32_t seed) {
   });
 }
 
-void OsrIntegrator::recordPass(VkCommandBuffer cmd, uint32_t k, vk::GpuTimer* timer) {
+void OsrIntegrator::beginPass(uint32_t k) {
   const GridPass gp = schedule_.pass(k);
+  if (!gp.traceMaps) return;
+  current_ = gridOf(gp.radius, gp.mapPass);
+  mapsTraced_ += current_.cellsX * current_.cellsY;
+}
+
+std::vector<OsrIntegrator::Step> OsrIntegrator::stepsOfPass(uint32_t k, uint32_t bands,
+                                                            uint32_t chunkMaps) const {
+  using K = Step::Kind;
+  const GridPass gp = schedule_.pass(k);
+  const PassSamples samples = settings_.samplesOfPass(k);
   const uint32_t pixels = width_ * height_;
+  std::vector<Step> steps;
+  // Per-pixel costs in path units (as OsrSettings::pixelCost splits them).
+  auto banded = [&](K kind, double perPixel) {
+    if (perPixel <= 0.0) return;
+    for (uint32_t b = 0; b < bands; ++b) {
+      // Band edges on window-aligned pixels (OsrPass binds from there).
+      auto edge = [&](uint32_t i) {
+        return i == bands ? pixels
+                          : uint32_t(uint64_t(pixels) * i / bands) / render::kWindowAlignPixels *
+                                render::kWindowAlignPixels;
+      };
+      if (edge(b + 1) > edge(b)) steps.push_back({kind, edge(b), edge(b + 1), perPixel * (edge(b + 1) - edge(b))});
+    }
+  };
+  banded(K::Gbuffer, 0.25);
+  banded(K::Direct, 0.5 * samples.direct);
+  if (gp.traceMaps) {
+    const uint32_t maps = current_.cellsX * current_.cellsY;
+    const double perMap = schedule_.mapWork(gp) / std::max(maps, 1u);
+    for (uint32_t first = 0; first < maps; first += chunkMaps)
+      steps.push_back({K::Maps, first, std::min(maps, first + chunkMaps),
+                       perMap * (std::min(maps, first + chunkMaps) - first)});
+  }
+  banded(K::Composite, 0.25);
+  banded(K::Residual, double(samples.residual));
+  return steps;
+}
+
+void OsrIntegrator::recordStep(VkCommandBuffer cmd, uint32_t k, const Step& step,
+                               vk::GpuTimer* timer) {
+  using K = Step::Kind;
+  const PassSamples samples = settings_.samplesOfPass(k);
   o::OsrPush push{};
   push.pass = k;
-  push.passWeight = gp.weight;
-  {
-    vk::TimedScope scope(timer, cmd, "gbuffer");
-    gbuffer_.record(cmd, bindings_, push, pixels);
-  }
-  {
-    vk::TimedScope scope(timer, cmd, "direct");
-    push.samples = settings_.samplesOfPass(k).direct;
-    direct_.record(cmd, bindings_, push, pixels);
-  }
-  if (gp.traceMaps) current_ = gridOf(gp.radius, gp.mapPass);
+  push.passWeight = schedule_.pass(k).weight;
   push.gridRadius = current_.radius;
   push.cellsX = current_.cellsX;
   push.cellsY = current_.cellsY;
   push.gridSeed = current_.seed;
-  if (gp.traceMaps) {
-    const uint32_t maps = current_.cellsX * current_.cellsY;
-    mapsTraced_ += maps;
-    for (uint32_t first = 0; first < maps; first += buffers_->chunkMaps) {
-      push.mapOffset = first;
-      push.mapCount = std::min(buffers_->chunkMaps, maps - first);
+  switch (step.kind) {
+    case K::Gbuffer: {
+      vk::TimedScope scope(timer, cmd, "gbuffer");
+      gbuffer_.record(cmd, bindings_, push, step.end, step.begin);
+      break;
+    }
+    case K::Direct: {
+      vk::TimedScope scope(timer, cmd, "direct");
+      push.samples = samples.direct;
+      direct_.record(cmd, bindings_, push, step.end, step.begin);
+      break;
+    }
+    case K::Maps: {
+      push.mapOffset = step.begin;
+      push.mapCount = step.end - step.begin;
       push.samples = settings_.pathsPerTexel;
       {
         vk::TimedScope scope(timer, cmd, "maps");
@@ -167,34 +208,61 @@ void OsrIntegrator::recordPass(VkCommandBuffer cmd, uint32_t k, vk::GpuTimer* ti
       }
       vk::TimedScope scope(timer, cmd, "project");
       project_.record(cmd, bindings_, push);
+      break;
     }
-  }
-  push.mapOffset = 0;
-  push.mapCount = 0;
-  {
-    vk::TimedScope scope(timer, cmd, "composite");
-    push.samples = settings_.glossySamples;
-    composite_.record(cmd, bindings_, push, pixels);
-  }
-  if (settings_.samplesOfPass(k).residual > 0) {
-    vk::TimedScope scope(timer, cmd, "residual");
-    push.samples = settings_.samplesOfPass(k).residual;
-    residual_.record(cmd, bindings_, push, pixels);
+    case K::Composite: {
+      vk::TimedScope scope(timer, cmd, "composite");
+      push.samples = settings_.glossySamples;
+      composite_.record(cmd, bindings_, push, step.end, step.begin);
+      break;
+    }
+    case K::Residual: {
+      vk::TimedScope scope(timer, cmd, "residual");
+      push.samples = samples.residual;
+      residual_.record(cmd, bindings_, push, step.end, step.begin);
+      break;
+    }
   }
 }
 
-void OsrIntegrator::record(VkCommandBuffer cmd, uint32_t first, uint32_t count,
-                           vk::GpuTimer* timer) {
-  for (uint32_t k = first; k < first + count; ++k) recordPass(cmd, k, timer);
+void OsrIntegrator::recordResolve(VkCommandBuffer cmd, uint32_t passesDone, vk::GpuTimer* timer) {
   // Blend the residual in as passes accumulate: none in the first images (noise-free), all of
   // it in the limit (unbiased). By passes, not samples: the late passes' extra residual paths
   // lower its noise instead of showing it sooner.
-  const double n = settings_.samplesOfPass(0).residual > 0 ? double(first + count) : 0.0;
+  const double n = settings_.samplesOfPass(0).residual > 0 ? double(passesDone) : 0.0;
   o::OsrPush push{};
   push.residualBlend = settings_.residualRamp > 0.0 ? float(n / (n + settings_.residualRamp))
                                                     : (n > 0.0 ? 1.f : 0.f);
   vk::TimedScope scope(timer, cmd, "resolve");
   resolve_.record(cmd, bindings_, push, width_ * height_);
+}
+
+void OsrIntegrator::record(VkCommandBuffer cmd, uint32_t first, uint32_t count,
+                           vk::GpuTimer* timer) {
+  for (uint32_t k = first; k < first + count; ++k) {
+    beginPass(k);
+    for (const Step& step : stepsOfPass(k, 1, buffers_->chunkMaps)) recordStep(cmd, k, step, timer);
+  }
+  recordResolve(cmd, first + count, timer);
+}
+
+void OsrIntegrator::recordSlice(VkCommandBuffer cmd, uint32_t unit, uint32_t slice,
+                                uint32_t slices, vk::GpuTimer* timer) {
+  if (slice == 0) beginPass(unit);
+  const uint32_t maps = current_.cellsX * current_.cellsY;
+  const uint32_t chunk = std::clamp((maps + slices - 1) / slices, 1u, buffers_->chunkMaps);
+  const std::vector<Step> steps = stepsOfPass(unit, slices, chunk);
+  double total = 0.0;
+  for (const Step& s : steps) total += s.cost;
+  // A step belongs to the slice its cost midpoint falls in: every slice call sees the same
+  // steps, so each step is recorded exactly once, in order.
+  double before = 0.0;
+  for (const Step& s : steps) {
+    const double mid = total > 0.0 ? (before + 0.5 * s.cost) / total : 0.0;
+    before += s.cost;
+    if (std::min(uint32_t(mid * slices), slices - 1) == slice) recordStep(cmd, unit, s, timer);
+  }
+  if (slice + 1 == slices) recordResolve(cmd, unit + 1, timer);
 }
 
 OsrIntegrator::MapDump OsrIntegrator::downloadMaps() const {

@@ -34,6 +34,11 @@ class OsrIntegrator : public render::Integrator {
   double unitCost(uint32_t pass) const override;
   void restart(const scene::Camera& camera, uint32_t seed) override;
   void record(VkCommandBuffer cmd, uint32_t first, uint32_t count, vk::GpuTimer* timer) override;
+  // A pass in slices for the viewer: bands of the pixel passes and small chunks of maps, in
+  // the order a whole pass records them, split by the cost model.
+  uint32_t maxSlicesPerUnit() const override { return 64; }
+  void recordSlice(VkCommandBuffer cmd, uint32_t unit, uint32_t slice, uint32_t slices,
+                   vk::GpuTimer* timer) override;
   const render::Film& film() const override { return film_; }
 
   // Maps of the last map pass, downloaded (after the last submission): one-shot input
@@ -52,7 +57,19 @@ class OsrIntegrator : public render::Integrator {
     uint32_t radius = 0, cellsX = 0, cellsY = 0, seed = 0;
   };
   Grid gridOf(uint32_t radius, uint32_t mapPass) const;
-  void recordPass(VkCommandBuffer cmd, uint32_t k, vk::GpuTimer* timer);
+  // One step of a pass: a pixel band of one pixel pass, or one chunk of maps through every map
+  // pass; cost in the schedule's path units.
+  struct Step {
+    enum class Kind { Gbuffer, Direct, Maps, Composite, Residual } kind;
+    uint32_t begin, end;  // pixels or maps
+    double cost;
+  };
+  // The steps of pass k in recording order: each pixel pass in `bands` bands, maps in chunks
+  // of at most chunkMaps (uses current_, so after beginPass(k)).
+  std::vector<Step> stepsOfPass(uint32_t k, uint32_t bands, uint32_t chunkMaps) const;
+  void beginPass(uint32_t k);  // the pass's grid becomes current_
+  void recordStep(VkCommandBuffer cmd, uint32_t k, const Step& step, vk::GpuTimer* timer);
+  void recordResolve(VkCommandBuffer cmd, uint32_t passesDone, vk::GpuTimer* timer);
 
   const vk::Context& ctx_;
   const scene::GpuScene& scene_;

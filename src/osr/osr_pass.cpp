@@ -59,7 +59,7 @@ void cleanMapsOfPixels(const o::OsrPush& push, uint32_t width, uint32_t maxMaps,
 }  // namespace
 
 void OsrPass::record(VkCommandBuffer cmd, const OsrBindings& bindings, o::OsrPush push,
-                     uint32_t pixels) const {
+                     uint32_t pixelEnd, uint32_t pixelBegin) const {
   vk::Binder binder(pipeline_);
   const uint32_t width = bindings.film->width(), height = bindings.film->height();
   const uint32_t maxMaps = bindings.buffers->maxMaps;
@@ -71,10 +71,10 @@ void OsrPass::record(VkCommandBuffer cmd, const OsrBindings& bindings, o::OsrPus
   if (domain_ == Domain::Pixels) {
     // Windows of whole kWindowAlignPixels blocks, halved until the clean maps they read fit
     // one binding too.
-    for (uint32_t first = 0; first < pixels;) {
+    for (uint32_t first = pixelBegin; first < pixelEnd;) {
       OsrWindow w;
       w.pixelFirst = first;
-      w.pixelCount = std::min({kMaxPixelsPerDispatch, pixelWindow_, pixels - first});
+      w.pixelCount = std::min({kMaxPixelsPerDispatch, pixelWindow_, pixelEnd - first});
       cleanMapsOfPixels(push, width, maxMaps, mapWindow_, w);
       while (w.mapCount > mapWindow_) {
         if (w.pixelCount <= render::kWindowAlignPixels)

@@ -20,12 +20,13 @@ class OsrPass {
 
   const char* name() const { return pipeline_.name(); }
 
-  // Records the pass over push.mapCount maps (map domains) or `pixels` pixels (pixel domain,
-  // in dispatches of at most kMaxPixelsPerDispatch), then a barrier. Each dispatch binds the
+  // Records the pass over push.mapCount maps (map domains) or pixels [pixelBegin, pixelEnd)
+  // (pixel domain, in dispatches of at most kMaxPixelsPerDispatch; pixelBegin a multiple of
+  // render::kWindowAlignPixels), then a barrier. Each dispatch binds the
   // windows of the per-pixel and clean-map buffers it reads (shared/osr.h), so images larger
   // than one binding render; throws DeviceError where even one grid cell row cannot be bound.
   void record(VkCommandBuffer cmd, const OsrBindings& bindings, gpu::osr::OsrPush push,
-              uint32_t pixels = 0) const;
+              uint32_t pixelEnd = 0, uint32_t pixelBegin = 0) const;
 
   static constexpr uint32_t kMaxPixelsPerDispatch = 1u << 20;
 

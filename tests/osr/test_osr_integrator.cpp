@@ -207,3 +207,32 @@ TEST(MapWeight, FallsWithScreenDistanceNormalsAndDepthGaps) {
   EXPECT_FLOAT_EQ(o::mapWeight({5, 4}, {4, 4}, r, x, n, xg, ng, scale),
                   o::mapWeight({4, 4}, {5, 4}, r, xg, ng, x, n, scale));
 }
+
+TEST(OsrIntegrator, SlicedPassesGiveTheSameImage) {
+  // The viewer records a pass in slices (bands of pixels, small chunks of maps, each its own
+  // submission); the image equals the whole passes', the U-Net's chunks included.
+  auto s = test::loadForTest(test::referencePath("cornell/cornell.gltf"));
+  auto& ctx = test::context();
+  oneshot::OsrSettings set;
+  set.denoiser = oneshot::Denoiser::Unet;
+  set.weightsPath = test::dataPath("unet_k8.osrw");
+  set.gridStart = 16;
+  set.gridMin = 8;
+  const uint32_t passes = 3;
+  oneshot::OsrIntegrator whole(ctx, *s.gpu, s.bvh, 64, 48, set);
+  const render::FilmLayers a = test::renderOsrPasses(whole, s, passes);
+  oneshot::OsrIntegrator sliced(ctx, *s.gpu, s.bvh, 64, 48, set);
+  sliced.restart(s.camera, 1);
+  for (uint32_t k = 0; k < passes; ++k)
+    for (uint32_t slice = 0; slice < 7; ++slice)
+      ctx.submitAndWait([&](VkCommandBuffer cmd) { sliced.recordSlice(cmd, k, slice, 7, nullptr); });
+  const render::FilmLayers b = sliced.resolve();
+  EXPECT_EQ(whole.mapsTraced(), sliced.mapsTraced());
+  ASSERT_EQ(a.combined.size(), b.combined.size());
+  double worst = 0.0;
+  for (size_t i = 0; i < a.combined.size(); ++i)
+    worst = std::max(worst, double(std::abs(a.combined[i] - b.combined[i])) /
+                                (1e-3 + std::abs(a.combined[i])));
+  EXPECT_LT(worst, 1e-4);
+  EXPECT_EQ(a.depth, b.depth);
+}
