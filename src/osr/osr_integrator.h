@@ -36,7 +36,7 @@ class OsrIntegrator : public render::Integrator {
   void record(VkCommandBuffer cmd, uint32_t first, uint32_t count, vk::GpuTimer* timer) override;
   // A pass in slices for the viewer: bands of the pixel passes and small chunks of maps, in
   // the order a whole pass records them, split by the cost model.
-  uint32_t maxSlicesPerUnit() const override { return 64; }
+  uint32_t maxSlicesPerUnit() const override { return 256; }
   void recordSlice(VkCommandBuffer cmd, uint32_t unit, uint32_t slice, uint32_t slices,
                    vk::GpuTimer* timer) override;
   const render::Film& film() const override { return film_; }
