@@ -6,8 +6,9 @@ cd "$(dirname "$0")"
 tools/install_deps.sh
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build build
-# Path tracing, progressive: 256 spp or 60 s, whichever ends first (on 2 lavapipe cores
-# 60 s gives about 200 spp at 512 x 512). Arguments given to run.sh replace these defaults.
-if [ $# -eq 0 ]; then set -- --mode path --spp 256 --time 60; fi
+# One Shot Radiance (the default integrator), progressive for 60 s: on 2 lavapipe cores a
+# noise-free image within seconds that keeps converging. Arguments given to run.sh replace
+# these defaults (e.g. ./run.sh --mode path --spp 256 --time 60).
+if [ $# -eq 0 ]; then set -- --mode osr --time 60; fi
 ./build/osr-vk --offline out.exr --png out.png "$@" scenes/cornell/cornell.gltf
 echo "osr-vk: wrote out.exr and out.png"

@@ -101,7 +101,7 @@ void writeMapDump(const std::string& dir, const oneshot::OsrIntegrator::MapDump&
 
 int runRender(const std::vector<std::string>& args) {
   Args a(args, "render");
-  std::string mode = a.value("--mode").value_or("path");
+  std::string mode = a.value("--mode").value_or("osr");
   auto exrPath = a.value("--offline");
   auto pngPath = a.value("--png");
   auto exposure = a.number("--exposure", -64, 64);

@@ -23,7 +23,7 @@ struct PassSamples {
 };
 
 struct OsrSettings {
-  // The U-Net when the build has a model built in (models/osr_unet.osrw), else the blur.
+  // The blur (measured better at equal time than the shipped U-Net, defaultDenoiser()).
   Denoiser denoiser = defaultDenoiser();
   std::string weightsPath;       // packed U-Net (tools/weights_pack.py); empty: the built-in one
   uint32_t gridStart = 16;       // grid spacing r of the first pass, pixels
