@@ -19,7 +19,8 @@ Metrics, on each map scaled to the reference's unit mean and then averaged over 
 - irradiance (pi x the texel mean per channel, the Lambertian integral): relative L1 and
   relMSE (squared relative error).
 Writes DIR/eval.json, DIR/eval.md (the table) and DIR/grid.png: one row per sampled map,
-columns input, blur, each model, target, reference (tone mapped by the reference's mean).
+columns input, blur, each model (rescaled), target, reference (tone mapped by the reference's
+mean); DIR/grid.txt names the columns.
 """
 from __future__ import annotations
 
@@ -136,9 +137,10 @@ def main(argv: list[str] | None = None) -> int:
                   f"figures are {1 - target_spp / ref_spp:.3f} of its noise against the truth."]
     (out / "eval.md").write_text("\n".join(lines) + "\n")
     print("\n".join(lines))
-    # Picture grid: maps spread over the set, columns = methods (rescaled variants left out) + reference.
+    # Picture grid: maps spread over the set, columns = methods + reference; each model as the
+    # renderer uses it by default (rescaled to the one-shot channel means).
     picked = np.flatnonzero(keep)[np.linspace(0, keep.sum() - 1, args.rows).astype(int)]
-    columns = [n for n in methods if not n.endswith("rescaled")]
+    columns = [n for n in methods if not n.startswith("U-Net") or n.endswith("rescaled")]
     tiles = []
     for i in picked:
         mean = float(ref[i].mean())

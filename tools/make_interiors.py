@@ -22,7 +22,7 @@ What a scene holds, drawn per seed:
   the room.
 
 Scenes are generated, not committed: the seeds of the training and validation sets are in
-tools/train_scenes.json.
+docs/training.md (training 1-28, validation 9001-9005).
 """
 from __future__ import annotations
 
