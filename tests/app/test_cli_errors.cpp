@@ -120,7 +120,7 @@ TEST(CliErrors, HelpAnywherePrintsTheUsage) {
       {"help maps", "usage: osr-vk maps scene.gltf"},
       {"compare a.exr --bogus --help", "usage: osr-vk compare TEST.exr REF.exr"},
       {"help compare", "the reference (second)"},
-      {"--help", "--mode path|preview|osr"},
+      {"--help", "--mode osr|path|preview"},
       {"--help", "--passes N"},
       {"--help", "--env file.exr|.hdr|none"},
       {"--help", "--grid-start R"},

@@ -77,7 +77,7 @@ TEST(CmdRender, TimeLimitStopsTheRenderWithProgress) {
   fs::path d = tempDir();
   std::string exr = (d / "t.exr").string();
   auto t0 = std::chrono::steady_clock::now();
-  Result r = run("--width 16 --spp 1000000 --time 1 --offline " + exr + " " + kCornell);
+  Result r = run("--mode path --width 16 --spp 1000000 --time 1 --offline " + exr + " " + kCornell);
   double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   ASSERT_EQ(r.code, 0) << r.out;
   EXPECT_LT(s, 30.0);
@@ -98,8 +98,8 @@ TEST(CmdRender, BadInputIsOneLineExitTwoAndKeepsExistingOutput) {
   const std::string out = " --offline " + exr + " ";
   for (std::string args : {
            "--bogus" + out + kCornell,
-           "--spp -4" + out + kCornell,
-           "--spp 0" + out + kCornell,
+           "--mode path --spp -4" + out + kCornell,
+           "--mode path --spp 0" + out + kCornell,
            "--time -1" + out + kCornell,
            "--mode fancy" + out + kCornell,
            "--env " + badEnv + out + kCornell,
@@ -131,7 +131,7 @@ TEST(CmdRender, EnvironmentMapLightsAWhiteFurnace) {
   g.sphere({0, 0, 0}, 1.f, g.material(test::GltfWriter::diffuse(glm::vec3(1.f))));
   g.camera({0, 0, 4}, {0, 0, 0}, 0.7f);
   g.write(gltf);
-  Result r = run("--env " + env + " --width 8 --spp 128 --quiet --offline " + exr + " " + gltf);
+  Result r = run("--mode path --env " + env + " --width 8 --spp 128 --quiet --offline " + exr + " " + gltf);
   ASSERT_EQ(r.code, 0) << r.out;
   image::RgbImage img = image::readExrRgb(exr);
   double sum = 0;
@@ -145,13 +145,13 @@ TEST(CmdRender, EnvironmentMapLightsAWhiteFurnace) {
 TEST(CmdRender, ProgressLineShowsTheBudgetGiven) {
   fs::path d = tempDir();
   std::string exr = (d / "p.exr").string();
-  Result timeOnly = run("--width 16 --time 0.5 --offline " + exr + " " + kCornell);
+  Result timeOnly = run("--mode path --width 16 --time 0.5 --offline " + exr + " " + kCornell);
   ASSERT_EQ(timeOnly.code, 0) << timeOnly.out;
   EXPECT_EQ(timeOnly.out.find("16777216"), std::string::npos) << timeOnly.out;
   EXPECT_TRUE(std::regex_search(
       timeOnly.out, std::regex("osr-vk: [0-9]+ spp, [0-9.]+ s elapsed, ~[0-9.]+ s remaining")))
       << timeOnly.out;
-  Result spp = run("--width 16 --spp 3 --offline " + exr + " " + kCornell);
+  Result spp = run("--mode path --width 16 --spp 3 --offline " + exr + " " + kCornell);
   ASSERT_EQ(spp.code, 0) << spp.out;
   EXPECT_NE(spp.out.find("osr-vk: 3/3 spp, "), std::string::npos) << spp.out;
   fs::remove_all(d);
@@ -174,7 +174,7 @@ TEST(CmdRender, SceneWithoutLightsGetsANeutralSkyAndAWarning) {
     for (float v : img.rgb) sum += v;
     return sum / double(img.rgb.size());
   };
-  Result lit = run("--width 8 --spp 16 --quiet --offline " + exr + " " + gltf);
+  Result lit = run("--mode path --width 8 --spp 16 --quiet --offline " + exr + " " + gltf);
   ASSERT_EQ(lit.code, 0) << lit.out;
   EXPECT_EQ(lit.out, "osr-vk: warning: " + gltf +
                          ": the scene has no lights (no emissive surfaces, no KHR_lights_punctual, "
@@ -182,12 +182,12 @@ TEST(CmdRender, SceneWithoutLightsGetsANeutralSkyAndAWarning) {
   const double m = meanOf(image::readExrRgb(exr));
   EXPECT_GT(m, 0.8 * scene::kNeutralSkyNadir);
   EXPECT_LT(m, 0.8 * (scene::kNeutralSkyZenith + scene::kNeutralSkyKey * 0.37 / 3.14159));
-  Result dark = run("--width 8 --spp 4 --quiet --env none --offline " + exr + " " + gltf);
+  Result dark = run("--mode path --width 8 --spp 4 --quiet --env none --offline " + exr + " " + gltf);
   ASSERT_EQ(dark.code, 0) << dark.out;
   EXPECT_EQ(dark.out, "");
   EXPECT_EQ(meanOf(image::readExrRgb(exr)), 0.0);
   // A scene with lights gets no sky and no warning.
-  Result cornell = run("--width 8 --spp 1 --quiet --offline " + exr + " " + kCornell);
+  Result cornell = run("--mode path --width 8 --spp 1 --quiet --offline " + exr + " " + kCornell);
   EXPECT_EQ(cornell.out, "");
   fs::remove_all(d);
 }
@@ -198,7 +198,7 @@ TEST(CmdRender, SceneWithoutLightsGetsANeutralSkyAndAWarning) {
 TEST(CmdRender, RendersFourKAtOneSample) {
   fs::path d = tempDir();
   std::string exr = (d / "4k.exr").string();
-  Result r = run("--width 3840 --height 2160 --spp 1 --quiet --offline " + exr + " " + kCornell);
+  Result r = run("--mode path --width 3840 --height 2160 --spp 1 --quiet --offline " + exr + " " + kCornell);
   ASSERT_EQ(r.code, 0) << r.out;
   Imf::InputFile f(exr.c_str());
   const Imath::Box2i dw = f.header().dataWindow();

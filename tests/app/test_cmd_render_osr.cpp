@@ -68,7 +68,6 @@ TEST(CmdRenderOsr, BadInputIsOneLineExitTwoAndTouchesNoOutput) {
       {"--mode osr --weights " + (dir / "missing.osrw").string(), "missing.osrw"},
       {"--mode osr --weights " + corrupt.string(), "corrupt.osrw"},
       {"--mode osr --weights " + otherMapping.string(), "latlong.osrw"},
-      {"--mode osr --denoiser unet", "--denoiser unet"},
       {"--mode osr --denoiser median", "--denoiser"},
       {"--mode osr --grid-start 0", "--grid-start"},
       {"--mode osr --grid-start 8 --grid-min 16", "--grid-min"},
@@ -106,6 +105,23 @@ TEST(CmdRenderOsr, WritesEveryLayerAndTheMapAtlases) {
     EXPECT_NE(channels.findChannel(c), nullptr) << "channel " << c;
   for (const char* f : {"oneshot.png", "clean.png", "grid.png"})
     EXPECT_TRUE(fs::exists(maps / f)) << f;
+}
+
+// OSR is the default integrator; `--denoiser unet` without --weights runs the model built
+// into the executable (models/osr_unet.osrw, docs/training.md), whose header states the
+// conventions this renderer feeds it.
+TEST(CmdRenderOsr, DefaultModeIsOsrAndTheBuiltInModelRuns) {
+  fs::path dir = osr::test::tempDir("cmd_render_osr");
+  fs::path exr = dir / "builtin.exr";
+  Outcome byDefault = run("--passes 2 --width 32 --offline '" + exr.string() + "' " + cornell());
+  ASSERT_EQ(byDefault.exitCode, 0) << byDefault.err;
+  EXPECT_NE(byDefault.err.find("2 passes in"), std::string::npos) << byDefault.err;
+  EXPECT_NE(byDefault.err.find("denoise"), std::string::npos) << byDefault.err;
+  EXPECT_EQ(byDefault.err.find(" unet "), std::string::npos) << "the blur is the default denoiser";
+  Outcome unet = run("--denoiser unet --passes 2 --width 32 --offline '" + exr.string() + "' " +
+                     cornell());
+  ASSERT_EQ(unet.exitCode, 0) << unet.err;
+  EXPECT_NE(unet.err.find(", unet "), std::string::npos) << unet.err;
 }
 
 namespace {

@@ -114,7 +114,7 @@ TEST(OutputPaths, OsrVkRefusesToOverwriteInputs) {
   {
     // The scene named relatively, from another directory: the same file.
     const std::string cmd = "cd " + d + "/sub && " + std::string(OSR_BINARY_DIR) +
-                            "/osr-vk --spp 1 --width 8 --quiet --offline ../cornell.gltf " + scene +
+                            "/osr-vk --mode path --spp 1 --width 8 --quiet --offline ../cornell.gltf " + scene +
                             " >/dev/null 2>&1";
     const int status = std::system(cmd.c_str());
     EXPECT_TRUE(WIFEXITED(status) && WEXITSTATUS(status) == 2) << cmd;
