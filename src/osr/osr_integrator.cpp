@@ -266,7 +266,15 @@ void OsrIntegrator::recordSlice(VkCommandBuffer cmd, uint32_t unit, uint32_t sli
     before += s.cost;
     if (std::min(uint32_t(mid * slices), slices - 1) == slice) recordStep(cmd, unit, s, timer);
   }
-  if (slice + 1 == slices) recordResolve(cmd, unit + 1, timer);
+  // The film shows the last resolved image; during the first pass after a restart there is
+  // none, so the viewer would show black for a whole pass: resolve what is there (direct
+  // light first, then the indirect band by band) every sixteenth of it.
+  const bool firstPassPreview = unit == 0 && (slice + 1) % std::max(1u, slices / 16) == 0;
+  if (slice + 1 == slices) {
+    recordResolve(cmd, unit + 1, timer);
+  } else if (firstPassPreview) {
+    recordResolve(cmd, unit, timer);
+  }
 }
 
 OsrIntegrator::MapDump OsrIntegrator::downloadMaps() const {
