@@ -64,10 +64,14 @@ def metrics(pred: np.ndarray, ref: np.ndarray) -> dict:
 def predict(path: str, x: np.ndarray) -> tuple[str, np.ndarray]:
     import torch
     from unet import UNet, base_width
-    ck = torch.load(path, map_location="cpu")
-    state = ck.get("state_dict", ck.get("model", ck))  # best.pt, checkpoint.pt or a state_dict
-    model = UNet(base_width(state))
-    model.load_state_dict(state)
+    try:
+        ck = torch.load(path, map_location="cpu")
+        state = ck.get("state_dict", ck.get("model", ck))  # best.pt, checkpoint.pt or a state_dict
+        model = UNet(base_width(state))
+        model.load_state_dict(state)
+    except Exception as e:  # noqa: BLE001 (unpickling raises many kinds; all mean "not a checkpoint")
+        first = str(e).strip().splitlines()[0] if str(e).strip() else type(e).__name__
+        raise maps_data.DataError(f"{path}: not a U-Net checkpoint ({first})") from None
     model.eval()
     xn = maps_data.normalize_input(x)
     out = []
@@ -153,4 +157,8 @@ def main(argv: list[str] | None = None) -> int:
 
 
 if __name__ == "__main__":
-    sys.exit(main())
+    try:
+        sys.exit(main())
+    except maps_data.DataError as e:
+        print(f"eval_maps.py: {e}", file=sys.stderr)
+        sys.exit(2)

@@ -21,6 +21,22 @@ import numpy as np
 MAP = 32
 
 
+class DataError(Exception):
+    """A dataset the tools cannot use: printed as one line naming the file, exit code 2."""
+
+
+def load_array(path: Path, shape_tail: tuple[int, ...]) -> np.ndarray:
+    """A .npy file as a memmap, checked to be float32 [N, *shape_tail]."""
+    try:
+        a = np.load(path, mmap_mode="r")
+    except (OSError, ValueError, EOFError) as e:
+        raise DataError(f"{path}: not a readable .npy array ({e})") from None
+    if a.dtype != np.float32 or a.ndim != 1 + len(shape_tail) or tuple(a.shape[1:]) != shape_tail:
+        raise DataError(f"{path}: shape {list(a.shape)} {a.dtype}, expected [N, "
+                        f"{', '.join(map(str, shape_tail))}] float32")
+    return a
+
+
 class Shards:
     """Every shard of one or more dataset folders, read without copies (np.memmap)."""
 
@@ -30,13 +46,21 @@ class Shards:
         self.scenes: set[int] = set()
         self.spp: set[int] = set()
         for folder in folders:
-            manifest = json.loads((Path(folder) / "dataset.json").read_text())
-            self.spp.add(manifest["settings"]["reference_spp"])
-            for s in manifest["shards"]:
-                d = Path(folder) / s["path"]
-                self.inputs.append(np.load(d / "input.npy", mmap_mode="r"))
-                self.targets.append(np.load(d / "target.npy", mmap_mode="r"))
-                self.scenes.add(int(s["seed"]))
+            path = Path(folder) / "dataset.json"
+            try:
+                manifest = json.loads(path.read_text())
+                self.spp.add(manifest["settings"]["reference_spp"])
+                shards = [(Path(folder) / s["path"], int(s["seed"])) for s in manifest["shards"]]
+            except (OSError, ValueError, KeyError, TypeError) as e:
+                raise DataError(f"{path}: not a make_dataset.py manifest ({e})") from None
+            for d, seed in shards:
+                x = load_array(d / "input.npy", (7, MAP, MAP))
+                y = load_array(d / "target.npy", (3, MAP, MAP))
+                if len(x) != len(y):
+                    raise DataError(f"{d}: {len(x)} inputs but {len(y)} targets")
+                self.inputs.append(x)
+                self.targets.append(y)
+                self.scenes.add(seed)
         counts = [len(x) for x in self.inputs]
         self.offsets = np.cumsum([0] + counts)
         self.count = int(self.offsets[-1])

@@ -187,8 +187,7 @@ def main(argv: list[str] | None = None) -> int:
     state = {"step": 0, "examples": 0, "elapsed": 0.0, "best": math.inf, "rng": args.seed}
     ckpt_path, best_path, log_path = run / "checkpoint.pt", run / "best.pt", run / "train.log"
     if args.init and not ckpt_path.is_file():
-        ck = torch.load(args.init, map_location="cpu")
-        model.load_state_dict(ck.get("state_dict", ck.get("model", ck)))
+        load_weights(model, args.init)
         print(f"train.py: starting from the weights of {args.init}", file=sys.stderr)
     if ckpt_path.is_file():
         ck = torch.load(ckpt_path, map_location="cpu")
@@ -299,5 +298,33 @@ def main(argv: list[str] | None = None) -> int:
     return 0
 
 
+def run(argv: list[str] | None = None) -> int:
+    """main() with the user's mistakes as one line and exit code 2."""
+    try:
+        return main(argv)
+    except maps_data.DataError as e:
+        print(f"train.py: {e}", file=sys.stderr)
+        return 2
+    except CheckpointError as e:
+        print(f"train.py: {e}", file=sys.stderr)
+        return 2
+
+
+class CheckpointError(Exception):
+    """A checkpoint that is not this U-Net's (another architecture or K)."""
+
+
+def load_weights(model, path: str) -> dict:
+    """The checkpoint at path into model; CheckpointError naming the file otherwise."""
+    import torch
+    try:
+        ck = torch.load(path, map_location="cpu")
+        model.load_state_dict(ck.get("state_dict", ck.get("model", ck)) if isinstance(ck, dict) else ck)
+    except Exception as e:  # noqa: BLE001 (unpickling raises many kinds; all mean "not a checkpoint")
+        first = str(e).strip().splitlines()[0] if str(e).strip() else type(e).__name__
+        raise CheckpointError(f"{path}: not a U-Net K={model.k} checkpoint ({first})") from None
+    return ck
+
+
 if __name__ == "__main__":
-    sys.exit(main())
+    sys.exit(run())

@@ -1,8 +1,9 @@
 #!/usr/bin/python3
 """The training side end to end, small: procedural scenes are reproducible, the 8 symmetries
-turn the normal channels with the map, and make_dataset.py -> train.py -> weights_pack.py ->
-`osr-vk --mode osr --weights` -> eval_maps.py runs on real traced maps with the validation
-layer on (OSR_VALIDATION=1, set by CTest) and no validation message.
+turn the normal channels with the map, and tools/train_default_model.sh --quick (make_dataset
+-> train -> weights_pack -> eval_maps) and `osr-vk --mode osr --weights` run on real traced
+maps with the validation layer on (OSR_VALIDATION=1, set by CTest) and no validation
+message; bad datasets and checkpoints are one line, exit 2.
 
 Run by CTest (tools/test_training_pipeline) with OSR_BINARY_DIR naming the build folder.
 """
@@ -68,39 +69,50 @@ class Interiors(unittest.TestCase):
 
 
 class Pipeline(unittest.TestCase):
-    def test_dataset_train_pack_render_evaluate(self):
+    def test_quick_mode_end_to_end_and_bad_input(self):
+        # tools/train_default_model.sh --quick: two tiny scenes, a small dataset, a few steps,
+        # the evaluation; then the packed model renders an OSR pass in osr-vk.
         osr_vk = Path(os.environ.get("OSR_BINARY_DIR", ROOT / "build")) / "osr-vk"
         if not osr_vk.is_file():
             self.fail(f"{osr_vk}: not built (OSR_BINARY_DIR)")
         tools = ROOT / "tools"
         with tempfile.TemporaryDirectory() as t:
             t = Path(t)
-            common = ["--cameras", "1", "--grid", "16", "--size", "48", "--osr-vk", osr_vk]
-            run([PY, tools / "make_dataset.py", t / "train", "--seeds", "3", "--reference-spp", "2", *common])
-            run([PY, tools / "make_dataset.py", t / "val", "--seeds", "9001", "--reference-spp", "4", *common])
-            x = np.load(t / "train" / "3_c0" / "input.npy", mmap_mode="r")
+            run([tools / "train_default_model.sh", "--quick", "--work", t, "--osr-vk", osr_vk])
+            x = np.load(t / "ref16" / "3_c0" / "input.npy", mmap_mode="r")
             self.assertEqual(x.shape[1:], (7, 32, 32))
             self.assertGreater(len(x), 3)
-            # A validation set sharing a scene with the training set is refused.
-            r = subprocess.run([PY, tools / "train.py", t / "train", "--val", t / "train", "--out", t / "bad",
-                                "--steps", "1"], capture_output=True, text=True)
-            self.assertEqual(r.returncode, 2)
-            self.assertIn("split by scene", r.stderr)
-            run([PY, tools / "train.py", t / "train", "--val", t / "val", "--out", t / "run", "--k", "8",
-                 "--steps", "4", "--batch", "4", "--threads", "1"])
             for f in ("best.pt", "checkpoint.pt", "train.log", "model.osrw"):
                 self.assertTrue((t / "run" / f).is_file(), f)
-            # Resuming continues from the checkpoint instead of starting over.
-            r = run([PY, tools / "train.py", t / "train", "--val", t / "val", "--out", t / "run", "--k", "8",
-                     "--steps", "6", "--batch", "4", "--threads", "1", "--no-export"])
-            self.assertIn("resuming", r.stderr)
-            run([osr_vk, "--mode", "osr", "--weights", t / "run" / "model.osrw", "--passes", "2", "--width", "32",
-                 "--height", "32", "--offline", t / "o.exr", "--quiet", ROOT / "scenes" / "cornell" / "cornell.gltf"])
-            self.assertTrue((t / "o.exr").is_file())
-            run([PY, tools / "eval_maps.py", t / "val", "--weights", t / "run" / "best.pt", "--out", t / "eval",
-                 "--rows", "2"])
             self.assertTrue((t / "eval" / "grid.png").read_bytes().startswith(b"\x89PNG"))
             self.assertIn("U-Net K=8", (t / "eval" / "eval.md").read_text())
+            run([osr_vk, "--mode", "osr", "--weights", t / "run" / "model.osrw", "--passes", "1", "--width", "32",
+                 "--height", "32", "--offline", t / "o.exr", "--quiet", ROOT / "scenes" / "cornell" / "cornell.gltf"])
+            self.assertTrue((t / "o.exr").is_file())
+            # Resuming continues from the checkpoint instead of starting over.
+            train = [PY, tools / "train.py", t / "ref16", "--val", t / "val", "--k", "8", "--batch", "4",
+                     "--threads", "1", "--no-export"]
+            r = run(train + ["--out", t / "run", "--steps", "6"])
+            self.assertIn("resuming", r.stderr)
+
+            def refused(cmd, needle):
+                r = subprocess.run([str(c) for c in cmd], capture_output=True, text=True)
+                self.assertEqual(r.returncode, 2, r.stderr)
+                self.assertEqual(r.stderr.count("\n"), 1, r.stderr)
+                self.assertIn(needle, r.stderr)
+
+            # Validation sharing a scene with the training data.
+            refused([PY, tools / "train.py", t / "ref16", "--val", t / "ref16", "--out", t / "bad", "--steps", "1"],
+                    "split by scene")
+            # A checkpoint of another K, a truncated shard, a shard of the wrong shape.
+            refused([PY, tools / "train.py", t / "ref16", "--val", t / "val", "--out", t / "bad3", "--k", "16",
+                     "--init", t / "run" / "best.pt", "--steps", "1"], "best.pt")
+            shard = t / "ref16" / "3_c0"
+            (shard / "input.npy").write_bytes((shard / "input.npy").read_bytes()[:5000])
+            refused(train + ["--out", t / "bad1", "--steps", "1"], "input.npy")
+            np.save(shard / "input.npy", np.zeros((4, 6, 32, 32), np.float32))
+            refused(train + ["--out", t / "bad2", "--steps", "1"], "expected [N, 7, 32, 32]")
+            refused([PY, tools / "eval_maps.py", t / "val", "--weights", t / "o.exr", "--out", t / "e2"], "o.exr")
 
 
 if __name__ == "__main__":
