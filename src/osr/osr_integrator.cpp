@@ -19,14 +19,6 @@ Denoiser parseDenoiser(const std::string& name) {
   throw InputError("--denoiser: unknown denoiser '" + name + "' (unet, blur, none)");
 }
 
-Denoiser defaultDenoiser() {
-  // Measured (docs/training.md, bench/results/osr_lavapipe.jsonl): at equal time the shipped
-  // U-Net's better maps do not yet pay for its cost per pass on lavapipe (better on room at
-  // 10 s, worse on cornell and at 30 s), so the blur stays the default; --denoiser unet runs
-  // the built-in model.
-  return Denoiser::Blur;
-}
-
 const char* denoiserName(Denoiser d) {
   switch (d) {
     case Denoiser::Unet:
@@ -177,18 +169,19 @@ void OsrIntegrator::recordStep(VkCommandBuffer cmd, uint32_t k, const Step& step
   push.cellsX = current_.cellsX;
   push.cellsY = current_.cellsY;
   push.gridSeed = current_.seed;
+  // The pixel passes: their band of pixels with their samples per pixel.
+  auto pixelPass = [&](const OsrPass& pass, const char* name, uint32_t samplesPerPixel) {
+    vk::TimedScope scope(timer, cmd, name);
+    push.samples = samplesPerPixel;
+    pass.record(cmd, bindings_, push, step.end, step.begin);
+  };
   switch (step.kind) {
-    case K::Gbuffer: {
-      vk::TimedScope scope(timer, cmd, "gbuffer");
-      gbuffer_.record(cmd, bindings_, push, step.end, step.begin);
+    case K::Gbuffer:
+      pixelPass(gbuffer_, "gbuffer", 0);
       break;
-    }
-    case K::Direct: {
-      vk::TimedScope scope(timer, cmd, "direct");
-      push.samples = samples.direct;
-      direct_.record(cmd, bindings_, push, step.end, step.begin);
+    case K::Direct:
+      pixelPass(direct_, "direct", samples.direct);
       break;
-    }
     case K::Maps: {
       push.mapOffset = step.begin;
       push.mapCount = step.end - step.begin;
@@ -214,18 +207,12 @@ void OsrIntegrator::recordStep(VkCommandBuffer cmd, uint32_t k, const Step& step
       project_.record(cmd, bindings_, push);
       break;
     }
-    case K::Composite: {
-      vk::TimedScope scope(timer, cmd, "composite");
-      push.samples = settings_.glossySamples;
-      composite_.record(cmd, bindings_, push, step.end, step.begin);
+    case K::Composite:
+      pixelPass(composite_, "composite", settings_.glossySamples);
       break;
-    }
-    case K::Residual: {
-      vk::TimedScope scope(timer, cmd, "residual");
-      push.samples = samples.residual;
-      residual_.record(cmd, bindings_, push, step.end, step.begin);
+    case K::Residual:
+      pixelPass(residual_, "residual", samples.residual);
       break;
-    }
   }
 }
 

@@ -16,15 +16,16 @@ enum class Denoiser : uint32_t {
 // "unet" | "blur" | "none"; throws InputError naming --denoiser otherwise.
 Denoiser parseDenoiser(const std::string& name);
 const char* denoiserName(Denoiser d);
-Denoiser defaultDenoiser();
 
 struct PassSamples {
   uint32_t direct, residual;
 };
 
 struct OsrSettings {
-  // The blur (measured better at equal time than the shipped U-Net, defaultDenoiser()).
-  Denoiser denoiser = defaultDenoiser();
+  // Measured (docs/training.md): at equal time the shipped U-Net's better maps do not yet pay
+  // for its cost per pass on lavapipe (better on room at 10 s, worse on cornell and at 30 s),
+  // so the blur is the default; Unet without weightsPath runs the built-in model.
+  Denoiser denoiser = Denoiser::Blur;
   std::string weightsPath;       // packed U-Net (tools/weights_pack.py); empty: the built-in one
   uint32_t gridStart = 16;       // grid spacing r of the first pass, pixels
   uint32_t gridMin = 16;         // finest spacing the schedule refines to
