@@ -57,21 +57,22 @@ def metrics(pred: np.ndarray, ref: np.ndarray) -> dict:
     p, r = pred / m, ref / m
     ep, er = p.mean(axis=(2, 3)), r.mean(axis=(2, 3))  # irradiance / pi, per channel
     rel = (ep - er) / np.maximum(er, 1e-6)
-    return {"l1": float(np.abs(p - r).mean()), "relmse": float(((p - r) ** 2 / (r * r + 0.01)).mean()),
+    return {"l1": float(np.abs(p - r).mean()), "relmse": float(maps_data.map_relmse(pred, ref).mean()),
             "irradiance_l1": float(np.abs(rel).mean()), "irradiance_relmse": float((rel ** 2).mean())}
 
 
 def predict(path: str, x: np.ndarray) -> tuple[str, np.ndarray]:
     import torch
     from unet import UNet, base_width
+    from weights_pack import PackError, load_state_dict
     try:
-        ck = torch.load(path, map_location="cpu")
-        state = ck.get("state_dict", ck.get("model", ck))  # best.pt, checkpoint.pt or a state_dict
+        state = load_state_dict(path)  # best.pt, checkpoint.pt or a state_dict
         model = UNet(base_width(state))
         model.load_state_dict(state)
-    except Exception as e:  # noqa: BLE001 (unpickling raises many kinds; all mean "not a checkpoint")
-        first = str(e).strip().splitlines()[0] if str(e).strip() else type(e).__name__
-        raise maps_data.DataError(f"{path}: not a U-Net checkpoint ({first})") from None
+    except PackError as e:
+        raise maps_data.DataError(str(e)) from None
+    except (ValueError, RuntimeError) as e:  # not this architecture's keys or shapes
+        raise maps_data.DataError(f"{path}: not a U-Net checkpoint ({str(e).splitlines()[0]})") from None
     model.eval()
     xn = maps_data.normalize_input(x)
     out = []

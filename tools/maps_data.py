@@ -118,6 +118,13 @@ def rescale_to_input(pred: np.ndarray, x: np.ndarray) -> np.ndarray:
     return np.where(have > 0, pred * (want / safe), np.broadcast_to(want, pred.shape))
 
 
+def map_relmse(pred: np.ndarray, ref: np.ndarray) -> np.ndarray:
+    """Per-map relMSE (epsilon 0.01) of pred against ref, both divided by ref's mean."""
+    m = np.maximum(ref.mean(axis=(1, 2, 3), keepdims=True), 1e-30)
+    p, r = pred / m, ref / m
+    return ((p - r) ** 2 / (r * r + 0.01)).mean(axis=(1, 2, 3))
+
+
 def symmetry(a: np.ndarray, k: int, normals: bool) -> np.ndarray:
     """Symmetry k in [0, 8) of the square on [n, C, 32, 32]: bit 0 transposes, bit 1 flips x,
     bit 2 flips y. With the cosine-concentric mapping these are the reflections and rotations

@@ -45,13 +45,6 @@ sys.path.insert(0, str(HERE))
 import maps_data  # noqa: E402
 
 
-def map_relmse(pred: np.ndarray, ref: np.ndarray) -> np.ndarray:
-    """Per-map relMSE (epsilon 0.01) of pred against ref, both divided by ref's mean."""
-    m = np.maximum(ref.mean(axis=(1, 2, 3), keepdims=True), 1e-30)
-    p, r = pred / m, ref / m
-    return ((p - r) ** 2 / (r * r + 0.01)).mean(axis=(1, 2, 3))
-
-
 def git_commit() -> str:
     try:
         return subprocess.run(["git", "-C", str(HERE), "rev-parse", "--short", "HEAD"], capture_output=True,
@@ -112,8 +105,8 @@ def evaluate(model, val: Data, batch: int, loss_kind: str) -> dict:
             losses.append(float(loss_fn(loss_kind, y, tb)) * len(xb))
             raw_x, ref = val.raw_x[i:i + batch], val.raw_y[i:i + batch]
             pred = np.expm1(y.numpy()) * maps_data.target_scale(raw_x)
-            absolute.append(map_relmse(pred, ref))
-            rescaled.append(map_relmse(maps_data.rescale_to_input(pred, raw_x), ref))
+            absolute.append(maps_data.map_relmse(pred, ref))
+            rescaled.append(maps_data.map_relmse(maps_data.rescale_to_input(pred, raw_x), ref))
     model.train()
     return {"val_loss": sum(losses) / val.count, "val_relmse": float(np.concatenate(absolute).mean()),
             "val_relmse_rescaled": float(np.concatenate(rescaled).mean())}
@@ -314,16 +307,16 @@ class CheckpointError(Exception):
     """A checkpoint that is not this U-Net's (another architecture or K)."""
 
 
-def load_weights(model, path: str) -> dict:
-    """The checkpoint at path into model; CheckpointError naming the file otherwise."""
-    import torch
+def load_weights(model, path: str) -> None:
+    """The checkpoint at path (read as weights_pack.py reads one) into model; CheckpointError
+    naming the file otherwise."""
+    from weights_pack import PackError, load_state_dict
     try:
-        ck = torch.load(path, map_location="cpu")
-        model.load_state_dict(ck.get("state_dict", ck.get("model", ck)) if isinstance(ck, dict) else ck)
-    except Exception as e:  # noqa: BLE001 (unpickling raises many kinds; all mean "not a checkpoint")
-        first = str(e).strip().splitlines()[0] if str(e).strip() else type(e).__name__
-        raise CheckpointError(f"{path}: not a U-Net K={model.k} checkpoint ({first})") from None
-    return ck
+        model.load_state_dict(load_state_dict(path))
+    except PackError as e:
+        raise CheckpointError(str(e)) from None
+    except RuntimeError as e:  # missing keys or shapes of another K
+        raise CheckpointError(f"{path}: not a U-Net K={model.k} checkpoint ({str(e).splitlines()[0]})") from None
 
 
 if __name__ == "__main__":
