@@ -86,6 +86,8 @@ void main() {
   if (finite3(always) && finite3(blended)) {
     a.indirect.rgb += gPush.passWeight * always;
     a.residual.rgb += gPush.passWeight * blended;
+    // Second moments, so the resolve knows the residual's noise (shared/osr.h).
+    a.residualSq += vec4(gPush.passWeight * blended * blended, gPush.passWeight * gPush.passWeight);
   }
   a.residual.w += float(gPush.samples);
   gAccum[local] = a;

@@ -89,6 +89,7 @@ struct AccumPixel {
   vec4 direct;     // rgb: sum of each pass's direct estimate; w: passes
   vec4 indirect;   // rgb: sum w_k (map integral + path-traced narrow lobes); w: sum w_k
   vec4 residual;   // rgb: sum w_k (control-variate residual); w: residual samples
+  vec4 residualSq;  // rgb: sum w_k R_k^2 (R_k: pass k's residual); w: sum w_k^2 (its passes)
   vec4 albedo;     // first-hit records, as film::FilmPixel
   vec4 normal;
   vec4 depth;
@@ -152,6 +153,34 @@ OSR_OSR_FN float mapWeight(vec2 p, vec2 pg, float r, vec3 x, vec3 n, vec3 xg, ve
   float normal = c2 * c2 * c2 * c2;  // cos^8
   float plane = (abs(dot(ng, x - xg)) + abs(dot(n, xg - x))) / max(scale, 1e-12f);
   return screen * screen * normal * exp(-plane * plane);
+}
+
+// The residual blend (osr_resolve, docs/osr.md "Blending the residual in"). R-bar, the
+// weighted mean of the passes' residuals R_k, is an unbiased but noisy estimate of the maps'
+// error b. Its variance, from the passes' spread: (mean R_k^2 - R-bar^2) / (n_eff - 1) with
+// n_eff = (sum w)^2 / sum w^2; zero (unknown) before kResidualMinPasses passes.
+// Passes (n_eff) before the residual's spread is trusted: with one heavy-tailed path per pixel
+// a pass, two or three passes underestimate it and show the residual's noise too soon.
+OSR_CONST(float, kResidualMinPasses, 6.0f);
+OSR_OSR_FN bool residualVarianceKnown(vec4 residualSq, float weightSum) {
+  return weightSum > 0.0f && residualSq.w > 0.0f && weightSum * weightSum >= kResidualMinPasses * residualSq.w;
+}
+OSR_OSR_FN vec3 residualVarianceOfMean(vec4 residual, vec4 residualSq, float weightSum) {
+  if (!residualVarianceKnown(residualSq, weightSum)) return vec3(0.0f);
+  float nEff = weightSum * weightSum / residualSq.w;
+  vec3 mean = vec3(residual) / weightSum;
+  vec3 second = vec3(residualSq) / weightSum;
+  return max(second - mean * mean, vec3(0.0f)) / (nEff - 1.0f);
+}
+// Positive-part James-Stein shrinkage: over a neighbourhood, with sumSq = sum of R-bar^2
+// (estimates b^2 + V) and sumVar = sum of V, the blend 1 - V / (b^2 + V) = b^2 / (b^2 + V)
+// minimizes (1 - beta)^2 b^2 + beta^2 V: the residual where the maps are wrong by more than
+// its noise, the noise-free maps where they are not. As passes grow V -> 0 and beta -> 1
+// wherever b != 0: the estimate converges to the path tracer's. 0 while V is unknown.
+OSR_OSR_FN vec3 residualShrinkBlend(vec3 sumVar, vec3 sumSq, bool varianceKnown) {
+  if (!varianceKnown) return vec3(0.0f);
+  vec3 blend = vec3(1.0f) - sumVar / max(sumSq, vec3(1e-20f));
+  return min(max(blend, vec3(0.0f)), vec3(1.0f));
 }
 
 OSR_NAMESPACE_END

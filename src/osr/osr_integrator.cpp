@@ -217,13 +217,16 @@ void OsrIntegrator::recordStep(VkCommandBuffer cmd, uint32_t k, const Step& step
 }
 
 void OsrIntegrator::recordResolve(VkCommandBuffer cmd, uint32_t passesDone, vk::GpuTimer* timer) {
-  // Blend the residual in as passes accumulate: none in the first images (noise-free), all of
-  // it in the limit (unbiased). By passes, not samples: the late passes' extra residual paths
-  // lower its noise instead of showing it sooner.
-  const double n = settings_.samplesOfPass(0).residual > 0 ? double(passesDone) : 0.0;
   o::OsrPush push{};
-  push.residualBlend = settings_.residualRamp > 0.0 ? float(n / (n + settings_.residualRamp))
-                                                    : (n > 0.0 ? 1.f : 0.f);
+  // Negative: the resolve measures each pixel's blend (docs/osr.md). Else the fixed ramp, by
+  // passes, not samples: the late passes' extra residual paths lower its noise instead of
+  // showing it sooner.
+  push.residualBlend = -1.0f;
+  if (settings_.residualRamp >= 0.0) {
+    const double n = settings_.samplesOfPass(0).residual > 0 ? double(passesDone) : 0.0;
+    push.residualBlend = settings_.residualRamp > 0.0 ? float(n / (n + settings_.residualRamp))
+                                                      : (n > 0.0 ? 1.f : 0.f);
+  }
   vk::TimedScope scope(timer, cmd, "resolve");
   resolve_.record(cmd, bindings_, push, width_ * height_);
 }

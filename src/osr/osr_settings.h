@@ -39,7 +39,9 @@ struct OsrSettings {
   uint32_t residualSamplesLate = 4;  // residual paths from pass settlePasses on
   uint32_t settlePasses = 8;
   uint32_t glossySamples = 4;    // map lookups per pixel for wide glossy lobes
-  double residualRamp = 64.0;    // n0: the residual is blended in by k / (k + n0), k passes
+  // How the residual is blended in: < 0 (default) per pixel by the measured shrinkage of
+  // shared/osr.h residualShrinkBlend; n0 >= 0 a fixed ramp k / (k + n0) after k passes.
+  double residualRamp = -1.0;
   uint32_t maxChunkMaps = 512;   // maps traced and denoised per chunk (memory bound)
   bool keepAllMaps = false;      // one chunk for all maps of a pass (for --dump-maps)
 

@@ -1,0 +1,108 @@
+// The residual blend (shared/osr.h, osr_resolve.comp, docs/osr.md): the variance of the mean
+// residual from the passes' second moments, the shrinkage toward the maps where the residual
+// is noise and toward the residual where the maps are wrong, and on the device, an image whose
+// maps are deliberately coarse: the measured blend beats both the maps alone and the full
+// residual, and keeps the first passes noise-free.
+#include <gtest/gtest.h>
+
+#include <random>
+
+#include "image/image_metrics.h"
+#include "osr/osr_test_util.h"
+#include "pt/path_integrator.h"
+#include "shaders/shared/osr.h"
+
+using namespace osr;
+namespace o = gpu::osr;
+
+namespace {
+
+struct Sums {
+  glm::vec4 residual{0.f}, residualSq{0.f};
+  float weightSum = 0.f;
+};
+// n passes of weight 1 whose residual is bias + Gaussian noise of sigma.
+Sums passes(int n, float bias, float sigma, uint32_t seed) {
+  std::mt19937 rng(seed);
+  std::normal_distribution<float> noise(0.f, sigma);
+  Sums s;
+  for (int k = 0; k < n; ++k) {
+    float r = bias + noise(rng);
+    s.residual += glm::vec4(r, r, r, 1.f);
+    s.residualSq += glm::vec4(r * r, r * r, r * r, 1.f);
+    s.weightSum += 1.f;
+  }
+  return s;
+}
+
+}  // namespace
+
+TEST(ResidualBlend, VarianceOfTheMeanFromThePassesSpread) {
+  // Averaged over many pixels, the estimate is sigma^2 / n.
+  for (int n : {8, 32, 128}) {
+    double sum = 0;
+    const int pixels = 2000;
+    for (int p = 0; p < pixels; ++p) {
+      Sums s = passes(n, 0.3f, 2.f, 17u + p);
+      sum += o::residualVarianceOfMean(s.residual, s.residualSq, s.weightSum).x;
+    }
+    EXPECT_NEAR(sum / pixels, 4.0 / n, 0.05 * 4.0 / n) << n << " passes";
+  }
+  // Unknown (zero) before kResidualMinPasses passes.
+  Sums few = passes(int(o::kResidualMinPasses) - 1, 0.f, 1.f, 5u);
+  EXPECT_FALSE(o::residualVarianceKnown(few.residualSq, few.weightSum));
+  EXPECT_EQ(o::residualVarianceOfMean(few.residual, few.residualSq, few.weightSum).x, 0.f);
+  Sums enough = passes(int(o::kResidualMinPasses), 0.f, 1.f, 5u);
+  EXPECT_TRUE(o::residualVarianceKnown(enough.residualSq, enough.weightSum));
+}
+
+TEST(ResidualBlend, ShrinksTowardTheMapsWhereTheResidualIsNoise) {
+  // A neighbourhood of 81 pixels: sumSq estimates 81 (b^2 + V), sumVar 81 V.
+  auto blendOf = [](float bias, float sigma, int n) {
+    glm::vec3 sumVar(0.f), sumSq(0.f);
+    for (int p = 0; p < 81; ++p) {
+      Sums s = passes(n, bias, sigma, 100u + p);
+      glm::vec3 mean = glm::vec3(s.residual) / s.weightSum;
+      sumVar += o::residualVarianceOfMean(s.residual, s.residualSq, s.weightSum);
+      sumSq += mean * mean;
+    }
+    return o::residualShrinkBlend(sumVar, sumSq, true).x;
+  };
+  EXPECT_LT(blendOf(0.f, 1.f, 16), 0.15f);   // unbiased maps: keep the noise out
+  EXPECT_GT(blendOf(1.f, 1.f, 64), 0.95f);   // b^2 = 1 against V = 1/64: the residual
+  // b^2 / (b^2 + V) with b^2 = 0.0625, V = 1/16: about a half.
+  EXPECT_NEAR(blendOf(0.25f, 1.f, 16), 0.5f, 0.15f);
+  // More passes, more residual, toward 1 (convergence).
+  EXPECT_LT(blendOf(0.1f, 1.f, 16), blendOf(0.1f, 1.f, 1024));
+  EXPECT_GT(blendOf(0.1f, 1.f, 4096), 0.95f);
+  EXPECT_EQ(o::residualShrinkBlend(glm::vec3(1.f), glm::vec3(4.f), false).x, 0.f);
+}
+
+TEST(ResidualBlend, BeatsMapsAloneAndTheFullResidualOnCoarseMaps) {
+  // Cornell at 32 x 32 with one map per 16 x 16 cell: the interpolation is visibly wrong at the
+  // walls' corners (biased maps). After 32 passes, the measured blend is closer to the path
+  // tracer than the maps alone (ramp n0 huge) and than the whole residual (n0 = 0).
+  auto s = test::loadForTest(test::referencePath("cornell/cornell.gltf"));
+  const uint32_t size = 32;
+  pt::RenderSettings rs;
+  rs.width = rs.height = size;
+  rs.spp = 2048;
+  rs.seed = 3;
+  auto p = pt::render(test::context(), *s.gpu, s.bvh, s.camera, rs);
+  image::RgbImage ref{int(size), int(size), p.combined};
+  auto errorOf = [&](double ramp, uint32_t passes) {
+    oneshot::OsrSettings set;
+    set.gridStart = set.gridMin = 16;
+    set.residualRamp = ramp;
+    oneshot::OsrIntegrator osr(test::context(), *s.gpu, s.bvh, size, size, set);
+    auto o = test::renderOsrPasses(osr, s, passes);
+    return image::relMse(image::RgbImage{int(size), int(size), o.combined}, ref);
+  };
+  const double maps = errorOf(1e12, 32), full = errorOf(0.0, 32), blend = errorOf(-1.0, 32);
+  std::printf("32 passes relmse: maps alone %.5f, full residual %.5f, blend %.5f\n", maps, full,
+              blend);
+  EXPECT_LT(blend, maps);
+  EXPECT_LT(blend, full);
+  // The first passes are the maps' (noise-free): before kResidualMinPasses nothing is blended.
+  EXPECT_NEAR(errorOf(-1.0, 3), errorOf(1e12, 3), 1e-9);
+}
