@@ -67,6 +67,7 @@ int runOsr(const std::vector<std::string>& args) {
   if (modes != "osr,path" && modes != "osr" && modes != "path")
     throw InputError("--modes: expected osr,path, osr or path, got '" + modes + "'");
   oneshot::OsrSettings settings;
+  settings.resolveEverySubmission = false;  // as --offline
   if (denoiser) settings.denoiser = oneshot::parseDenoiser(*denoiser);
   if (weights) {
     settings.weightsPath = *weights;

@@ -32,11 +32,13 @@ vec3 shrinkBlend(uint local, uint pixel) {
     for (int dx = -kShrinkRadius; dx <= kShrinkRadius; ++dx) {
       int q = int(local) + dy * width + dx;
       if (x + dx < 0 || x + dx >= width || q < 0 || q >= int(gPush.pixelCount)) continue;
-      AccumPixel a = gAccum[q];
-      if (!residualVarianceKnown(a.residualSq, a.indirect.w)) continue;
-      vec3 mean = a.residual.rgb / a.indirect.w;
+      // Only the three fields the blend needs, not whole AccumPixels.
+      float weightSum = gAccum[q].indirect.w;
+      vec4 residual = gAccum[q].residual, residualSq = gAccum[q].residualSq;
+      if (!residualVarianceKnown(residualSq, weightSum)) continue;
+      vec3 mean = residual.rgb / weightSum;
       known = true;
-      sumVar += residualVarianceOfMean(a.residual, a.residualSq, a.indirect.w);
+      sumVar += residualVarianceOfMean(residual, residualSq, weightSum);
       sumSq += mean * mean;
     }
   }

@@ -238,6 +238,7 @@ int runRender(const std::vector<std::string>& args) {
     vc.saveDir = saveDir.value_or(".");
     return viewer::runViewer(ctx, vc);
   }
+  osrSettings.resolveEverySubmission = false;  // nothing shows the film before the end
   std::unique_ptr<render::Integrator> integrator =
       makeIntegrator(mode, imageWidth, imageHeight).integrator;
   auto* osr = dynamic_cast<oneshot::OsrIntegrator*>(integrator.get());

@@ -109,6 +109,8 @@ void OsrIntegrator::restart(const scene::Camera& camera, uint32_t seed) {
   seed_ = seed;
   current_ = Grid{};
   mapsTraced_ = 0;
+  passesDone_ = 0;
+  filmBehind_ = false;
   auto frame = render::makeFrame(camera, width_, height_, seed);
   buffers_->frame.upload(&frame, sizeof frame);
   ctx_.submitAndWait([&](VkCommandBuffer cmd) {
@@ -216,7 +218,8 @@ void OsrIntegrator::recordStep(VkCommandBuffer cmd, uint32_t k, const Step& step
   }
 }
 
-void OsrIntegrator::recordResolve(VkCommandBuffer cmd, uint32_t passesDone, vk::GpuTimer* timer) {
+void OsrIntegrator::recordResolve(VkCommandBuffer cmd, uint32_t passesDone,
+                                  vk::GpuTimer* timer) const {
   o::OsrPush push{};
   // Negative: the resolve measures each pixel's blend (docs/osr.md). Else the fixed ramp, by
   // passes, not samples: the late passes' extra residual paths lower its noise instead of
@@ -237,7 +240,17 @@ void OsrIntegrator::record(VkCommandBuffer cmd, uint32_t first, uint32_t count,
     beginPass(k);
     for (const Step& step : stepsOfPass(k, 1, buffers_->chunkMaps)) recordStep(cmd, k, step, timer);
   }
-  recordResolve(cmd, first + count, timer);
+  passesDone_ = first + count;
+  filmBehind_ = !settings_.resolveEverySubmission;
+  if (!filmBehind_) recordResolve(cmd, passesDone_, timer);
+}
+
+render::FilmLayers OsrIntegrator::resolve() const {
+  if (filmBehind_) {
+    ctx_.submitAndWait([&](VkCommandBuffer cmd) { recordResolve(cmd, passesDone_, nullptr); });
+    filmBehind_ = false;
+  }
+  return film_.resolve();
 }
 
 void OsrIntegrator::recordSlice(VkCommandBuffer cmd, uint32_t unit, uint32_t slice,
@@ -263,6 +276,7 @@ void OsrIntegrator::recordSlice(VkCommandBuffer cmd, uint32_t unit, uint32_t sli
   // none, so the viewer would show black for a whole pass: resolve what is there (direct
   // light first, then the indirect band by band) every sixteenth of it.
   const bool firstPassPreview = unit == 0 && (slice + 1) % std::max(1u, slices / 16) == 0;
+  filmBehind_ = false;
   if (slice + 1 == slices) {
     recordResolve(cmd, unit + 1, timer);
   } else if (firstPassPreview) {

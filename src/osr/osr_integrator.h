@@ -40,6 +40,8 @@ class OsrIntegrator : public render::Integrator {
   void recordSlice(VkCommandBuffer cmd, uint32_t unit, uint32_t slice, uint32_t slices,
                    vk::GpuTimer* timer) override;
   const render::Film& film() const override { return film_; }
+  // Resolves first when record() left the film behind (resolveEverySubmission false).
+  render::FilmLayers resolve() const override;
 
   // Maps of the last map pass, downloaded (after the last submission): one-shot input
   // [maps][7][32][32] (only with keepAllMaps), clean [maps][3][32][32], and their records.
@@ -69,7 +71,7 @@ class OsrIntegrator : public render::Integrator {
   std::vector<Step> stepsOfPass(uint32_t k, uint32_t bands, uint32_t chunkMaps) const;
   void beginPass(uint32_t k);  // the pass's grid becomes current_
   void recordStep(VkCommandBuffer cmd, uint32_t k, const Step& step, vk::GpuTimer* timer);
-  void recordResolve(VkCommandBuffer cmd, uint32_t passesDone, vk::GpuTimer* timer);
+  void recordResolve(VkCommandBuffer cmd, uint32_t passesDone, vk::GpuTimer* timer) const;
 
   const vk::Context& ctx_;
   const scene::GpuScene& scene_;
@@ -86,6 +88,8 @@ class OsrIntegrator : public render::Integrator {
   uint32_t seed_ = 0;
   Grid current_;  // maps in mapRecords / mapClean
   uint64_t mapsTraced_ = 0;
+  uint32_t passesDone_ = 0;  // by the last record()
+  mutable bool filmBehind_ = false;  // record() skipped the resolve
 };
 
 }  // namespace osr::oneshot
