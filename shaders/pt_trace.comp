@@ -5,8 +5,8 @@
 // end: on lavapipe, barriers between wavefront stages are expected to cost more than the
 // divergence they remove (src/pt/trace_pass.h has the reasoning; not measured).
 //
-// Path integrator (kIntegratorPath): camera rays jittered uniformly over the pixel (box
-// filter), then lib/path.glsl's bounce (next-event estimation with MIS, Russian roulette)
+// Path integrator (kIntegratorPath): camera rays drawn from the pixel filter (lib/camera.glsl:
+// Cycles' Blackman-Harris, 2 px wide), then lib/path.glsl's bounce (next-event estimation with MIS, Russian roulette)
 // until the path ends; light selection and pdfs are lib/lights.glsl's.
 // Preview (kIntegratorPreview): primary hit only, baseColor x |cos| to the camera ray.
 #extension GL_GOOGLE_include_directive : require
