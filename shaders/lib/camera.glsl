@@ -3,7 +3,7 @@
 #define OSR_LIB_CAMERA_GLSL
 #include "shared/camera.h"
 
-// The pixel filter: Cycles' default, Blackman-Harris at Cycles' "width 1 px", which Cycles
+// The default pixel filter (CameraFrame::pixelFilter; the other is a 1 px box): Cycles' default, Blackman-Harris at Cycles' "width 1 px", which Cycles
 // doubles for this window (intern/cycles/scene/film.cpp), so it reaches 1 px either side of
 // the pixel centre; the scenes/ references were rendered with it. A box filter differs from it
 // by up to 0.3 in radiance beside the cornell lamp's edges, which costs more relMSE there than
@@ -29,7 +29,9 @@ float blackmanHarrisOffset(float u) {
 // Ray through pixel (x, y) for the pixel-filter sample drawn from `u` in [0, 1)^2 (it may
 // land in a neighbouring pixel); row 0 is the top.
 void cameraRay(CameraFrame f, uint x, uint y, vec2 u, out vec3 origin, out vec3 dir) {
-  vec2 jitter = 0.5 + vec2(blackmanHarrisOffset(u.x), blackmanHarrisOffset(u.y));
+  vec2 jitter = f.pixelFilter == kPixelFilterBox
+                    ? u
+                    : 0.5 + vec2(blackmanHarrisOffset(u.x), blackmanHarrisOffset(u.y));
   vec2 ndc = vec2((float(x) + jitter.x) / float(f.width) * 2.0 - 1.0,
                   1.0 - (float(y) + jitter.y) / float(f.height) * 2.0);
   vec3 local = vec3(ndc.x * f.tanHalfFovY * f.aspect, ndc.y * f.tanHalfFovY, -1.0);
