@@ -11,12 +11,14 @@ inline constexpr char kFillSummary[] = "memory bandwidth of the simplest pass (s
 inline constexpr char kFillUsage[] = "osr-bench fill   (no options)";
 int runFill(const std::vector<std::string>& args);  // memory bandwidth of util_fill
 inline constexpr char kPathtraceSummary[] =
-    "path tracer samples/s and Mpaths/s on the reference scenes, against Cycles";
+    "path tracer samples/s and relMSE (equal samples, equal time) against Cycles";
 inline constexpr char kPathtraceUsage[] =
     "osr-bench pathtrace [--scene cornell|room] [--size N] [--spp N]\n"
     "  --scene NAME   one reference scene (default: cornell and room)\n"
-    "  --size N       image width and height, 8 to 4096 (default 256)\n"
-    "  --spp N        samples per pixel timed, 1 to 1048576 (default 8)";
+    "  --size N       image width and height, 8 to 4096 (default 256; relMSE at 256 only)\n"
+    "  --spp N        samples per pixel timed, 1 to 1048576 (default 64)\n"
+    "  With blender on PATH (apt-get install blender) Cycles renders the same scene in the\n"
+    "  same run, and ours renders again for Cycles' time (equal-time relMSE).";
 int runPathtrace(const std::vector<std::string>& args);  // path tracer spp/s, Mpaths/s
 inline constexpr char kBvhSummary[] = "GPU BVH build time and quality against CPU SAH and Embree";
 inline constexpr char kBvhUsage[] =

@@ -5,8 +5,8 @@
 // end: on lavapipe, barriers between wavefront stages are expected to cost more than the
 // divergence they remove (src/pt/trace_pass.h has the reasoning; not measured).
 //
-// Path integrator (kIntegratorPath): camera rays jittered uniformly over the pixel (box
-// filter), then lib/path.glsl's bounce (next-event estimation with MIS, Russian roulette)
+// Path integrator (kIntegratorPath): camera rays drawn from the pixel filter (lib/camera.glsl:
+// Cycles' Blackman-Harris, 2 px wide), then lib/path.glsl's bounce (next-event estimation with MIS, Russian roulette)
 // until the path ends; light selection and pdfs are lib/lights.glsl's.
 // Preview (kIntegratorPreview): primary hit only, baseColor x |cos| to the camera ray.
 #extension GL_GOOGLE_include_directive : require
@@ -68,11 +68,13 @@ vec2 stratified2(CameraPath c, uint pair) {
 }
 
 // The three numbers of the light sample (which = 0) or the BSDF sample (which = 1): stratified
-// over the pixel's samples at the first surface, independent after it.
+// over the pixel's samples at every surface, three dimension pairs per bounce (one holds both
+// choices, one each the light point and the BSDF direction), each pair scrambled
+// independently (padded 2-D sets, as Cycles pads its sequences).
 vec3 bounceRandom3(inout CameraPath c, uint which) {
-  if (c.path.bounce != 0u) return rngNext3(c.rng);
-  vec2 choice = stratified2(c, 1u);
-  return vec3(which == 0u ? choice.x : choice.y, stratified2(c, 2u + which));
+  uint base = 1u + 3u * c.path.bounce;
+  vec2 choice = stratified2(c, base);
+  return vec3(which == 0u ? choice.x : choice.y, stratified2(c, base + 1u + which));
 }
 
 // Starts sample `sampleIndex` of `pixel`: its random stream and jittered camera ray.

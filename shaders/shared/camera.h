@@ -5,6 +5,12 @@
 #include "shared/types.h"
 OSR_NAMESPACE_BEGIN(camera)
 
+// CameraFrame::pixelFilter (lib/camera.glsl): Blackman-Harris as Cycles' default film filter
+// (what the scenes/ references use), or a 1 px box, whose image at size N / k is exactly the
+// k x k box average of the image at size N (what tests comparing at a reduced size need).
+OSR_CONST(uint, kPixelFilterBlackmanHarris, 0u);
+OSR_CONST(uint, kPixelFilterBox, 1u);
+
 struct CameraFrame {
   vec4 cameraRight;  // worldFromCamera columns: +X
   vec4 cameraUp;     // +Y
@@ -13,7 +19,7 @@ struct CameraFrame {
   uint width;
   uint height;
   uint seed;
-  uint _pad0;
+  uint pixelFilter;  // kPixelFilter*
   float tanHalfFovY;
   float aspect;  // width / height of the image
   float _pad1;

@@ -14,17 +14,19 @@ std::optional<Mode> parseMode(const std::string& name) {
 }
 
 PathIntegrator::PathIntegrator(const vk::Context& ctx, const scene::GpuScene& scene,
-                               const bvh::Bvh& bvh, uint32_t width, uint32_t height, Mode mode)
+                               const bvh::Bvh& bvh, uint32_t width, uint32_t height, Mode mode,
+                               uint32_t pixelFilter)
     : ctx_(ctx),
       scene_(scene),
       bvh_(bvh),
       mode_(mode),
+      pixelFilter_(pixelFilter),
       film_(ctx, width, height),
       frame_(ctx, sizeof(gpu::camera::CameraFrame), vk::MemoryUse::DeviceLocal, "pt frame"),
       pass_(ctx, mode, scene.features, scene.texelFetch) {}
 
 void PathIntegrator::restart(const scene::Camera& camera, uint32_t seed) {
-  const gpu::camera::CameraFrame f = render::makeFrame(camera, film_.width(), film_.height(), seed);
+  const gpu::camera::CameraFrame f = render::makeFrame(camera, film_.width(), film_.height(), seed, pixelFilter_);
   frame_.upload(&f, sizeof f);
   ctx_.submitAndWait([&](VkCommandBuffer cmd) { film_.recordClear(cmd); });
 }
@@ -48,7 +50,8 @@ render::FilmLayers render(const vk::Context& ctx, const scene::GpuScene& scene, 
                           const scene::Camera& camera, const RenderSettings& settings,
                           const std::function<void(const render::Progress&)>& onProgress,
                           render::RenderStats* stats, const std::atomic<bool>* cancel) {
-  PathIntegrator integrator(ctx, scene, bvh, settings.width, settings.height, settings.mode);
+  PathIntegrator integrator(ctx, scene, bvh, settings.width, settings.height, settings.mode,
+                            settings.pixelFilter);
   render::ProgressiveDriver driver(
       ctx, integrator,
       {settings.spp, settings.timeLimitS, settings.batchTargetS, settings.sliceUnits});

@@ -9,6 +9,7 @@
 #include "bvh/bvh.h"
 #include "pt/trace_pass.h"
 #include "render/film.h"
+#include "shaders/shared/camera.h"
 #include "render/integrator.h"
 #include "render/progressive_driver.h"
 #include "scene_gpu/gpu_scene.h"
@@ -22,9 +23,11 @@ std::optional<Mode> parseMode(const std::string& name);
 
 class PathIntegrator : public render::Integrator {
  public:
-  // scene and bvh must outlive the integrator. width, height >= 1.
+  // scene and bvh must outlive the integrator. width, height >= 1; pixelFilter:
+  // gpu::camera::kPixelFilter*.
   PathIntegrator(const vk::Context& ctx, const scene::GpuScene& scene, const bvh::Bvh& bvh,
-                 uint32_t width, uint32_t height, Mode mode);
+                 uint32_t width, uint32_t height, Mode mode,
+                 uint32_t pixelFilter = gpu::camera::kPixelFilterBlackmanHarris);
 
   const char* name() const override { return modeName(mode_); }
   const char* unitName() const override { return "spp"; }
@@ -46,6 +49,7 @@ class PathIntegrator : public render::Integrator {
   const scene::GpuScene& scene_;
   const bvh::Bvh& bvh_;
   Mode mode_;
+  uint32_t pixelFilter_;
   render::Film film_;
   vk::Buffer frame_;  // gpu::camera::CameraFrame
   TracePass pass_;
@@ -60,6 +64,7 @@ struct RenderSettings {
   Mode mode = Mode::Path;
   double batchTargetS = 0.25;  // aim for submissions this long (progress, time limit)
   bool sliceUnits = false;     // split samples into pixel bands (render::DriverSettings)
+  uint32_t pixelFilter = gpu::camera::kPixelFilterBlackmanHarris;  // kPixelFilter*
 };
 
 // Renders `camera`'s view of the uploaded scene with a PathIntegrator under a

@@ -5,7 +5,7 @@
 namespace osr::render {
 
 gpu::camera::CameraFrame makeFrame(const scene::Camera& camera, uint32_t width, uint32_t height,
-                         uint32_t seed) {
+                                   uint32_t seed, uint32_t pixelFilter) {
   gpu::camera::CameraFrame f{};
   const glm::mat4& m = camera.worldFromCamera;
   f.cameraRight = glm::vec4(glm::normalize(glm::vec3(m[0])), 0.f);
@@ -15,6 +15,7 @@ gpu::camera::CameraFrame makeFrame(const scene::Camera& camera, uint32_t width, 
   f.width = width;
   f.height = height;
   f.seed = seed;
+  f.pixelFilter = pixelFilter;
   f.tanHalfFovY = std::tan(0.5f * camera.yfov);
   f.aspect = float(width) / float(height);
   return f;

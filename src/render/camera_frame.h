@@ -7,8 +7,10 @@
 
 namespace osr::render {
 
-// The frame of `camera` for a width x height image and `seed` (width, height >= 1).
+// The frame of `camera` for a width x height image and `seed` (width, height >= 1);
+// pixelFilter: gpu::camera::kPixelFilter*.
 gpu::camera::CameraFrame makeFrame(const scene::Camera& camera, uint32_t width, uint32_t height,
-                         uint32_t seed);
+                                   uint32_t seed,
+                                   uint32_t pixelFilter = gpu::camera::kPixelFilterBlackmanHarris);
 
 }  // namespace osr::render

@@ -119,7 +119,7 @@ const std::vector<Layout>& layouts() {
              F(pairCount), F(groupsX), F(_pad0), F(_pad1)),
       STRUCT(film, FilmPixel, F(combined), F(direct), F(indirect), F(albedo), F(normal), F(depth)),
       STRUCT(camera, CameraFrame, F(cameraRight), F(cameraUp), F(cameraBack), F(cameraOrigin),
-             F(width), F(height), F(seed), F(_pad0), F(tanHalfFovY), F(aspect), F(_pad1),
+             F(width), F(height), F(seed), F(pixelFilter), F(tanHalfFovY), F(aspect), F(_pad1),
              F(_pad2)),
       STRUCT(hemi, HemiProbeCase, F(square), F(direction), F(normal), F(toDirection),
              F(toSquare), F(frameT), F(frameB)),
