@@ -40,8 +40,10 @@ void main() {
     }
     sum *= g.throughput.rgb / float(max(gPush.samples, 1u));
   }
+  // Weighted by the pass's light samples (passWeight here): passes of 4 samples after passes
+  // of 16 would otherwise add more noise than they remove.
   AccumPixel a = gAccum[local];
-  if (finite3(sum)) a.direct.rgb += sum;
-  a.direct.w += 1.0;
+  if (finite3(sum)) a.direct.rgb += gPush.passWeight * sum;
+  a.direct.w += gPush.passWeight;
   gAccum[local] = a;
 }

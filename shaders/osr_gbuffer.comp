@@ -3,7 +3,9 @@
 // pass's sub-pixel jitter (antialiasing comes from averaging passes). Mirror-like metals and
 // smooth glass (shared/osr.h kNearSpecularAlpha) are followed by sampling their BSDF, with
 // the chain's throughput kept; emission met on the way (the camera's own view of lights, and
-// lights seen in mirrors) goes straight to the direct layer.
+// lights seen in mirrors) goes straight to the direct layer. The lights seen directly are
+// averaged over `samples` camera rays of the pixel filter (the first is the G-buffer's own):
+// a light's edge pixels would otherwise be speckled for as many passes as they take to average.
 // In: CameraFrame, scene, BVH. Out: GBufferPixel, AccumPixel first-hit records and emission.
 #extension GL_GOOGLE_include_directive : require
 #include "lib/osr_common.glsl"
@@ -48,7 +50,8 @@ void main() {
     Hit hit;
     if (!bvhClosestHit(origin, dir, 0.0, kInfinity, hit)) {
       // Delta-like bounces only so far: the environment is seen at full weight.
-      emitted += missRadiance(pathStart(origin, dir, beta, 0.0, origin, chain));
+      vec3 env = missRadiance(pathStart(origin, dir, beta, 0.0, origin, chain));
+      emitted += chain == 0u ? env / float(max(gPush.samples, 1u)) : env;
       break;
     }
     SurfaceSample surf = surfaceAt(hit.triangle, hit.barycentrics);
@@ -59,7 +62,8 @@ void main() {
       a.normal.rgb += facingShadingNormal(surf, -dir);
       a.depth += vec4(cameraDepth(gFrame, surf.position), 1.0, 0.0, 0.0);
     }
-    emitted += hitEmission(pathStart(origin, dir, beta, 0.0, origin, chain), hit.triangle, surf, sp);
+    vec3 emission = hitEmission(pathStart(origin, dir, beta, 0.0, origin, chain), hit.triangle, surf, sp);
+    emitted += chain == 0u ? emission / float(max(gPush.samples, 1u)) : emission;
     if (!nearSpecular(sp.bsdf)) {
       g.position = vec4(sp.position, 1.0);
       g.normal = vec4(sp.ns, 0.0);
@@ -77,7 +81,23 @@ void main() {
     origin = shadingRayOrigin(sp, wi);
     dir = wi;
   }
-  if (finite3(emitted)) a.direct.rgb += emitted;
+  a.albedo.w += 1.0;  // passes, for the first-hit layers' average
+  // The other camera rays: the emission (or environment) of their first hit only.
+  for (uint s = 1u; s < gPush.samples; ++s) {
+    vec3 o, d;
+    cameraRay(gFrame, pixel % gFrame.width, pixel / gFrame.width, rngNext2(rng), o, d);
+    Hit hit;
+    PathState start = pathStart(o, d, vec3(1.0), 0.0, o, 0u);
+    vec3 e;
+    if (bvhClosestHit(o, d, 0.0, kInfinity, hit)) {
+      SurfaceSample surf = surfaceAt(hit.triangle, hit.barycentrics);
+      e = hitEmission(start, hit.triangle, surf, shadingPoint(surf, -d));
+    } else {
+      e = missRadiance(start);
+    }
+    emitted += e / float(gPush.samples);
+  }
+  if (finite3(emitted)) a.direct.rgb += gPush.passWeight * emitted;  // as osr_direct weighs it
   gGBuffer[local] = g;
   gAccum[local] = a;
 }

@@ -1,6 +1,6 @@
 #version 460
 // osr_resolve: the film (shared/film.h, one sample's worth: combined.w = 1) from OSR's
-// running sums: direct averaged over passes; indirect = (sum w_k (maps + path-traced lobes)
+// running sums: direct averaged over passes weighted by their light samples; indirect = (sum w_k (maps + path-traced lobes)
 // + beta x sum w_k residual) / sum w_k; first-hit layers averaged over passes.
 // beta (docs/osr.md "Blending the residual in"): with residualBlend >= 0 (a fixed ramp the
 // host computes), that value; with residualBlend < 0, per pixel and channel, the shrinkage of
@@ -26,7 +26,6 @@ vec3 shrinkBlend(uint local, uint pixel) {
   int width = int(gFrame.width);
   int x = int(pixel % gFrame.width);
   vec3 sumVar = vec3(0.0), sumSq = vec3(0.0);
-  bool known = false;
   // Neighbours inside this dispatch's pixel window (windows split only very large films).
   for (int dy = -kShrinkRadius; dy <= kShrinkRadius; ++dy) {
     for (int dx = -kShrinkRadius; dx <= kShrinkRadius; ++dx) {
@@ -37,12 +36,12 @@ vec3 shrinkBlend(uint local, uint pixel) {
       vec4 residual = gAccum[q].residual, residualSq = gAccum[q].residualSq;
       if (!residualVarianceKnown(residualSq, weightSum)) continue;
       vec3 mean = residual.rgb / weightSum;
-      known = true;
       sumVar += residualVarianceOfMean(residual, residualSq, weightSum);
       sumSq += mean * mean;
     }
   }
-  return residualShrinkBlend(sumVar, sumSq, known);
+  AccumPixel a = gAccum[local];
+  return residualShrinkBlend(sumVar, sumSq, residualPasses(a.residualSq, a.indirect.w));
 }
 
 void main() {
@@ -50,8 +49,8 @@ void main() {
   if (local >= gPush.pixelCount) return;
   uint pixel = gPush.pixelOffset + local;
   AccumPixel a = gAccum[local];
-  float passes = max(a.direct.w, 1.0);
-  vec3 direct = a.direct.rgb / passes;
+  float passes = max(a.albedo.w, 1.0);
+  vec3 direct = a.direct.w > 0.0 ? a.direct.rgb / a.direct.w : vec3(0.0);
   vec3 blend = gPush.residualBlend >= 0.0 ? vec3(gPush.residualBlend) : shrinkBlend(local, pixel);
   vec3 indirect = a.indirect.w > 0.0 ? (a.indirect.rgb + blend * a.residual.rgb) / a.indirect.w
                                      : vec3(0.0);

@@ -146,7 +146,7 @@ std::vector<OsrIntegrator::Step> OsrIntegrator::stepsOfPass(uint32_t k, uint32_t
       if (edge(b + 1) > edge(b)) steps.push_back({kind, edge(b), edge(b + 1), perPixel * (edge(b + 1) - edge(b))});
     }
   };
-  banded(K::Gbuffer, 0.25);
+  banded(K::Gbuffer, settings_.gbufferCost(k));
   banded(K::Direct, 0.5 * samples.direct);
   if (gp.traceMaps) {
     const uint32_t maps = current_.cellsX * current_.cellsY;
@@ -175,11 +175,14 @@ void OsrIntegrator::recordStep(VkCommandBuffer cmd, uint32_t k, const Step& step
   auto pixelPass = [&](const OsrPass& pass, const char* name, uint32_t samplesPerPixel) {
     vk::TimedScope scope(timer, cmd, name);
     push.samples = samplesPerPixel;
+    // The direct layer weighs each pass by its light samples (osr_direct, osr_gbuffer).
+    if (step.kind == K::Gbuffer || step.kind == K::Direct)
+      push.passWeight = float(std::max(samples.direct, 1u));
     pass.record(cmd, bindings_, push, step.end, step.begin);
   };
   switch (step.kind) {
     case K::Gbuffer:
-      pixelPass(gbuffer_, "gbuffer", 0);
+      pixelPass(gbuffer_, "gbuffer", samples.camera);
       break;
     case K::Direct:
       pixelPass(direct_, "direct", samples.direct);

@@ -19,6 +19,7 @@ const char* denoiserName(Denoiser d);
 
 struct PassSamples {
   uint32_t direct, residual;
+  uint32_t camera;  // camera rays per pixel for the emission seen directly (osr_gbuffer)
 };
 
 struct OsrSettings {
@@ -37,6 +38,10 @@ struct OsrSettings {
   uint32_t residualSamples = 1;      // residual paths, first passes (0: maps only, biased)
   uint32_t directSamplesLate = 4;    // light samples from pass settlePasses on
   uint32_t residualSamplesLate = 4;  // residual paths from pass settlePasses on
+  // Camera rays per pixel and pass for the lights seen directly: one sample a pass leaves a
+  // light's edge pixels speckled for many passes (the pixel filter reaches 1 px past them).
+  uint32_t cameraSamples = 8;        // first passes
+  uint32_t cameraSamplesLate = 1;    // from pass settlePasses on (the G-buffer ray alone)
   uint32_t settlePasses = 8;
   uint32_t glossySamples = 4;    // map lookups per pixel for wide glossy lobes
   // How the residual is blended in: < 0 (default) per pixel by the measured shrinkage of
@@ -50,13 +55,16 @@ struct OsrSettings {
   bool resolveEverySubmission = true;
 
   PassSamples samplesOfPass(uint32_t pass) const {
-    return pass < settlePasses ? PassSamples{directSamples, residualSamples}
-                               : PassSamples{directSamplesLate, residualSamplesLate};
+    return pass < settlePasses ? PassSamples{directSamples, residualSamples, cameraSamples}
+                               : PassSamples{directSamplesLate, residualSamplesLate,
+                                             cameraSamplesLate};
   }
-  // Per-pixel work of pass k in path units (G-buffer and light samples about half a path).
+  // Per-pixel work of pass k in path units (G-buffer and light samples about half a path,
+  // an extra camera ray a tenth).
+  double gbufferCost(uint32_t pass) const { return 0.25 + 0.1 * (samplesOfPass(pass).camera - 1.0); }
   double pixelCost(uint32_t pass) const {
     PassSamples s = samplesOfPass(pass);
-    return 0.5 + 0.5 * s.direct + s.residual;
+    return gbufferCost(pass) + 0.25 + 0.5 * s.direct + s.residual;
   }
 };
 

@@ -66,16 +66,17 @@ TEST(ResidualBlend, ShrinksTowardTheMapsWhereTheResidualIsNoise) {
       sumVar += o::residualVarianceOfMean(s.residual, s.residualSq, s.weightSum);
       sumSq += mean * mean;
     }
-    return o::residualShrinkBlend(sumVar, sumSq, true).x;
+    return o::residualShrinkBlend(sumVar, sumSq, float(n)).x;
   };
   EXPECT_LT(blendOf(0.f, 1.f, 16), 0.15f);   // unbiased maps: keep the noise out
-  EXPECT_GT(blendOf(1.f, 1.f, 64), 0.95f);   // b^2 = 1 against V = 1/64: the residual
-  // b^2 / (b^2 + V) with b^2 = 0.0625, V = 1/16: about a half.
-  EXPECT_NEAR(blendOf(0.25f, 1.f, 16), 0.5f, 0.15f);
+  EXPECT_GT(blendOf(1.f, 1.f, 64), 0.9f);    // b^2 = 1 against V = 1/64: the residual
+  // 1 - m V / (b^2 + V) with b^2 = 0.0625, V = 1/64, m = 1 + 5 / 64: about 0.14.
+  EXPECT_NEAR(blendOf(0.125f, 1.f, 64), 1.f - (1.f + 5.f / 64) * 0.5f, 0.15f);
   // More passes, more residual, toward 1 (convergence).
   EXPECT_LT(blendOf(0.1f, 1.f, 16), blendOf(0.1f, 1.f, 1024));
   EXPECT_GT(blendOf(0.1f, 1.f, 4096), 0.95f);
-  EXPECT_EQ(o::residualShrinkBlend(glm::vec3(1.f), glm::vec3(4.f), false).x, 0.f);
+  // Unknown before kResidualMinPasses passes: the maps alone.
+  EXPECT_EQ(o::residualShrinkBlend(glm::vec3(0.f), glm::vec3(4.f), o::kResidualMinPasses - 1).x, 0.f);
 }
 
 TEST(ResidualBlend, BeatsMapsAloneAndTheFullResidualOnCoarseMaps) {

@@ -7,6 +7,7 @@ message; bad datasets and checkpoints are one line, exit 2.
 
 Run by CTest (tools/test_training_pipeline) with OSR_BINARY_DIR naming the build folder.
 """
+import math
 import os
 import subprocess
 import sys
@@ -54,6 +55,105 @@ class Symmetries(unittest.TestCase):
         x[0, 3:6] = d
         y = maps_data.symmetry(x, 2, normals=False)
         self.assertGreater(np.abs(y[0, 3:6] - d).max(), 0.5)
+
+
+def write_asymmetric_scene(path: Path, turn_degrees: float) -> None:
+    """A floor point at the origin (normal +Y) seen by a camera straight above it, surrounded by
+    differently coloured boxes at different distances and a lamp off to one side; the whole
+    scene, camera included, turned by turn_degrees about +Y through the origin."""
+    from gltf_build import Gltf
+    g = Gltf()
+    g.doc["extensionsUsed"] = ["KHR_materials_emissive_strength"]
+
+    def material(rgb, emit=None):
+        m = {"pbrMetallicRoughness": {"baseColorFactor": [*rgb, 1], "metallicFactor": 0, "roughnessFactor": 1}}
+        if emit:
+            m.update({"emissiveFactor": [1, 1, 1], "doubleSided": True,
+                      "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": emit}}})
+        return g.add("materials", m)
+
+    def box(lo, hi, mat):
+        (x0, y0, z0), (x1, y1, z1) = lo, hi
+        faces = [((1, 0, 0), [(x1, y0, z0), (x1, y1, z0), (x1, y1, z1), (x1, y0, z1)]),
+                 ((-1, 0, 0), [(x0, y0, z1), (x0, y1, z1), (x0, y1, z0), (x0, y0, z0)]),
+                 ((0, 1, 0), [(x0, y1, z0), (x0, y1, z1), (x1, y1, z1), (x1, y1, z0)]),
+                 ((0, -1, 0), [(x0, y0, z0), (x1, y0, z0), (x1, y0, z1), (x0, y0, z1)]),
+                 ((0, 0, 1), [(x0, y0, z1), (x1, y0, z1), (x1, y1, z1), (x0, y1, z1)]),
+                 ((0, 0, -1), [(x1, y0, z0), (x0, y0, z0), (x0, y1, z0), (x1, y1, z0)])]
+        pos, nrm, idx = [], [], []
+        for n, quad in faces:
+            b = len(pos)
+            pos += quad
+            nrm += [n] * 4
+            idx += [b, b + 1, b + 2, b, b + 2, b + 3]
+        return g.node(root=False, mesh=g.mesh(pos, idx, nrm, material=mat))
+
+    children = [
+        box((-4, -0.1, -4), (4, 0, 4), material((0.7, 0.7, 0.7))),        # floor
+        box((1.2, 0, -0.5), (1.6, 1.5, 2.5), material((0.8, 0.1, 0.1))),   # red wall, +x
+        box((-2.0, 0, -1.8), (0.3, 2.2, -1.4), material((0.1, 0.7, 0.1))),  # green, -z
+        box((-1.6, 0, 0.6), (-0.9, 0.5, 1.3), material((0.1, 0.2, 0.8))),  # low blue, -x +z
+        box((-0.2, 2.9, 0.6), (0.9, 3.0, 1.1), material((0, 0, 0), emit=30)),  # lamp
+    ]
+    down = [-math.sin(math.pi / 4), 0, 0, math.cos(math.pi / 4)]  # camera -Z onto -Y
+    g.add("cameras", {"type": "perspective", "perspective": {"yfov": 0.8, "znear": 0.01, "aspectRatio": 1}})
+    children.append(g.node(root=False, camera=0, translation=[0, 0.6, 0], rotation=down))
+    half = math.radians(turn_degrees) / 2
+    g.node(children=children, rotation=[0, math.sin(half), 0, math.cos(half)])
+    g.gltf(path)
+
+
+class TracedInARotatedFrame(unittest.TestCase):
+    def test_rotated_map_equals_the_map_of_the_rotated_scene(self):
+        # Turning the scene (camera included) about the floor point's normal leaves the map
+        # frame (a function of the normal) where it was, so the map traced there is the map of
+        # the unturned scene turned about z: one of maps_data.symmetry's rotations, with the
+        # hit normals turned too. Radiance from 64 paths per texel; normals and distances
+        # from the one-shot input.
+        osr_vk = Path(os.environ.get("OSR_BINARY_DIR", ROOT / "build")) / "osr-vk"
+        with tempfile.TemporaryDirectory() as tmp:
+            tmp = Path(tmp)
+            maps = {}
+            for turn in (0, 90, -90, 180):
+                scene = tmp / f"turn{turn}.gltf"
+                write_asymmetric_scene(scene, turn)
+                out = tmp / f"maps{turn}"
+                run([osr_vk, "maps", scene, "--out", out, "--pixels", "32,32", "--width", "64",
+                     "--height", "64", "--reference-spp", "64", "--quiet"])
+                maps[turn] = (np.load(out / "input.npy"), np.load(out / "target.npy"))
+            x0, t0 = maps[0]
+            self.assertEqual(x0.shape, (1, 7, 32, 32))
+
+            def radiance_error(t, k):
+                u = maps_data.symmetry(t0, k, normals=False)
+                return float(np.abs(u - t).mean() / t.mean())
+
+            found = {}
+            for turn in (90, -90, 180):
+                x, t = maps[turn]
+                errors = [radiance_error(t, k) for k in range(8)]
+                best = int(np.argmin(errors))
+                second = sorted(errors)[1]
+                found[turn] = best
+                # Noise of 64 paths per texel against what a wrong symmetry costs.
+                self.assertLess(errors[best], 0.2, f"turn {turn}: {errors}")
+                self.assertLess(errors[best], 0.5 * second, f"turn {turn}: {errors}")
+                # Hit normals and distances turn with it (texels whose one path hit something
+                # in both maps; a texel's jittered path may cross an edge, hence the median).
+                u = maps_data.symmetry(x0, best, normals=True)
+                hit = (u[0, 6] > 0) & (x[0, 6] > 0)
+                self.assertGreater(hit.mean(), 0.9)
+                normal_gap = np.abs(u[0, 3:6] - x[0, 3:6]).sum(axis=0)[hit]
+                self.assertLess(float(np.median(normal_gap)), 1e-3, f"turn {turn}")
+                self.assertGreater(float((normal_gap < 0.05).mean()), 0.9, f"turn {turn}")
+                self.assertLess(float(np.median(np.abs(u[0, 6] - x[0, 6])[hit])), 0.05)
+                if best & 3 in (1, 2):  # a transpose or a flip: unturned normals must not match
+                    v = maps_data.symmetry(x0, best, normals=False)
+                    self.assertGreater(float(np.median(np.abs(v[0, 3:6] - x[0, 3:6]).sum(axis=0)[hit])), 0.05)
+            # Quarter turns are the square's rotations (transpose + one flip: k 3 or 5), opposite
+            # ones for opposite turns, and a half turn both flips (k 6).
+            self.assertEqual(sorted([found[90], found[-90]]), [3, 5], found)
+            self.assertEqual(found[180], 6, found)
 
 
 class Interiors(unittest.TestCase):
