@@ -245,7 +245,8 @@ def case_cycles(executable, work):
     scene.cycles.samples, scene.cycles.use_denoising, scene.cycles.max_bounces = 64, False, 0
     scene.cycles.sample_clamp_direct = 0.0
     scene.objects["ceiling light"].visible_camera = False
-    scene.render.filter_size = 0.01  # box-like pixels, as osr-vk's
+    # osr-vk's pixel filter: Cycles' Blackman-Harris at width 1 px (docs/pathtracer.md).
+    scene.cycles.pixel_filter_type, scene.cycles.filter_width = "BLACKMAN_HARRIS", 1.0
     bpy.ops.render.render()
     path = os.path.join(work, "cycles_direct.exr")
     save(path, "OPEN_EXR")

@@ -1,9 +1,11 @@
 // The path tracer on scenes with known answers: white furnaces (diffuse albedo 1 and a smooth
 // dielectric inside a uniform environment give the environment's radiance), a diffuse plane
 // under a square emitter, point, spot and directional lights (analytic irradiance), a fixed
-// seed reproduces the image bit for bit, and combined = direct + indirect.
+// seed reproduces the image bit for bit, combined = direct + indirect, and the pixel filter is
+// Cycles' Blackman-Harris (an emitter's edge).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 
@@ -46,6 +48,8 @@ Rendered renderFile(const std::string& gltf, uint32_t size, uint32_t spp, uint32
   s.seed = seed;
   s.mode = mode;
   s.batchTargetS = batchTargetS;
+  // The analytic expectations below average over each pixel's square.
+  s.pixelFilter = gpu::camera::kPixelFilterBox;
   r.film = pt::render(ctx, gs, tree, r.camera, s, {}, stats);
   return r;
 }
@@ -364,5 +368,50 @@ TEST(PathIntegrator, AlphaMaskIsSeenThroughAndCastsNoShadowThroughHoles) {
       EXPECT_NEAR(c[0], radiance, 0.01) << px << "," << py;
     }
   }
+  fs::remove_all(d);
+}
+
+// The default pixel filter against its closed form: an emitter of radiance 1 filling the image
+// left of a vertical edge at image x = e (pixels) gives pixel column px the filter's mass left
+// of e, CDF(e - px - 0.5). Cycles' Blackman-Harris at width 1 px spans 2 px (Cycles doubles the
+// width of this window): with the edge at e = 5.96, column 5 gets 0.953 and column 6, wholly
+// right of the edge, 0.025, where a box gives 0.964 and 0.
+TEST(PathIntegrator, PixelFilterIsCyclesBlackmanHarris) {
+  fs::path d = tempDir();
+  GltfWriter g;
+  int light = g.material(GltfWriter::emitter(glm::vec3(1.f), false));
+  g.quad({-50, -50, 0}, {0, -50, 0}, {0, 50, 0}, {-50, 50, 0}, light);  // faces +Z
+  const float cx = 0.13f, dist = 2.f, yfov = 0.5f;
+  g.camera({cx, 0, dist}, {cx, 0, 0}, yfov);
+  std::string path = (d / "edge.gltf").string();
+  g.write(path);
+  auto& ctx = test::context();
+  scene::Scene sc = scene::loadScene(path);
+  scene::Camera cam = scene::selectCamera(sc, "", 1.f);
+  scene::GpuScene gs(ctx, sc);
+  bvh::Bvh tree = bvh::buildGpu(ctx, gs.vertices, gs.triangles, gs.triangleCount);
+  const uint32_t size = 16;
+  pt::RenderSettings s;
+  s.width = s.height = size;
+  s.spp = 256;
+  render::FilmLayers film = pt::render(ctx, gs, tree, cam, s);
+  const double e = 0.5 * size * (1.0 - cx / (dist * std::tan(0.5 * yfov)));
+  // Blackman-Harris over t in [0, 1] (offset 2t - 1 pixels), integrated.
+  auto cdf = [](double offset) {
+    const double a0 = 0.35875, a1 = 0.48829, a2 = 0.14128, a3 = 0.01168, k = 2 * M_PI;
+    double t = std::clamp(0.5 * (offset + 1.0), 0.0, 1.0);
+    return (a0 * t - a1 / k * std::sin(k * t) + a2 / (2 * k) * std::sin(2 * k * t) -
+            a3 / (3 * k) * std::sin(3 * k * t)) / a0;
+  };
+  int partial = 0;
+  for (uint32_t px = 0; px < size; ++px) {
+    double expect = cdf(e - px - 0.5);
+    partial += expect > 0.001 && expect < 0.999;
+    for (uint32_t py = 0; py < size; ++py)
+      // 256 samples stratified in x (Sobol): coverage within about 1/256.
+      EXPECT_NEAR(film.combined[(py * size + px) * 3 + 1], expect, 0.01)
+          << "pixel " << px << "," << py << ", edge at x = " << e;
+  }
+  EXPECT_EQ(partial, 2);  // the window reaches past the edge's own pixel
   fs::remove_all(d);
 }
