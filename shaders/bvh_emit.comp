@@ -8,16 +8,10 @@
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
 #extension GL_KHR_shader_subgroup_ballot : require
-#include "shared/bvh_build.h"
+#include "lib/bvh_build_arrays.glsl"
 
 layout(local_size_x = kWorkgroupSize) in;
-layout(std430, binding = kEmitBindingInterior) readonly buffer Interior { BvhBuildNode gInterior[]; };
-layout(std430, binding = kEmitBindingLeaves) readonly buffer Leaves { BvhBuildNode gLeaves[]; };
-layout(std430, binding = kEmitBindingPrims) readonly buffer Prims { BvhLeafTriangle gPrims[]; };
 layout(std430, binding = kEmitBindingInfo) buffer Info { BvhBuildInfo gInfo; };
-layout(std430, binding = kEmitBindingNodes) writeonly buffer Nodes { BvhNode gNodes[]; };
-layout(std430, binding = kEmitBindingLeafTriangles) writeonly buffer LeafTris { BvhLeafTriangle gLeafTriangles[]; };
-layout(push_constant) uniform PushBlock { BuildPush gPush; };
 
 uint interiorCount() { return gPush.triangleCount - 1u; }
 // if/else, not ?:, because glslang types a ?: over two blocks' structs inconsistently.
@@ -68,7 +62,7 @@ uint allocateLeafEntries(uint count) {
 }
 
 void main() {
-  uint i = gl_GlobalInvocationID.x;
+  uint i = bvhBuildItem();
   uint n = gPush.triangleCount;
   if (n == 1u) {  // no interior node: a root with one leaf and one empty child
     if (i != 0u) return;

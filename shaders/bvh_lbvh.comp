@@ -7,15 +7,11 @@
 // leaf fields. Depth is at most 30 + ceil(log2 N) + 1 interior levels: each level's split is at
 // a strictly longer common prefix of the (code, index) bits.
 #extension GL_GOOGLE_include_directive : require
-#include "shared/bvh_build.h"
+#include "lib/bvh_build_arrays.glsl"
 
 layout(local_size_x = kWorkgroupSize) in;
 layout(std430, binding = kLbvhBindingKeys) readonly buffer Keys { uint gKeys[]; };
 layout(std430, binding = kLbvhBindingValues) readonly buffer Values { uint gValues[]; };
-layout(std430, binding = kLbvhBindingPrims) readonly buffer Prims { BvhLeafTriangle gPrims[]; };
-layout(std430, binding = kLbvhBindingInterior) buffer Interior { BvhBuildNode gInterior[]; };
-layout(std430, binding = kLbvhBindingLeaves) buffer Leaves { BvhBuildNode gLeaves[]; };
-layout(push_constant) uniform PushBlock { BuildPush gPush; };
 
 // Length of the common prefix of (key, index) at sorted positions i and j; -1 outside.
 int delta(int i, int j) {
@@ -42,7 +38,7 @@ void initLeaf(uint i) {
 }
 
 void main() {
-  uint gi = gl_GlobalInvocationID.x;
+  uint gi = bvhBuildItem();
   uint n = gPush.triangleCount;
   if (gi >= n) return;
   initLeaf(gi);

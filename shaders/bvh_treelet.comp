@@ -12,7 +12,6 @@
 
 layout(local_size_x = kWorkgroupSize) in;
 layout(constant_id = kTreeletSpecLeaves) const uint kTreeletLeaves = kTreeletMaxLeaves;
-layout(push_constant) uniform PushBlock { BuildPush gPush; };
 #include "lib/bvh_build_nodes.glsl"
 #include "lib/bvh_treelet_schedule.glsl"
 
@@ -178,7 +177,7 @@ void restructure(uint root) {
 
 void main() {
   TreeletLevel level = gLevels[gPush.param];
-  uint i = gl_GlobalInvocationID.x;
+  uint i = bvhBuildItem();
   if (i >= level.count) return;
   uint node = gNodeList[level.offset + i];
   refitStored(node);

@@ -1,14 +1,10 @@
-// Build-node access for the bottom-up passes (bvh_refit, bvh_treelet): the two node bindings
-// as one index space (shared/bvh_build.h) and the refit of one interior node. The includer
-// declares gPush (BuildPush) first.
+// Build-node access for the bottom-up passes (bvh_refit, bvh_treelet): the two node arrays
+// as one index space (shared/bvh_build.h) and the refit of one interior node.
 #ifndef OSR_BVH_BUILD_NODES_GLSL
 #define OSR_BVH_BUILD_NODES_GLSL
-#include "shared/bvh_build.h"
+#include "lib/bvh_build_arrays.glsl"
 
-// coherent: a node written by one invocation is read by the one that arrives second at the
-// parent (after an atomic on the parent's counter), possibly in another workgroup.
-layout(std430, binding = kClimbBindingInterior) coherent buffer Interior { BvhBuildNode gInterior[]; };
-layout(std430, binding = kClimbBindingLeaves) coherent buffer Leaves { BvhBuildNode gLeaves[]; };
+// coherent: see the node arrays in lib/bvh_build_arrays.glsl.
 layout(std430, binding = kClimbBindingCounters) coherent buffer Counters { uint gCounters[]; };
 
 // Release the node just written before the counter atomic, acquire the sibling's after it. On

@@ -21,32 +21,40 @@ std::vector<vk::SpecConstant> climbSpec(const vk::Context& ctx, uint32_t treelet
   return spec;
 }
 uint32_t groups(uint64_t items) { return vk::groupCount(std::max<uint64_t>(items, 1), bb::kWorkgroupSize); }
+
+// One invocation per item in rows of at most kMaxGroupsX groups (bvhBuildItem in GLSL), with
+// as few groups past `items` as the row count allows.
+void dispatchItems(const vk::ComputePipeline& p, VkCommandBuffer cmd, uint64_t items) {
+  uint32_t g = groups(items);
+  uint32_t rows = (g + bb::kMaxGroupsX - 1) / bb::kMaxGroupsX;
+  p.dispatch(cmd, (g + rows - 1) / rows, rows);
+}
+
+glm::uvec2 address(const vk::BufferRange& r) {
+  VkDeviceAddress a = r.buffer->deviceAddress() + r.offset;
+  return {uint32_t(a), uint32_t(a >> 32)};
+}
+glm::uvec2 address(const vk::Buffer* b) { return address(vk::BufferRange(*b)); }
+
+BuildPush push(uint32_t triangleCount, uint32_t param, const bb::BuildArrays& arrays = {}) {
+  BuildPush p{};
+  p.triangleCount = triangleCount;
+  p.param = param;
+  p.arrays = arrays;
+  return p;
+}
 }  // namespace
 
 BoundsPass::BoundsPass(const vk::Context& ctx)
-    : ctx_(ctx), pipeline_(ctx, shaders::Id::bvh_bounds, bb::kBoundsBindingCount, sizeof(BuildPush)) {}
+    : pipeline_(ctx, shaders::Id::bvh_bounds, bb::kBoundsBindingCount, sizeof(BuildPush)) {}
 
 void BoundsPass::record(VkCommandBuffer cmd, const Args& a) const {
-  // The vertex buffer is bound as two chunks of at most maxStorageBufferRange each.
-  const uint64_t vertexBytes = sizeof(gpu::scene::Vertex);
-  uint64_t chunk = ctx_.caps().maxStorageBufferRange / vertexBytes * vertexBytes;
-  uint64_t size = a.vertices->size() / vertexBytes * vertexBytes;
-  if (size > 2 * chunk)
-    throw DeviceError("bvh: vertex buffer of " + std::to_string(size) + " bytes exceeds 2 x maxStorageBufferRange (" +
-                      std::to_string(ctx_.caps().maxStorageBufferRange) + " bytes)");
-  vk::BufferRange lo(*a.vertices, 0, std::min(size, chunk));
-  vk::BufferRange hi = size > chunk ? vk::BufferRange(*a.vertices, chunk, size - chunk)
-                                    : vk::BufferRange(*a.vertices, 0, vertexBytes);
-  BuildPush push{a.triangleCount, static_cast<uint32_t>(std::min(size, chunk) / vertexBytes), 0, 0};
-  vk::Binder(pipeline_)
-      .setRange(bb::kBoundsBindingTriangles, *a.triangles, 0,
-                uint64_t(a.triangleCount) * sizeof(gpu::scene::Triangle))
-      .set(bb::kBoundsBindingVerticesLo, lo)
-      .set(bb::kBoundsBindingVerticesHi, hi)
-      .set(bb::kBoundsBindingPrims, a.prims)
-      .set(bb::kBoundsBindingInfo, a.info)
-      .bind(cmd, push);
-  pipeline_.dispatch(cmd, groups(a.triangleCount));
+  bb::BuildArrays arrays{};
+  arrays.triangles = address(a.triangles);
+  arrays.vertices = address(a.vertices);
+  arrays.prims = address(a.prims);
+  vk::Binder(pipeline_).set(bb::kBoundsBindingInfo, a.info).bind(cmd, push(a.triangleCount, 0, arrays));
+  dispatchItems(pipeline_, cmd, a.triangleCount);
   vk::computeBarrier(cmd);
 }
 
@@ -54,13 +62,14 @@ MortonPass::MortonPass(const vk::Context& ctx)
     : pipeline_(ctx, shaders::Id::bvh_morton, bb::kMortonBindingCount, sizeof(BuildPush)) {}
 
 void MortonPass::record(VkCommandBuffer cmd, const Args& a) const {
+  bb::BuildArrays arrays{};
+  arrays.prims = address(a.prims);
   vk::Binder(pipeline_)
-      .set(bb::kMortonBindingPrims, a.prims)
       .set(bb::kMortonBindingInfo, a.info)
       .set(bb::kMortonBindingKeys, a.keys)
       .set(bb::kMortonBindingValues, a.values)
-      .bind(cmd, BuildPush{a.triangleCount, 0, 0, 0});
-  pipeline_.dispatch(cmd, groups(a.triangleCount));
+      .bind(cmd, push(a.triangleCount, 0, arrays));
+  dispatchItems(pipeline_, cmd, a.triangleCount);
   vk::computeBarrier(cmd);
 }
 
@@ -75,12 +84,11 @@ uint64_t ExclusiveScan::partialsBytes(uint32_t count) {
 
 void ExclusiveScan::record(VkCommandBuffer cmd, const Args& a) const {
   uint32_t segments = vk::groupCount(a.count, bb::kScanSegment);
-  BuildPush push{a.count, segments, 0, 0};
   auto bind = [&](const vk::ComputePipeline& p) {
     vk::Binder(p)
         .set(bb::kScanBindingData, a.data)
         .set(bb::kScanBindingPartials, a.partials)
-        .bind(cmd, push);
+        .bind(cmd, push(a.count, segments));
   };
   bind(reduce_);
   reduce_.dispatch(cmd, groups(segments));
@@ -110,14 +118,15 @@ void RadixSort::record(VkCommandBuffer cmd, const Args& a, vk::GpuTimer* timer) 
                 "an even number of rounds leaves the result in keys/values");
   int src = 0;
   for (uint32_t shift = 0; shift < bb::kRadixKeyBits; shift += bb::kRadixBits, src ^= 1) {
-    BuildPush push{a.count, shift, chunks, 0};
+    BuildPush pushed = push(a.count, shift);
+    pushed.param2 = chunks;
     {
       vk::TimedScope scope(timer, cmd, "bvh_radix_histogram");
       vk::Binder(histogram_)
           .set(bb::kRadixBindingKeysIn, keys[src])
           .set(bb::kRadixBindingValuesIn, values[src])
           .set(bb::kRadixBindingHist, a.histogram)
-          .bind(cmd, push);
+          .bind(cmd, pushed);
       histogram_.dispatch(cmd, groups(chunks));
       vk::computeBarrier(cmd);
     }
@@ -132,7 +141,7 @@ void RadixSort::record(VkCommandBuffer cmd, const Args& a, vk::GpuTimer* timer) 
         .set(bb::kRadixBindingHist, a.histogram)
         .set(bb::kRadixBindingKeysOut, keys[src ^ 1])
         .set(bb::kRadixBindingValuesOut, values[src ^ 1])
-        .bind(cmd, push);
+        .bind(cmd, pushed);
     scatter_.dispatch(cmd, groups(chunks));
     vk::computeBarrier(cmd);
   }
@@ -142,14 +151,15 @@ LbvhPass::LbvhPass(const vk::Context& ctx)
     : pipeline_(ctx, shaders::Id::bvh_lbvh, bb::kLbvhBindingCount, sizeof(BuildPush)) {}
 
 void LbvhPass::record(VkCommandBuffer cmd, const Args& a) const {
+  bb::BuildArrays arrays{};
+  arrays.prims = address(a.prims);
+  arrays.interior = address(a.interior);
+  arrays.leaves = address(a.leaves);
   vk::Binder(pipeline_)
       .set(bb::kLbvhBindingKeys, a.keys)
       .set(bb::kLbvhBindingValues, a.values)
-      .set(bb::kLbvhBindingPrims, a.prims)
-      .set(bb::kLbvhBindingInterior, a.interior)
-      .set(bb::kLbvhBindingLeaves, a.leaves)
-      .bind(cmd, BuildPush{a.triangleCount, 0, 0, 0});
-  pipeline_.dispatch(cmd, groups(a.triangleCount));
+      .bind(cmd, push(a.triangleCount, 0, arrays));
+  dispatchItems(pipeline_, cmd, a.triangleCount);
   vk::computeBarrier(cmd);
 }
 
@@ -159,12 +169,13 @@ RefitPass::RefitPass(const vk::Context& ctx)
 void RefitPass::record(VkCommandBuffer cmd, const Args& a) const {
   vkCmdFillBuffer(cmd, a.counters->handle(), 0, VK_WHOLE_SIZE, 0);
   vk::transferBarrier(cmd);
+  bb::BuildArrays arrays{};
+  arrays.interior = address(a.interior);
+  arrays.leaves = address(a.leaves);
   vk::Binder(pipeline_)
-      .set(bb::kClimbBindingInterior, a.interior)
-      .set(bb::kClimbBindingLeaves, a.leaves)
       .set(bb::kClimbBindingCounters, *a.counters)
-      .bind(cmd, BuildPush{a.triangleCount, 0, 0, 0});
-  pipeline_.dispatch(cmd, groups(a.triangleCount));
+      .bind(cmd, push(a.triangleCount, 0, arrays));
+  dispatchItems(pipeline_, cmd, a.triangleCount);
   vk::computeBarrier(cmd);
 }
 
@@ -188,25 +199,26 @@ void TreeletPass::record(VkCommandBuffer cmd, const Args& a, vk::GpuTimer* timer
   scope.emplace(timer, cmd, "bvh_treelet_schedule");
   vkCmdFillBuffer(cmd, a.schedule->handle(), 0, VK_WHOLE_SIZE, 0);
   vk::transferBarrier(cmd);
-  BuildPush push{a.triangleCount, a.minTriangles, 0, 0};
+  bb::BuildArrays arrays{};
+  arrays.interior = address(a.interior);
+  arrays.leaves = address(a.leaves);
+  const BuildPush schedulePush = push(a.triangleCount, a.minTriangles, arrays);
   // The four treelet pipelines bind the same buffers at the same slots.
   auto binder = [&](const vk::ComputePipeline& p) {
     vk::Binder b(p);
-    b.set(bb::kClimbBindingInterior, a.interior)
-        .set(bb::kClimbBindingLeaves, a.leaves)
-        .set(bb::kClimbBindingCounters, a.counters)
+    b.set(bb::kClimbBindingCounters, a.counters)
         .set(bb::kTreeletBindingSchedule, *a.schedule)
         .set(bb::kTreeletBindingNodeList, a.nodeList);
     return b;
   };
-  binder(count_).bind(cmd, push);
-  count_.dispatch(cmd, groups(interior));
+  binder(count_).bind(cmd, schedulePush);
+  dispatchItems(count_, cmd, interior);
   vk::computeBarrier(cmd);
-  binder(plan_).bind(cmd, push);
+  binder(plan_).bind(cmd, schedulePush);
   plan_.dispatch(cmd, 1);
   vk::computeBarrier(cmd);
-  binder(scatter_).bind(cmd, push);
-  scatter_.dispatch(cmd, groups(interior));
+  binder(scatter_).bind(cmd, schedulePush);
+  dispatchItems(scatter_, cmd, interior);
   vk::computeBarrier(cmd);
   scope.reset();
   scope.emplace(timer, cmd, "bvh_treelet");
@@ -214,7 +226,7 @@ void TreeletPass::record(VkCommandBuffer cmd, const Args& a, vk::GpuTimer* timer
   const uint64_t argsOffset = bb::kTreeletMaxLevels * sizeof(bb::TreeletLevel);
   const vk::Binder treelet = binder(treelet_);
   for (uint32_t h = 1; h < bb::kTreeletMaxLevels; ++h) {
-    treelet.bind(cmd, BuildPush{a.triangleCount, h, 0, 0});
+    treelet.bind(cmd, push(a.triangleCount, h, arrays));
     treelet_.dispatchIndirect(cmd, *a.schedule, argsOffset + h * sizeof(bb::DispatchArgs));
     vk::computeBarrier(cmd);
   }
@@ -224,15 +236,14 @@ EmitPass::EmitPass(const vk::Context& ctx)
     : pipeline_(ctx, shaders::Id::bvh_emit, bb::kEmitBindingCount, sizeof(BuildPush)) {}
 
 void EmitPass::record(VkCommandBuffer cmd, const Args& a) const {
-  vk::Binder(pipeline_)
-      .set(bb::kEmitBindingInterior, a.interior)
-      .set(bb::kEmitBindingLeaves, a.leaves)
-      .set(bb::kEmitBindingPrims, a.prims)
-      .set(bb::kEmitBindingInfo, a.info)
-      .set(bb::kEmitBindingNodes, a.nodes)
-      .set(bb::kEmitBindingLeafTriangles, a.leafTriangles)
-      .bind(cmd, BuildPush{a.triangleCount, 0, 0, 0});
-  pipeline_.dispatch(cmd, groups(std::max<uint32_t>(a.triangleCount - 1, 1)));
+  bb::BuildArrays arrays{};
+  arrays.interior = address(a.interior);
+  arrays.leaves = address(a.leaves);
+  arrays.prims = address(a.prims);
+  arrays.nodes = address(a.nodes);
+  arrays.leafTriangles = address(a.leafTriangles);
+  vk::Binder(pipeline_).set(bb::kEmitBindingInfo, a.info).bind(cmd, push(a.triangleCount, 0, arrays));
+  dispatchItems(pipeline_, cmd, std::max<uint32_t>(a.triangleCount - 1, 1));
   vk::computeBarrier(cmd);
 }
 

@@ -1,6 +1,8 @@
 // The passes of the GPU BVH build (shaders/bvh_*.comp; order and data in
 // shaders/shared/bvh_build.h). Each owns its pipeline and records bind + dispatch + barrier;
-// src/bvh/gpu_builder.cpp strings them together.
+// src/bvh/gpu_builder.cpp strings them together. The large arrays (BuildArrays in
+// shared/bvh_build.h) go to the shaders as device addresses: their buffers must be addressable
+// (caps().bufferDeviceAddress).
 #pragma once
 #include <vulkan/vulkan.h>
 
@@ -17,7 +19,7 @@ class BoundsPass {
  public:
   explicit BoundsPass(const vk::Context& ctx);
   struct Args {
-    const vk::Buffer* vertices = nullptr;   // scene Vertex buffer (split into two bindings)
+    const vk::Buffer* vertices = nullptr;   // scene Vertex buffer
     const vk::Buffer* triangles = nullptr;  // scene Triangle buffer
     vk::BufferRange prims;                  // out: BvhLeafTriangle[triangleCount]
     vk::BufferRange info;                   // in/out: BvhBuildInfo
@@ -26,7 +28,6 @@ class BoundsPass {
   void record(VkCommandBuffer cmd, const Args& args) const;
 
  private:
-  const vk::Context& ctx_;
   vk::ComputePipeline pipeline_;
 };
 

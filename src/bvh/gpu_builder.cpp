@@ -68,10 +68,13 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
   Passes& passes = *passes_;
   const uint32_t n = triangleCount;
   if (n == 0) throw InputError("bvh: a scene with no triangles has no BVH");
-  if (n > maxTriangles(ctx))
-    throw DeviceError("bvh: " + std::to_string(n) + " triangles exceed the device limit of " +
-                      std::to_string(maxTriangles(ctx)) + " (maxStorageBufferRange " +
-                      std::to_string(ctx.caps().maxStorageBufferRange) + " bytes per binding)");
+  const TriangleLimit limit = triangleLimit(ctx);
+  if (n > limit.triangles)
+    throw DeviceError("bvh: " + std::to_string(n) + " triangles exceed the device's limit of " +
+                      std::to_string(limit.triangles) + " (" + limit.limit + ", " + ctx.caps().deviceName + ")");
+  if (!ctx.caps().bufferDeviceAddress)
+    throw DeviceError("bvh: the GPU build needs bufferDeviceAddress, which device \"" +
+                      ctx.caps().deviceName + "\" lacks");
   if (triangles.size() < uint64_t(n) * sizeof(gpu::scene::Triangle))
     throw DeviceError("bvh: triangle buffer '" + triangles.name() + "' holds fewer than " +
                       std::to_string(n) + " triangles");
@@ -143,8 +146,8 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
     root = n > 1 ? interior.downloadVector<bb::BvhBuildNode>(1)[0] : leaves.downloadVector<bb::BvhBuildNode>(1)[0];
     done = info.downloadVector<bb::BvhBuildInfo>(1)[0];
     uint32_t height = n > 1 ? (root.flags >> bb::kTraversalHeightShift) & bb::kHeightMask : 1;
-    // The LBVH alone has at most 30 + ceil(log2 N) + 1 <= 53 levels (N <= 2^21 on 128 MiB
-    // bindings); restructuring can deepen it, so a tree past the traversal bound is rebuilt
+    // The LBVH alone has at most 30 + ceil(log2 N) + 1 <= 58 levels (N <= 2^27, the leaf
+    // index field); restructuring can deepen it, so a tree past the traversal bound is rebuilt
     // without that step.
     if (height <= gpu::bvh::kBvhMaxDepth || rounds == 0) {
       if (height > gpu::bvh::kBvhMaxDepth)
