@@ -21,7 +21,7 @@ void main() {
   // A flat axis maps every centroid to 0 (no division by zero).
   vec3 scale = vec3(extent.x > 0.0 ? 1.0 / extent.x : 0.0, extent.y > 0.0 ? 1.0 / extent.y : 0.0,
                     extent.z > 0.0 ? 1.0 / extent.z : 0.0);
-  BvhLeafTriangle p = gPrims[i];
+  BvhLeafTriangle p = loadPrim(i);
   vec3 c = 0.5 * (min(min(p.v0.xyz, p.v1.xyz), p.v2.xyz) + max(max(p.v0.xyz, p.v1.xyz), p.v2.xyz));
   precise vec3 u = (c - lo) * scale;
   gKeys[i] = bvhMorton(u.x, u.y, u.z);

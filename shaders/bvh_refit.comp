@@ -13,7 +13,7 @@ layout(local_size_x = kWorkgroupSize) in;
 void main() {
   uint i = bvhBuildItem();
   if (i >= gPush.triangleCount) return;
-  uint p = gLeaves[i].parent;
+  uint p = parentOf(interiorCount() + i);
   while (p != kInvalidNode) {
     climbFence();
     if (atomicAdd(gCounters[p], 1u) == 0u) break;

@@ -45,7 +45,7 @@ const uint kCollapseBit = 0x80000000u;  // in split[]: the subset becomes one le
 void restructure(uint root) {
   Slot slots[kTreeletMaxLeaves];
   uint interior[kTreeletMaxLeaves - 1u];
-  BvhBuildNode rn = gInterior[root];
+  BvhBuildNode rn = loadInterior(root);
   slots[0] = makeSlot(rn.left);
   slots[1] = makeSlot(rn.right);
   interior[0] = root;
@@ -62,7 +62,7 @@ void restructure(uint root) {
     }
     if (best < 0) break;
     uint expanded = slots[best].node;
-    BvhBuildNode e = gInterior[expanded];
+    BvhBuildNode e = loadInterior(expanded);
     interior[ni++] = expanded;
     slots[best] = makeSlot(e.left);
     slots[nl++] = makeSlot(e.right);
@@ -171,7 +171,7 @@ void restructure(uint root) {
     n.right = ids[1];
     n.parent = parentOf[k];
     flagsOf[k] = n.flags;
-    gInterior[interior[k]] = n;
+    storeInterior(interior[k], n);
   }
 }
 

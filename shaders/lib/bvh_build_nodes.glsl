@@ -16,19 +16,7 @@ void climbFence() {
   if (kClimbFences) memoryBarrierBuffer();
 }
 
-uint interiorCount() { return gPush.triangleCount - 1u; }
 bool isLeafNode(uint u) { return u >= interiorCount(); }
-
-// if/else, not ?:, because glslang types a ?: over two blocks' structs inconsistently.
-BvhBuildNode loadNode(uint u) {
-  if (u < interiorCount()) return gInterior[u];
-  return gLeaves[u - interiorCount()];
-}
-
-void setParent(uint u, uint parent) {
-  if (u < interiorCount()) gInterior[u].parent = parent;
-  else gLeaves[u - interiorCount()].parent = parent;
-}
 
 float boxArea(vec3 lo, vec3 hi) {
   vec3 d = max(hi - lo, vec3(0.0));
@@ -58,9 +46,9 @@ BvhBuildNode refitNode(BvhBuildNode n, BvhBuildNode l, BvhBuildNode r, bool isRo
 
 // Refits interior node u from its children in memory and stores it.
 BvhBuildNode refitStored(uint u) {
-  BvhBuildNode n = gInterior[u];
+  BvhBuildNode n = loadInterior(u);
   n = refitNode(n, loadNode(n.left), loadNode(n.right), u == 0u);
-  gInterior[u] = n;
+  storeInterior(u, n);
   return n;
 }
 

@@ -14,11 +14,13 @@
 // sorted order, in two arrays.
 //
 // Scale: the arrays that hold tens of bytes per triangle (scene triangles and vertices, prims,
-// build nodes, the traversal layout) are read and written through buffer device addresses
-// (BuildArrays, GL_EXT_buffer_reference), not descriptors, so one of them may span a whole
-// allocation (maxMemoryAllocationSize: 2 GiB on lavapipe) rather than one binding
-// (maxStorageBufferRange: 128 MiB on lavapipe, i.e. 2.8M build nodes). The 4-byte-per-triangle
-// arrays (keys, values, counters, node lists) stay storage bindings: at 128 MiB they hold 32M.
+// build nodes, the traversal layout: BuildArrays) are storage bindings while each fits one
+// (maxStorageBufferRange: 128 MiB on lavapipe, i.e. 2.1M traversal nodes); past that the build
+// runs pipelines specialised (kBuildSpecByAddress) to reach them through buffer device
+// addresses (GL_EXT_buffer_reference), so one may span a whole allocation
+// (maxMemoryAllocationSize: 2 GiB on lavapipe). lib/bvh_build_arrays.glsl has the accessors.
+// The 4-byte-per-triangle arrays (keys, values, counters, node lists) stay storage bindings:
+// at 128 MiB they hold 32M.
 #ifndef OSR_SHARED_BVH_BUILD_H
 #define OSR_SHARED_BVH_BUILD_H
 #include "shared/types.h"
@@ -64,8 +66,20 @@ struct BvhBuildInfo {
   uint _pad2;
 };
 
-// Device addresses (low word, high word: GL_EXT_buffer_reference_uvec2) of the large arrays,
-// declared for GLSL by lib/bvh_build_arrays.glsl; 0 where a pass does not use one.
+// Binding slots of the large arrays in every pass that includes lib/bvh_build_arrays.glsl; its
+// own bindings follow from kBuildArrayBindingCount.
+OSR_CONST(uint, kBuildBindingTriangles, 0u);
+OSR_CONST(uint, kBuildBindingVertices, 1u);
+OSR_CONST(uint, kBuildBindingPrims, 2u);
+OSR_CONST(uint, kBuildBindingInterior, 3u);
+OSR_CONST(uint, kBuildBindingLeaves, 4u);
+OSR_CONST(uint, kBuildBindingNodes, 5u);
+OSR_CONST(uint, kBuildBindingLeafTriangles, 6u);
+OSR_CONST(uint, kBuildArrayBindingCount, 7u);
+OSR_CONST(uint, kBuildSpecByAddress, 2u);  // spec constant id: bool, read the arrays by address
+
+// Device addresses (low word, high word: GL_EXT_buffer_reference_uvec2) of the large arrays
+// when kBuildSpecByAddress is set; 0 where a pass does not use one.
 struct BuildArrays {
   uvec2 triangles;      // scene Triangle[triangleCount]
   uvec2 vertices;       // scene Vertex[]
@@ -87,14 +101,14 @@ struct BuildPush {
 };
 
 // bvh_bounds: arrays triangles, vertices (in), prims (out).
-OSR_CONST(uint, kBoundsBindingInfo, 0u);
-OSR_CONST(uint, kBoundsBindingCount, 1u);
+OSR_CONST(uint, kBoundsBindingInfo, kBuildArrayBindingCount);
+OSR_CONST(uint, kBoundsBindingCount, kBuildArrayBindingCount + 1u);
 
 // bvh_morton: arrays prims.
-OSR_CONST(uint, kMortonBindingInfo, 0u);
-OSR_CONST(uint, kMortonBindingKeys, 1u);
-OSR_CONST(uint, kMortonBindingValues, 2u);
-OSR_CONST(uint, kMortonBindingCount, 3u);
+OSR_CONST(uint, kMortonBindingInfo, kBuildArrayBindingCount);
+OSR_CONST(uint, kMortonBindingKeys, kBuildArrayBindingCount + 1u);
+OSR_CONST(uint, kMortonBindingValues, kBuildArrayBindingCount + 2u);
+OSR_CONST(uint, kMortonBindingCount, kBuildArrayBindingCount + 3u);
 
 // Radix sort: each invocation owns a chunk of kRadixChunk consecutive keys and keeps its 256
 // digit counters in registers/private memory: no shared memory and no barriers, which lavapipe
@@ -121,13 +135,13 @@ OSR_CONST(uint, kScanBindingPartials, 1u);
 OSR_CONST(uint, kScanBindingCount, 2u);
 
 // bvh_lbvh: arrays prims (in), interior, leaves (out).
-OSR_CONST(uint, kLbvhBindingKeys, 0u);
-OSR_CONST(uint, kLbvhBindingValues, 1u);
-OSR_CONST(uint, kLbvhBindingCount, 2u);
+OSR_CONST(uint, kLbvhBindingKeys, kBuildArrayBindingCount);
+OSR_CONST(uint, kLbvhBindingValues, kBuildArrayBindingCount + 1u);
+OSR_CONST(uint, kLbvhBindingCount, kBuildArrayBindingCount + 2u);
 
 // bvh_refit (climb) and the treelet passes: arrays interior, leaves.
-OSR_CONST(uint, kClimbBindingCounters, 0u);
-OSR_CONST(uint, kClimbBindingCount, 1u);
+OSR_CONST(uint, kClimbBindingCounters, kBuildArrayBindingCount);
+OSR_CONST(uint, kClimbBindingCount, kBuildArrayBindingCount + 1u);
 OSR_CONST(uint, kClimbSpecFences, 1u);  // spec constant id: bool, memory fences around the counter
 
 // Treelet restructuring (Karras & Aila 2013) runs level-synchronously: the nodes to restructure
@@ -143,9 +157,9 @@ OSR_CONST(uint, kTreeletMaxLeaves, 7u);   // 2^7 subsets per dynamic program
 OSR_CONST(uint, kTreeletSpecLeaves, 0u);  // spec constant id: leaves per treelet (3..7)
 // Heights scheduled; a taller tree exceeds kBvhMaxDepth anyway and is rebuilt without treelets.
 OSR_CONST(uint, kTreeletMaxLevels, 128u);
-OSR_CONST(uint, kTreeletBindingSchedule, 1u);  // TreeletLevel[kTreeletMaxLevels], then DispatchArgs[kTreeletMaxLevels]
-OSR_CONST(uint, kTreeletBindingNodeList, 2u);  // uint per interior node
-OSR_CONST(uint, kTreeletBindingCount, 3u);
+OSR_CONST(uint, kTreeletBindingSchedule, kBuildArrayBindingCount + 1u);  // TreeletLevel[kTreeletMaxLevels], then DispatchArgs[kTreeletMaxLevels]
+OSR_CONST(uint, kTreeletBindingNodeList, kBuildArrayBindingCount + 2u);  // uint per interior node
+OSR_CONST(uint, kTreeletBindingCount, kBuildArrayBindingCount + 3u);
 struct TreeletLevel {
   uint count;
   uint offset;
@@ -159,8 +173,8 @@ struct DispatchArgs {
 };
 
 // bvh_emit: arrays interior, leaves, prims (in), nodes, leafTriangles (out).
-OSR_CONST(uint, kEmitBindingInfo, 0u);
-OSR_CONST(uint, kEmitBindingCount, 1u);
+OSR_CONST(uint, kEmitBindingInfo, kBuildArrayBindingCount);
+OSR_CONST(uint, kEmitBindingCount, kBuildArrayBindingCount + 1u);
 
 // A float's bits mapped to a uint that orders like the float (atomicMin/Max on floats).
 OSR_BVH_FN uint bvhOrderedFromBits(uint bits) {

@@ -1,6 +1,8 @@
 #include "bvh/build_passes.h"
 
 #include <algorithm>
+#include <array>
+#include <cstddef>
 #include <optional>
 #include <string>
 
@@ -15,10 +17,14 @@ using bb::BuildPush;
 
 namespace {
 // See climbFence() in shaders/lib/bvh_build_nodes.glsl for why CPU devices run without fences.
-std::vector<vk::SpecConstant> climbSpec(const vk::Context& ctx, uint32_t treeletLeaves) {
-  std::vector<vk::SpecConstant> spec = {vk::specUint(bb::kClimbSpecFences, ctx.caps().isCpu() ? 0u : 1u)};
+std::vector<vk::SpecConstant> climbSpec(const vk::Context& ctx, bool byAddress, uint32_t treeletLeaves) {
+  std::vector<vk::SpecConstant> spec = {vk::specUint(bb::kClimbSpecFences, ctx.caps().isCpu() ? 0u : 1u),
+                                        vk::specUint(bb::kBuildSpecByAddress, byAddress ? 1u : 0u)};
   if (treeletLeaves) spec.push_back(vk::specUint(bb::kTreeletSpecLeaves, treeletLeaves));
   return spec;
+}
+std::vector<vk::SpecConstant> arraySpec(bool byAddress) {
+  return {vk::specUint(bb::kBuildSpecByAddress, byAddress ? 1u : 0u)};
 }
 uint32_t groups(uint64_t items) { return vk::groupCount(std::max<uint64_t>(items, 1), bb::kWorkgroupSize); }
 
@@ -30,45 +36,84 @@ void dispatchItems(const vk::ComputePipeline& p, VkCommandBuffer cmd, uint64_t i
   p.dispatch(cmd, (g + rows - 1) / rows, rows);
 }
 
-glm::uvec2 address(const vk::BufferRange& r) {
-  VkDeviceAddress a = r.buffer->deviceAddress() + r.offset;
-  return {uint32_t(a), uint32_t(a >> 32)};
-}
-glm::uvec2 address(const vk::Buffer* b) { return address(vk::BufferRange(*b)); }
-
-BuildPush push(uint32_t triangleCount, uint32_t param, const bb::BuildArrays& arrays = {}) {
+BuildPush push(uint32_t triangleCount, uint32_t param) {
   BuildPush p{};
   p.triangleCount = triangleCount;
   p.param = param;
-  p.arrays = arrays;
+  return p;
+}
+
+// The arrays in slot order (kBuildBinding*).
+std::array<vk::BufferRange, bb::kBuildArrayBindingCount> slots(const BuildArrayBuffers& a) {
+  std::array<vk::BufferRange, bb::kBuildArrayBindingCount> s;
+  s[bb::kBuildBindingTriangles] = a.triangles;
+  s[bb::kBuildBindingVertices] = a.vertices;
+  s[bb::kBuildBindingPrims] = a.prims;
+  s[bb::kBuildBindingInterior] = a.interior;
+  s[bb::kBuildBindingLeaves] = a.leaves;
+  s[bb::kBuildBindingNodes] = a.nodes;
+  s[bb::kBuildBindingLeafTriangles] = a.leafTriangles;
+  return s;
+}
+
+// Sets the array slots and returns the push block for (triangleCount, param). By address, the
+// push block carries the addresses and each slot only the first maxStorageBufferRange bytes of
+// its array (the shader reads none of it); a slot whose array the pass does not use (unset)
+// takes another array's range.
+BuildPush bindArrays(vk::Binder& binder, const ArrayAccess& access, const BuildArrayBuffers& a,
+                     uint32_t triangleCount, uint32_t param) {
+  const auto ranges = slots(a);
+  const auto filler = std::find_if(ranges.begin(), ranges.end(), [](const vk::BufferRange& r) { return r.buffer; });
+  if (filler == ranges.end()) throw DeviceError("bvh: a build pass got none of its arrays");
+  const VkDeviceSize limit = access.ctx->caps().maxStorageBufferRange / 16 * 16;
+  BuildPush p = push(triangleCount, param);
+  glm::uvec2* addresses = &p.arrays.triangles;  // BuildArrays: one uvec2 per slot, in slot order
+  static_assert(sizeof(bb::BuildArrays) >= bb::kBuildArrayBindingCount * sizeof(glm::uvec2));
+  static_assert(offsetof(bb::BuildArrays, leafTriangles) == bb::kBuildBindingLeafTriangles * sizeof(glm::uvec2));
+  for (uint32_t i = 0; i < bb::kBuildArrayBindingCount; ++i) {
+    vk::BufferRange r = ranges[i].buffer ? ranges[i] : *filler;
+    if (access.byAddress) {
+      if (ranges[i].buffer) {
+        VkDeviceAddress at = r.buffer->deviceAddress() + r.offset;
+        addresses[i] = {uint32_t(at), uint32_t(at >> 32)};
+      }
+      r.size = std::min(r.bytes(), limit);
+    }
+    binder.set(i, r);
+  }
   return p;
 }
 }  // namespace
 
-BoundsPass::BoundsPass(const vk::Context& ctx)
-    : pipeline_(ctx, shaders::Id::bvh_bounds, bb::kBoundsBindingCount, sizeof(BuildPush)) {}
+bool BuildArrayBuffers::pastOneBinding(const vk::Context& ctx) const {
+  for (const vk::BufferRange& r : slots(*this))
+    if (r.buffer && r.bytes() > ctx.caps().maxStorageBufferRange) return true;
+  return false;
+}
+
+BoundsPass::BoundsPass(const vk::Context& ctx, bool byAddress)
+    : access_{&ctx, byAddress},
+      pipeline_(ctx, shaders::Id::bvh_bounds, bb::kBoundsBindingCount, sizeof(BuildPush), arraySpec(byAddress)) {}
 
 void BoundsPass::record(VkCommandBuffer cmd, const Args& a) const {
-  bb::BuildArrays arrays{};
-  arrays.triangles = address(a.triangles);
-  arrays.vertices = address(a.vertices);
-  arrays.prims = address(a.prims);
-  vk::Binder(pipeline_).set(bb::kBoundsBindingInfo, a.info).bind(cmd, push(a.triangleCount, 0, arrays));
+  vk::Binder binder(pipeline_);
+  BuildPush p = bindArrays(binder, access_, *a.arrays, a.triangleCount, 0);
+  binder.set(bb::kBoundsBindingInfo, a.info).bind(cmd, p);
   dispatchItems(pipeline_, cmd, a.triangleCount);
   vk::computeBarrier(cmd);
 }
 
-MortonPass::MortonPass(const vk::Context& ctx)
-    : pipeline_(ctx, shaders::Id::bvh_morton, bb::kMortonBindingCount, sizeof(BuildPush)) {}
+MortonPass::MortonPass(const vk::Context& ctx, bool byAddress)
+    : access_{&ctx, byAddress},
+      pipeline_(ctx, shaders::Id::bvh_morton, bb::kMortonBindingCount, sizeof(BuildPush), arraySpec(byAddress)) {}
 
 void MortonPass::record(VkCommandBuffer cmd, const Args& a) const {
-  bb::BuildArrays arrays{};
-  arrays.prims = address(a.prims);
-  vk::Binder(pipeline_)
-      .set(bb::kMortonBindingInfo, a.info)
+  vk::Binder binder(pipeline_);
+  BuildPush p = bindArrays(binder, access_, *a.arrays, a.triangleCount, 0);
+  binder.set(bb::kMortonBindingInfo, a.info)
       .set(bb::kMortonBindingKeys, a.keys)
       .set(bb::kMortonBindingValues, a.values)
-      .bind(cmd, push(a.triangleCount, 0, arrays));
+      .bind(cmd, p);
   dispatchItems(pipeline_, cmd, a.triangleCount);
   vk::computeBarrier(cmd);
 }
@@ -147,43 +192,39 @@ void RadixSort::record(VkCommandBuffer cmd, const Args& a, vk::GpuTimer* timer) 
   }
 }
 
-LbvhPass::LbvhPass(const vk::Context& ctx)
-    : pipeline_(ctx, shaders::Id::bvh_lbvh, bb::kLbvhBindingCount, sizeof(BuildPush)) {}
+LbvhPass::LbvhPass(const vk::Context& ctx, bool byAddress)
+    : access_{&ctx, byAddress},
+      pipeline_(ctx, shaders::Id::bvh_lbvh, bb::kLbvhBindingCount, sizeof(BuildPush), arraySpec(byAddress)) {}
 
 void LbvhPass::record(VkCommandBuffer cmd, const Args& a) const {
-  bb::BuildArrays arrays{};
-  arrays.prims = address(a.prims);
-  arrays.interior = address(a.interior);
-  arrays.leaves = address(a.leaves);
-  vk::Binder(pipeline_)
-      .set(bb::kLbvhBindingKeys, a.keys)
-      .set(bb::kLbvhBindingValues, a.values)
-      .bind(cmd, push(a.triangleCount, 0, arrays));
+  vk::Binder binder(pipeline_);
+  BuildPush p = bindArrays(binder, access_, *a.arrays, a.triangleCount, 0);
+  binder.set(bb::kLbvhBindingKeys, a.keys).set(bb::kLbvhBindingValues, a.values).bind(cmd, p);
   dispatchItems(pipeline_, cmd, a.triangleCount);
   vk::computeBarrier(cmd);
 }
 
-RefitPass::RefitPass(const vk::Context& ctx)
-    : pipeline_(ctx, shaders::Id::bvh_refit, bb::kClimbBindingCount, sizeof(BuildPush), climbSpec(ctx, 0)) {}
+RefitPass::RefitPass(const vk::Context& ctx, bool byAddress)
+    : access_{&ctx, byAddress},
+      pipeline_(ctx, shaders::Id::bvh_refit, bb::kClimbBindingCount, sizeof(BuildPush), climbSpec(ctx, byAddress, 0)) {}
 
 void RefitPass::record(VkCommandBuffer cmd, const Args& a) const {
   vkCmdFillBuffer(cmd, a.counters->handle(), 0, VK_WHOLE_SIZE, 0);
   vk::transferBarrier(cmd);
-  bb::BuildArrays arrays{};
-  arrays.interior = address(a.interior);
-  arrays.leaves = address(a.leaves);
-  vk::Binder(pipeline_)
-      .set(bb::kClimbBindingCounters, *a.counters)
-      .bind(cmd, push(a.triangleCount, 0, arrays));
+  vk::Binder binder(pipeline_);
+  BuildPush p = bindArrays(binder, access_, *a.arrays, a.triangleCount, 0);
+  binder.set(bb::kClimbBindingCounters, *a.counters).bind(cmd, p);
   dispatchItems(pipeline_, cmd, a.triangleCount);
   vk::computeBarrier(cmd);
 }
 
-TreeletPass::TreeletPass(const vk::Context& ctx, uint32_t treeletLeaves)
-    : count_(ctx, shaders::Id::bvh_treelet_count, bb::kTreeletBindingCount, sizeof(BuildPush), climbSpec(ctx, 0)),
-      plan_(ctx, shaders::Id::bvh_treelet_plan, bb::kTreeletBindingCount, sizeof(BuildPush), climbSpec(ctx, 0)),
-      scatter_(ctx, shaders::Id::bvh_treelet_scatter, bb::kTreeletBindingCount, sizeof(BuildPush), climbSpec(ctx, 0)),
-      treelet_(ctx, shaders::Id::bvh_treelet, bb::kTreeletBindingCount, sizeof(BuildPush), climbSpec(ctx, treeletLeaves)) {
+TreeletPass::TreeletPass(const vk::Context& ctx, uint32_t treeletLeaves, bool byAddress)
+    : access_{&ctx, byAddress},
+      count_(ctx, shaders::Id::bvh_treelet_count, bb::kTreeletBindingCount, sizeof(BuildPush), climbSpec(ctx, byAddress, 0)),
+      plan_(ctx, shaders::Id::bvh_treelet_plan, bb::kTreeletBindingCount, sizeof(BuildPush), climbSpec(ctx, byAddress, 0)),
+      scatter_(ctx, shaders::Id::bvh_treelet_scatter, bb::kTreeletBindingCount, sizeof(BuildPush), climbSpec(ctx, byAddress, 0)),
+      treelet_(ctx, shaders::Id::bvh_treelet, bb::kTreeletBindingCount, sizeof(BuildPush),
+               climbSpec(ctx, byAddress, treeletLeaves)) {
   if (treeletLeaves < 3 || treeletLeaves > bb::kTreeletMaxLeaves)
     throw InputError("bvh: treelet size " + std::to_string(treeletLeaves) + " outside 3.." +
                      std::to_string(bb::kTreeletMaxLeaves));
@@ -199,13 +240,11 @@ void TreeletPass::record(VkCommandBuffer cmd, const Args& a, vk::GpuTimer* timer
   scope.emplace(timer, cmd, "bvh_treelet_schedule");
   vkCmdFillBuffer(cmd, a.schedule->handle(), 0, VK_WHOLE_SIZE, 0);
   vk::transferBarrier(cmd);
-  bb::BuildArrays arrays{};
-  arrays.interior = address(a.interior);
-  arrays.leaves = address(a.leaves);
-  const BuildPush schedulePush = push(a.triangleCount, a.minTriangles, arrays);
+  BuildPush schedulePush{};
   // The four treelet pipelines bind the same buffers at the same slots.
   auto binder = [&](const vk::ComputePipeline& p) {
     vk::Binder b(p);
+    schedulePush = bindArrays(b, access_, *a.arrays, a.triangleCount, a.minTriangles);
     b.set(bb::kClimbBindingCounters, a.counters)
         .set(bb::kTreeletBindingSchedule, *a.schedule)
         .set(bb::kTreeletBindingNodeList, a.nodeList);
@@ -225,24 +264,23 @@ void TreeletPass::record(VkCommandBuffer cmd, const Args& a, vk::GpuTimer* timer
   // Height 0 holds no restructurable node (leaves and collapsed subtrees).
   const uint64_t argsOffset = bb::kTreeletMaxLevels * sizeof(bb::TreeletLevel);
   const vk::Binder treelet = binder(treelet_);
+  BuildPush levelPush = schedulePush;
   for (uint32_t h = 1; h < bb::kTreeletMaxLevels; ++h) {
-    treelet.bind(cmd, push(a.triangleCount, h, arrays));
+    levelPush.param = h;
+    treelet.bind(cmd, levelPush);
     treelet_.dispatchIndirect(cmd, *a.schedule, argsOffset + h * sizeof(bb::DispatchArgs));
     vk::computeBarrier(cmd);
   }
 }
 
-EmitPass::EmitPass(const vk::Context& ctx)
-    : pipeline_(ctx, shaders::Id::bvh_emit, bb::kEmitBindingCount, sizeof(BuildPush)) {}
+EmitPass::EmitPass(const vk::Context& ctx, bool byAddress)
+    : access_{&ctx, byAddress},
+      pipeline_(ctx, shaders::Id::bvh_emit, bb::kEmitBindingCount, sizeof(BuildPush), arraySpec(byAddress)) {}
 
 void EmitPass::record(VkCommandBuffer cmd, const Args& a) const {
-  bb::BuildArrays arrays{};
-  arrays.interior = address(a.interior);
-  arrays.leaves = address(a.leaves);
-  arrays.prims = address(a.prims);
-  arrays.nodes = address(a.nodes);
-  arrays.leafTriangles = address(a.leafTriangles);
-  vk::Binder(pipeline_).set(bb::kEmitBindingInfo, a.info).bind(cmd, push(a.triangleCount, 0, arrays));
+  vk::Binder binder(pipeline_);
+  BuildPush p = bindArrays(binder, access_, *a.arrays, a.triangleCount, 0);
+  binder.set(bb::kEmitBindingInfo, a.info).bind(cmd, p);
   dispatchItems(pipeline_, cmd, std::max<uint32_t>(a.triangleCount - 1, 1));
   vk::computeBarrier(cmd);
 }

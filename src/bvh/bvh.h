@@ -54,6 +54,7 @@ struct BuildStats {
   double totalMs = 0;                // GPU build: sum of passes; host build: wall time
   double sahCost = 0;                // under kSahNodeCost / kSahTriangleCost
   uint32_t depth = 0;                // nodes on the longest root-to-leaf path
+  uint64_t scratchBytes = 0;         // GPU build: temporary buffers, freed when it returns
 };
 
 // Builds on the device by compute passes from the scene's Vertex and Triangle buffers (world

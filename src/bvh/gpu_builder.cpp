@@ -33,9 +33,9 @@ struct GpuBuilder::Passes {
   RefitPass refit;
   TreeletPass treelet;
   EmitPass emit;
-  Passes(const vk::Context& ctx, uint32_t treeletLeaves)
-      : bounds(ctx), morton(ctx), sort(ctx), lbvh(ctx), refit(ctx), treelet(ctx, treeletLeaves),
-        emit(ctx) {}
+  Passes(const vk::Context& ctx, uint32_t treeletLeaves, bool byAddress)
+      : bounds(ctx, byAddress), morton(ctx, byAddress), sort(ctx), lbvh(ctx, byAddress), refit(ctx, byAddress),
+        treelet(ctx, treeletLeaves, byAddress), emit(ctx, byAddress) {}
 };
 
 namespace {
@@ -57,7 +57,7 @@ Bvh buildGpu(const vk::Context& ctx, const vk::Buffer& vertices, const vk::Buffe
 }
 
 GpuBuilder::GpuBuilder(const vk::Context& ctx, const GpuBuildOptions& options)
-    : ctx_(ctx), options_(options), passes_(std::make_unique<Passes>(ctx, options.treeletLeaves)) {}
+    : ctx_(ctx), options_(options), passes_(std::make_unique<Passes>(ctx, options.treeletLeaves, false)) {}
 
 GpuBuilder::~GpuBuilder() = default;
 
@@ -65,16 +65,12 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
                       uint32_t triangleCount, BuildStats* stats) const {
   const vk::Context& ctx = ctx_;
   const GpuBuildOptions& options = options_;
-  Passes& passes = *passes_;
   const uint32_t n = triangleCount;
   if (n == 0) throw InputError("bvh: a scene with no triangles has no BVH");
   const TriangleLimit limit = triangleLimit(ctx);
   if (n > limit.triangles)
     throw DeviceError("bvh: " + std::to_string(n) + " triangles exceed the device's limit of " +
                       std::to_string(limit.triangles) + " (" + limit.limit + ", " + ctx.caps().deviceName + ")");
-  if (!ctx.caps().bufferDeviceAddress)
-    throw DeviceError("bvh: the GPU build needs bufferDeviceAddress, which device \"" +
-                      ctx.caps().deviceName + "\" lacks");
   if (triangles.size() < uint64_t(n) * sizeof(gpu::scene::Triangle))
     throw DeviceError("bvh: triangle buffer '" + triangles.name() + "' holds fewer than " +
                       std::to_string(n) + " triangles");
@@ -93,6 +89,10 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
   vk::Buffer counters = scratch(ctx, 4ull * interiorCount, "bvh climb counters");
   vk::Buffer schedule = scratch(ctx, TreeletPass::scheduleBytes(), "bvh treelet schedule");
   vk::Buffer nodeList = scratch(ctx, 4ull * interiorCount, "bvh treelet node list");
+  uint64_t scratchBytes = 0;
+  for (const vk::Buffer* b : {&prims, &info, &keys, &keysTmp, &values, &valuesTmp, &hist, &partials, &interior,
+                              &leaves, &counters, &schedule, &nodeList})
+    scratchBytes += b->size();
 
   Bvh bvh;
   bvh.nodeCount = interiorCount;
@@ -100,6 +100,24 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
   bvh.nodes = vk::Buffer(ctx, uint64_t(interiorCount) * sizeof(gpu::bvh::BvhNode), vk::MemoryUse::DeviceLocal, "bvh nodes", Bvh::kExtraUsage);
   bvh.leafData = vk::Buffer(ctx, uint64_t(n) * sizeof(gpu::bvh::BvhLeafTriangle), vk::MemoryUse::DeviceLocal, "bvh leaf triangles", Bvh::kExtraUsage);
   bvh.makeTexelViews(ctx);
+
+  BuildArrayBuffers arrays;
+  arrays.triangles = vk::BufferRange(triangles, 0, uint64_t(n) * sizeof(gpu::scene::Triangle));
+  arrays.vertices = vertices;
+  arrays.prims = prims;
+  arrays.interior = interior;
+  arrays.leaves = leaves;
+  arrays.nodes = bvh.nodes;
+  arrays.leafTriangles = bvh.leafData;
+  // Past one binding, pipelines that reach the arrays by address (made on first need: on
+  // lavapipe an address load costs about twice a binding's, lib/bvh_build_arrays.glsl).
+  const bool byAddress = arrays.pastOneBinding(ctx);
+  if (byAddress && !ctx.caps().bufferDeviceAddress)
+    throw DeviceError("bvh: " + std::to_string(n) + " triangles need arrays past maxStorageBufferRange (" +
+                      std::to_string(ctx.caps().maxStorageBufferRange >> 20) + " MiB), read by device address, which \"" +
+                      ctx.caps().deviceName + "\" lacks (bufferDeviceAddress)");
+  if (byAddress && !addressPasses_) addressPasses_ = std::make_unique<Passes>(ctx, options.treeletLeaves, true);
+  Passes& passes = byAddress ? *addressPasses_ : *passes_;
 
   vk::GpuTimer timer(ctx, 256);
   bb::BvhBuildInfo initial{};
@@ -113,29 +131,28 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
     vk::transferBarrier(cmd);
     {
       vk::TimedScope scope(&timer, cmd, "bvh_bounds");
-      passes.bounds.record(cmd, {&vertices, &triangles, prims, info, n});
+      passes.bounds.record(cmd, {&arrays, info, n});
     }
     {
       vk::TimedScope scope(&timer, cmd, "bvh_morton");
-      passes.morton.record(cmd, {prims, info, keys, values, n});
+      passes.morton.record(cmd, {&arrays, info, keys, values, n});
     }
     passes.sort.record(cmd, {keys, values, keysTmp, valuesTmp, hist, partials, n}, &timer);
     {
       vk::TimedScope scope(&timer, cmd, "bvh_lbvh");
-      passes.lbvh.record(cmd, {keys, values, prims, interior, leaves, n});
+      passes.lbvh.record(cmd, {&arrays, keys, values, n});
     }
     if (n > 1) {
       vk::TimedScope scope(&timer, cmd, "bvh_refit");
-      passes.refit.record(cmd, {interior, leaves, &counters, n});
+      passes.refit.record(cmd, {&arrays, &counters, n});
     }
     for (uint32_t round = 0; round < treeletRounds && n > 2; ++round) {
       // Karras & Aila grow the smallest restructured subtree each round: the bottom levels
       // improve most in the first round, later rounds polish the upper tree at less cost.
-      passes.treelet.record(cmd, {interior, leaves, counters, &schedule, nodeList, n, options.treeletMinTriangles << round},
-                            &timer);
+      passes.treelet.record(cmd, {&arrays, counters, &schedule, nodeList, n, options.treeletMinTriangles << round}, &timer);
     }
     vk::TimedScope scope(&timer, cmd, "bvh_emit");
-    passes.emit.record(cmd, {interior, leaves, prims, info, bvh.nodes, bvh.leafData, n});
+    passes.emit.record(cmd, {&arrays, info, n});
   };
 
   uint32_t rounds = options.treeletRounds;
@@ -178,6 +195,7 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
     // One triangle: the root node over a single leaf (root.cost is that leaf's).
     double cost = n > 1 ? root.cost : gpu::bvh::kSahNodeCost * area + root.cost;
     stats->sahCost = area > 0 ? cost / area : 0.0;
+    stats->scratchBytes = scratchBytes;
   }
   return bvh;
 }
