@@ -12,12 +12,19 @@
 layout(local_size_x = kWorkgroupSize) in;
 layout(std430, binding = kLbvhBindingKeys) readonly buffer Keys { uint gKeys[]; };
 layout(std430, binding = kLbvhBindingValues) readonly buffer Values { uint gValues[]; };
+layout(binding = kLbvhBindingKeyTexels) uniform usamplerBuffer gKeyTexels;
+layout(constant_id = kLbvhSpecKeyTexels) const bool kKeyTexels = true;
+
+uint sortedKey(int i) {
+  if (kKeyTexels) return texelFetch(gKeyTexels, i).x;
+  return gKeys[i];
+}
 
 // Length of the common prefix of (key, index) at sorted positions i and j; -1 outside.
 int delta(int i, int j) {
   int n = int(gPush.triangleCount);
   if (j < 0 || j >= n) return -1;
-  uint a = gKeys[i], b = gKeys[j];
+  uint a = sortedKey(i), b = sortedKey(j);
   if (a != b) return 31 - findMSB(a ^ b);
   return 32 + 31 - findMSB(uint(i ^ j));
 }

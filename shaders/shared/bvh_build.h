@@ -134,10 +134,15 @@ OSR_CONST(uint, kScanBindingData, 0u);
 OSR_CONST(uint, kScanBindingPartials, 1u);
 OSR_CONST(uint, kScanBindingCount, 2u);
 
-// bvh_lbvh: arrays prims (in), interior, leaves (out).
+// bvh_lbvh: arrays prims (in), interior, leaves (out). The binary searches of its delta() read
+// the sorted keys at scattered indices; where spec constant kLbvhSpecKeyTexels is set they come
+// from an R32UI texel view of the keys (on lavapipe a texel fetch is a gather, a storage load a
+// loop over the SIMD lanes), else from the storage binding.
 OSR_CONST(uint, kLbvhBindingKeys, kBuildArrayBindingCount);
 OSR_CONST(uint, kLbvhBindingValues, kBuildArrayBindingCount + 1u);
-OSR_CONST(uint, kLbvhBindingCount, kBuildArrayBindingCount + 2u);
+OSR_CONST(uint, kLbvhBindingKeyTexels, kBuildArrayBindingCount + 2u);
+OSR_CONST(uint, kLbvhBindingCount, kBuildArrayBindingCount + 3u);
+OSR_CONST(uint, kLbvhSpecKeyTexels, 3u);  // spec constant id: bool
 
 // bvh_refit (climb) and the treelet passes: arrays interior, leaves.
 OSR_CONST(uint, kClimbBindingCounters, kBuildArrayBindingCount);

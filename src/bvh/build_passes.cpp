@@ -192,14 +192,33 @@ void RadixSort::record(VkCommandBuffer cmd, const Args& a, vk::GpuTimer* timer) 
   }
 }
 
+namespace {
+std::vector<VkDescriptorType> lbvhTypes() {
+  std::vector<VkDescriptorType> t(bb::kLbvhBindingCount, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
+  t[bb::kLbvhBindingKeyTexels] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+  return t;
+}
+// Key texels where a view reaches as far as a keys binding can (triangleLimit bounds the keys
+// by maxStorageBufferRange): 128M texels on lavapipe against 32M keys.
+std::vector<vk::SpecConstant> lbvhSpec(const vk::Context& ctx, bool byAddress) {
+  bool texels = uint64_t(ctx.caps().maxTexelBufferElements) * 4 >= ctx.caps().maxStorageBufferRange;
+  std::vector<vk::SpecConstant> spec = arraySpec(byAddress);
+  spec.push_back(vk::specUint(bb::kLbvhSpecKeyTexels, texels ? 1u : 0u));
+  return spec;
+}
+}  // namespace
+
 LbvhPass::LbvhPass(const vk::Context& ctx, bool byAddress)
     : access_{&ctx, byAddress},
-      pipeline_(ctx, shaders::Id::bvh_lbvh, bb::kLbvhBindingCount, sizeof(BuildPush), arraySpec(byAddress)) {}
+      pipeline_(ctx, shaders::Id::bvh_lbvh, lbvhTypes(), sizeof(BuildPush), lbvhSpec(ctx, byAddress)) {}
 
 void LbvhPass::record(VkCommandBuffer cmd, const Args& a) const {
   vk::Binder binder(pipeline_);
   BuildPush p = bindArrays(binder, access_, *a.arrays, a.triangleCount, 0);
-  binder.set(bb::kLbvhBindingKeys, a.keys).set(bb::kLbvhBindingValues, a.values).bind(cmd, p);
+  binder.set(bb::kLbvhBindingKeys, a.keys)
+      .set(bb::kLbvhBindingValues, a.values)
+      .setTexel(bb::kLbvhBindingKeyTexels, a.keyTexels)
+      .bind(cmd, p);
   dispatchItems(pipeline_, cmd, a.triangleCount);
   vk::computeBarrier(cmd);
 }

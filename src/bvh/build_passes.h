@@ -110,9 +110,12 @@ class RadixSort {
 class LbvhPass {
  public:
   LbvhPass(const vk::Context& ctx, bool byAddress);
+  // Usage the keys buffer needs on top of storage use (its R32UI view, keyTexels).
+  static constexpr VkBufferUsageFlags kKeysUsage = VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT;
   struct Args {
     const BuildArrayBuffers* arrays = nullptr;
     vk::BufferRange keys, values;
+    VkBufferView keyTexels = VK_NULL_HANDLE;  // R32UI view of keys (vk::BufferView::uintWords)
     uint32_t triangleCount = 0;
   };
   void record(VkCommandBuffer cmd, const Args& args) const;

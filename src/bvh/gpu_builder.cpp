@@ -40,8 +40,8 @@ struct GpuBuilder::Passes {
 
 namespace {
 
-vk::Buffer scratch(const vk::Context& ctx, uint64_t bytes, const char* name) {
-  return vk::Buffer(ctx, std::max<uint64_t>(bytes, 16), vk::MemoryUse::DeviceLocal, name);
+vk::Buffer scratch(const vk::Context& ctx, uint64_t bytes, const char* name, VkBufferUsageFlags extraUsage = 0) {
+  return vk::Buffer(ctx, std::max<uint64_t>(bytes, 16), vk::MemoryUse::DeviceLocal, name, extraUsage);
 }
 
 }  // namespace
@@ -79,7 +79,7 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
 
   vk::Buffer prims = scratch(ctx, uint64_t(n) * sizeof(gpu::bvh::BvhLeafTriangle), "bvh prims");
   vk::Buffer info = scratch(ctx, sizeof(bb::BvhBuildInfo), "bvh build info");
-  vk::Buffer keys = scratch(ctx, 4ull * n, "bvh keys"), keysTmp = scratch(ctx, 4ull * n, "bvh keys tmp");
+  vk::Buffer keys = scratch(ctx, 4ull * n, "bvh keys", LbvhPass::kKeysUsage), keysTmp = scratch(ctx, 4ull * n, "bvh keys tmp");
   vk::Buffer values = scratch(ctx, 4ull * n, "bvh values"), valuesTmp = scratch(ctx, 4ull * n, "bvh values tmp");
   uint64_t histBytes = RadixSort::histogramBytes(n);
   vk::Buffer hist = scratch(ctx, histBytes, "bvh radix histogram");
@@ -101,6 +101,8 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
   bvh.leafData = vk::Buffer(ctx, uint64_t(n) * sizeof(gpu::bvh::BvhLeafTriangle), vk::MemoryUse::DeviceLocal, "bvh leaf triangles", Bvh::kExtraUsage);
   bvh.makeTexelViews(ctx);
 
+  // Where the sort leaves the keys (an even number of rounds), for bvh_lbvh's texel reads.
+  const vk::BufferView keyTexels = vk::BufferView::uintWords(ctx, keys, "bvh key texels");
   BuildArrayBuffers arrays;
   arrays.triangles = vk::BufferRange(triangles, 0, uint64_t(n) * sizeof(gpu::scene::Triangle));
   arrays.vertices = vertices;
@@ -140,7 +142,7 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
     passes.sort.record(cmd, {keys, values, keysTmp, valuesTmp, hist, partials, n}, &timer);
     {
       vk::TimedScope scope(&timer, cmd, "bvh_lbvh");
-      passes.lbvh.record(cmd, {&arrays, keys, values, n});
+      passes.lbvh.record(cmd, {&arrays, keys, values, keyTexels.handle(), n});
     }
     if (n > 1) {
       vk::TimedScope scope(&timer, cmd, "bvh_refit");
