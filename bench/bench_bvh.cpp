@@ -26,6 +26,8 @@ double msSince(std::chrono::steady_clock::time_point start) {
 int runBvh(const std::vector<std::string>& argv) {
   app::Args args(argv, "bvh");
   std::string only = args.value("--scene").value_or("");
+  uint32_t triangles = uint32_t(args.integer("--triangles", 1, 1ll << 27).value_or(0));
+  bool cpuReference = !args.flag("--no-cpu-reference");
   int repeat = int(args.integer("--repeat", 1, 100).value_or(3));
   bvh::GpuBuildOptions options;
   options.treeletRounds = uint32_t(args.integer("--treelet-rounds", 0, 8).value_or(options.treeletRounds));
@@ -36,7 +38,7 @@ int runBvh(const std::vector<std::string>& argv) {
   args.finish();
   vk::Context ctx;
   bvh::GpuBuilder builder(ctx, options);
-  for (const BvhBenchScene& s : bvhBenchScenes(only)) {
+  for (const BvhBenchScene& s : bvhBenchScenes(only, triangles)) {
     const auto& m = s.mesh;
     const uint32_t n = uint32_t(m.triangles.size());
     vk::Buffer vertices(ctx, m.vertices.size() * sizeof(gpu::scene::Vertex), vk::MemoryUse::DeviceLocal, "bench vertices");
@@ -46,7 +48,13 @@ int runBvh(const std::vector<std::string>& argv) {
 
     // Verify, then time the best of `repeat` builds (GPU timestamps; wall time alongside).
     bvh::BuildStats stats;
-    bvh::HostBvh gpuTree = bvh::download(builder.build(vertices, triangles, n, &stats));
+    uint64_t bvhBytes = 0;
+    bvh::HostBvh gpuTree;
+    {
+      bvh::Bvh tree = builder.build(vertices, triangles, n, &stats);
+      bvhBytes = tree.nodes.size() + tree.leafData.size();
+      gpuTree = bvh::download(tree);
+    }
     std::string problem = bvh::checkInvariants(gpuTree, m.vertices, m.triangles);
     if (!problem.empty()) {
       std::fprintf(stderr, "osr-bench bvh: %s: GPU tree invalid: %s\n", s.name.c_str(), problem.c_str());
@@ -64,18 +72,33 @@ int runBvh(const std::vector<std::string>& argv) {
       bestWall = std::min(bestWall, msSince(start));
       if (stats.totalMs < best.totalMs) best = stats;
     }
-    auto cpuStart = std::chrono::steady_clock::now();
-    bvh::HostBvh cpuTree = bvh::buildCpu(m.vertices, m.triangles);
-    double cpuMs = msSince(cpuStart);
-    double sahCpu = bvh::sahCost(cpuTree);
+    double cpuMs = 0, sahCpu = 0;
+    if (cpuReference) {
+      auto cpuStart = std::chrono::steady_clock::now();
+      bvh::HostBvh cpuTree = bvh::buildCpu(m.vertices, m.triangles);
+      cpuMs = msSince(cpuStart);
+      sahCpu = bvh::sahCost(cpuTree);
+    }
 
     JsonLine line;
     line.str("bench", "bvh").str("scene", s.name).integer("triangles", n).str("device", ctx.caps().deviceName);
     line.num("build_ms", best.totalMs).num("mtris_per_s", n / (best.totalMs * 1e3));
-    line.num("sah_gpu", sahGpu).num("sah_cpu", sahCpu).num("sah_ratio", sahGpu / sahCpu);
+    line.num("sah_gpu", sahGpu);
+    if (cpuReference) line.num("sah_cpu", sahCpu).num("sah_ratio", sahGpu / sahCpu);
     line.integer("treelet_rounds", options.treeletRounds).integer("treelet_leaves", options.treeletLeaves);
     line.integer("treelet_min_triangles", options.treeletMinTriangles);
-    line.integer("depth", bvh::depth(gpuTree)).num("wall_ms", bestWall).num("cpu_time_ms", bestCpu).num("cpu_build_ms", cpuMs);
+    line.integer("depth", bvh::depth(gpuTree)).num("wall_ms", bestWall).num("cpu_time_ms", bestCpu);
+    if (cpuReference) line.num("cpu_build_ms", cpuMs);
+    // Memory per triangle. Device: the scene's vertex and triangle buffers, the BVH the renderer
+    // keeps, and the build's scratch (freed after the build). Host: the mesh arrays; the peak
+    // resident size covers the whole process (on lavapipe, device memory too).
+    const double perTri = 1.0 / n;
+    line.num("device_scene_bytes_per_triangle", double(vertices.size() + triangles.size()) * perTri)
+        .num("device_bvh_bytes_per_triangle", double(bvhBytes) * perTri)
+        .num("device_build_scratch_bytes_per_triangle", double(stats.scratchBytes) * perTri)
+        .num("host_scene_bytes_per_triangle",
+             double(m.vertices.size() * sizeof(gpu::scene::Vertex) + m.triangles.size() * sizeof(gpu::scene::Triangle)) * perTri)
+        .num("peak_rss_mib", double(peakRssBytes()) / (1 << 20));
     for (const auto& p : best.passes) line.num(("pass_" + p.name + "_ms").c_str(), p.ms);
 #ifdef OSR_HAVE_EMBREE
     EmbreePeer peer(m, 2);
@@ -91,8 +114,8 @@ int runBvh(const std::vector<std::string>& argv) {
     }
     line.num("build_ratio_vs_embree", best.totalMs / embreeMs).num("cpu_time_ratio_vs_embree", bestCpu / embreeCpu);
     line.print();
-    JsonLine()
-        .str("bench", "bvh")
+    JsonLine peerLine;
+    peerLine.str("bench", "bvh")
         .str("peer", "embree")
         .str("scene", s.name)
         .integer("triangles", n)
@@ -100,11 +123,9 @@ int runBvh(const std::vector<std::string>& argv) {
         .num("build_ms", embreeMs)
         .num("mtris_per_s", n / (embreeMs * 1e3))
         .num("cpu_time_ms", embreeCpu)
-        .num("sah_embree", binary.sah)
-        .num("sah_cpu", sahCpu)
-        .num("bvh_build_ms", binary.ms)
-        .integer("depth", binary.depth)
-        .print();
+        .num("sah_embree", binary.sah);
+    if (cpuReference) peerLine.num("sah_cpu", sahCpu);
+    peerLine.num("bvh_build_ms", binary.ms).integer("depth", binary.depth).print();
 #else
     line.print();
 #endif

@@ -99,6 +99,7 @@ double agreement(const std::vector<TraceHit>& a, const std::vector<TraceHit>& b,
 int runTrace(const std::vector<std::string>& argv) {
   app::Args args(argv, "trace");
   std::string only = args.value("--scene").value_or("");
+  uint32_t triangles = uint32_t(args.integer("--triangles", 1, 1ll << 27).value_or(0));
   uint32_t side = uint32_t(args.integer("--side", 16, 2048).value_or(1024));  // rays = side^2
   int repeat = int(args.integer("--repeat", 1, 100).value_or(3));
   // How traversal reads the BVH (shared/bvh.h); default: the device's choice.
@@ -115,7 +116,7 @@ int runTrace(const std::vector<std::string>& argv) {
   bvh::GpuBuilder builder(ctx);
   bvh::TraceRaysPass pass(ctx, false, access);
   vk::GpuTimer timer(ctx);
-  for (const BvhBenchScene& s : bvhBenchScenes(only)) {
+  for (const BvhBenchScene& s : bvhBenchScenes(only, triangles)) {
     const auto& m = s.mesh;
     const uint32_t n = uint32_t(m.triangles.size());
     vk::Buffer vertices(ctx, m.vertices.size() * sizeof(gpu::scene::Vertex), vk::MemoryUse::DeviceLocal, "bench vertices");

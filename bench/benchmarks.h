@@ -22,9 +22,12 @@ inline constexpr char kPathtraceUsage[] =
 int runPathtrace(const std::vector<std::string>& args);  // path tracer spp/s, Mpaths/s
 inline constexpr char kBvhSummary[] = "GPU BVH build time and quality against CPU SAH and Embree";
 inline constexpr char kBvhUsage[] =
-    "osr-bench bvh [--scene NAME] [--repeat N] [--treelet-rounds N] [--treelet-leaves N]\n"
-    "              [--treelet-min-triangles N]\n"
+    "osr-bench bvh [--scene NAME | --triangles N] [--repeat N] [--treelet-rounds N]\n"
+    "              [--treelet-leaves N] [--treelet-min-triangles N] [--no-cpu-reference]\n"
     "  --scene NAME               generated_1m, cornell or room (default: all)\n"
+    "  --triangles N              instead, a displaced sphere of at least N triangles, 1 to the\n"
+    "                             device's limit (scale: memory per triangle)\n"
+    "  --no-cpu-reference         skip the CPU binned-SAH build (slow past millions of triangles)\n"
     "  --repeat N                 builds timed per scene, 1 to 100 (default 3)\n"
     "  --treelet-rounds N         treelet optimization rounds, 0 to 8\n"
     "  --treelet-leaves N         leaves per treelet, 3 to the build's maximum\n"
@@ -32,8 +35,10 @@ inline constexpr char kBvhUsage[] =
 int runBvh(const std::vector<std::string>& args);   // GPU BVH build vs CPU SAH and Embree
 inline constexpr char kTraceSummary[] = "rays/s of BVH traversal against Embree";
 inline constexpr char kTraceUsage[] =
-    "osr-bench trace [--scene NAME] [--side N] [--repeat N] [--bvh-access auto|storage|texel]\n"
+    "osr-bench trace [--scene NAME | --triangles N] [--side N] [--repeat N]\n"
+    "                [--bvh-access auto|storage|texel]\n"
     "  --scene NAME       generated_1m, cornell or room (default: all)\n"
+    "  --triangles N      instead, a displaced sphere of at least N triangles\n"
     "  --side N           rays = N x N, 16 to 2048 (default 1024)\n"
     "  --repeat N         timed repeats, 1 to 100 (default 3)\n"
     "  --bvh-access MODE  how traversal reads the BVH: storage buffers, texel fetches or the\n"

@@ -2,14 +2,28 @@
 
 #include <sys/resource.h>
 
+#include <cmath>
+
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "common/error.h"
 
 namespace osr::bench {
 
-std::vector<BvhBenchScene> bvhBenchScenes(const std::string& only) {
+std::vector<BvhBenchScene> bvhBenchScenes(const std::string& only, uint32_t triangles) {
   std::vector<BvhBenchScene> out;
+  if (triangles > 0) {
+    // rings x 2 rings quads of 2 triangles: 4 rings^2 >= triangles.
+    uint32_t rings = uint32_t(std::ceil(std::sqrt(triangles / 4.0)));
+    BvhBenchScene s;
+    s.mesh = bvh::makeSphere({0, 0, 0}, 1.0f, 2 * rings, rings, 0.15f);
+    s.name = "sphere_" + std::to_string(s.mesh.triangles.size());
+    // Outside, looking at the bumps.
+    s.worldFromCamera = glm::inverse(glm::lookAt(glm::vec3(0.4f, 0.9f, 3.0f), glm::vec3(0), glm::vec3(0, 1, 0)));
+    s.yfov = 0.8f;
+    out.push_back(std::move(s));
+    return out;
+  }
   if (only.empty() || only == "generated_1m") {
     // A displaced sphere (1,000,000 triangles) around a cloud of 50,000 small triangles: long
     // thin triangles near the poles, a dense interior, and rays that cross both.
@@ -37,6 +51,12 @@ std::vector<BvhBenchScene> bvhBenchScenes(const std::string& only) {
   }
   if (out.empty()) throw InputError("unknown scene '" + only + "' (generated_1m, cornell, room)");
   return out;
+}
+
+uint64_t peakRssBytes() {
+  rusage usage{};
+  getrusage(RUSAGE_SELF, &usage);
+  return uint64_t(usage.ru_maxrss) * 1024;  // kilobytes on Linux
 }
 
 double processCpuMs() {

@@ -18,8 +18,13 @@ struct BvhBenchScene {
   float yfov = 0.8f;
 };
 
-// `only` empty: all scenes; else the one with that name (InputError when unknown).
-std::vector<BvhBenchScene> bvhBenchScenes(const std::string& only);
+// `only` empty: all scenes; else the one with that name (InputError when unknown). triangles > 0
+// instead gives one scene, "sphere_<N>": a displaced sphere of at least that many triangles
+// (for scale: memory per triangle, scenes past one binding).
+std::vector<BvhBenchScene> bvhBenchScenes(const std::string& only, uint32_t triangles = 0);
+
+// Peak resident memory of the process so far, in bytes (on lavapipe it includes device memory).
+uint64_t peakRssBytes();
 
 // CPU time of the whole process (every thread: lavapipe's workers, Embree's) in ms. On a
 // machine shared with other jobs, wall time swings with their load; the CPU time a phase

@@ -8,23 +8,10 @@
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
 #extension GL_KHR_shader_subgroup_ballot : require
-#include "shared/bvh_build.h"
+#include "lib/bvh_build_arrays.glsl"
 
 layout(local_size_x = kWorkgroupSize) in;
-layout(std430, binding = kEmitBindingInterior) readonly buffer Interior { BvhBuildNode gInterior[]; };
-layout(std430, binding = kEmitBindingLeaves) readonly buffer Leaves { BvhBuildNode gLeaves[]; };
-layout(std430, binding = kEmitBindingPrims) readonly buffer Prims { BvhLeafTriangle gPrims[]; };
 layout(std430, binding = kEmitBindingInfo) buffer Info { BvhBuildInfo gInfo; };
-layout(std430, binding = kEmitBindingNodes) writeonly buffer Nodes { BvhNode gNodes[]; };
-layout(std430, binding = kEmitBindingLeafTriangles) writeonly buffer LeafTris { BvhLeafTriangle gLeafTriangles[]; };
-layout(push_constant) uniform PushBlock { BuildPush gPush; };
-
-uint interiorCount() { return gPush.triangleCount - 1u; }
-// if/else, not ?:, because glslang types a ?: over two blocks' structs inconsistently.
-BvhBuildNode loadNode(uint u) {
-  if (u < interiorCount()) return gInterior[u];
-  return gLeaves[u - interiorCount()];
-}
 
 bool becomesLeaf(uint u, BvhBuildNode n) {
   return u >= interiorCount() || (n.flags & kFlagCollapsed) != 0u;
@@ -36,7 +23,7 @@ uint emitChild(uint u, BvhBuildNode n, uint slot) {
   if (!becomesLeaf(u, n)) return u;
   uint count = n.triangleCount;
   if (u >= interiorCount()) {
-    gLeafTriangles[slot] = gPrims[n.left];
+    storeLeafTriangle(slot, loadPrim(n.left));
   } else {
     // Depth-first over a subtree of at most kBvhMaxLeafTriangles leaves: the stack never holds
     // more entries than the subtree has leaves.
@@ -46,9 +33,9 @@ uint emitChild(uint u, BvhBuildNode n, uint slot) {
     while (sp > 0u) {
       uint v = stack[--sp];
       if (v >= interiorCount()) {
-        gLeafTriangles[slot + written++] = gPrims[gLeaves[v - interiorCount()].left];
+        storeLeafTriangle(slot + written++, loadPrim(leafTriangle(v - interiorCount())));
       } else {
-        BvhBuildNode m = gInterior[v];
+        BvhBuildNode m = loadInterior(v);
         stack[sp++] = m.left;
         stack[sp++] = m.right;
       }
@@ -68,11 +55,11 @@ uint allocateLeafEntries(uint count) {
 }
 
 void main() {
-  uint i = gl_GlobalInvocationID.x;
+  uint i = bvhBuildItem();
   uint n = gPush.triangleCount;
   if (n == 1u) {  // no interior node: a root with one leaf and one empty child
     if (i != 0u) return;
-    BvhBuildNode leaf = gLeaves[0];
+    BvhBuildNode leaf = loadNode(0u);  // leaf 0: there is no interior node
     gInfo.leafCounter = 1u;
     BvhNode root;
     root.aMin = leaf.lo;
@@ -83,15 +70,15 @@ void main() {
     root.b = kBvhEmptyChild;
     root._pad0 = 0u;
     root._pad1 = 0u;
-    gNodes[0] = root;
+    storeNode(0u, root);
     return;
   }
   if (i >= n - 1u) return;
-  BvhBuildNode node = gInterior[i];
+  BvhBuildNode node = loadInterior(i);
   bool live = (node.flags & kFlagCollapsed) == 0u;
   // Only subtrees of at most kBvhMaxLeafTriangles collapse, so only such ancestors matter.
   for (uint p = node.parent; live && p != kInvalidNode;) {
-    BvhBuildNode a = gInterior[p];
+    BvhBuildNode a = loadInterior(p);
     if (a.triangleCount > kBvhMaxLeafTriangles) break;
     if ((a.flags & kFlagCollapsed) != 0u) live = false;
     p = a.parent;
@@ -111,5 +98,5 @@ void main() {
   out_.b = emitChild(node.right, r, slot + countA);
   out_._pad0 = 0u;
   out_._pad1 = 0u;
-  gNodes[i] = out_;
+  storeNode(i, out_);
 }

@@ -7,49 +7,50 @@
 // leaf fields. Depth is at most 30 + ceil(log2 N) + 1 interior levels: each level's split is at
 // a strictly longer common prefix of the (code, index) bits.
 #extension GL_GOOGLE_include_directive : require
-#include "shared/bvh_build.h"
+#include "lib/bvh_build_arrays.glsl"
 
 layout(local_size_x = kWorkgroupSize) in;
 layout(std430, binding = kLbvhBindingKeys) readonly buffer Keys { uint gKeys[]; };
 layout(std430, binding = kLbvhBindingValues) readonly buffer Values { uint gValues[]; };
-layout(std430, binding = kLbvhBindingPrims) readonly buffer Prims { BvhLeafTriangle gPrims[]; };
-layout(std430, binding = kLbvhBindingInterior) buffer Interior { BvhBuildNode gInterior[]; };
-layout(std430, binding = kLbvhBindingLeaves) buffer Leaves { BvhBuildNode gLeaves[]; };
-layout(push_constant) uniform PushBlock { BuildPush gPush; };
+layout(binding = kLbvhBindingKeyTexels) uniform usamplerBuffer gKeyTexels;
+layout(constant_id = kLbvhSpecKeyTexels) const bool kKeyTexels = true;
+
+uint sortedKey(int i) {
+  if (kKeyTexels) return texelFetch(gKeyTexels, i).x;
+  return gKeys[i];
+}
 
 // Length of the common prefix of (key, index) at sorted positions i and j; -1 outside.
 int delta(int i, int j) {
   int n = int(gPush.triangleCount);
   if (j < 0 || j >= n) return -1;
-  uint a = gKeys[i], b = gKeys[j];
+  uint a = sortedKey(i), b = sortedKey(j);
   if (a != b) return 31 - findMSB(a ^ b);
   return 32 + 31 - findMSB(uint(i ^ j));
 }
 
-void initLeaf(uint i) {
+void initSortedLeaf(uint i) {
   uint tri = gValues[i];
-  BvhLeafTriangle p = gPrims[tri];
-  vec3 lo = min(min(p.v0.xyz, p.v1.xyz), p.v2.xyz);
-  vec3 hi = max(max(p.v0.xyz, p.v1.xyz), p.v2.xyz);
-  vec3 d = hi - lo;
-  gLeaves[i].lo = lo;
-  gLeaves[i].hi = hi;
-  gLeaves[i].cost = kSahTriangleCost * 2.0 * (d.x * d.y + d.y * d.z + d.z * d.x);
-  gLeaves[i].triangleCount = 1u;
-  gLeaves[i].left = tri;
-  gLeaves[i].right = kInvalidNode;
-  gLeaves[i].flags = 0u;
+  BvhLeafTriangle p = loadPrim(tri);
+  BvhBuildNode n;
+  n.lo = min(min(p.v0.xyz, p.v1.xyz), p.v2.xyz);
+  n.hi = max(max(p.v0.xyz, p.v1.xyz), p.v2.xyz);
+  vec3 d = n.hi - n.lo;
+  n.cost = kSahTriangleCost * 2.0 * (d.x * d.y + d.y * d.z + d.z * d.x);
+  n.triangleCount = 1u;
+  n.left = tri;
+  n.right = kInvalidNode;
+  n.parent = kInvalidNode;  // not stored: the parent's invocation writes it
+  n.flags = 0u;
+  initLeaf(i, n);
 }
 
 void main() {
-  uint gi = gl_GlobalInvocationID.x;
+  uint gi = bvhBuildItem();
   uint n = gPush.triangleCount;
   if (gi >= n) return;
-  initLeaf(gi);
-  if (gi == 0u) {
-    if (n == 1u) gLeaves[0].parent = kInvalidNode;
-    else gInterior[0].parent = kInvalidNode;
-  }
+  initSortedLeaf(gi);
+  if (gi == 0u) setParent(0u, kInvalidNode);  // the root: interior 0, or leaf 0 when n == 1
   if (gi + 1u >= n) return;  // n - 1 interior nodes
   int i = int(gi);
   int d = delta(i, i + 1) - delta(i, i - 1) >= 0 ? 1 : -1;
@@ -71,8 +72,7 @@ void main() {
   uint leafBase = n - 1u;
   uint left = min(i, j) == gamma ? leafBase + uint(gamma) : uint(gamma);
   uint right = max(i, j) == gamma + 1 ? leafBase + uint(gamma + 1) : uint(gamma + 1);
-  gInterior[gi].left = left;
-  gInterior[gi].right = right;
-  if (left >= leafBase) gLeaves[left - leafBase].parent = gi; else gInterior[left].parent = gi;
-  if (right >= leafBase) gLeaves[right - leafBase].parent = gi; else gInterior[right].parent = gi;
+  setChildren(gi, left, right);
+  setParent(left, gi);
+  setParent(right, gi);
 }

@@ -3,19 +3,17 @@
 // bounds (bvhMorton, shared with the C++ twin), value = triangle index. Inputs: prims (from
 // bvh_bounds), info.centroidMin/Max. Outputs: keys, values.
 #extension GL_GOOGLE_include_directive : require
-#include "shared/bvh_build.h"
+#include "lib/bvh_build_arrays.glsl"
 
 layout(local_size_x = kWorkgroupSize) in;
-layout(std430, binding = kMortonBindingPrims) readonly buffer Prims { BvhLeafTriangle gPrims[]; };
 layout(std430, binding = kMortonBindingInfo) readonly buffer Info { BvhBuildInfo gInfo; };
 layout(std430, binding = kMortonBindingKeys) writeonly buffer Keys { uint gKeys[]; };
 layout(std430, binding = kMortonBindingValues) writeonly buffer Values { uint gValues[]; };
-layout(push_constant) uniform PushBlock { BuildPush gPush; };
 
 float decode(uint o) { return uintBitsToFloat(bvhBitsFromOrdered(o)); }
 
 void main() {
-  uint i = gl_GlobalInvocationID.x;
+  uint i = bvhBuildItem();
   if (i >= gPush.triangleCount) return;
   vec3 lo = vec3(decode(gInfo.centroidMin.x), decode(gInfo.centroidMin.y), decode(gInfo.centroidMin.z));
   vec3 hi = vec3(decode(gInfo.centroidMax.x), decode(gInfo.centroidMax.y), decode(gInfo.centroidMax.z));
@@ -23,7 +21,7 @@ void main() {
   // A flat axis maps every centroid to 0 (no division by zero).
   vec3 scale = vec3(extent.x > 0.0 ? 1.0 / extent.x : 0.0, extent.y > 0.0 ? 1.0 / extent.y : 0.0,
                     extent.z > 0.0 ? 1.0 / extent.z : 0.0);
-  BvhLeafTriangle p = gPrims[i];
+  BvhLeafTriangle p = loadPrim(i);
   vec3 c = 0.5 * (min(min(p.v0.xyz, p.v1.xyz), p.v2.xyz) + max(max(p.v0.xyz, p.v1.xyz), p.v2.xyz));
   precise vec3 u = (c - lo) * scale;
   gKeys[i] = bvhMorton(u.x, u.y, u.z);

@@ -8,13 +8,12 @@
 #include "shared/bvh_build.h"
 
 layout(local_size_x = kWorkgroupSize) in;
-layout(push_constant) uniform PushBlock { BuildPush gPush; };
 #include "lib/bvh_build_nodes.glsl"
 
 void main() {
-  uint i = gl_GlobalInvocationID.x;
+  uint i = bvhBuildItem();
   if (i >= gPush.triangleCount) return;
-  uint p = gLeaves[i].parent;
+  uint p = parentOf(interiorCount() + i);
   while (p != kInvalidNode) {
     climbFence();
     if (atomicAdd(gCounters[p], 1u) == 0u) break;

@@ -12,7 +12,6 @@
 
 layout(local_size_x = kWorkgroupSize) in;
 layout(constant_id = kTreeletSpecLeaves) const uint kTreeletLeaves = kTreeletMaxLeaves;
-layout(push_constant) uniform PushBlock { BuildPush gPush; };
 #include "lib/bvh_build_nodes.glsl"
 #include "lib/bvh_treelet_schedule.glsl"
 
@@ -46,7 +45,7 @@ const uint kCollapseBit = 0x80000000u;  // in split[]: the subset becomes one le
 void restructure(uint root) {
   Slot slots[kTreeletMaxLeaves];
   uint interior[kTreeletMaxLeaves - 1u];
-  BvhBuildNode rn = gInterior[root];
+  BvhBuildNode rn = loadInterior(root);
   slots[0] = makeSlot(rn.left);
   slots[1] = makeSlot(rn.right);
   interior[0] = root;
@@ -63,7 +62,7 @@ void restructure(uint root) {
     }
     if (best < 0) break;
     uint expanded = slots[best].node;
-    BvhBuildNode e = gInterior[expanded];
+    BvhBuildNode e = loadInterior(expanded);
     interior[ni++] = expanded;
     slots[best] = makeSlot(e.left);
     slots[nl++] = makeSlot(e.right);
@@ -172,13 +171,13 @@ void restructure(uint root) {
     n.right = ids[1];
     n.parent = parentOf[k];
     flagsOf[k] = n.flags;
-    gInterior[interior[k]] = n;
+    storeInterior(interior[k], n);
   }
 }
 
 void main() {
   TreeletLevel level = gLevels[gPush.param];
-  uint i = gl_GlobalInvocationID.x;
+  uint i = bvhBuildItem();
   if (i >= level.count) return;
   uint node = gNodeList[level.offset + i];
   refitStored(node);

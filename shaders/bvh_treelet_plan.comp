@@ -6,7 +6,6 @@
 #include "shared/bvh_build.h"
 
 layout(local_size_x = 1) in;
-layout(push_constant) uniform PushBlock { BuildPush gPush; };
 #include "lib/bvh_build_nodes.glsl"
 #include "lib/bvh_treelet_schedule.glsl"
 
@@ -16,8 +15,11 @@ void main() {
     uint count = gLevels[h].count;
     gLevels[h].offset = offset;
     gLevels[h].cursor = offset;
-    gDispatch[h].x = (count + kWorkgroupSize - 1u) / kWorkgroupSize;
-    gDispatch[h].y = 1u;
+    // Rows of at most kMaxGroupsX groups (bvhBuildItem), as few groups as possible past count.
+    uint groups = (count + kWorkgroupSize - 1u) / kWorkgroupSize;
+    uint rows = max(1u, (groups + kMaxGroupsX - 1u) / kMaxGroupsX);
+    gDispatch[h].x = (groups + rows - 1u) / rows;
+    gDispatch[h].y = rows;
     gDispatch[h].z = 1u;
     offset += count;
   }

@@ -5,12 +5,11 @@
 #include "shared/bvh_build.h"
 
 layout(local_size_x = kWorkgroupSize) in;
-layout(push_constant) uniform PushBlock { BuildPush gPush; };
 #include "lib/bvh_build_nodes.glsl"
 #include "lib/bvh_treelet_schedule.glsl"
 
 void main() {
-  uint i = gl_GlobalInvocationID.x;
+  uint i = bvhBuildItem();
   if (i >= interiorCount()) return;
   int h = treeletLevel(i, gPush.param);
   if (h >= 0) gNodeList[atomicAdd(gLevels[h].cursor, 1u)] = i;

@@ -1,14 +1,10 @@
-// Build-node access for the bottom-up passes (bvh_refit, bvh_treelet): the two node bindings
-// as one index space (shared/bvh_build.h) and the refit of one interior node. The includer
-// declares gPush (BuildPush) first.
+// Build-node access for the bottom-up passes (bvh_refit, bvh_treelet): the two node arrays
+// as one index space (shared/bvh_build.h) and the refit of one interior node.
 #ifndef OSR_BVH_BUILD_NODES_GLSL
 #define OSR_BVH_BUILD_NODES_GLSL
-#include "shared/bvh_build.h"
+#include "lib/bvh_build_arrays.glsl"
 
-// coherent: a node written by one invocation is read by the one that arrives second at the
-// parent (after an atomic on the parent's counter), possibly in another workgroup.
-layout(std430, binding = kClimbBindingInterior) coherent buffer Interior { BvhBuildNode gInterior[]; };
-layout(std430, binding = kClimbBindingLeaves) coherent buffer Leaves { BvhBuildNode gLeaves[]; };
+// coherent: see the node arrays in lib/bvh_build_arrays.glsl.
 layout(std430, binding = kClimbBindingCounters) coherent buffer Counters { uint gCounters[]; };
 
 // Release the node just written before the counter atomic, acquire the sibling's after it. On
@@ -20,19 +16,7 @@ void climbFence() {
   if (kClimbFences) memoryBarrierBuffer();
 }
 
-uint interiorCount() { return gPush.triangleCount - 1u; }
 bool isLeafNode(uint u) { return u >= interiorCount(); }
-
-// if/else, not ?:, because glslang types a ?: over two blocks' structs inconsistently.
-BvhBuildNode loadNode(uint u) {
-  if (u < interiorCount()) return gInterior[u];
-  return gLeaves[u - interiorCount()];
-}
-
-void setParent(uint u, uint parent) {
-  if (u < interiorCount()) gInterior[u].parent = parent;
-  else gLeaves[u - interiorCount()].parent = parent;
-}
 
 float boxArea(vec3 lo, vec3 hi) {
   vec3 d = max(hi - lo, vec3(0.0));
@@ -62,9 +46,9 @@ BvhBuildNode refitNode(BvhBuildNode n, BvhBuildNode l, BvhBuildNode r, bool isRo
 
 // Refits interior node u from its children in memory and stores it.
 BvhBuildNode refitStored(uint u) {
-  BvhBuildNode n = gInterior[u];
+  BvhBuildNode n = loadInterior(u);
   n = refitNode(n, loadNode(n.left), loadNode(n.right), u == 0u);
-  gInterior[u] = n;
+  storeInterior(u, n);
   return n;
 }
 

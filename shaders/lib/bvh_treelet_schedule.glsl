@@ -13,7 +13,7 @@ layout(std430, binding = kTreeletBindingNodeList) buffer NodeList { uint gNodeLi
 // Height bucket of interior node i this round, or -1 when it is not restructured. A collapsed
 // node becomes one leaf whatever its topology, so it is left alone.
 int treeletLevel(uint i, uint minTriangles) {
-  BvhBuildNode n = gInterior[i];
+  BvhBuildNode n = loadInterior(i);
   if ((n.flags & kFlagCollapsed) != 0u || n.triangleCount < minTriangles) return -1;
   uint h = n.flags & kHeightMask;
   return h < kTreeletMaxLevels ? int(h) : -1;

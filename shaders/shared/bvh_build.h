@@ -11,7 +11,16 @@
 //   bvh_treelet_*     treelet restructuring (Karras & Aila 2013), level by level, several rounds
 //   bvh_emit          the traversal layout of shared/bvh.h, collapsing subtrees into leaves
 // Build nodes share one index space: interior nodes [0, N-1) (root 0), leaves [N-1, 2N-1) in
-// sorted order; they live in two bindings so that each stays under maxStorageBufferRange.
+// sorted order, in two arrays.
+//
+// Scale: the arrays that hold tens of bytes per triangle (scene triangles and vertices, prims,
+// build nodes, the traversal layout: BuildArrays) are storage bindings while each fits one
+// (maxStorageBufferRange: 128 MiB on lavapipe, i.e. 2.1M traversal nodes); past that the build
+// runs pipelines specialised (kBuildSpecByAddress) to reach them through buffer device
+// addresses (GL_EXT_buffer_reference), so one may span a whole allocation
+// (maxMemoryAllocationSize: 2 GiB on lavapipe). lib/bvh_build_arrays.glsl has the accessors.
+// The 4-byte-per-triangle arrays (keys, values, counters, node lists) stay storage bindings:
+// at 128 MiB they hold 32M.
 #ifndef OSR_SHARED_BVH_BUILD_H
 #define OSR_SHARED_BVH_BUILD_H
 #include "shared/types.h"
@@ -25,6 +34,10 @@
 
 OSR_NAMESPACE_BEGIN(bvh_build)
 OSR_CONST(uint, kWorkgroupSize, 64u);
+// Per-item passes dispatch a grid of at most kMaxGroupsX groups in x (the least that Vulkan
+// guarantees for maxComputeWorkGroupCount[0]; 64 x 65535 = 4.2M invocations) and as many rows
+// in y as needed; bvhBuildItem() flattens it.
+OSR_CONST(uint, kMaxGroupsX, 65535u);
 OSR_CONST(uint, kInvalidNode, 0xffffffffu);
 // BvhBuildNode.flags: whether the subtree becomes one leaf; its height (interior levels down to
 // the deepest leaf, 0 for a leaf), which orders the treelet schedule; and its height as
@@ -53,29 +66,49 @@ struct BvhBuildInfo {
   uint _pad2;
 };
 
+// Binding slots of the large arrays in every pass that includes lib/bvh_build_arrays.glsl; its
+// own bindings follow from kBuildArrayBindingCount.
+OSR_CONST(uint, kBuildBindingTriangles, 0u);
+OSR_CONST(uint, kBuildBindingVertices, 1u);
+OSR_CONST(uint, kBuildBindingPrims, 2u);
+OSR_CONST(uint, kBuildBindingInterior, 3u);
+OSR_CONST(uint, kBuildBindingLeaves, 4u);
+OSR_CONST(uint, kBuildBindingNodes, 5u);
+OSR_CONST(uint, kBuildBindingLeafTriangles, 6u);
+OSR_CONST(uint, kBuildArrayBindingCount, 7u);
+OSR_CONST(uint, kBuildSpecByAddress, 2u);  // spec constant id: bool, read the arrays by address
+
+// Device addresses (low word, high word: GL_EXT_buffer_reference_uvec2) of the large arrays
+// when kBuildSpecByAddress is set; 0 where a pass does not use one.
+struct BuildArrays {
+  uvec2 triangles;      // scene Triangle[triangleCount]
+  uvec2 vertices;       // scene Vertex[]
+  uvec2 prims;          // BvhLeafTriangle[triangleCount]: vertex copies in scene order
+  uvec2 interior;       // BvhBuildNode[triangleCount - 1]
+  uvec2 leaves;         // BvhBuildNode[triangleCount], sorted order
+  uvec2 nodes;          // out of bvh_emit: BvhNode[triangleCount - 1]
+  uvec2 leafTriangles;  // out of bvh_emit: BvhLeafTriangle[triangleCount]
+  uvec2 _pad0;
+};
+
 // Generic push block of the build passes.
 struct BuildPush {
   uint triangleCount;
   uint param;   // pass-specific: see each binding list
   uint param2;
   uint _pad0;
+  BuildArrays arrays;
 };
 
-// bvh_bounds: param = vertices in the first vertex binding (the vertex buffer is bound as two
-// chunks, so up to 2 x maxStorageBufferRange of vertices).
-OSR_CONST(uint, kBoundsBindingTriangles, 0u);
-OSR_CONST(uint, kBoundsBindingVerticesLo, 1u);
-OSR_CONST(uint, kBoundsBindingVerticesHi, 2u);
-OSR_CONST(uint, kBoundsBindingPrims, 3u);  // BvhLeafTriangle per scene triangle
-OSR_CONST(uint, kBoundsBindingInfo, 4u);
-OSR_CONST(uint, kBoundsBindingCount, 5u);
+// bvh_bounds: arrays triangles, vertices (in), prims (out).
+OSR_CONST(uint, kBoundsBindingInfo, kBuildArrayBindingCount);
+OSR_CONST(uint, kBoundsBindingCount, kBuildArrayBindingCount + 1u);
 
-// bvh_morton
-OSR_CONST(uint, kMortonBindingPrims, 0u);
-OSR_CONST(uint, kMortonBindingInfo, 1u);
-OSR_CONST(uint, kMortonBindingKeys, 2u);
-OSR_CONST(uint, kMortonBindingValues, 3u);
-OSR_CONST(uint, kMortonBindingCount, 4u);
+// bvh_morton: arrays prims.
+OSR_CONST(uint, kMortonBindingInfo, kBuildArrayBindingCount);
+OSR_CONST(uint, kMortonBindingKeys, kBuildArrayBindingCount + 1u);
+OSR_CONST(uint, kMortonBindingValues, kBuildArrayBindingCount + 2u);
+OSR_CONST(uint, kMortonBindingCount, kBuildArrayBindingCount + 3u);
 
 // Radix sort: each invocation owns a chunk of kRadixChunk consecutive keys and keeps its 256
 // digit counters in registers/private memory: no shared memory and no barriers, which lavapipe
@@ -101,19 +134,19 @@ OSR_CONST(uint, kScanBindingData, 0u);
 OSR_CONST(uint, kScanBindingPartials, 1u);
 OSR_CONST(uint, kScanBindingCount, 2u);
 
-// bvh_lbvh
-OSR_CONST(uint, kLbvhBindingKeys, 0u);
-OSR_CONST(uint, kLbvhBindingValues, 1u);
-OSR_CONST(uint, kLbvhBindingPrims, 2u);
-OSR_CONST(uint, kLbvhBindingInterior, 3u);
-OSR_CONST(uint, kLbvhBindingLeaves, 4u);
-OSR_CONST(uint, kLbvhBindingCount, 5u);
+// bvh_lbvh: arrays prims (in), interior, leaves (out). The binary searches of its delta() read
+// the sorted keys at scattered indices; where spec constant kLbvhSpecKeyTexels is set they come
+// from an R32UI texel view of the keys (on lavapipe a texel fetch is a gather, a storage load a
+// loop over the SIMD lanes), else from the storage binding.
+OSR_CONST(uint, kLbvhBindingKeys, kBuildArrayBindingCount);
+OSR_CONST(uint, kLbvhBindingValues, kBuildArrayBindingCount + 1u);
+OSR_CONST(uint, kLbvhBindingKeyTexels, kBuildArrayBindingCount + 2u);
+OSR_CONST(uint, kLbvhBindingCount, kBuildArrayBindingCount + 3u);
+OSR_CONST(uint, kLbvhSpecKeyTexels, 3u);  // spec constant id: bool
 
-// bvh_refit (climb) and the treelet passes (build nodes bound the same way)
-OSR_CONST(uint, kClimbBindingInterior, 0u);
-OSR_CONST(uint, kClimbBindingLeaves, 1u);
-OSR_CONST(uint, kClimbBindingCounters, 2u);
-OSR_CONST(uint, kClimbBindingCount, 3u);
+// bvh_refit (climb) and the treelet passes: arrays interior, leaves.
+OSR_CONST(uint, kClimbBindingCounters, kBuildArrayBindingCount);
+OSR_CONST(uint, kClimbBindingCount, kBuildArrayBindingCount + 1u);
 OSR_CONST(uint, kClimbSpecFences, 1u);  // spec constant id: bool, memory fences around the counter
 
 // Treelet restructuring (Karras & Aila 2013) runs level-synchronously: the nodes to restructure
@@ -129,9 +162,9 @@ OSR_CONST(uint, kTreeletMaxLeaves, 7u);   // 2^7 subsets per dynamic program
 OSR_CONST(uint, kTreeletSpecLeaves, 0u);  // spec constant id: leaves per treelet (3..7)
 // Heights scheduled; a taller tree exceeds kBvhMaxDepth anyway and is rebuilt without treelets.
 OSR_CONST(uint, kTreeletMaxLevels, 128u);
-OSR_CONST(uint, kTreeletBindingSchedule, 3u);  // TreeletLevel[kTreeletMaxLevels], then DispatchArgs[kTreeletMaxLevels]
-OSR_CONST(uint, kTreeletBindingNodeList, 4u);  // uint per interior node
-OSR_CONST(uint, kTreeletBindingCount, 5u);
+OSR_CONST(uint, kTreeletBindingSchedule, kBuildArrayBindingCount + 1u);  // TreeletLevel[kTreeletMaxLevels], then DispatchArgs[kTreeletMaxLevels]
+OSR_CONST(uint, kTreeletBindingNodeList, kBuildArrayBindingCount + 2u);  // uint per interior node
+OSR_CONST(uint, kTreeletBindingCount, kBuildArrayBindingCount + 3u);
 struct TreeletLevel {
   uint count;
   uint offset;
@@ -144,14 +177,9 @@ struct DispatchArgs {
   uint z;
 };
 
-// bvh_emit
-OSR_CONST(uint, kEmitBindingInterior, 0u);
-OSR_CONST(uint, kEmitBindingLeaves, 1u);
-OSR_CONST(uint, kEmitBindingPrims, 2u);
-OSR_CONST(uint, kEmitBindingInfo, 3u);
-OSR_CONST(uint, kEmitBindingNodes, 4u);
-OSR_CONST(uint, kEmitBindingLeafTriangles, 5u);
-OSR_CONST(uint, kEmitBindingCount, 6u);
+// bvh_emit: arrays interior, leaves, prims (in), nodes, leafTriangles (out).
+OSR_CONST(uint, kEmitBindingInfo, kBuildArrayBindingCount);
+OSR_CONST(uint, kEmitBindingCount, kBuildArrayBindingCount + 1u);
 
 // A float's bits mapped to a uint that orders like the float (atomicMin/Max on floats).
 OSR_BVH_FN uint bvhOrderedFromBits(uint bits) {
@@ -179,6 +207,13 @@ OSR_BVH_FN uint bvhMorton(float x, float y, float z) {
   uint qz = uint(z * 1023.0f);
   return bvhExpandBits(qx) * 4u + bvhExpandBits(qy) * 2u + bvhExpandBits(qz);
 }
+
+#ifndef __cplusplus
+// The item (triangle, node) of this invocation in a grid of kMaxGroupsX-wide rows.
+uint bvhBuildItem() {
+  return gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * (gl_NumWorkGroups.x * kWorkgroupSize);
+}
+#endif
 
 OSR_NAMESPACE_END
 #endif

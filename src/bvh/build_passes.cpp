@@ -1,6 +1,8 @@
 #include "bvh/build_passes.h"
 
 #include <algorithm>
+#include <array>
+#include <cstddef>
 #include <optional>
 #include <string>
 
@@ -15,52 +17,104 @@ using bb::BuildPush;
 
 namespace {
 // See climbFence() in shaders/lib/bvh_build_nodes.glsl for why CPU devices run without fences.
-std::vector<vk::SpecConstant> climbSpec(const vk::Context& ctx, uint32_t treeletLeaves) {
-  std::vector<vk::SpecConstant> spec = {vk::specUint(bb::kClimbSpecFences, ctx.caps().isCpu() ? 0u : 1u)};
+std::vector<vk::SpecConstant> climbSpec(const vk::Context& ctx, bool byAddress, uint32_t treeletLeaves) {
+  std::vector<vk::SpecConstant> spec = {vk::specUint(bb::kClimbSpecFences, ctx.caps().isCpu() ? 0u : 1u),
+                                        vk::specUint(bb::kBuildSpecByAddress, byAddress ? 1u : 0u)};
   if (treeletLeaves) spec.push_back(vk::specUint(bb::kTreeletSpecLeaves, treeletLeaves));
   return spec;
 }
+std::vector<vk::SpecConstant> arraySpec(bool byAddress) {
+  return {vk::specUint(bb::kBuildSpecByAddress, byAddress ? 1u : 0u)};
+}
 uint32_t groups(uint64_t items) { return vk::groupCount(std::max<uint64_t>(items, 1), bb::kWorkgroupSize); }
+
+// One invocation per item in rows of at most kMaxGroupsX groups (bvhBuildItem in GLSL), with
+// as few groups past `items` as the row count allows.
+void dispatchItems(const vk::ComputePipeline& p, VkCommandBuffer cmd, uint64_t items) {
+  uint32_t g = groups(items);
+  uint32_t rows = (g + bb::kMaxGroupsX - 1) / bb::kMaxGroupsX;
+  p.dispatch(cmd, (g + rows - 1) / rows, rows);
+}
+
+BuildPush push(uint32_t triangleCount, uint32_t param) {
+  BuildPush p{};
+  p.triangleCount = triangleCount;
+  p.param = param;
+  return p;
+}
+
+// The arrays in slot order (kBuildBinding*).
+std::array<vk::BufferRange, bb::kBuildArrayBindingCount> slots(const BuildArrayBuffers& a) {
+  std::array<vk::BufferRange, bb::kBuildArrayBindingCount> s;
+  s[bb::kBuildBindingTriangles] = a.triangles;
+  s[bb::kBuildBindingVertices] = a.vertices;
+  s[bb::kBuildBindingPrims] = a.prims;
+  s[bb::kBuildBindingInterior] = a.interior;
+  s[bb::kBuildBindingLeaves] = a.leaves;
+  s[bb::kBuildBindingNodes] = a.nodes;
+  s[bb::kBuildBindingLeafTriangles] = a.leafTriangles;
+  return s;
+}
+
+// Sets the array slots and returns the push block for (triangleCount, param). By address, the
+// push block carries the addresses and each slot only the first maxStorageBufferRange bytes of
+// its array (the shader reads none of it); a slot whose array the pass does not use (unset)
+// takes another array's range.
+BuildPush bindArrays(vk::Binder& binder, const ArrayAccess& access, const BuildArrayBuffers& a,
+                     uint32_t triangleCount, uint32_t param) {
+  const auto ranges = slots(a);
+  const auto filler = std::find_if(ranges.begin(), ranges.end(), [](const vk::BufferRange& r) { return r.buffer; });
+  if (filler == ranges.end()) throw DeviceError("bvh: a build pass got none of its arrays");
+  const VkDeviceSize limit = access.ctx->caps().maxStorageBufferRange / 16 * 16;
+  BuildPush p = push(triangleCount, param);
+  glm::uvec2* addresses = &p.arrays.triangles;  // BuildArrays: one uvec2 per slot, in slot order
+  static_assert(sizeof(bb::BuildArrays) >= bb::kBuildArrayBindingCount * sizeof(glm::uvec2));
+  static_assert(offsetof(bb::BuildArrays, leafTriangles) == bb::kBuildBindingLeafTriangles * sizeof(glm::uvec2));
+  for (uint32_t i = 0; i < bb::kBuildArrayBindingCount; ++i) {
+    vk::BufferRange r = ranges[i].buffer ? ranges[i] : *filler;
+    if (access.byAddress) {
+      if (ranges[i].buffer) {
+        VkDeviceAddress at = r.buffer->deviceAddress() + r.offset;
+        addresses[i] = {uint32_t(at), uint32_t(at >> 32)};
+      }
+      r.size = std::min(r.bytes(), limit);
+    }
+    binder.set(i, r);
+  }
+  return p;
+}
 }  // namespace
 
-BoundsPass::BoundsPass(const vk::Context& ctx)
-    : ctx_(ctx), pipeline_(ctx, shaders::Id::bvh_bounds, bb::kBoundsBindingCount, sizeof(BuildPush)) {}
+bool BuildArrayBuffers::pastOneBinding(const vk::Context& ctx) const {
+  for (const vk::BufferRange& r : slots(*this))
+    if (r.buffer && r.bytes() > ctx.caps().maxStorageBufferRange) return true;
+  return false;
+}
+
+BoundsPass::BoundsPass(const vk::Context& ctx, bool byAddress)
+    : access_{&ctx, byAddress},
+      pipeline_(ctx, shaders::Id::bvh_bounds, bb::kBoundsBindingCount, sizeof(BuildPush), arraySpec(byAddress)) {}
 
 void BoundsPass::record(VkCommandBuffer cmd, const Args& a) const {
-  // The vertex buffer is bound as two chunks of at most maxStorageBufferRange each.
-  const uint64_t vertexBytes = sizeof(gpu::scene::Vertex);
-  uint64_t chunk = ctx_.caps().maxStorageBufferRange / vertexBytes * vertexBytes;
-  uint64_t size = a.vertices->size() / vertexBytes * vertexBytes;
-  if (size > 2 * chunk)
-    throw DeviceError("bvh: vertex buffer of " + std::to_string(size) + " bytes exceeds 2 x maxStorageBufferRange (" +
-                      std::to_string(ctx_.caps().maxStorageBufferRange) + " bytes)");
-  vk::BufferRange lo(*a.vertices, 0, std::min(size, chunk));
-  vk::BufferRange hi = size > chunk ? vk::BufferRange(*a.vertices, chunk, size - chunk)
-                                    : vk::BufferRange(*a.vertices, 0, vertexBytes);
-  BuildPush push{a.triangleCount, static_cast<uint32_t>(std::min(size, chunk) / vertexBytes), 0, 0};
-  vk::Binder(pipeline_)
-      .setRange(bb::kBoundsBindingTriangles, *a.triangles, 0,
-                uint64_t(a.triangleCount) * sizeof(gpu::scene::Triangle))
-      .set(bb::kBoundsBindingVerticesLo, lo)
-      .set(bb::kBoundsBindingVerticesHi, hi)
-      .set(bb::kBoundsBindingPrims, a.prims)
-      .set(bb::kBoundsBindingInfo, a.info)
-      .bind(cmd, push);
-  pipeline_.dispatch(cmd, groups(a.triangleCount));
+  vk::Binder binder(pipeline_);
+  BuildPush p = bindArrays(binder, access_, *a.arrays, a.triangleCount, 0);
+  binder.set(bb::kBoundsBindingInfo, a.info).bind(cmd, p);
+  dispatchItems(pipeline_, cmd, a.triangleCount);
   vk::computeBarrier(cmd);
 }
 
-MortonPass::MortonPass(const vk::Context& ctx)
-    : pipeline_(ctx, shaders::Id::bvh_morton, bb::kMortonBindingCount, sizeof(BuildPush)) {}
+MortonPass::MortonPass(const vk::Context& ctx, bool byAddress)
+    : access_{&ctx, byAddress},
+      pipeline_(ctx, shaders::Id::bvh_morton, bb::kMortonBindingCount, sizeof(BuildPush), arraySpec(byAddress)) {}
 
 void MortonPass::record(VkCommandBuffer cmd, const Args& a) const {
-  vk::Binder(pipeline_)
-      .set(bb::kMortonBindingPrims, a.prims)
-      .set(bb::kMortonBindingInfo, a.info)
+  vk::Binder binder(pipeline_);
+  BuildPush p = bindArrays(binder, access_, *a.arrays, a.triangleCount, 0);
+  binder.set(bb::kMortonBindingInfo, a.info)
       .set(bb::kMortonBindingKeys, a.keys)
       .set(bb::kMortonBindingValues, a.values)
-      .bind(cmd, BuildPush{a.triangleCount, 0, 0, 0});
-  pipeline_.dispatch(cmd, groups(a.triangleCount));
+      .bind(cmd, p);
+  dispatchItems(pipeline_, cmd, a.triangleCount);
   vk::computeBarrier(cmd);
 }
 
@@ -75,12 +129,11 @@ uint64_t ExclusiveScan::partialsBytes(uint32_t count) {
 
 void ExclusiveScan::record(VkCommandBuffer cmd, const Args& a) const {
   uint32_t segments = vk::groupCount(a.count, bb::kScanSegment);
-  BuildPush push{a.count, segments, 0, 0};
   auto bind = [&](const vk::ComputePipeline& p) {
     vk::Binder(p)
         .set(bb::kScanBindingData, a.data)
         .set(bb::kScanBindingPartials, a.partials)
-        .bind(cmd, push);
+        .bind(cmd, push(a.count, segments));
   };
   bind(reduce_);
   reduce_.dispatch(cmd, groups(segments));
@@ -110,14 +163,15 @@ void RadixSort::record(VkCommandBuffer cmd, const Args& a, vk::GpuTimer* timer) 
                 "an even number of rounds leaves the result in keys/values");
   int src = 0;
   for (uint32_t shift = 0; shift < bb::kRadixKeyBits; shift += bb::kRadixBits, src ^= 1) {
-    BuildPush push{a.count, shift, chunks, 0};
+    BuildPush pushed = push(a.count, shift);
+    pushed.param2 = chunks;
     {
       vk::TimedScope scope(timer, cmd, "bvh_radix_histogram");
       vk::Binder(histogram_)
           .set(bb::kRadixBindingKeysIn, keys[src])
           .set(bb::kRadixBindingValuesIn, values[src])
           .set(bb::kRadixBindingHist, a.histogram)
-          .bind(cmd, push);
+          .bind(cmd, pushed);
       histogram_.dispatch(cmd, groups(chunks));
       vk::computeBarrier(cmd);
     }
@@ -132,47 +186,64 @@ void RadixSort::record(VkCommandBuffer cmd, const Args& a, vk::GpuTimer* timer) 
         .set(bb::kRadixBindingHist, a.histogram)
         .set(bb::kRadixBindingKeysOut, keys[src ^ 1])
         .set(bb::kRadixBindingValuesOut, values[src ^ 1])
-        .bind(cmd, push);
+        .bind(cmd, pushed);
     scatter_.dispatch(cmd, groups(chunks));
     vk::computeBarrier(cmd);
   }
 }
 
-LbvhPass::LbvhPass(const vk::Context& ctx)
-    : pipeline_(ctx, shaders::Id::bvh_lbvh, bb::kLbvhBindingCount, sizeof(BuildPush)) {}
+namespace {
+std::vector<VkDescriptorType> lbvhTypes() {
+  std::vector<VkDescriptorType> t(bb::kLbvhBindingCount, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
+  t[bb::kLbvhBindingKeyTexels] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+  return t;
+}
+// Key texels where a view reaches as far as a keys binding can (triangleLimit bounds the keys
+// by maxStorageBufferRange): 128M texels on lavapipe against 32M keys.
+std::vector<vk::SpecConstant> lbvhSpec(const vk::Context& ctx, bool byAddress) {
+  bool texels = uint64_t(ctx.caps().maxTexelBufferElements) * 4 >= ctx.caps().maxStorageBufferRange;
+  std::vector<vk::SpecConstant> spec = arraySpec(byAddress);
+  spec.push_back(vk::specUint(bb::kLbvhSpecKeyTexels, texels ? 1u : 0u));
+  return spec;
+}
+}  // namespace
+
+LbvhPass::LbvhPass(const vk::Context& ctx, bool byAddress)
+    : access_{&ctx, byAddress},
+      pipeline_(ctx, shaders::Id::bvh_lbvh, lbvhTypes(), sizeof(BuildPush), lbvhSpec(ctx, byAddress)) {}
 
 void LbvhPass::record(VkCommandBuffer cmd, const Args& a) const {
-  vk::Binder(pipeline_)
-      .set(bb::kLbvhBindingKeys, a.keys)
+  vk::Binder binder(pipeline_);
+  BuildPush p = bindArrays(binder, access_, *a.arrays, a.triangleCount, 0);
+  binder.set(bb::kLbvhBindingKeys, a.keys)
       .set(bb::kLbvhBindingValues, a.values)
-      .set(bb::kLbvhBindingPrims, a.prims)
-      .set(bb::kLbvhBindingInterior, a.interior)
-      .set(bb::kLbvhBindingLeaves, a.leaves)
-      .bind(cmd, BuildPush{a.triangleCount, 0, 0, 0});
-  pipeline_.dispatch(cmd, groups(a.triangleCount));
+      .setTexel(bb::kLbvhBindingKeyTexels, a.keyTexels)
+      .bind(cmd, p);
+  dispatchItems(pipeline_, cmd, a.triangleCount);
   vk::computeBarrier(cmd);
 }
 
-RefitPass::RefitPass(const vk::Context& ctx)
-    : pipeline_(ctx, shaders::Id::bvh_refit, bb::kClimbBindingCount, sizeof(BuildPush), climbSpec(ctx, 0)) {}
+RefitPass::RefitPass(const vk::Context& ctx, bool byAddress)
+    : access_{&ctx, byAddress},
+      pipeline_(ctx, shaders::Id::bvh_refit, bb::kClimbBindingCount, sizeof(BuildPush), climbSpec(ctx, byAddress, 0)) {}
 
 void RefitPass::record(VkCommandBuffer cmd, const Args& a) const {
   vkCmdFillBuffer(cmd, a.counters->handle(), 0, VK_WHOLE_SIZE, 0);
   vk::transferBarrier(cmd);
-  vk::Binder(pipeline_)
-      .set(bb::kClimbBindingInterior, a.interior)
-      .set(bb::kClimbBindingLeaves, a.leaves)
-      .set(bb::kClimbBindingCounters, *a.counters)
-      .bind(cmd, BuildPush{a.triangleCount, 0, 0, 0});
-  pipeline_.dispatch(cmd, groups(a.triangleCount));
+  vk::Binder binder(pipeline_);
+  BuildPush p = bindArrays(binder, access_, *a.arrays, a.triangleCount, 0);
+  binder.set(bb::kClimbBindingCounters, *a.counters).bind(cmd, p);
+  dispatchItems(pipeline_, cmd, a.triangleCount);
   vk::computeBarrier(cmd);
 }
 
-TreeletPass::TreeletPass(const vk::Context& ctx, uint32_t treeletLeaves)
-    : count_(ctx, shaders::Id::bvh_treelet_count, bb::kTreeletBindingCount, sizeof(BuildPush), climbSpec(ctx, 0)),
-      plan_(ctx, shaders::Id::bvh_treelet_plan, bb::kTreeletBindingCount, sizeof(BuildPush), climbSpec(ctx, 0)),
-      scatter_(ctx, shaders::Id::bvh_treelet_scatter, bb::kTreeletBindingCount, sizeof(BuildPush), climbSpec(ctx, 0)),
-      treelet_(ctx, shaders::Id::bvh_treelet, bb::kTreeletBindingCount, sizeof(BuildPush), climbSpec(ctx, treeletLeaves)) {
+TreeletPass::TreeletPass(const vk::Context& ctx, uint32_t treeletLeaves, bool byAddress)
+    : access_{&ctx, byAddress},
+      count_(ctx, shaders::Id::bvh_treelet_count, bb::kTreeletBindingCount, sizeof(BuildPush), climbSpec(ctx, byAddress, 0)),
+      plan_(ctx, shaders::Id::bvh_treelet_plan, bb::kTreeletBindingCount, sizeof(BuildPush), climbSpec(ctx, byAddress, 0)),
+      scatter_(ctx, shaders::Id::bvh_treelet_scatter, bb::kTreeletBindingCount, sizeof(BuildPush), climbSpec(ctx, byAddress, 0)),
+      treelet_(ctx, shaders::Id::bvh_treelet, bb::kTreeletBindingCount, sizeof(BuildPush),
+               climbSpec(ctx, byAddress, treeletLeaves)) {
   if (treeletLeaves < 3 || treeletLeaves > bb::kTreeletMaxLeaves)
     throw InputError("bvh: treelet size " + std::to_string(treeletLeaves) + " outside 3.." +
                      std::to_string(bb::kTreeletMaxLeaves));
@@ -188,51 +259,48 @@ void TreeletPass::record(VkCommandBuffer cmd, const Args& a, vk::GpuTimer* timer
   scope.emplace(timer, cmd, "bvh_treelet_schedule");
   vkCmdFillBuffer(cmd, a.schedule->handle(), 0, VK_WHOLE_SIZE, 0);
   vk::transferBarrier(cmd);
-  BuildPush push{a.triangleCount, a.minTriangles, 0, 0};
+  BuildPush schedulePush{};
   // The four treelet pipelines bind the same buffers at the same slots.
   auto binder = [&](const vk::ComputePipeline& p) {
     vk::Binder b(p);
-    b.set(bb::kClimbBindingInterior, a.interior)
-        .set(bb::kClimbBindingLeaves, a.leaves)
-        .set(bb::kClimbBindingCounters, a.counters)
+    schedulePush = bindArrays(b, access_, *a.arrays, a.triangleCount, a.minTriangles);
+    b.set(bb::kClimbBindingCounters, a.counters)
         .set(bb::kTreeletBindingSchedule, *a.schedule)
         .set(bb::kTreeletBindingNodeList, a.nodeList);
     return b;
   };
-  binder(count_).bind(cmd, push);
-  count_.dispatch(cmd, groups(interior));
+  binder(count_).bind(cmd, schedulePush);
+  dispatchItems(count_, cmd, interior);
   vk::computeBarrier(cmd);
-  binder(plan_).bind(cmd, push);
+  binder(plan_).bind(cmd, schedulePush);
   plan_.dispatch(cmd, 1);
   vk::computeBarrier(cmd);
-  binder(scatter_).bind(cmd, push);
-  scatter_.dispatch(cmd, groups(interior));
+  binder(scatter_).bind(cmd, schedulePush);
+  dispatchItems(scatter_, cmd, interior);
   vk::computeBarrier(cmd);
   scope.reset();
   scope.emplace(timer, cmd, "bvh_treelet");
   // Height 0 holds no restructurable node (leaves and collapsed subtrees).
   const uint64_t argsOffset = bb::kTreeletMaxLevels * sizeof(bb::TreeletLevel);
   const vk::Binder treelet = binder(treelet_);
+  BuildPush levelPush = schedulePush;
   for (uint32_t h = 1; h < bb::kTreeletMaxLevels; ++h) {
-    treelet.bind(cmd, BuildPush{a.triangleCount, h, 0, 0});
+    levelPush.param = h;
+    treelet.bind(cmd, levelPush);
     treelet_.dispatchIndirect(cmd, *a.schedule, argsOffset + h * sizeof(bb::DispatchArgs));
     vk::computeBarrier(cmd);
   }
 }
 
-EmitPass::EmitPass(const vk::Context& ctx)
-    : pipeline_(ctx, shaders::Id::bvh_emit, bb::kEmitBindingCount, sizeof(BuildPush)) {}
+EmitPass::EmitPass(const vk::Context& ctx, bool byAddress)
+    : access_{&ctx, byAddress},
+      pipeline_(ctx, shaders::Id::bvh_emit, bb::kEmitBindingCount, sizeof(BuildPush), arraySpec(byAddress)) {}
 
 void EmitPass::record(VkCommandBuffer cmd, const Args& a) const {
-  vk::Binder(pipeline_)
-      .set(bb::kEmitBindingInterior, a.interior)
-      .set(bb::kEmitBindingLeaves, a.leaves)
-      .set(bb::kEmitBindingPrims, a.prims)
-      .set(bb::kEmitBindingInfo, a.info)
-      .set(bb::kEmitBindingNodes, a.nodes)
-      .set(bb::kEmitBindingLeafTriangles, a.leafTriangles)
-      .bind(cmd, BuildPush{a.triangleCount, 0, 0, 0});
-  pipeline_.dispatch(cmd, groups(std::max<uint32_t>(a.triangleCount - 1, 1)));
+  vk::Binder binder(pipeline_);
+  BuildPush p = bindArrays(binder, access_, *a.arrays, a.triangleCount, 0);
+  binder.set(bb::kEmitBindingInfo, a.info).bind(cmd, p);
+  dispatchItems(pipeline_, cmd, std::max<uint32_t>(a.triangleCount - 1, 1));
   vk::computeBarrier(cmd);
 }
 

@@ -1,6 +1,9 @@
 // The passes of the GPU BVH build (shaders/bvh_*.comp; order and data in
 // shaders/shared/bvh_build.h). Each owns its pipeline and records bind + dispatch + barrier;
-// src/bvh/gpu_builder.cpp strings them together.
+// src/bvh/gpu_builder.cpp strings them together. Passes that touch the large arrays
+// (BuildArrays in shared/bvh_build.h) take them as one BuildArrayBuffers and are built for one
+// way of reaching them: bindings, or device addresses (byAddress) for arrays past
+// maxStorageBufferRange (then caps().bufferDeviceAddress must hold).
 #pragma once
 #include <vulkan/vulkan.h>
 
@@ -12,35 +15,56 @@
 
 namespace osr::bvh {
 
+// The build's large arrays. A pass reads or writes the ones its shader does (see each pass);
+// the others may stay unset.
+struct BuildArrayBuffers {
+  vk::BufferRange triangles;      // scene Triangle[triangleCount]
+  vk::BufferRange vertices;       // scene Vertex[]
+  vk::BufferRange prims;          // BvhLeafTriangle[triangleCount]
+  vk::BufferRange interior;       // BvhBuildNode[triangleCount - 1]
+  vk::BufferRange leaves;         // BvhBuildNode[triangleCount]
+  vk::BufferRange nodes;          // BvhNode[triangleCount - 1]
+  vk::BufferRange leafTriangles;  // BvhLeafTriangle[triangleCount]
+  // Whether some array is past what one binding holds (passes must then be byAddress).
+  bool pastOneBinding(const vk::Context& ctx) const;
+};
+
+// How a pass reaches the large arrays, fixed when its pipeline is made.
+struct ArrayAccess {
+  const vk::Context* ctx = nullptr;
+  bool byAddress = false;
+};
+
 // bvh_bounds: vertex copies per triangle + centroid bounds (info must hold the empty box).
+// Arrays: triangles, vertices (in), prims (out).
 class BoundsPass {
  public:
-  explicit BoundsPass(const vk::Context& ctx);
+  BoundsPass(const vk::Context& ctx, bool byAddress);
   struct Args {
-    const vk::Buffer* vertices = nullptr;   // scene Vertex buffer (split into two bindings)
-    const vk::Buffer* triangles = nullptr;  // scene Triangle buffer
-    vk::BufferRange prims;                  // out: BvhLeafTriangle[triangleCount]
-    vk::BufferRange info;                   // in/out: BvhBuildInfo
+    const BuildArrayBuffers* arrays = nullptr;
+    vk::BufferRange info;  // in/out: BvhBuildInfo
     uint32_t triangleCount = 0;
   };
   void record(VkCommandBuffer cmd, const Args& args) const;
 
  private:
-  const vk::Context& ctx_;
+  ArrayAccess access_;
   vk::ComputePipeline pipeline_;
 };
 
-// bvh_morton: keys = Morton codes of the centroids, values = triangle indices.
+// bvh_morton: keys = Morton codes of the centroids, values = triangle indices. Arrays: prims.
 class MortonPass {
  public:
-  explicit MortonPass(const vk::Context& ctx);
+  MortonPass(const vk::Context& ctx, bool byAddress);
   struct Args {
-    vk::BufferRange prims, info, keys, values;
+    const BuildArrayBuffers* arrays = nullptr;
+    vk::BufferRange info, keys, values;
     uint32_t triangleCount = 0;
   };
   void record(VkCommandBuffer cmd, const Args& args) const;
 
  private:
+  ArrayAccess access_;
   vk::ComputePipeline pipeline_;
 };
 
@@ -81,44 +105,53 @@ class RadixSort {
   ExclusiveScan scan_;
 };
 
-// bvh_lbvh: Karras 2012 hierarchy over sorted keys; initialises the leaves.
+// bvh_lbvh: Karras 2012 hierarchy over sorted keys; initialises the leaves. Arrays: prims
+// (in), interior, leaves (out).
 class LbvhPass {
  public:
-  explicit LbvhPass(const vk::Context& ctx);
+  LbvhPass(const vk::Context& ctx, bool byAddress);
+  // Usage the keys buffer needs on top of storage use (its R32UI view, keyTexels).
+  static constexpr VkBufferUsageFlags kKeysUsage = VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT;
   struct Args {
-    vk::BufferRange keys, values, prims, interior, leaves;
+    const BuildArrayBuffers* arrays = nullptr;
+    vk::BufferRange keys, values;
+    VkBufferView keyTexels = VK_NULL_HANDLE;  // R32UI view of keys (vk::BufferView::uintWords)
     uint32_t triangleCount = 0;
   };
   void record(VkCommandBuffer cmd, const Args& args) const;
 
  private:
+  ArrayAccess access_;
   vk::ComputePipeline pipeline_;
 };
 
 // bvh_refit: bottom-up bounds, counts, costs, heights; counters are zeroed by record().
+// Arrays: interior, leaves.
 class RefitPass {
  public:
-  explicit RefitPass(const vk::Context& ctx);
+  RefitPass(const vk::Context& ctx, bool byAddress);
   struct Args {
-    vk::BufferRange interior, leaves;
+    const BuildArrayBuffers* arrays = nullptr;
     const vk::Buffer* counters = nullptr;  // uint per interior node
     uint32_t triangleCount = 0;
   };
   void record(VkCommandBuffer cmd, const Args& args) const;
 
  private:
+  ArrayAccess access_;
   vk::ComputePipeline pipeline_;
 };
 
 // One round of treelet restructuring: bvh_treelet_count / _plan / _scatter, then bvh_treelet
-// once per height with an indirect dispatch (see shared/bvh_build.h).
+// once per height with an indirect dispatch (see shared/bvh_build.h). Arrays: interior, leaves.
 class TreeletPass {
  public:
   // treeletLeaves in 3..kTreeletMaxLeaves.
-  TreeletPass(const vk::Context& ctx, uint32_t treeletLeaves);
+  TreeletPass(const vk::Context& ctx, uint32_t treeletLeaves, bool byAddress);
   static uint64_t scheduleBytes();
   struct Args {
-    vk::BufferRange interior, leaves, counters;
+    const BuildArrayBuffers* arrays = nullptr;
+    vk::BufferRange counters;
     const vk::Buffer* schedule = nullptr;  // scheduleBytes()
     vk::BufferRange nodeList;              // uint per interior node
     uint32_t triangleCount = 0;
@@ -129,20 +162,24 @@ class TreeletPass {
   void record(VkCommandBuffer cmd, const Args& args, vk::GpuTimer* timer = nullptr) const;
 
  private:
+  ArrayAccess access_;
   vk::ComputePipeline count_, plan_, scatter_, treelet_;
 };
 
-// bvh_emit: traversal nodes and leaf triangles (info.leafCounter must be 0).
+// bvh_emit: traversal nodes and leaf triangles (info.leafCounter must be 0). Arrays: interior,
+// leaves, prims (in), nodes, leafTriangles (out).
 class EmitPass {
  public:
-  explicit EmitPass(const vk::Context& ctx);
+  EmitPass(const vk::Context& ctx, bool byAddress);
   struct Args {
-    vk::BufferRange interior, leaves, prims, info, nodes, leafTriangles;
+    const BuildArrayBuffers* arrays = nullptr;
+    vk::BufferRange info;
     uint32_t triangleCount = 0;
   };
   void record(VkCommandBuffer cmd, const Args& args) const;
 
  private:
+  ArrayAccess access_;
   vk::ComputePipeline pipeline_;
 };
 

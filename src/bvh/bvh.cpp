@@ -20,6 +20,7 @@ void Bvh::makeTexelViews(const vk::Context& ctx) {
   // (texelFetchCovers is false) and the view only fills its slot.
   nodeTexels = vk::BufferView::uintTexels(ctx, nodes, "bvh node texels");
   leafTexels = vk::BufferView::uintTexels(ctx, leafData, "bvh leaf texels");
+  storageRange = ctx.caps().maxStorageBufferRange;
 }
 
 std::array<VkDescriptorType, gpu::bvh::kBvhBindingCount> Bvh::descriptorTypes() {
@@ -32,8 +33,11 @@ std::array<VkDescriptorType, gpu::bvh::kBvhBindingCount> Bvh::descriptorTypes() 
 }
 
 void Bvh::bind(vk::Binder& binder, uint32_t base) const {
-  binder.set(base + gpu::bvh::kBvhBindingNodes, nodes)
-      .set(base + gpu::bvh::kBvhBindingLeafTriangles, leafData)
+  auto storage = [&](const vk::Buffer& b) {
+    return vk::BufferRange(b, 0, std::min<VkDeviceSize>(b.size(), storageRange / kTexelBytes * kTexelBytes));
+  };
+  binder.set(base + gpu::bvh::kBvhBindingNodes, storage(nodes))
+      .set(base + gpu::bvh::kBvhBindingLeafTriangles, storage(leafData))
       .setTexel(base + gpu::bvh::kBvhBindingNodeTexels, nodeTexels.handle())
       .setTexel(base + gpu::bvh::kBvhBindingLeafTexels, leafTexels.handle());
 }
@@ -47,15 +51,33 @@ vk::SpecConstant traversalSpec(const vk::Context& ctx, Access access) {
   return vk::specUint(gpu::bvh::kBvhSpecTexelFetch, texel ? 1u : 0u);
 }
 
-uint32_t maxTriangles(const vk::Context& ctx) {
-  // The largest per-triangle buffer of either builder bounds the count: one BvhNode per
-  // triangle (a binary tree has fewer interior nodes than triangles).
-  uint64_t perBinding = ctx.caps().maxStorageBufferRange;
-  uint64_t n = perBinding / sizeof(gpu::bvh::BvhNode);
-  // Build passes dispatch one invocation per triangle in one dimension of 64-wide groups.
-  n = std::min<uint64_t>(n, 65535ull * 64);
-  return static_cast<uint32_t>(std::min<uint64_t>(n, gpu::bvh::kBvhLeafFirstMask));
+TriangleLimit triangleLimit(const vk::Context& ctx) {
+  const vk::Capabilities& caps = ctx.caps();
+  TriangleLimit best{gpu::bvh::kBvhLeafFirstMask, "the leaf index field (2^27 leaf entries)"};
+  auto consider = [&](uint64_t bytes, uint64_t perTriangle, const std::string& limit) {
+    uint64_t n = bytes / perTriangle;
+    if (n < best.triangles) best = {uint32_t(n), limit};
+  };
+  auto mib = [](uint64_t bytes) { return std::to_string(bytes >> 20) + " MiB"; };
+  const uint64_t node = sizeof(gpu::bvh::BvhNode);  // the largest per-triangle array
+  // Every BVH array is one allocation (nodes: one per triangle, less one).
+  consider(caps.maxMemoryAllocationSize, node,
+           "maxMemoryAllocationSize " + mib(caps.maxMemoryAllocationSize) + " / " + std::to_string(node) + "-byte BVH nodes");
+  // Traversal reads the nodes through one binding: a texel view or a storage range.
+  if (texelFetchCovers(ctx))
+    consider(uint64_t(caps.maxTexelBufferElements) * kTexelBytes, node,
+             "maxTexelBufferElements " + std::to_string(caps.maxTexelBufferElements) + " / " +
+                 std::to_string(node / kTexelBytes) + " texels per BVH node");
+  else
+    consider(caps.maxStorageBufferRange, node,
+             "maxStorageBufferRange " + mib(caps.maxStorageBufferRange) + " / " + std::to_string(node) + "-byte BVH nodes");
+  // The build's 4-byte-per-triangle arrays (keys, values, counters) are storage bindings; its
+  // larger ones are read through device addresses (shared/bvh_build.h).
+  consider(caps.maxStorageBufferRange, 4, "maxStorageBufferRange " + mib(caps.maxStorageBufferRange) + " / 4-byte sort keys");
+  return best;
 }
+
+uint32_t maxTriangles(const vk::Context& ctx) { return triangleLimit(ctx).triangles; }
 
 Bvh buildOnHost(const vk::Context& ctx, const vk::Buffer& vertices, const vk::Buffer& triangles,
                 uint32_t triangleCount, BuildStats* stats) {

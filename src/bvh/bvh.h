@@ -4,6 +4,7 @@
 #pragma once
 #include <array>
 #include <cstdint>
+#include <string>
 #include <vector>
 
 #include "shaders/shared/bvh.h"
@@ -33,8 +34,12 @@ struct Bvh {
   // Descriptor types by slot (element kBvhBinding*): a traversing pass places them at its
   // OSR_BVH_BINDING and builds its pipeline with traversalSpec.
   static std::array<VkDescriptorType, gpu::bvh::kBvhBindingCount> descriptorTypes();
-  // Sets slots base + kBvhBinding* (base: the pass's OSR_BVH_BINDING).
+  // Sets slots base + kBvhBinding* (base: the pass's OSR_BVH_BINDING). A buffer larger than
+  // maxStorageBufferRange fills its storage slot with its first maxStorageBufferRange bytes:
+  // traversal then reads it by texel fetch (triangleLimit admits such a BVH only where the
+  // texel views cover it), and the storage slot is dead code.
   void bind(vk::Binder& binder, uint32_t base) const;
+  uint64_t storageRange = 0;  // the device's maxStorageBufferRange (set by makeTexelViews)
 };
 
 // How traversal reads the BVH: Auto = texel fetch where every BVH the device can bind fits
@@ -49,12 +54,12 @@ struct BuildStats {
   double totalMs = 0;                // GPU build: sum of passes; host build: wall time
   double sahCost = 0;                // under kSahNodeCost / kSahTriangleCost
   uint32_t depth = 0;                // nodes on the longest root-to-leaf path
+  uint64_t scratchBytes = 0;         // GPU build: temporary buffers, freed when it returns
 };
 
 // Builds on the device by compute passes from the scene's Vertex and Triangle buffers (world
 // space positions; vertex indices in range, as the scene loader guarantees). triangleCount >= 1.
-// Throws DeviceError when the scene exceeds what the device's maxStorageBufferRange allows,
-// naming the limit. Compiles the build's pipelines on each call: to build repeatedly, keep a
+// Throws DeviceError when the scene exceeds triangleLimit(ctx), naming the limit and the size. Compiles the build's pipelines on each call: to build repeatedly, keep a
 // GpuBuilder (bvh/gpu_builder.h), which also takes options (treelet rounds and size).
 Bvh buildGpu(const vk::Context& ctx, const vk::Buffer& vertices, const vk::Buffer& triangles,
              uint32_t triangleCount, BuildStats* stats = nullptr);
@@ -64,7 +69,13 @@ Bvh buildGpu(const vk::Context& ctx, const vk::Buffer& vertices, const vk::Buffe
 Bvh buildOnHost(const vk::Context& ctx, const vk::Buffer& vertices, const vk::Buffer& triangles,
                 uint32_t triangleCount, BuildStats* stats = nullptr);
 
-// Largest triangle count whose BVH buffers fit the device's maxStorageBufferRange.
+// Largest triangle count the device can build and trace, and the device limit that sets it
+// (e.g. "maxMemoryAllocationSize 2048 MiB / 64-byte BVH nodes").
+struct TriangleLimit {
+  uint32_t triangles = 0;
+  std::string limit;
+};
+TriangleLimit triangleLimit(const vk::Context& ctx);
 uint32_t maxTriangles(const vk::Context& ctx);
 
 }  // namespace osr::bvh

@@ -33,15 +33,15 @@ struct GpuBuilder::Passes {
   RefitPass refit;
   TreeletPass treelet;
   EmitPass emit;
-  Passes(const vk::Context& ctx, uint32_t treeletLeaves)
-      : bounds(ctx), morton(ctx), sort(ctx), lbvh(ctx), refit(ctx), treelet(ctx, treeletLeaves),
-        emit(ctx) {}
+  Passes(const vk::Context& ctx, uint32_t treeletLeaves, bool byAddress)
+      : bounds(ctx, byAddress), morton(ctx, byAddress), sort(ctx), lbvh(ctx, byAddress), refit(ctx, byAddress),
+        treelet(ctx, treeletLeaves, byAddress), emit(ctx, byAddress) {}
 };
 
 namespace {
 
-vk::Buffer scratch(const vk::Context& ctx, uint64_t bytes, const char* name) {
-  return vk::Buffer(ctx, std::max<uint64_t>(bytes, 16), vk::MemoryUse::DeviceLocal, name);
+vk::Buffer scratch(const vk::Context& ctx, uint64_t bytes, const char* name, VkBufferUsageFlags extraUsage = 0) {
+  return vk::Buffer(ctx, std::max<uint64_t>(bytes, 16), vk::MemoryUse::DeviceLocal, name, extraUsage);
 }
 
 }  // namespace
@@ -57,7 +57,7 @@ Bvh buildGpu(const vk::Context& ctx, const vk::Buffer& vertices, const vk::Buffe
 }
 
 GpuBuilder::GpuBuilder(const vk::Context& ctx, const GpuBuildOptions& options)
-    : ctx_(ctx), options_(options), passes_(std::make_unique<Passes>(ctx, options.treeletLeaves)) {}
+    : ctx_(ctx), options_(options), passes_(std::make_unique<Passes>(ctx, options.treeletLeaves, false)) {}
 
 GpuBuilder::~GpuBuilder() = default;
 
@@ -65,13 +65,12 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
                       uint32_t triangleCount, BuildStats* stats) const {
   const vk::Context& ctx = ctx_;
   const GpuBuildOptions& options = options_;
-  Passes& passes = *passes_;
   const uint32_t n = triangleCount;
   if (n == 0) throw InputError("bvh: a scene with no triangles has no BVH");
-  if (n > maxTriangles(ctx))
-    throw DeviceError("bvh: " + std::to_string(n) + " triangles exceed the device limit of " +
-                      std::to_string(maxTriangles(ctx)) + " (maxStorageBufferRange " +
-                      std::to_string(ctx.caps().maxStorageBufferRange) + " bytes per binding)");
+  const TriangleLimit limit = triangleLimit(ctx);
+  if (n > limit.triangles)
+    throw DeviceError("bvh: " + std::to_string(n) + " triangles exceed the device's limit of " +
+                      std::to_string(limit.triangles) + " (" + limit.limit + ", " + ctx.caps().deviceName + ")");
   if (triangles.size() < uint64_t(n) * sizeof(gpu::scene::Triangle))
     throw DeviceError("bvh: triangle buffer '" + triangles.name() + "' holds fewer than " +
                       std::to_string(n) + " triangles");
@@ -80,7 +79,7 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
 
   vk::Buffer prims = scratch(ctx, uint64_t(n) * sizeof(gpu::bvh::BvhLeafTriangle), "bvh prims");
   vk::Buffer info = scratch(ctx, sizeof(bb::BvhBuildInfo), "bvh build info");
-  vk::Buffer keys = scratch(ctx, 4ull * n, "bvh keys"), keysTmp = scratch(ctx, 4ull * n, "bvh keys tmp");
+  vk::Buffer keys = scratch(ctx, 4ull * n, "bvh keys", LbvhPass::kKeysUsage), keysTmp = scratch(ctx, 4ull * n, "bvh keys tmp");
   vk::Buffer values = scratch(ctx, 4ull * n, "bvh values"), valuesTmp = scratch(ctx, 4ull * n, "bvh values tmp");
   uint64_t histBytes = RadixSort::histogramBytes(n);
   vk::Buffer hist = scratch(ctx, histBytes, "bvh radix histogram");
@@ -90,6 +89,10 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
   vk::Buffer counters = scratch(ctx, 4ull * interiorCount, "bvh climb counters");
   vk::Buffer schedule = scratch(ctx, TreeletPass::scheduleBytes(), "bvh treelet schedule");
   vk::Buffer nodeList = scratch(ctx, 4ull * interiorCount, "bvh treelet node list");
+  uint64_t scratchBytes = 0;
+  for (const vk::Buffer* b : {&prims, &info, &keys, &keysTmp, &values, &valuesTmp, &hist, &partials, &interior,
+                              &leaves, &counters, &schedule, &nodeList})
+    scratchBytes += b->size();
 
   Bvh bvh;
   bvh.nodeCount = interiorCount;
@@ -97,6 +100,26 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
   bvh.nodes = vk::Buffer(ctx, uint64_t(interiorCount) * sizeof(gpu::bvh::BvhNode), vk::MemoryUse::DeviceLocal, "bvh nodes", Bvh::kExtraUsage);
   bvh.leafData = vk::Buffer(ctx, uint64_t(n) * sizeof(gpu::bvh::BvhLeafTriangle), vk::MemoryUse::DeviceLocal, "bvh leaf triangles", Bvh::kExtraUsage);
   bvh.makeTexelViews(ctx);
+
+  // Where the sort leaves the keys (an even number of rounds), for bvh_lbvh's texel reads.
+  const vk::BufferView keyTexels = vk::BufferView::uintWords(ctx, keys, "bvh key texels");
+  BuildArrayBuffers arrays;
+  arrays.triangles = vk::BufferRange(triangles, 0, uint64_t(n) * sizeof(gpu::scene::Triangle));
+  arrays.vertices = vertices;
+  arrays.prims = prims;
+  arrays.interior = interior;
+  arrays.leaves = leaves;
+  arrays.nodes = bvh.nodes;
+  arrays.leafTriangles = bvh.leafData;
+  // Past one binding, pipelines that reach the arrays by address (made on first need: on
+  // lavapipe an address load costs about twice a binding's, lib/bvh_build_arrays.glsl).
+  const bool byAddress = arrays.pastOneBinding(ctx);
+  if (byAddress && !ctx.caps().bufferDeviceAddress)
+    throw DeviceError("bvh: " + std::to_string(n) + " triangles need arrays past maxStorageBufferRange (" +
+                      std::to_string(ctx.caps().maxStorageBufferRange >> 20) + " MiB), read by device address, which \"" +
+                      ctx.caps().deviceName + "\" lacks (bufferDeviceAddress)");
+  if (byAddress && !addressPasses_) addressPasses_ = std::make_unique<Passes>(ctx, options.treeletLeaves, true);
+  Passes& passes = byAddress ? *addressPasses_ : *passes_;
 
   vk::GpuTimer timer(ctx, 256);
   bb::BvhBuildInfo initial{};
@@ -110,29 +133,28 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
     vk::transferBarrier(cmd);
     {
       vk::TimedScope scope(&timer, cmd, "bvh_bounds");
-      passes.bounds.record(cmd, {&vertices, &triangles, prims, info, n});
+      passes.bounds.record(cmd, {&arrays, info, n});
     }
     {
       vk::TimedScope scope(&timer, cmd, "bvh_morton");
-      passes.morton.record(cmd, {prims, info, keys, values, n});
+      passes.morton.record(cmd, {&arrays, info, keys, values, n});
     }
     passes.sort.record(cmd, {keys, values, keysTmp, valuesTmp, hist, partials, n}, &timer);
     {
       vk::TimedScope scope(&timer, cmd, "bvh_lbvh");
-      passes.lbvh.record(cmd, {keys, values, prims, interior, leaves, n});
+      passes.lbvh.record(cmd, {&arrays, keys, values, keyTexels.handle(), n});
     }
     if (n > 1) {
       vk::TimedScope scope(&timer, cmd, "bvh_refit");
-      passes.refit.record(cmd, {interior, leaves, &counters, n});
+      passes.refit.record(cmd, {&arrays, &counters, n});
     }
     for (uint32_t round = 0; round < treeletRounds && n > 2; ++round) {
       // Karras & Aila grow the smallest restructured subtree each round: the bottom levels
       // improve most in the first round, later rounds polish the upper tree at less cost.
-      passes.treelet.record(cmd, {interior, leaves, counters, &schedule, nodeList, n, options.treeletMinTriangles << round},
-                            &timer);
+      passes.treelet.record(cmd, {&arrays, counters, &schedule, nodeList, n, options.treeletMinTriangles << round}, &timer);
     }
     vk::TimedScope scope(&timer, cmd, "bvh_emit");
-    passes.emit.record(cmd, {interior, leaves, prims, info, bvh.nodes, bvh.leafData, n});
+    passes.emit.record(cmd, {&arrays, info, n});
   };
 
   uint32_t rounds = options.treeletRounds;
@@ -143,8 +165,8 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
     root = n > 1 ? interior.downloadVector<bb::BvhBuildNode>(1)[0] : leaves.downloadVector<bb::BvhBuildNode>(1)[0];
     done = info.downloadVector<bb::BvhBuildInfo>(1)[0];
     uint32_t height = n > 1 ? (root.flags >> bb::kTraversalHeightShift) & bb::kHeightMask : 1;
-    // The LBVH alone has at most 30 + ceil(log2 N) + 1 <= 53 levels (N <= 2^21 on 128 MiB
-    // bindings); restructuring can deepen it, so a tree past the traversal bound is rebuilt
+    // The LBVH alone has at most 30 + ceil(log2 N) + 1 <= 58 levels (N <= 2^27, the leaf
+    // index field); restructuring can deepen it, so a tree past the traversal bound is rebuilt
     // without that step.
     if (height <= gpu::bvh::kBvhMaxDepth || rounds == 0) {
       if (height > gpu::bvh::kBvhMaxDepth)
@@ -175,6 +197,7 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
     // One triangle: the root node over a single leaf (root.cost is that leaf's).
     double cost = n > 1 ? root.cost : gpu::bvh::kSahNodeCost * area + root.cost;
     stats->sahCost = area > 0 ? cost / area : 0.0;
+    stats->scratchBytes = scratchBytes;
   }
   return bvh;
 }

@@ -41,7 +41,8 @@ class GpuBuilder {
   struct Passes;
   const vk::Context& ctx_;
   GpuBuildOptions options_;
-  std::unique_ptr<Passes> passes_;
+  std::unique_ptr<Passes> passes_;                 // arrays in storage bindings
+  mutable std::unique_ptr<Passes> addressPasses_;  // arrays by device address (scenes past one binding)
 };
 
 }  // namespace osr::bvh

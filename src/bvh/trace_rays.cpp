@@ -1,6 +1,7 @@
 #include "bvh/trace_rays.h"
 
 #include <algorithm>
+#include <string>
 #include <vector>
 
 #include "common/error.h"
@@ -24,11 +25,17 @@ std::vector<VkDescriptorType> descriptorTypes(bool alphaTest) {
 
 TraceRaysPass::TraceRaysPass(const vk::Context& ctx, bool alphaTest, Access access)
     : alphaTest_(alphaTest),
+      storageAccess_(traversalSpec(ctx, access).bits == 0),
       pipeline_(ctx, alphaTest ? shaders::Id::bvh_trace_rays_alpha : shaders::Id::bvh_trace_rays,
                 descriptorTypes(alphaTest), sizeof(tr::Push), {traversalSpec(ctx, access)}) {}
 
 void TraceRaysPass::record(VkCommandBuffer cmd, const Args& args) const {
   if (args.rayCount == 0) return;
+  // Bvh::bind cuts a storage slot at maxStorageBufferRange; only texel fetch reads past it.
+  if (storageAccess_ && std::max(args.bvh->nodes.size(), args.bvh->leafData.size()) > args.bvh->storageRange)
+    throw DeviceError("bvh: a BVH of " + std::to_string(args.bvh->triangleCount) +
+                      " triangles passes maxStorageBufferRange (" + std::to_string(args.bvh->storageRange >> 20) +
+                      " MiB), which storage-buffer traversal cannot read; use texel fetch");
   uint32_t groups = vk::groupCount(args.rayCount, tr::kWorkgroupSize);
   uint32_t x = std::min(groups, 65535u);
   uint32_t y = (groups + x - 1) / x;

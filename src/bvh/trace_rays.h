@@ -27,6 +27,7 @@ class TraceRaysPass {
 
  private:
   bool alphaTest_;
+  bool storageAccess_;  // reads the BVH's storage bindings (traversalSpec chose storage)
   vk::ComputePipeline pipeline_;
 };
 

@@ -1,5 +1,7 @@
 #include "scene_gpu/gpu_scene.h"
 
+#include <utility>
+
 #include "common/error.h"
 #include "scene/environment.h"
 
@@ -7,21 +9,37 @@ namespace osr::scene {
 
 namespace {
 
-// One device-local buffer holding `data` (or one zeroed T when empty). Refuses sizes past the
-// device's maxStorageBufferRange: a pass could not bind it whole and the shaders index it flat.
+// The most bytes a shader can read of one scene buffer, and the device limit's name. Storage
+// bindings reach maxStorageBufferRange (128 MiB on lavapipe). The buffers that shading reads by
+// texel fetch (vertices, triangles, materials: `texelRead`) reach further where the device's
+// texel views are the longer reach (2 GiB on lavapipe: maxTexelBufferElements RGBA32UI texels,
+// also its maxMemoryAllocationSize); their storage bindings then hold only the first
+// maxStorageBufferRange bytes (GpuScene::bindings), which no shading pass reads past.
+std::pair<uint64_t, std::string> readLimit(const vk::Context& ctx, bool texelRead) {
+  const vk::Capabilities& caps = ctx.caps();
+  uint64_t texelBytes = uint64_t(caps.maxTexelBufferElements) * 16;
+  if (texelRead && texelBytes > caps.maxStorageBufferRange) {
+    if (caps.maxMemoryAllocationSize < texelBytes) return {caps.maxMemoryAllocationSize, "maxMemoryAllocationSize"};
+    return {texelBytes, "maxTexelBufferElements x 16 bytes"};
+  }
+  return {caps.maxStorageBufferRange, "maxStorageBufferRange"};
+}
+
+// One device-local buffer holding `data` (or one zeroed T when empty). Refuses sizes past what
+// a shader can read of it (readLimit) in one line naming the size and the limit.
 template <class T>
 vk::Buffer upload(const vk::Context& ctx, const std::vector<T>& data, const std::string& what,
-                  const std::string& scenePath, VkBufferUsageFlags extraUsage = 0) {
+                  const std::string& scenePath, bool texelRead = false) {
   uint64_t bytes = uint64_t(std::max<size_t>(data.size(), 1)) * sizeof(T);
-  uint64_t limit = ctx.caps().maxStorageBufferRange;
+  auto [limit, limitName] = readLimit(ctx, texelRead);
   if (bytes > limit)
     throw DeviceError(scenePath + ": scene too large for the device: the " + what +
                       " buffer needs " + std::to_string((bytes + (1 << 20) - 1) >> 20) + " MiB (" +
-                      std::to_string(data.size()) +
-                      " elements), more than the device's "
-                      "maxStorageBufferRange of " +
-                      std::to_string(limit >> 20) + " MiB (" + ctx.caps().deviceName + ")");
-  vk::Buffer buffer(ctx, bytes, vk::MemoryUse::DeviceLocal, "scene " + what, extraUsage);
+                      std::to_string(data.size()) + " elements), more than the device's " +
+                      limitName + " of " + std::to_string(limit >> 20) + " MiB (" +
+                      ctx.caps().deviceName + ")");
+  vk::Buffer buffer(ctx, bytes, vk::MemoryUse::DeviceLocal, "scene " + what,
+                    texelRead ? VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT : 0);
   if (data.empty()) {
     T zero{};
     buffer.upload(&zero, sizeof(T));
@@ -70,10 +88,9 @@ GpuScene::GpuScene(const vk::Context& ctx, const Scene& scene, const Environment
     envCdf = scene::environmentCdf(*env);
   }
 
-  const VkBufferUsageFlags texel = VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT;
-  vertices = upload(ctx, scene.vertices, "vertex", path, texel);
-  triangles = upload(ctx, scene.triangles, "triangle", path, texel);
-  materials = upload(ctx, scene.materials, "material", path, texel);
+  vertices = upload(ctx, scene.vertices, "vertex", path, true);
+  triangles = upload(ctx, scene.triangles, "triangle", path, true);
+  materials = upload(ctx, scene.materials, "material", path, true);
   textureInfos = upload(ctx, infos, "texture info", path);
   texels = upload(ctx, allTexels, "texel", path);
   lights = upload(ctx, scene.lights, "light", path);
@@ -97,6 +114,7 @@ GpuScene::GpuScene(const vk::Context& ctx, const Scene& scene, const Environment
   triangleTexels_ = vk::BufferView::uintTexels(ctx, triangles, "scene triangle texels", &coversT);
   materialTexels_ = vk::BufferView::uintTexels(ctx, materials, "scene material texels", &coversM);
   texelFetch = coversV && coversT && coversM;
+  storageRange_ = ctx.caps().maxStorageBufferRange;
 }
 
 // Texels per element that shaders/lib/scene.glsl reads (Material's layout is asserted in
@@ -107,9 +125,13 @@ static_assert(sizeof(gpu::Vertex) == 32 && sizeof(gpu::Triangle) == 16 &&
 
 std::array<vk::BufferRange, gpu::kSceneBindingCount> GpuScene::bindings() const {
   std::array<vk::BufferRange, gpu::kSceneBindingCount> b;
-  b[gpu::kSceneBindingVertices] = vertices;
-  b[gpu::kSceneBindingTriangles] = triangles;
-  b[gpu::kSceneBindingMaterials] = materials;
+  // See readLimit: a buffer past maxStorageBufferRange is read by texel fetch.
+  auto storage = [&](const vk::Buffer& buf) {
+    return vk::BufferRange(buf, 0, std::min<VkDeviceSize>(buf.size(), storageRange_ / 16 * 16));
+  };
+  b[gpu::kSceneBindingVertices] = storage(vertices);
+  b[gpu::kSceneBindingTriangles] = storage(triangles);
+  b[gpu::kSceneBindingMaterials] = storage(materials);
   b[gpu::kSceneBindingTextureInfos] = textureInfos;
   b[gpu::kSceneBindingTexels] = texels;
   b[gpu::kSceneBindingLights] = lights;
@@ -140,7 +162,7 @@ void GpuScene::bindTexels(vk::Binder& binder, uint32_t base) const {
 
 uint64_t GpuScene::bytes() const {
   uint64_t total = 0;
-  for (const vk::BufferRange& r : bindings()) total += r.buffer->size();
+  for (const vk::BufferRange& r : bindings()) total += r.buffer->size();  // whole buffers
   return total;
 }
 

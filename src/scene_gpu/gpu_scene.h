@@ -16,7 +16,10 @@ class GpuScene {
  public:
   // Uploads `scene` (and `env`, optional). Buffers are never empty: an empty list is padded with
   // one zeroed element (the counts in SceneInfo say how many are real). Throws DeviceError naming
-  // maxStorageBufferRange when a buffer would exceed it.
+  // the buffer's size and the device limit when a shader could not read all of it: storage
+  // buffers reach maxStorageBufferRange; vertices, triangles and materials, which shading reads
+  // by texel fetch, reach maxTexelBufferElements texels where that is further (2 GiB on
+  // lavapipe: about 60M triangles).
   GpuScene(const vk::Context& ctx, const Scene& scene, const Environment* env = nullptr);
 
   // Declared in binding order.
@@ -42,7 +45,8 @@ class GpuScene {
   std::array<VkBufferView, gpu::kSceneTexelBindingCount> texelViews() const;
   bool texelFetch = false;
 
-  // The buffers by slot: element kSceneBinding* is that slot's buffer.
+  // The buffers by slot: element kSceneBinding* is that slot's buffer (vertices, triangles and
+  // materials cut at maxStorageBufferRange: past it, passes read them by texel fetch).
   std::array<vk::BufferRange, gpu::kSceneBindingCount> bindings() const;
   // Sets slots base + kSceneBinding* (base: the pass's OSR_SCENE_BINDING).
   void bind(vk::Binder& binder, uint32_t base) const;
@@ -53,6 +57,7 @@ class GpuScene {
 
  private:
   vk::BufferView vertexTexels_, triangleTexels_, materialTexels_;
+  uint64_t storageRange_ = 0;  // the device's maxStorageBufferRange
 };
 
 }  // namespace osr::scene

@@ -16,10 +16,16 @@ Buffer::Buffer(const Context& ctx, VkDeviceSize size, MemoryUse use, std::string
   size_ = size;
   name_ = std::move(name);
   if (size == 0) throw DeviceError("vulkan: buffer '" + name_ + "' has size 0");
+  if (size > ctx.caps().maxMemoryAllocationSize)
+    throw DeviceError("vulkan: buffer '" + name_ + "' needs " + std::to_string((size + (1 << 20) - 1) >> 20) +
+                      " MiB, more than the device's maxMemoryAllocationSize of " +
+                      std::to_string(ctx.caps().maxMemoryAllocationSize >> 20) + " MiB (" +
+                      ctx.caps().deviceName + ")");
   VkBufferCreateInfo info{VK_STRUCTURE_TYPE_BUFFER_CREATE_INFO};
   info.size = size;
   info.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT |
                VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT | extraUsage;
+  if (ctx.caps().bufferDeviceAddress) info.usage |= VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT;
   info.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
   check(vkCreateBuffer(ctx.device(), &info, nullptr, &buffer_), ("vkCreateBuffer " + name_).c_str());
   ctx.setName(VK_OBJECT_TYPE_BUFFER, reinterpret_cast<uint64_t>(buffer_), name_);
@@ -47,6 +53,9 @@ Buffer::Buffer(const Context& ctx, VkDeviceSize size, MemoryUse use, std::string
   VkMemoryAllocateInfo alloc{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_INFO};
   alloc.allocationSize = req.size;
   alloc.memoryTypeIndex = ctx.findMemoryType(req.memoryTypeBits, flags);
+  VkMemoryAllocateFlagsInfo allocFlags{VK_STRUCTURE_TYPE_MEMORY_ALLOCATE_FLAGS_INFO};
+  allocFlags.flags = VK_MEMORY_ALLOCATE_DEVICE_ADDRESS_BIT;
+  if (ctx.caps().bufferDeviceAddress) alloc.pNext = &allocFlags;
   VkResult r = vkAllocateMemory(ctx.device(), &alloc, nullptr, &memory_);
   if (r == VK_ERROR_OUT_OF_DEVICE_MEMORY || r == VK_ERROR_OUT_OF_HOST_MEMORY)
     throw DeviceError("vulkan: out of memory allocating buffer '" + name_ + "' (" +
@@ -86,6 +95,15 @@ void Buffer::release() {
   buffer_ = VK_NULL_HANDLE;
   memory_ = VK_NULL_HANDLE;
   mapped_ = nullptr;
+}
+
+VkDeviceAddress Buffer::deviceAddress() const {
+  if (!ctx_->caps().bufferDeviceAddress)
+    throw DeviceError("vulkan: device \"" + ctx_->caps().deviceName +
+                      "\" lacks bufferDeviceAddress (buffer '" + name_ + "')");
+  VkBufferDeviceAddressInfo info{VK_STRUCTURE_TYPE_BUFFER_DEVICE_ADDRESS_INFO};
+  info.buffer = buffer_;
+  return vkGetBufferDeviceAddress(ctx_->device(), &info);
 }
 
 void Buffer::upload(const void* data, VkDeviceSize bytes, VkDeviceSize offset) {

@@ -19,7 +19,8 @@ enum class MemoryUse {
 class Buffer {
  public:
   Buffer() = default;
-  // size > 0. `name` labels the buffer in validation messages and error text.
+  // size > 0. `name` labels the buffer in validation messages and error text. Throws
+  // DeviceError naming the size and the limit when size exceeds maxMemoryAllocationSize.
   Buffer(const Context& ctx, VkDeviceSize size, MemoryUse use, std::string name,
          VkBufferUsageFlags extraUsage = 0);
   ~Buffer();
@@ -32,6 +33,8 @@ class Buffer {
   VkDeviceSize size() const { return size_; }
   const std::string& name() const { return name_; }
   bool valid() const { return buffer_ != VK_NULL_HANDLE; }
+  // Its address for GL_EXT_buffer_reference (caps().bufferDeviceAddress must be true).
+  VkDeviceAddress deviceAddress() const;
   // Mapped pointer, or nullptr when the memory is not host-visible.
   void* mapped() const { return mapped_; }
 

@@ -19,14 +19,24 @@ BufferView::BufferView(const Context& ctx, const BufferRange& range, VkFormat fo
   ctx.setName(VK_OBJECT_TYPE_BUFFER_VIEW, reinterpret_cast<uint64_t>(view_), name);
 }
 
-BufferView BufferView::uintTexels(const Context& ctx, const Buffer& buffer,
-                                  const std::string& name, bool* covers) {
-  constexpr VkDeviceSize kTexelBytes = 16;
-  VkDeviceSize texels = buffer.size() / kTexelBytes;
+namespace {
+BufferView wholeTexels(const Context& ctx, const Buffer& buffer, const std::string& name, bool* covers,
+                       VkDeviceSize texelBytes, VkFormat format) {
+  VkDeviceSize texels = buffer.size() / texelBytes;
   VkDeviceSize maxTexels = ctx.caps().maxTexelBufferElements;
   if (covers) *covers = texels <= maxTexels;
-  return BufferView(ctx, BufferRange(buffer, 0, std::min(texels, maxTexels) * kTexelBytes),
-                    VK_FORMAT_R32G32B32A32_UINT, name);
+  return BufferView(ctx, BufferRange(buffer, 0, std::min(texels, maxTexels) * texelBytes), format, name);
+}
+}  // namespace
+
+BufferView BufferView::uintTexels(const Context& ctx, const Buffer& buffer,
+                                  const std::string& name, bool* covers) {
+  return wholeTexels(ctx, buffer, name, covers, 16, VK_FORMAT_R32G32B32A32_UINT);
+}
+
+BufferView BufferView::uintWords(const Context& ctx, const Buffer& buffer, const std::string& name,
+                                 bool* covers) {
+  return wholeTexels(ctx, buffer, name, covers, 4, VK_FORMAT_R32_UINT);
 }
 
 BufferView::~BufferView() {

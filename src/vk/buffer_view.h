@@ -25,6 +25,9 @@ class BufferView {
   // maxTexelBufferElements; `covers` (optional) says whether it reaches the buffer's end.
   static BufferView uintTexels(const Context& ctx, const Buffer& buffer, const std::string& name,
                                bool* covers = nullptr);
+  // An R32UI view of `buffer` from offset 0 (whole 4-byte words), cut likewise.
+  static BufferView uintWords(const Context& ctx, const Buffer& buffer, const std::string& name,
+                              bool* covers = nullptr);
 
  private:
   const Context* ctx_ = nullptr;

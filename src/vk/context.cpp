@@ -137,7 +137,7 @@ Context::Context(const ContextOptions& options) {
   try {
     createInstance(options.validation || envFlag("OSR_VALIDATION"), options.instanceExtensions);
     pickPhysicalDevice(options.device);
-    createDevice(options.swapchain);
+    createDevice(options.swapchain, options.testMaxAllocationBytes);
   } catch (...) {
     release();
     throw;
@@ -269,7 +269,7 @@ void Context::pickPhysicalDevice(const std::string& selector) {
                       "\" does not support Vulkan 1.2");
 }
 
-void Context::createDevice(bool swapchain) {
+void Context::createDevice(bool swapchain, uint64_t testMaxAllocationBytes) {
   VkPhysicalDeviceProperties2 props2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
   VkPhysicalDeviceSubgroupProperties subgroup{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES};
   VkPhysicalDeviceMaintenance3Properties maintenance3{
@@ -331,6 +331,7 @@ void Context::createDevice(bool swapchain) {
   e12.storageBuffer8BitAccess = f12.storageBuffer8BitAccess;
   e12.scalarBlockLayout = f12.scalarBlockLayout;
   e12.hostQueryReset = f12.hostQueryReset;
+  e12.bufferDeviceAddress = f12.bufferDeviceAddress;
 
   float priority = 1.0f;
   VkDeviceQueueCreateInfo queueInfo{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
@@ -359,6 +360,8 @@ void Context::createDevice(bool swapchain) {
   caps_.subgroupSize = subgroup.subgroupSize;
   caps_.maxStorageBufferRange = limits.maxStorageBufferRange;
   caps_.maxMemoryAllocationSize = maintenance3.maxMemoryAllocationSize;
+  if (testMaxAllocationBytes > 0)
+    caps_.maxMemoryAllocationSize = std::min<uint64_t>(caps_.maxMemoryAllocationSize, testMaxAllocationBytes);
   caps_.maxTexelBufferElements = limits.maxTexelBufferElements;
   for (int i = 0; i < 3; ++i) caps_.maxComputeWorkGroupCount[i] = limits.maxComputeWorkGroupCount[i];
   caps_.maxPushConstantsSize = limits.maxPushConstantsSize;
@@ -367,6 +370,7 @@ void Context::createDevice(bool swapchain) {
   caps_.shaderFloat16 = e12.shaderFloat16;
   caps_.storageBuffer16Bit = e11.storageBuffer16BitAccess;
   caps_.shaderInt64 = enable2.features.shaderInt64;
+  caps_.bufferDeviceAddress = e12.bufferDeviceAddress;
   caps_.unifiedMemory = true;
   for (uint32_t i = 0; i < memoryProperties_.memoryTypeCount; ++i) {
     auto f = memoryProperties_.memoryTypes[i].propertyFlags;

@@ -23,6 +23,10 @@ struct ContextOptions {
   // offline work, so a headless machine never needs a window system.
   std::vector<std::string> instanceExtensions;
   bool swapchain = false;
+  // Tests only: when > 0, the device is treated as allowing no allocation larger than this
+  // (caps().maxMemoryAllocationSize is lowered to it), so refusals of scenes too large for the
+  // device can be tested on small data.
+  uint64_t testMaxAllocationBytes = 0;
 };
 
 struct DeviceInfo {
@@ -47,6 +51,9 @@ struct Capabilities {
   bool shaderFloat16 = false;     // fp16 arithmetic in shaders
   bool storageBuffer16Bit = false;  // fp16/int16 loads and stores in storage buffers
   bool shaderInt64 = false;
+  // Shaders read through buffer device addresses (GL_EXT_buffer_reference): arrays that pass
+  // maxStorageBufferRange, up to one allocation. Every Buffer is addressable when true.
+  bool bufferDeviceAddress = false;
   bool unifiedMemory = false;  // device-local memory is also host-visible (lavapipe, iGPUs)
   bool isCpu() const { return deviceType == VK_PHYSICAL_DEVICE_TYPE_CPU; }
 };
@@ -88,7 +95,7 @@ class Context {
  private:
   void createInstance(bool wantValidation, const std::vector<std::string>& extraExtensions);
   void pickPhysicalDevice(const std::string& selector);
-  void createDevice(bool swapchain);
+  void createDevice(bool swapchain, uint64_t testMaxAllocationBytes);
   void release() noexcept;  // frees whatever handles exist, in reverse creation order
   static VKAPI_ATTR VkBool32 VKAPI_CALL debugCallback(
       VkDebugUtilsMessageSeverityFlagBitsEXT severity, VkDebugUtilsMessageTypeFlagsEXT types,

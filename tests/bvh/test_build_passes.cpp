@@ -38,9 +38,12 @@ TEST(BuildPasses, OrderedFloatEncodingOrdersLikeFloats) {
   }
 }
 
+// Both ways of reaching the large arrays: bindings, and device addresses (scenes past one binding).
 TEST(BuildPasses, BoundsAndMortonMatchTheCpuTwin) {
   auto& ctx = test::context();
+  for (bool byAddress : {false, true})
   for (uint32_t count : {1u, 63u, 1000u, 5001u}) {
+    SCOPED_TRACE(byAddress ? "by address" : "bindings");
     bvh::SyntheticMesh m = bvh::makeSoup(count, count, {3, -2, 1}, 5.0f, 0.5f, 7);
     vk::Buffer verts = deviceBuffer(ctx, m.vertices.size() * 32, "verts");
     vk::Buffer tris = deviceBuffer(ctx, m.triangles.size() * 16, "tris");
@@ -57,11 +60,15 @@ TEST(BuildPasses, BoundsAndMortonMatchTheCpuTwin) {
     init.centroidMin = glm::uvec4(bb::bvhOrderedFromBits(bigBits));
     init.centroidMax = glm::uvec4(bb::bvhOrderedFromBits(smallBits));
     info.upload(&init, sizeof(init));
-    bvh::BoundsPass bounds(ctx);
-    bvh::MortonPass morton(ctx);
+    bvh::BuildArrayBuffers arrays;
+    arrays.triangles = tris;
+    arrays.vertices = verts;
+    arrays.prims = prims;
+    bvh::BoundsPass bounds(ctx, byAddress);
+    bvh::MortonPass morton(ctx, byAddress);
     ctx.submitAndWait([&](VkCommandBuffer cmd) {
-      bounds.record(cmd, {&verts, &tris, prims, info, count});
-      morton.record(cmd, {prims, info, keys, values, count});
+      bounds.record(cmd, {&arrays, info, count});
+      morton.record(cmd, {&arrays, info, keys, values, count});
     });
     // CPU twin.
     glm::vec3 lo(big), hi(small);

@@ -63,6 +63,7 @@ template <> struct Std430<glm::vec4[9]> : Std430Is<144, 16> {};
 // Nested structs: their own layout is checked as a listed struct; alignment = largest member's.
 template <> struct Std430<gpu::nn::View> : Std430Is<sizeof(gpu::nn::View), 4> {};
 template <> struct Std430<gpu::bsdf::BsdfParams> : Std430Is<sizeof(gpu::bsdf::BsdfParams), 16> {};
+template <> struct Std430<gpu::bvh_build::BuildArrays> : Std430Is<sizeof(gpu::bvh_build::BuildArrays), 8> {};
 
 struct Member {
   std::string name;
@@ -106,7 +107,9 @@ const std::vector<Layout>& layouts() {
              F(right), F(parent), F(flags)),
       STRUCT(bvh_build, BvhBuildInfo, F(centroidMin), F(centroidMax), F(leafCounter), F(_pad0),
              F(_pad1), F(_pad2)),
-      STRUCT(bvh_build, BuildPush, F(triangleCount), F(param), F(param2), F(_pad0)),
+      STRUCT(bvh_build, BuildArrays, F(triangles), F(vertices), F(prims), F(interior), F(leaves),
+             F(nodes), F(leafTriangles), F(_pad0)),
+      STRUCT(bvh_build, BuildPush, F(triangleCount), F(param), F(param2), F(_pad0), F(arrays)),
       STRUCT(bvh_build, TreeletLevel, F(count), F(offset), F(cursor), F(_pad0)),
       STRUCT(bvh_build, DispatchArgs, F(x), F(y), F(z)),
       STRUCT(bvh_trace, TraceRay, F(origin), F(tMin), F(dir), F(tMax)),

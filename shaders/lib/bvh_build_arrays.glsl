@@ -1,0 +1,134 @@
+// The build's large arrays (BuildArrays in shared/bvh_build.h), their accessors, and the push
+// block every build pass that uses them declares. Specialization constant kBuildSpecByAddress
+// picks where they live: storage bindings at slots kBuildBinding* (every array within
+// maxStorageBufferRange), or device addresses in the push block (any array past it). The
+// compiler drops the other path, so a scene that fits bindings runs the binding code only: on
+// lavapipe (Mesa 22.3) an address load costs about twice a storage-buffer load.
+#ifndef OSR_BVH_BUILD_ARRAYS_GLSL
+#define OSR_BVH_BUILD_ARRAYS_GLSL
+#extension GL_EXT_buffer_reference : require
+#extension GL_EXT_buffer_reference_uvec2 : require
+#include "shared/bvh_build.h"
+#include "shared/scene.h"
+
+layout(push_constant) uniform PushBlock { BuildPush gPush; };
+layout(constant_id = kBuildSpecByAddress) const bool kBuildByAddress = false;
+
+// coherent: in bvh_refit and bvh_treelet a node written by one invocation is read by the one
+// that arrives second at the parent (after an atomic on the parent's counter), possibly in
+// another workgroup.
+layout(std430, binding = kBuildBindingTriangles) readonly buffer BuildTriangles { Triangle gTriangles[]; };
+layout(std430, binding = kBuildBindingVertices) readonly buffer BuildVertices { Vertex gVertices[]; };
+layout(std430, binding = kBuildBindingPrims) buffer BuildPrims { BvhLeafTriangle gPrims[]; };
+layout(std430, binding = kBuildBindingInterior) coherent buffer BuildInterior { BvhBuildNode gInterior[]; };
+layout(std430, binding = kBuildBindingLeaves) coherent buffer BuildLeaves { BvhBuildNode gLeaves[]; };
+layout(std430, binding = kBuildBindingNodes) writeonly buffer BuildNodes { BvhNode gNodes[]; };
+layout(std430, binding = kBuildBindingLeafTriangles) writeonly buffer BuildLeafTriangles {
+  BvhLeafTriangle gLeafTriangles[];
+};
+
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer TriangleRef { Triangle v[]; };
+layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer VertexRef { Vertex v[]; };
+layout(buffer_reference, std430, buffer_reference_align = 16) buffer LeafTriangleRef { BvhLeafTriangle v[]; };
+layout(buffer_reference, std430, buffer_reference_align = 16) coherent buffer BuildNodeRef { BvhBuildNode v[]; };
+layout(buffer_reference, std430, buffer_reference_align = 16) writeonly buffer NodeRef { BvhNode v[]; };
+
+// if/else rather than ?: throughout: glslang types a ?: over two blocks' structs inconsistently.
+Triangle loadTriangle(uint i) {
+  if (kBuildByAddress) return TriangleRef(gPush.arrays.triangles).v[i];
+  return gTriangles[i];
+}
+vec3 loadPosition(uint v) {
+  if (kBuildByAddress) return VertexRef(gPush.arrays.vertices).v[v].position;
+  return gVertices[v].position;
+}
+BvhLeafTriangle loadPrim(uint i) {
+  if (kBuildByAddress) return LeafTriangleRef(gPush.arrays.prims).v[i];
+  return gPrims[i];
+}
+void storePrim(uint i, BvhLeafTriangle p) {
+  if (kBuildByAddress) LeafTriangleRef(gPush.arrays.prims).v[i] = p;
+  else gPrims[i] = p;
+}
+
+// Build nodes: one index space, interior [0, interiorCount()), then the leaves.
+uint interiorCount() { return gPush.triangleCount - 1u; }
+BvhBuildNode loadInterior(uint i) {
+  if (kBuildByAddress) return BuildNodeRef(gPush.arrays.interior).v[i];
+  return gInterior[i];
+}
+void storeInterior(uint i, BvhBuildNode n) {
+  if (kBuildByAddress) BuildNodeRef(gPush.arrays.interior).v[i] = n;
+  else gInterior[i] = n;
+}
+BvhBuildNode loadNode(uint u) {
+  if (u < interiorCount()) return loadInterior(u);
+  if (kBuildByAddress) return BuildNodeRef(gPush.arrays.leaves).v[u - interiorCount()];
+  return gLeaves[u - interiorCount()];
+}
+// Single fields, where another invocation may write the node's other fields meanwhile (or a
+// whole-node load would move twelve words for one).
+uint parentOf(uint u) {
+  if (u < interiorCount()) {
+    if (kBuildByAddress) return BuildNodeRef(gPush.arrays.interior).v[u].parent;
+    return gInterior[u].parent;
+  }
+  if (kBuildByAddress) return BuildNodeRef(gPush.arrays.leaves).v[u - interiorCount()].parent;
+  return gLeaves[u - interiorCount()].parent;
+}
+void setParent(uint u, uint parent) {
+  if (u < interiorCount()) {
+    if (kBuildByAddress) BuildNodeRef(gPush.arrays.interior).v[u].parent = parent;
+    else gInterior[u].parent = parent;
+  } else {
+    if (kBuildByAddress) BuildNodeRef(gPush.arrays.leaves).v[u - interiorCount()].parent = parent;
+    else gLeaves[u - interiorCount()].parent = parent;
+  }
+}
+// Leaf i's scene triangle (BvhBuildNode.left of a leaf).
+uint leafTriangle(uint i) {
+  if (kBuildByAddress) return BuildNodeRef(gPush.arrays.leaves).v[i].left;
+  return gLeaves[i].left;
+}
+void setChildren(uint i, uint left, uint right) {
+  if (kBuildByAddress) {
+    BuildNodeRef(gPush.arrays.interior).v[i].left = left;
+    BuildNodeRef(gPush.arrays.interior).v[i].right = right;
+  } else {
+    gInterior[i].left = left;
+    gInterior[i].right = right;
+  }
+}
+// Every field of leaf i but parent, which the lbvh invocation of its parent writes.
+void initLeaf(uint i, BvhBuildNode n) {
+  if (kBuildByAddress) {
+    BuildNodeRef leaves = BuildNodeRef(gPush.arrays.leaves);
+    leaves.v[i].lo = n.lo;
+    leaves.v[i].hi = n.hi;
+    leaves.v[i].cost = n.cost;
+    leaves.v[i].triangleCount = n.triangleCount;
+    leaves.v[i].left = n.left;
+    leaves.v[i].right = n.right;
+    leaves.v[i].flags = n.flags;
+  } else {
+    gLeaves[i].lo = n.lo;
+    gLeaves[i].hi = n.hi;
+    gLeaves[i].cost = n.cost;
+    gLeaves[i].triangleCount = n.triangleCount;
+    gLeaves[i].left = n.left;
+    gLeaves[i].right = n.right;
+    gLeaves[i].flags = n.flags;
+  }
+}
+
+// The traversal layout (bvh_emit's output).
+void storeNode(uint i, BvhNode n) {
+  if (kBuildByAddress) NodeRef(gPush.arrays.nodes).v[i] = n;
+  else gNodes[i] = n;
+}
+void storeLeafTriangle(uint i, BvhLeafTriangle t) {
+  if (kBuildByAddress) LeafTriangleRef(gPush.arrays.leafTriangles).v[i] = t;
+  else gLeafTriangles[i] = t;
+}
+
+#endif
