@@ -41,7 +41,13 @@ GridPass GridSchedule::pass(uint32_t k) {
   while (passes_.size() <= k) {
     GridPass p;
     const uint32_t mapPasses = passes_.empty() ? 0 : passes_.back().mapPass + 1;
-    p.traceMaps = passes_.empty() || mapCost_ <= mapShare_ * totalCost_;
+    // The share falls after kMapShareFullPasses passes: by then the residual blend has
+    // measured where the maps are wrong and shows the residual there, so later maps buy
+    // little and their paths do more as residual paths.
+    const double passes = double(passes_.size());
+    const double share =
+        mapShare_ * std::sqrt(std::min(1.0, kMapShareFullPasses / std::max(passes, 1.0)));
+    p.traceMaps = passes_.empty() || mapCost_ <= share * totalCost_;
     p.mapPass = p.traceMaps ? mapPasses : passes_.back().mapPass;
     p.radius = radiusOfMapPass(p.mapPass);
     const double density = double(min_) / double(p.radius);

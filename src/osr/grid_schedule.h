@@ -4,8 +4,9 @@
 // maps and add direct and residual samples. A pass traces maps only while the maps' share of
 // the work so far stays under mapShare, by a cost model in path units (one map texel path or
 // one per-pixel path each count 1), so the maps never starve the residual that makes the
-// image converge, on any image size. A pass's weight is the density of the maps it uses
-// relative to gridMin, (gridMin / r)^2: later, denser passes count more than coarse ones.
+// image converge, on any image size; after kMapShareFullPasses passes the bound falls as
+// 1 / sqrt(k). A pass's weight is the density of the maps it uses relative to gridMin,
+// (gridMin / r)^2: later, denser passes count more than coarse ones.
 // Deterministic: pass(k) depends only on k and the constructor's arguments.
 #pragma once
 #include <cstdint>
@@ -24,6 +25,9 @@ struct GridPass {
 
 class GridSchedule {
  public:
+  // Passes during which map passes may take the whole mapShare; after k passes the bound is
+  // mapShare x sqrt(kMapShareFullPasses / k).
+  static constexpr double kMapShareFullPasses = 24.0;
   // width x height image; pixelCost: path units of one pass's per-pixel work (direct,
   // residual, G-buffer) per pixel; texelPaths: paths per map texel.
   GridSchedule(uint32_t width, uint32_t height, uint32_t gridStart, uint32_t gridMin,

@@ -142,18 +142,19 @@ class TracedInARotatedFrame(unittest.TestCase):
                 # in both maps; a texel's jittered path may cross an edge, hence the median).
                 u = maps_data.symmetry(x0, best, normals=True)
                 hit = (u[0, 6] > 0) & (x[0, 6] > 0)
-                self.assertGreater(hit.mean(), 0.9)
+                self.assertGreater(hit.mean(), 0.2)  # open above: the boxes, the lamp and the floor
                 normal_gap = np.abs(u[0, 3:6] - x[0, 3:6]).sum(axis=0)[hit]
                 self.assertLess(float(np.median(normal_gap)), 1e-3, f"turn {turn}")
                 self.assertGreater(float((normal_gap < 0.05).mean()), 0.9, f"turn {turn}")
                 self.assertLess(float(np.median(np.abs(u[0, 6] - x[0, 6])[hit])), 0.05)
-                if best & 3 in (1, 2):  # a transpose or a flip: unturned normals must not match
+                if best:  # every turn moves the normals: unturned ones must not match
                     v = maps_data.symmetry(x0, best, normals=False)
                     self.assertGreater(float(np.median(np.abs(v[0, 3:6] - x[0, 3:6]).sum(axis=0)[hit])), 0.05)
             # Quarter turns are the square's rotations (transpose + one flip: k 3 or 5), opposite
             # ones for opposite turns, and a half turn both flips (k 6).
             self.assertEqual(sorted([found[90], found[-90]]), [3, 5], found)
             self.assertEqual(found[180], 6, found)
+            print("rotations found (turn: symmetry):", found, file=sys.stderr)
 
 
 class Interiors(unittest.TestCase):
