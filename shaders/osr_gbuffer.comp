@@ -45,13 +45,15 @@ void main() {
   AccumPixel a = gAccum[local];
   vec3 beta = vec3(1.0);
   vec3 emitted = vec3(0.0);
+  // Each camera ray's share of the lights seen directly (first hit); later hits count whole.
+  const float cameraShare = 1.0 / float(max(gPush.samples, 1u));
   float rayLength = 0.0;
   for (uint chain = 0u; chain <= kMaxSpecularChain; ++chain) {
     Hit hit;
     if (!bvhClosestHit(origin, dir, 0.0, kInfinity, hit)) {
       // Delta-like bounces only so far: the environment is seen at full weight.
       vec3 env = missRadiance(pathStart(origin, dir, beta, 0.0, origin, chain));
-      emitted += chain == 0u ? env / float(max(gPush.samples, 1u)) : env;
+      emitted += (chain == 0u ? cameraShare : 1.0) * env;
       break;
     }
     SurfaceSample surf = surfaceAt(hit.triangle, hit.barycentrics);
@@ -63,7 +65,7 @@ void main() {
       a.depth += vec4(cameraDepth(gFrame, surf.position), 1.0, 0.0, 0.0);
     }
     vec3 emission = hitEmission(pathStart(origin, dir, beta, 0.0, origin, chain), hit.triangle, surf, sp);
-    emitted += chain == 0u ? emission / float(max(gPush.samples, 1u)) : emission;
+    emitted += (chain == 0u ? cameraShare : 1.0) * emission;
     if (!nearSpecular(sp.bsdf)) {
       g.position = vec4(sp.position, 1.0);
       g.normal = vec4(sp.ns, 0.0);
@@ -95,7 +97,7 @@ void main() {
     } else {
       e = missRadiance(start);
     }
-    emitted += e / float(gPush.samples);
+    emitted += cameraShare * e;
   }
   if (finite3(emitted)) a.direct.rgb += gPush.passWeight * emitted;  // as osr_direct weighs it
   gGBuffer[local] = g;

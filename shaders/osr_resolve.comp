@@ -1,7 +1,8 @@
 #version 460
 // osr_resolve: the film (shared/film.h, one sample's worth: combined.w = 1) from OSR's
-// running sums: direct averaged over passes weighted by their light samples; indirect = (sum w_k (maps + path-traced lobes)
-// + beta x sum w_k residual) / sum w_k; first-hit layers averaged over passes.
+// running sums: direct averaged over passes weighted by their light samples; indirect =
+// (sum w_k (maps + path-traced lobes) + beta x sum w_k residual) / sum w_k; first-hit layers
+// averaged over passes.
 // beta (docs/osr.md "Blending the residual in"): with residualBlend >= 0 (a fixed ramp the
 // host computes), that value; with residualBlend < 0, per pixel and channel, the shrinkage of
 // shared/osr.h residualShrinkBlend over the kShrinkRadius neighbourhood: the residual's
@@ -22,7 +23,7 @@ layout(push_constant) uniform OsrPushBlock { OsrPush gPush; };
 // relMSE 0.00123 for 1 x 1, 0.00096 for 5 x 5, 0.00093 for 9 x 9, 0.00093 for 17 x 17).
 const int kShrinkRadius = 4;
 
-vec3 shrinkBlend(uint local, uint pixel) {
+vec3 shrinkBlend(uint local, uint pixel, AccumPixel centre) {
   int width = int(gFrame.width);
   int x = int(pixel % gFrame.width);
   vec3 sumVar = vec3(0.0), sumSq = vec3(0.0);
@@ -40,8 +41,7 @@ vec3 shrinkBlend(uint local, uint pixel) {
       sumSq += mean * mean;
     }
   }
-  AccumPixel a = gAccum[local];
-  return residualShrinkBlend(sumVar, sumSq, residualPasses(a.residualSq, a.indirect.w));
+  return residualShrinkBlend(sumVar, sumSq, residualPasses(centre.residualSq, centre.indirect.w));
 }
 
 void main() {
@@ -51,7 +51,7 @@ void main() {
   AccumPixel a = gAccum[local];
   float passes = max(a.albedo.w, 1.0);
   vec3 direct = a.direct.w > 0.0 ? a.direct.rgb / a.direct.w : vec3(0.0);
-  vec3 blend = gPush.residualBlend >= 0.0 ? vec3(gPush.residualBlend) : shrinkBlend(local, pixel);
+  vec3 blend = gPush.residualBlend >= 0.0 ? vec3(gPush.residualBlend) : shrinkBlend(local, pixel, a);
   vec3 indirect = a.indirect.w > 0.0 ? (a.indirect.rgb + blend * a.residual.rgb) / a.indirect.w
                                      : vec3(0.0);
   FilmPixel f;

@@ -158,20 +158,20 @@ OSR_OSR_FN float mapWeight(vec2 p, vec2 pg, float r, vec3 x, vec3 n, vec3 xg, ve
 // The residual blend (osr_resolve, docs/osr.md "Blending the residual in"). R-bar, the
 // weighted mean of the passes' residuals R_k, is an unbiased but noisy estimate of the maps'
 // error b. Its variance, from the passes' spread: (mean R_k^2 - R-bar^2) / (n_eff - 1) with
-// n_eff = (sum w)^2 / sum w^2; zero (unknown) before kResidualMinPasses passes.
-// Passes (n_eff) before the residual's spread is trusted: with one heavy-tailed path per pixel
-// a pass, two or three passes underestimate it and show the residual's noise too soon.
+// n_eff = (sum w)^2 / sum w^2; zero (unknown) before kResidualMinPasses passes: with one
+// heavy-tailed path per pixel a pass, two or three passes underestimate the spread and would
+// show the residual's noise too soon.
 OSR_CONST(float, kResidualMinPasses, 8.0f);
-// n_eff = (sum w)^2 / sum w^2: the passes' residuals as equally weighted ones (0: none).
+// n_eff: the passes' residuals counted as equally weighted ones (0: none).
 OSR_OSR_FN float residualPasses(vec4 residualSq, float weightSum) {
   return residualSq.w > 0.0f ? weightSum * weightSum / residualSq.w : 0.0f;
 }
 OSR_OSR_FN bool residualVarianceKnown(vec4 residualSq, float weightSum) {
-  return weightSum > 0.0f && residualSq.w > 0.0f && weightSum * weightSum >= kResidualMinPasses * residualSq.w;
+  return weightSum > 0.0f && residualPasses(residualSq, weightSum) >= kResidualMinPasses;
 }
 OSR_OSR_FN vec3 residualVarianceOfMean(vec4 residual, vec4 residualSq, float weightSum) {
   if (!residualVarianceKnown(residualSq, weightSum)) return vec3(0.0f);
-  float nEff = weightSum * weightSum / residualSq.w;
+  float nEff = residualPasses(residualSq, weightSum);
   vec3 mean = vec3(residual) / weightSum;
   vec3 second = vec3(residualSq) / weightSum;
   return max(second - mean * mean, vec3(0.0f)) / (nEff - 1.0f);

@@ -1,8 +1,8 @@
 #!/usr/bin/python3
 """The training side end to end, small: procedural scenes are reproducible, the 8 symmetries
-turn the normal channels with the map, and tools/train_default_model.sh --quick (make_dataset
--> train -> weights_pack -> eval_maps) and `osr-vk --mode osr --weights` run on real traced
-maps with the validation layer on (OSR_VALIDATION=1, set by CTest) and no validation
+turn the normal channels with the map, a map traced in a turned scene is the turned map, and
+tools/train_default_model.sh --quick (make_dataset -> train -> weights_pack -> eval_maps) and
+`osr-vk --mode osr --weights` run on real traced maps with the validation layer on (OSR_VALIDATION=1, set by CTest) and no validation
 message; bad datasets and checkpoints are one line, exit 2.
 
 Run by CTest (tools/test_training_pipeline) with OSR_BINARY_DIR naming the build folder.
