@@ -5,7 +5,9 @@
 // A binary tree whose nodes store the bounds of both children (one 64-byte fetch decides which
 // children a ray enters). Node 0 is the root. A child reference is either the index of another
 // node or, with kBvhLeafFlag set, a leaf: `count` consecutive BvhLeafTriangle entries starting at
-// `first`. A leaf of count 0 is an empty child (its box is inverted so no ray enters it).
+// `first`. A leaf of count 0 is an empty child (its box is inverted so no ray enters it). When
+// both children are non-empty leaves, b's entries follow a's, so the leaves a ray enters at a node
+// are one range (traversal relies on it; bvh::checkInvariants checks it).
 // Leaves hold a reordered copy of the triangles' world-space vertices, so traversal reads no
 // scene buffer; the original triangle index rides in v0.w.
 #ifndef OSR_SHARED_BVH_H

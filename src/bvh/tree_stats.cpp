@@ -92,6 +92,10 @@ std::string checkInvariants(const HostBvh& tree, std::span<const gpu::scene::Ver
     if (it.depth > gpu::bvh::kBvhMaxDepth)
       return "depth " + std::to_string(it.depth) + " exceeds kBvhMaxDepth";
     const BvhNode& n = tree.nodes[it.node];
+    // Traversal intersects the hit leaves of a node as one range (shared/bvh.h).
+    if (isLeaf(n.a) && isLeaf(n.b) && leafCount(n.a) && leafCount(n.b) &&
+        leafFirst(n.b) != leafFirst(n.a) + leafCount(n.a))
+      return "node " + std::to_string(it.node) + ": leaf b does not follow leaf a";
     for (int side = 0; side < 2; ++side) {
       uint32_t ref = side == 0 ? n.a : n.b;
       Aabb box = childBox(n, side);

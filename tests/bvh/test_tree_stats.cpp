@@ -60,3 +60,19 @@ TEST(TreeStats, DepthPastTheTraversalBoundIsCaught) {
   EXPECT_EQ(bvh::depth(tree), n);
   EXPECT_NE(bvh::checkInvariants(tree, mesh.vertices, mesh.triangles).find("kBvhMaxDepth"), std::string::npos);
 }
+
+TEST(TreeStats, LeafPairOutOfOrderIsCaught) {
+  // Two leaf children whose entries are not consecutive (b before a): traversal would intersect
+  // the wrong range.
+  Fixture f;
+  using gpu::bvh::kBvhLeafFlag;
+  for (auto& n : f.tree.nodes)
+    if ((n.a & kBvhLeafFlag) && (n.b & kBvhLeafFlag) && ((n.a >> gpu::bvh::kBvhLeafCountShift) & gpu::bvh::kBvhLeafCountMask)) {
+      std::swap(n.a, n.b);
+      std::swap(n.aMin, n.bMin);
+      std::swap(n.aMax, n.bMax);
+      EXPECT_NE(f.check().find("does not follow"), std::string::npos) << f.check();
+      return;
+    }
+  FAIL() << "no node with two leaf children";
+}
