@@ -78,6 +78,7 @@ struct OsrBvhRay {
   vec3 origin;
   vec3 invDir;
   vec3 originScaled;  // origin * invDir, so a slab distance is one fma
+  bvec3 dirNegative;  // the box's max plane is the near one on these axes
   ivec3 k;            // kx, ky, kz: kz the dominant axis, kx/ky keeping the winding
   vec3 shear;         // Sx, Sy, Sz
 };
@@ -92,6 +93,7 @@ OsrBvhRay osrBvhMakeRay(vec3 origin, vec3 dir) {
                   lessThan(abs(dir), vec3(kTiny)));
   r.invDir = 1.0 / safe;
   r.originScaled = origin * r.invDir;
+  r.dirNegative = lessThan(r.invDir, vec3(0.0));
   vec3 a = abs(dir);
   int kz = a.x > a.y ? (a.x > a.z ? 0 : 2) : (a.y > a.z ? 1 : 2);
   int kx = kz == 2 ? 0 : kz + 1;
@@ -108,14 +110,20 @@ OsrBvhRay osrBvhMakeRay(vec3 origin, vec3 dir) {
 
 const float kOsrBvhExitScale = 1.00000036;  // 1 + 2 * gamma(3)
 
+// Larger and smaller of two floats as a compare and a select: GLSL's max and min must return
+// the other operand for a NaN, which lavapipe pays with a compare and a blend besides the
+// vmaxps. No NaN reaches the slab test (osrBvhMakeRay keeps 1 / dir finite).
+float osrBvhMax(float a, float b) { return a > b ? a : b; }
+float osrBvhMin(float a, float b) { return a < b ? a : b; }
+
 // True when the ray overlaps [bmin, bmax] within [tMin, tFar]; tEnter = entry distance.
+// r.dirNegative picks each axis's near and far planes once per ray instead of a min and a max
+// per box.
 bool osrBvhBox(OsrBvhRay r, vec3 bmin, vec3 bmax, float tMin, float tFar, out float tEnter) {
-  vec3 t0 = bmin * r.invDir - r.originScaled;
-  vec3 t1 = bmax * r.invDir - r.originScaled;
-  vec3 lo = min(t0, t1);
-  vec3 hi = max(t0, t1);
-  tEnter = max(max(lo.x, lo.y), max(lo.z, tMin));
-  float tExit = min(min(hi.x, hi.y), min(hi.z, tFar)) * kOsrBvhExitScale;
+  vec3 lo = mix(bmin, bmax, r.dirNegative) * r.invDir - r.originScaled;
+  vec3 hi = mix(bmax, bmin, r.dirNegative) * r.invDir - r.originScaled;
+  tEnter = osrBvhMax(osrBvhMax(lo.x, lo.y), osrBvhMax(lo.z, tMin));
+  float tExit = osrBvhMin(osrBvhMin(hi.x, hi.y), osrBvhMin(hi.z, tFar)) * kOsrBvhExitScale;
   return tEnter <= tExit;
 }
 
