@@ -12,6 +12,49 @@
 
 layout(local_size_x = kWorkgroupSize) in;
 layout(std430, binding = kEmitBindingInfo) buffer Info { BvhBuildInfo gInfo; };
+layout(binding = kEmitBindingInteriorTexels) uniform usamplerBuffer gInteriorTexels;
+layout(binding = kEmitBindingLeafTexels) uniform usamplerBuffer gLeafTexels;
+layout(binding = kEmitBindingPrimTexels) uniform usamplerBuffer gPrimTexels;
+layout(constant_id = kEmitSpecTexels) const bool kTexels = false;
+
+// Reads of the input arrays, by texel view (kTexels) or storage binding. A BvhBuildNode's
+// texels: (lo, cost), (hi, triangleCount), (left, right, parent, flags).
+uvec4 interiorTexel(uint i, uint k) { return texelFetch(gInteriorTexels, int(i * kBuildNodeTexels + k)); }
+BvhBuildNode nodeFromTexels(uvec4 a, uvec4 b, uvec4 c) {
+  return BvhBuildNode(uintBitsToFloat(a.xyz), uintBitsToFloat(a.w), uintBitsToFloat(b.xyz), b.w, c.x, c.y, c.z, c.w);
+}
+BvhBuildNode readNode(uint u) {
+  if (!kTexels) return loadNode(u);
+  if (u < interiorCount()) return nodeFromTexels(interiorTexel(u, 0u), interiorTexel(u, 1u), interiorTexel(u, 2u));
+  int t = int((u - interiorCount()) * kBuildNodeTexels);
+  return nodeFromTexels(texelFetch(gLeafTexels, t), texelFetch(gLeafTexels, t + 1), texelFetch(gLeafTexels, t + 2));
+}
+// (triangleCount, left, right, parent, flags) of interior node i, for the walks.
+struct Links {
+  uint triangleCount;
+  uint left;
+  uint right;
+  uint parent;
+  uint flags;
+};
+Links readLinks(uint i) {
+  if (!kTexels) {
+    BvhBuildNode n = loadInterior(i);
+    return Links(n.triangleCount, n.left, n.right, n.parent, n.flags);
+  }
+  uvec4 c = interiorTexel(i, 2u);
+  return Links(interiorTexel(i, 1u).w, c.x, c.y, c.z, c.w);
+}
+uint readLeafTriangle(uint i) {
+  if (!kTexels) return leafTriangle(i);
+  return texelFetch(gLeafTexels, int(i * kBuildNodeTexels + 2u)).x;
+}
+BvhLeafTriangle readPrim(uint i) {
+  if (!kTexels) return loadPrim(i);
+  int t = int(i * kBvhLeafTriangleTexels);
+  return BvhLeafTriangle(uintBitsToFloat(texelFetch(gPrimTexels, t)), uintBitsToFloat(texelFetch(gPrimTexels, t + 1)),
+                         uintBitsToFloat(texelFetch(gPrimTexels, t + 2)));
+}
 
 bool becomesLeaf(uint u, BvhBuildNode n) {
   return u >= interiorCount() || (n.flags & kFlagCollapsed) != 0u;
@@ -23,7 +66,7 @@ uint emitChild(uint u, BvhBuildNode n, uint slot) {
   if (!becomesLeaf(u, n)) return u;
   uint count = n.triangleCount;
   if (u >= interiorCount()) {
-    storeLeafTriangle(slot, loadPrim(n.left));
+    storeLeafTriangle(slot, readPrim(n.left));
   } else {
     // Depth-first over a subtree of at most kBvhMaxLeafTriangles leaves: the stack never holds
     // more entries than the subtree has leaves.
@@ -33,9 +76,9 @@ uint emitChild(uint u, BvhBuildNode n, uint slot) {
     while (sp > 0u) {
       uint v = stack[--sp];
       if (v >= interiorCount()) {
-        storeLeafTriangle(slot + written++, loadPrim(leafTriangle(v - interiorCount())));
+        storeLeafTriangle(slot + written++, readPrim(readLeafTriangle(v - interiorCount())));
       } else {
-        BvhBuildNode m = loadInterior(v);
+        Links m = readLinks(v);
         stack[sp++] = m.left;
         stack[sp++] = m.right;
       }
@@ -59,7 +102,7 @@ void main() {
   uint n = gPush.triangleCount;
   if (n == 1u) {  // no interior node: a root with one leaf and one empty child
     if (i != 0u) return;
-    BvhBuildNode leaf = loadNode(0u);  // leaf 0: there is no interior node
+    BvhBuildNode leaf = readNode(0u);  // leaf 0: there is no interior node
     gInfo.leafCounter = 1u;
     BvhNode root;
     root.aMin = leaf.lo;
@@ -74,18 +117,18 @@ void main() {
     return;
   }
   if (i >= n - 1u) return;
-  BvhBuildNode node = loadInterior(i);
+  Links node = readLinks(i);
   bool live = (node.flags & kFlagCollapsed) == 0u;
   // Only subtrees of at most kBvhMaxLeafTriangles collapse, so only such ancestors matter.
   for (uint p = node.parent; live && p != kInvalidNode;) {
-    BvhBuildNode a = loadInterior(p);
+    Links a = readLinks(p);
     if (a.triangleCount > kBvhMaxLeafTriangles) break;
     if ((a.flags & kFlagCollapsed) != 0u) live = false;
     p = a.parent;
   }
   // Unreachable nodes stop here: the subgroup allocation below only counts the live lanes.
   if (!live) return;
-  BvhBuildNode l = loadNode(node.left), r = loadNode(node.right);
+  BvhBuildNode l = readNode(node.left), r = readNode(node.right);
   uint countA = becomesLeaf(node.left, l) ? l.triangleCount : 0u;
   uint countB = becomesLeaf(node.right, r) ? r.triangleCount : 0u;
   uint slot = allocateLeafEntries(countA + countB);

@@ -177,9 +177,17 @@ struct DispatchArgs {
   uint z;
 };
 
-// bvh_emit: arrays interior, leaves, prims (in), nodes, leafTriangles (out).
+// bvh_emit: arrays interior, leaves, prims (in), nodes, leafTriangles (out). Where spec
+// constant kEmitSpecTexels is set it reads interior, leaves and prims through RGBA32UI views
+// (kBuildNodeTexels / kBvhLeafTriangleTexels texels each): its reads are scattered, and on
+// lavapipe a texel fetch is a gather while a storage load is a loop over the SIMD lanes.
 OSR_CONST(uint, kEmitBindingInfo, kBuildArrayBindingCount);
-OSR_CONST(uint, kEmitBindingCount, kBuildArrayBindingCount + 1u);
+OSR_CONST(uint, kEmitBindingInteriorTexels, kBuildArrayBindingCount + 1u);
+OSR_CONST(uint, kEmitBindingLeafTexels, kBuildArrayBindingCount + 2u);
+OSR_CONST(uint, kEmitBindingPrimTexels, kBuildArrayBindingCount + 3u);
+OSR_CONST(uint, kEmitBindingCount, kBuildArrayBindingCount + 4u);
+OSR_CONST(uint, kEmitSpecTexels, 3u);  // spec constant id: bool
+OSR_CONST(uint, kBuildNodeTexels, 3u);  // 16-byte texels per BvhBuildNode
 
 // A float's bits mapped to a uint that orders like the float (atomicMin/Max on floats).
 OSR_BVH_FN uint bvhOrderedFromBits(uint bits) {

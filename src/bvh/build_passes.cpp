@@ -6,6 +6,7 @@
 #include <optional>
 #include <string>
 
+#include "bvh/bvh.h"
 #include "common/error.h"
 #include "vk/binder.h"
 #include "vk/timer.h"
@@ -292,14 +293,37 @@ void TreeletPass::record(VkCommandBuffer cmd, const Args& a, vk::GpuTimer* timer
   }
 }
 
+namespace {
+std::vector<VkDescriptorType> emitTypes() {
+  std::vector<VkDescriptorType> t(bb::kEmitBindingCount, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
+  for (uint32_t slot : {bb::kEmitBindingInteriorTexels, bb::kEmitBindingLeafTexels, bb::kEmitBindingPrimTexels})
+    t[slot] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+  return t;
+}
+// Texel reads where a view reaches as far as the largest array read (BvhBuildNode[N]) can be:
+// one binding's worth, or by address the triangle limit's worth.
+std::vector<vk::SpecConstant> emitSpec(const vk::Context& ctx, bool byAddress) {
+  const vk::Capabilities& caps = ctx.caps();
+  uint64_t arrayBytes = byAddress ? uint64_t(triangleLimit(ctx).triangles) * sizeof(bb::BvhBuildNode)
+                                  : uint64_t(caps.maxStorageBufferRange);
+  std::vector<vk::SpecConstant> spec = arraySpec(byAddress);
+  spec.push_back(vk::specUint(bb::kEmitSpecTexels, uint64_t(caps.maxTexelBufferElements) * 16 >= arrayBytes ? 1u : 0u));
+  return spec;
+}
+}  // namespace
+
 EmitPass::EmitPass(const vk::Context& ctx, bool byAddress)
     : access_{&ctx, byAddress},
-      pipeline_(ctx, shaders::Id::bvh_emit, bb::kEmitBindingCount, sizeof(BuildPush), arraySpec(byAddress)) {}
+      pipeline_(ctx, shaders::Id::bvh_emit, emitTypes(), sizeof(BuildPush), emitSpec(ctx, byAddress)) {}
 
 void EmitPass::record(VkCommandBuffer cmd, const Args& a) const {
   vk::Binder binder(pipeline_);
   BuildPush p = bindArrays(binder, access_, *a.arrays, a.triangleCount, 0);
-  binder.set(bb::kEmitBindingInfo, a.info).bind(cmd, p);
+  binder.set(bb::kEmitBindingInfo, a.info)
+      .setTexel(bb::kEmitBindingInteriorTexels, a.interiorTexels)
+      .setTexel(bb::kEmitBindingLeafTexels, a.leafTexels)
+      .setTexel(bb::kEmitBindingPrimTexels, a.primTexels)
+      .bind(cmd, p);
   dispatchItems(pipeline_, cmd, std::max<uint32_t>(a.triangleCount - 1, 1));
   vk::computeBarrier(cmd);
 }

@@ -167,13 +167,17 @@ class TreeletPass {
 };
 
 // bvh_emit: traversal nodes and leaf triangles (info.leafCounter must be 0). Arrays: interior,
-// leaves, prims (in), nodes, leafTriangles (out).
+// leaves, prims (in), nodes, leafTriangles (out); the inputs are read through RGBA32UI views
+// (kTexelsUsage) where views reach as far as the arrays can (texelReads()).
 class EmitPass {
  public:
   EmitPass(const vk::Context& ctx, bool byAddress);
+  static constexpr VkBufferUsageFlags kTexelsUsage = VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT;
   struct Args {
     const BuildArrayBuffers* arrays = nullptr;
     vk::BufferRange info;
+    // vk::BufferView::uintTexels of interior, leaves and prims.
+    VkBufferView interiorTexels = VK_NULL_HANDLE, leafTexels = VK_NULL_HANDLE, primTexels = VK_NULL_HANDLE;
     uint32_t triangleCount = 0;
   };
   void record(VkCommandBuffer cmd, const Args& args) const;

@@ -77,15 +77,15 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
   const uint32_t interiorCount = std::max<uint32_t>(n - 1, 1);
   const uint64_t nodeBytes = sizeof(bb::BvhBuildNode);
 
-  vk::Buffer prims = scratch(ctx, uint64_t(n) * sizeof(gpu::bvh::BvhLeafTriangle), "bvh prims");
+  vk::Buffer prims = scratch(ctx, uint64_t(n) * sizeof(gpu::bvh::BvhLeafTriangle), "bvh prims", EmitPass::kTexelsUsage);
   vk::Buffer info = scratch(ctx, sizeof(bb::BvhBuildInfo), "bvh build info");
   vk::Buffer keys = scratch(ctx, 4ull * n, "bvh keys", LbvhPass::kKeysUsage), keysTmp = scratch(ctx, 4ull * n, "bvh keys tmp");
   vk::Buffer values = scratch(ctx, 4ull * n, "bvh values"), valuesTmp = scratch(ctx, 4ull * n, "bvh values tmp");
   uint64_t histBytes = RadixSort::histogramBytes(n);
   vk::Buffer hist = scratch(ctx, histBytes, "bvh radix histogram");
   vk::Buffer partials = scratch(ctx, ExclusiveScan::partialsBytes(uint32_t(histBytes / 4)), "bvh scan partials");
-  vk::Buffer interior = scratch(ctx, interiorCount * nodeBytes, "bvh build interior");
-  vk::Buffer leaves = scratch(ctx, n * nodeBytes, "bvh build leaves");
+  vk::Buffer interior = scratch(ctx, interiorCount * nodeBytes, "bvh build interior", EmitPass::kTexelsUsage);
+  vk::Buffer leaves = scratch(ctx, n * nodeBytes, "bvh build leaves", EmitPass::kTexelsUsage);
   vk::Buffer counters = scratch(ctx, 4ull * interiorCount, "bvh climb counters");
   vk::Buffer schedule = scratch(ctx, TreeletPass::scheduleBytes(), "bvh treelet schedule");
   vk::Buffer nodeList = scratch(ctx, 4ull * interiorCount, "bvh treelet node list");
@@ -103,6 +103,9 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
 
   // Where the sort leaves the keys (an even number of rounds), for bvh_lbvh's texel reads.
   const vk::BufferView keyTexels = vk::BufferView::uintWords(ctx, keys, "bvh key texels");
+  const vk::BufferView interiorTexels = vk::BufferView::uintTexels(ctx, interior, "bvh interior texels");
+  const vk::BufferView leafTexels = vk::BufferView::uintTexels(ctx, leaves, "bvh leaf texels");
+  const vk::BufferView primTexels = vk::BufferView::uintTexels(ctx, prims, "bvh prim texels");
   BuildArrayBuffers arrays;
   arrays.triangles = vk::BufferRange(triangles, 0, uint64_t(n) * sizeof(gpu::scene::Triangle));
   arrays.vertices = vertices;
@@ -154,7 +157,7 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
       passes.treelet.record(cmd, {&arrays, counters, &schedule, nodeList, n, options.treeletMinTriangles << round}, &timer);
     }
     vk::TimedScope scope(&timer, cmd, "bvh_emit");
-    passes.emit.record(cmd, {&arrays, info, n});
+    passes.emit.record(cmd, {&arrays, info, interiorTexels.handle(), leafTexels.handle(), primTexels.handle(), n});
   };
 
   uint32_t rounds = options.treeletRounds;
