@@ -12,49 +12,8 @@
 
 layout(local_size_x = kWorkgroupSize) in;
 layout(std430, binding = kEmitBindingInfo) buffer Info { BvhBuildInfo gInfo; };
-layout(binding = kEmitBindingInteriorTexels) uniform usamplerBuffer gInteriorTexels;
-layout(binding = kEmitBindingLeafTexels) uniform usamplerBuffer gLeafTexels;
-layout(binding = kEmitBindingPrimTexels) uniform usamplerBuffer gPrimTexels;
-layout(constant_id = kEmitSpecTexels) const bool kTexels = false;
-
-// Reads of the input arrays, by texel view (kTexels) or storage binding. A BvhBuildNode's
-// texels: (lo, cost), (hi, triangleCount), (left, right, parent, flags).
-uvec4 interiorTexel(uint i, uint k) { return texelFetch(gInteriorTexels, int(i * kBuildNodeTexels + k)); }
-BvhBuildNode nodeFromTexels(uvec4 a, uvec4 b, uvec4 c) {
-  return BvhBuildNode(uintBitsToFloat(a.xyz), uintBitsToFloat(a.w), uintBitsToFloat(b.xyz), b.w, c.x, c.y, c.z, c.w);
-}
-BvhBuildNode readNode(uint u) {
-  if (!kTexels) return loadNode(u);
-  if (u < interiorCount()) return nodeFromTexels(interiorTexel(u, 0u), interiorTexel(u, 1u), interiorTexel(u, 2u));
-  int t = int((u - interiorCount()) * kBuildNodeTexels);
-  return nodeFromTexels(texelFetch(gLeafTexels, t), texelFetch(gLeafTexels, t + 1), texelFetch(gLeafTexels, t + 2));
-}
-// (triangleCount, left, right, parent, flags) of interior node i, for the walks.
-struct Links {
-  uint triangleCount;
-  uint left;
-  uint right;
-  uint parent;
-  uint flags;
-};
-Links readLinks(uint i) {
-  if (!kTexels) {
-    BvhBuildNode n = loadInterior(i);
-    return Links(n.triangleCount, n.left, n.right, n.parent, n.flags);
-  }
-  uvec4 c = interiorTexel(i, 2u);
-  return Links(interiorTexel(i, 1u).w, c.x, c.y, c.z, c.w);
-}
-uint readLeafTriangle(uint i) {
-  if (!kTexels) return leafTriangle(i);
-  return texelFetch(gLeafTexels, int(i * kBuildNodeTexels + 2u)).x;
-}
-BvhLeafTriangle readPrim(uint i) {
-  if (!kTexels) return loadPrim(i);
-  int t = int(i * kBvhLeafTriangleTexels);
-  return BvhLeafTriangle(uintBitsToFloat(texelFetch(gPrimTexels, t)), uintBitsToFloat(texelFetch(gPrimTexels, t + 1)),
-                         uintBitsToFloat(texelFetch(gPrimTexels, t + 2)));
-}
+#define OSR_BUILD_TEXEL_BINDING kEmitBindingTexels
+#include "lib/bvh_build_texels.glsl"
 
 bool becomesLeaf(uint u, BvhBuildNode n) {
   return u >= interiorCount() || (n.flags & kFlagCollapsed) != 0u;
@@ -78,7 +37,7 @@ uint emitChild(uint u, BvhBuildNode n, uint slot) {
       if (v >= interiorCount()) {
         storeLeafTriangle(slot + written++, readPrim(readLeafTriangle(v - interiorCount())));
       } else {
-        Links m = readLinks(v);
+        BuildLinks m = readLinks(v);
         stack[sp++] = m.left;
         stack[sp++] = m.right;
       }
@@ -117,11 +76,11 @@ void main() {
     return;
   }
   if (i >= n - 1u) return;
-  Links node = readLinks(i);
+  BuildLinks node = readLinks(i);
   bool live = (node.flags & kFlagCollapsed) == 0u;
   // Only subtrees of at most kBvhMaxLeafTriangles collapse, so only such ancestors matter.
   for (uint p = node.parent; live && p != kInvalidNode;) {
-    Links a = readLinks(p);
+    BuildLinks a = readLinks(p);
     if (a.triangleCount > kBvhMaxLeafTriangles) break;
     if ((a.flags & kFlagCollapsed) != 0u) live = false;
     p = a.parent;

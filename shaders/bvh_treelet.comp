@@ -14,6 +14,10 @@ layout(local_size_x = kWorkgroupSize) in;
 layout(constant_id = kTreeletSpecLeaves) const uint kTreeletLeaves = kTreeletMaxLeaves;
 #include "lib/bvh_build_nodes.glsl"
 #include "lib/bvh_treelet_schedule.glsl"
+// Every node read here was written by an earlier dispatch (the subtrees below this height),
+// except the treelet root, which this invocation refits and keeps in registers.
+#define OSR_BUILD_TEXEL_BINDING kTreeletBindingTexels
+#include "lib/bvh_build_texels.glsl"
 
 const uint kSubsets = 1u << kTreeletMaxLeaves;
 
@@ -29,7 +33,7 @@ struct Slot {
 };
 
 Slot makeSlot(uint u) {
-  BvhBuildNode n = loadNode(u);
+  BvhBuildNode n = readNode(u);
   Slot s;
   s.node = u;
   s.lo = n.lo;
@@ -42,10 +46,10 @@ Slot makeSlot(uint u) {
 
 const uint kCollapseBit = 0x80000000u;  // in split[]: the subset becomes one leaf
 
-void restructure(uint root) {
+// root: an interior node refitted from its children, rn: its fields.
+void restructure(uint root, BvhBuildNode rn) {
   Slot slots[kTreeletMaxLeaves];
   uint interior[kTreeletMaxLeaves - 1u];
-  BvhBuildNode rn = loadInterior(root);
   slots[0] = makeSlot(rn.left);
   slots[1] = makeSlot(rn.right);
   interior[0] = root;
@@ -62,7 +66,7 @@ void restructure(uint root) {
     }
     if (best < 0) break;
     uint expanded = slots[best].node;
-    BvhBuildNode e = loadInterior(expanded);
+    BuildLinks e = readLinks(expanded);
     interior[ni++] = expanded;
     slots[best] = makeSlot(e.left);
     slots[nl++] = makeSlot(e.right);
@@ -180,6 +184,8 @@ void main() {
   uint i = bvhBuildItem();
   if (i >= level.count) return;
   uint node = gNodeList[level.offset + i];
-  refitStored(node);
-  restructure(node);
+  BvhBuildNode n = readInterior(node);
+  n = refitNode(n, readNode(n.left), readNode(n.right), node == 0u);
+  storeInterior(node, n);
+  restructure(node, n);
 }

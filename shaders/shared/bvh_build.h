@@ -100,6 +100,18 @@ struct BuildPush {
   BuildArrays arrays;
 };
 
+// Texel reads of the build arrays (lib/bvh_build_texels.glsl): passes whose reads of interior,
+// leaves and prims are scattered, and never of data written in the same dispatch, declare
+// RGBA32UI views of them at kBuildTexelBindingCount slots from their own base slot. Where spec
+// constant kBuildSpecTexels is set they read through the views (on lavapipe a texel fetch is a
+// gather, a storage load a loop over the SIMD lanes), else through the arrays.
+OSR_CONST(uint, kBuildTexelInterior, 0u);  // slot offsets from the pass's base slot
+OSR_CONST(uint, kBuildTexelLeaves, 1u);
+OSR_CONST(uint, kBuildTexelPrims, 2u);
+OSR_CONST(uint, kBuildTexelBindingCount, 3u);
+OSR_CONST(uint, kBuildSpecTexels, 4u);  // spec constant id: bool
+OSR_CONST(uint, kBuildNodeTexels, 3u);  // 16-byte texels per BvhBuildNode
+
 // bvh_bounds: arrays triangles, vertices (in), prims (out).
 OSR_CONST(uint, kBoundsBindingInfo, kBuildArrayBindingCount);
 OSR_CONST(uint, kBoundsBindingCount, kBuildArrayBindingCount + 1u);
@@ -164,7 +176,8 @@ OSR_CONST(uint, kTreeletSpecLeaves, 0u);  // spec constant id: leaves per treele
 OSR_CONST(uint, kTreeletMaxLevels, 128u);
 OSR_CONST(uint, kTreeletBindingSchedule, kBuildArrayBindingCount + 1u);  // TreeletLevel[kTreeletMaxLevels], then DispatchArgs[kTreeletMaxLevels]
 OSR_CONST(uint, kTreeletBindingNodeList, kBuildArrayBindingCount + 2u);  // uint per interior node
-OSR_CONST(uint, kTreeletBindingCount, kBuildArrayBindingCount + 3u);
+OSR_CONST(uint, kTreeletBindingTexels, kBuildArrayBindingCount + 3u);  // bvh_treelet's texel reads
+OSR_CONST(uint, kTreeletBindingCount, kTreeletBindingTexels + kBuildTexelBindingCount);
 struct TreeletLevel {
   uint count;
   uint offset;
@@ -177,17 +190,10 @@ struct DispatchArgs {
   uint z;
 };
 
-// bvh_emit: arrays interior, leaves, prims (in), nodes, leafTriangles (out). Where spec
-// constant kEmitSpecTexels is set it reads interior, leaves and prims through RGBA32UI views
-// (kBuildNodeTexels / kBvhLeafTriangleTexels texels each): its reads are scattered, and on
-// lavapipe a texel fetch is a gather while a storage load is a loop over the SIMD lanes.
+// bvh_emit: arrays interior, leaves, prims (in), nodes, leafTriangles (out); texel reads.
 OSR_CONST(uint, kEmitBindingInfo, kBuildArrayBindingCount);
-OSR_CONST(uint, kEmitBindingInteriorTexels, kBuildArrayBindingCount + 1u);
-OSR_CONST(uint, kEmitBindingLeafTexels, kBuildArrayBindingCount + 2u);
-OSR_CONST(uint, kEmitBindingPrimTexels, kBuildArrayBindingCount + 3u);
-OSR_CONST(uint, kEmitBindingCount, kBuildArrayBindingCount + 4u);
-OSR_CONST(uint, kEmitSpecTexels, 3u);  // spec constant id: bool
-OSR_CONST(uint, kBuildNodeTexels, 3u);  // 16-byte texels per BvhBuildNode
+OSR_CONST(uint, kEmitBindingTexels, kBuildArrayBindingCount + 1u);
+OSR_CONST(uint, kEmitBindingCount, kEmitBindingTexels + kBuildTexelBindingCount);
 
 // A float's bits mapped to a uint that orders like the float (atomicMin/Max on floats).
 OSR_BVH_FN uint bvhOrderedFromBits(uint bits) {

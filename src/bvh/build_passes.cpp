@@ -84,6 +84,26 @@ BuildPush bindArrays(vk::Binder& binder, const ArrayAccess& access, const BuildA
   }
   return p;
 }
+// Storage-buffer slots but for the kBuildTexelBindingCount texel slots from `texelBase`.
+std::vector<VkDescriptorType> texelTypes(uint32_t bindingCount, uint32_t texelBase) {
+  std::vector<VkDescriptorType> t(bindingCount, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
+  for (uint32_t k = 0; k < bb::kBuildTexelBindingCount; ++k) t[texelBase + k] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+  return t;
+}
+// `spec` plus kBuildSpecTexels: texel reads where a view reaches as far as the largest array
+// read (BvhBuildNode[N]) can be, one binding's worth or, by address, the triangle limit's.
+std::vector<vk::SpecConstant> texelSpec(const vk::Context& ctx, bool byAddress, std::vector<vk::SpecConstant> spec) {
+  const vk::Capabilities& caps = ctx.caps();
+  uint64_t arrayBytes = byAddress ? uint64_t(triangleLimit(ctx).triangles) * sizeof(bb::BvhBuildNode)
+                                  : uint64_t(caps.maxStorageBufferRange);
+  spec.push_back(vk::specUint(bb::kBuildSpecTexels, uint64_t(caps.maxTexelBufferElements) * 16 >= arrayBytes ? 1u : 0u));
+  return spec;
+}
+void bindTexels(vk::Binder& binder, uint32_t texelBase, const BuildTexelViews& views) {
+  binder.setTexel(texelBase + bb::kBuildTexelInterior, views.interior)
+      .setTexel(texelBase + bb::kBuildTexelLeaves, views.leaves)
+      .setTexel(texelBase + bb::kBuildTexelPrims, views.prims);
+}
 }  // namespace
 
 bool BuildArrayBuffers::pastOneBinding(const vk::Context& ctx) const {
@@ -238,13 +258,17 @@ void RefitPass::record(VkCommandBuffer cmd, const Args& a) const {
   vk::computeBarrier(cmd);
 }
 
+namespace {
+std::vector<VkDescriptorType> treeletTypes() { return texelTypes(bb::kTreeletBindingCount, bb::kTreeletBindingTexels); }
+}  // namespace
+
 TreeletPass::TreeletPass(const vk::Context& ctx, uint32_t treeletLeaves, bool byAddress)
     : access_{&ctx, byAddress},
-      count_(ctx, shaders::Id::bvh_treelet_count, bb::kTreeletBindingCount, sizeof(BuildPush), climbSpec(ctx, byAddress, 0)),
-      plan_(ctx, shaders::Id::bvh_treelet_plan, bb::kTreeletBindingCount, sizeof(BuildPush), climbSpec(ctx, byAddress, 0)),
-      scatter_(ctx, shaders::Id::bvh_treelet_scatter, bb::kTreeletBindingCount, sizeof(BuildPush), climbSpec(ctx, byAddress, 0)),
-      treelet_(ctx, shaders::Id::bvh_treelet, bb::kTreeletBindingCount, sizeof(BuildPush),
-               climbSpec(ctx, byAddress, treeletLeaves)) {
+      count_(ctx, shaders::Id::bvh_treelet_count, treeletTypes(), sizeof(BuildPush), climbSpec(ctx, byAddress, 0)),
+      plan_(ctx, shaders::Id::bvh_treelet_plan, treeletTypes(), sizeof(BuildPush), climbSpec(ctx, byAddress, 0)),
+      scatter_(ctx, shaders::Id::bvh_treelet_scatter, treeletTypes(), sizeof(BuildPush), climbSpec(ctx, byAddress, 0)),
+      treelet_(ctx, shaders::Id::bvh_treelet, treeletTypes(), sizeof(BuildPush),
+               texelSpec(ctx, byAddress, climbSpec(ctx, byAddress, treeletLeaves))) {
   if (treeletLeaves < 3 || treeletLeaves > bb::kTreeletMaxLeaves)
     throw InputError("bvh: treelet size " + std::to_string(treeletLeaves) + " outside 3.." +
                      std::to_string(bb::kTreeletMaxLeaves));
@@ -261,13 +285,15 @@ void TreeletPass::record(VkCommandBuffer cmd, const Args& a, vk::GpuTimer* timer
   vkCmdFillBuffer(cmd, a.schedule->handle(), 0, VK_WHOLE_SIZE, 0);
   vk::transferBarrier(cmd);
   BuildPush schedulePush{};
-  // The four treelet pipelines bind the same buffers at the same slots.
+  // The four treelet pipelines bind the same buffers at the same slots (only bvh_treelet reads
+  // the texels).
   auto binder = [&](const vk::ComputePipeline& p) {
     vk::Binder b(p);
     schedulePush = bindArrays(b, access_, *a.arrays, a.triangleCount, a.minTriangles);
     b.set(bb::kClimbBindingCounters, a.counters)
         .set(bb::kTreeletBindingSchedule, *a.schedule)
         .set(bb::kTreeletBindingNodeList, a.nodeList);
+    bindTexels(b, bb::kTreeletBindingTexels, *a.texels);
     return b;
   };
   binder(count_).bind(cmd, schedulePush);
@@ -293,37 +319,16 @@ void TreeletPass::record(VkCommandBuffer cmd, const Args& a, vk::GpuTimer* timer
   }
 }
 
-namespace {
-std::vector<VkDescriptorType> emitTypes() {
-  std::vector<VkDescriptorType> t(bb::kEmitBindingCount, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
-  for (uint32_t slot : {bb::kEmitBindingInteriorTexels, bb::kEmitBindingLeafTexels, bb::kEmitBindingPrimTexels})
-    t[slot] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
-  return t;
-}
-// Texel reads where a view reaches as far as the largest array read (BvhBuildNode[N]) can be:
-// one binding's worth, or by address the triangle limit's worth.
-std::vector<vk::SpecConstant> emitSpec(const vk::Context& ctx, bool byAddress) {
-  const vk::Capabilities& caps = ctx.caps();
-  uint64_t arrayBytes = byAddress ? uint64_t(triangleLimit(ctx).triangles) * sizeof(bb::BvhBuildNode)
-                                  : uint64_t(caps.maxStorageBufferRange);
-  std::vector<vk::SpecConstant> spec = arraySpec(byAddress);
-  spec.push_back(vk::specUint(bb::kEmitSpecTexels, uint64_t(caps.maxTexelBufferElements) * 16 >= arrayBytes ? 1u : 0u));
-  return spec;
-}
-}  // namespace
-
 EmitPass::EmitPass(const vk::Context& ctx, bool byAddress)
     : access_{&ctx, byAddress},
-      pipeline_(ctx, shaders::Id::bvh_emit, emitTypes(), sizeof(BuildPush), emitSpec(ctx, byAddress)) {}
+      pipeline_(ctx, shaders::Id::bvh_emit, texelTypes(bb::kEmitBindingCount, bb::kEmitBindingTexels), sizeof(BuildPush),
+                texelSpec(ctx, byAddress, arraySpec(byAddress))) {}
 
 void EmitPass::record(VkCommandBuffer cmd, const Args& a) const {
   vk::Binder binder(pipeline_);
   BuildPush p = bindArrays(binder, access_, *a.arrays, a.triangleCount, 0);
-  binder.set(bb::kEmitBindingInfo, a.info)
-      .setTexel(bb::kEmitBindingInteriorTexels, a.interiorTexels)
-      .setTexel(bb::kEmitBindingLeafTexels, a.leafTexels)
-      .setTexel(bb::kEmitBindingPrimTexels, a.primTexels)
-      .bind(cmd, p);
+  bindTexels(binder, bb::kEmitBindingTexels, *a.texels);
+  binder.set(bb::kEmitBindingInfo, a.info).bind(cmd, p);
   dispatchItems(pipeline_, cmd, std::max<uint32_t>(a.triangleCount - 1, 1));
   vk::computeBarrier(cmd);
 }

@@ -29,6 +29,16 @@ struct BuildArrayBuffers {
   bool pastOneBinding(const vk::Context& ctx) const;
 };
 
+// RGBA32UI views (vk::BufferView::uintTexels) of interior, leaves and prims, for the passes
+// that read them by texel fetch (shared/bvh_build.h, "Texel reads"); those buffers need
+// kUsage on top of storage use.
+struct BuildTexelViews {
+  static constexpr VkBufferUsageFlags kUsage = VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT;
+  VkBufferView interior = VK_NULL_HANDLE;
+  VkBufferView leaves = VK_NULL_HANDLE;
+  VkBufferView prims = VK_NULL_HANDLE;
+};
+
 // How a pass reaches the large arrays, fixed when its pipeline is made.
 struct ArrayAccess {
   const vk::Context* ctx = nullptr;
@@ -143,7 +153,8 @@ class RefitPass {
 };
 
 // One round of treelet restructuring: bvh_treelet_count / _plan / _scatter, then bvh_treelet
-// once per height with an indirect dispatch (see shared/bvh_build.h). Arrays: interior, leaves.
+// once per height with an indirect dispatch (see shared/bvh_build.h). Arrays: interior, leaves
+// (bvh_treelet reads them through texels).
 class TreeletPass {
  public:
   // treeletLeaves in 3..kTreeletMaxLeaves.
@@ -151,6 +162,7 @@ class TreeletPass {
   static uint64_t scheduleBytes();
   struct Args {
     const BuildArrayBuffers* arrays = nullptr;
+    const BuildTexelViews* texels = nullptr;
     vk::BufferRange counters;
     const vk::Buffer* schedule = nullptr;  // scheduleBytes()
     vk::BufferRange nodeList;              // uint per interior node
@@ -167,17 +179,14 @@ class TreeletPass {
 };
 
 // bvh_emit: traversal nodes and leaf triangles (info.leafCounter must be 0). Arrays: interior,
-// leaves, prims (in), nodes, leafTriangles (out); the inputs are read through RGBA32UI views
-// (kTexelsUsage) where views reach as far as the arrays can (texelReads()).
+// leaves, prims (in, through texels), nodes, leafTriangles (out).
 class EmitPass {
  public:
   EmitPass(const vk::Context& ctx, bool byAddress);
-  static constexpr VkBufferUsageFlags kTexelsUsage = VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT;
   struct Args {
     const BuildArrayBuffers* arrays = nullptr;
+    const BuildTexelViews* texels = nullptr;
     vk::BufferRange info;
-    // vk::BufferView::uintTexels of interior, leaves and prims.
-    VkBufferView interiorTexels = VK_NULL_HANDLE, leafTexels = VK_NULL_HANDLE, primTexels = VK_NULL_HANDLE;
     uint32_t triangleCount = 0;
   };
   void record(VkCommandBuffer cmd, const Args& args) const;

@@ -77,15 +77,15 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
   const uint32_t interiorCount = std::max<uint32_t>(n - 1, 1);
   const uint64_t nodeBytes = sizeof(bb::BvhBuildNode);
 
-  vk::Buffer prims = scratch(ctx, uint64_t(n) * sizeof(gpu::bvh::BvhLeafTriangle), "bvh prims", EmitPass::kTexelsUsage);
+  vk::Buffer prims = scratch(ctx, uint64_t(n) * sizeof(gpu::bvh::BvhLeafTriangle), "bvh prims", BuildTexelViews::kUsage);
   vk::Buffer info = scratch(ctx, sizeof(bb::BvhBuildInfo), "bvh build info");
   vk::Buffer keys = scratch(ctx, 4ull * n, "bvh keys", LbvhPass::kKeysUsage), keysTmp = scratch(ctx, 4ull * n, "bvh keys tmp");
   vk::Buffer values = scratch(ctx, 4ull * n, "bvh values"), valuesTmp = scratch(ctx, 4ull * n, "bvh values tmp");
   uint64_t histBytes = RadixSort::histogramBytes(n);
   vk::Buffer hist = scratch(ctx, histBytes, "bvh radix histogram");
   vk::Buffer partials = scratch(ctx, ExclusiveScan::partialsBytes(uint32_t(histBytes / 4)), "bvh scan partials");
-  vk::Buffer interior = scratch(ctx, interiorCount * nodeBytes, "bvh build interior", EmitPass::kTexelsUsage);
-  vk::Buffer leaves = scratch(ctx, n * nodeBytes, "bvh build leaves", EmitPass::kTexelsUsage);
+  vk::Buffer interior = scratch(ctx, interiorCount * nodeBytes, "bvh build interior", BuildTexelViews::kUsage);
+  vk::Buffer leaves = scratch(ctx, n * nodeBytes, "bvh build leaves", BuildTexelViews::kUsage);
   vk::Buffer counters = scratch(ctx, 4ull * interiorCount, "bvh climb counters");
   vk::Buffer schedule = scratch(ctx, TreeletPass::scheduleBytes(), "bvh treelet schedule");
   vk::Buffer nodeList = scratch(ctx, 4ull * interiorCount, "bvh treelet node list");
@@ -106,6 +106,10 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
   const vk::BufferView interiorTexels = vk::BufferView::uintTexels(ctx, interior, "bvh interior texels");
   const vk::BufferView leafTexels = vk::BufferView::uintTexels(ctx, leaves, "bvh leaf texels");
   const vk::BufferView primTexels = vk::BufferView::uintTexels(ctx, prims, "bvh prim texels");
+  BuildTexelViews texels;
+  texels.interior = interiorTexels.handle();
+  texels.leaves = leafTexels.handle();
+  texels.prims = primTexels.handle();
   BuildArrayBuffers arrays;
   arrays.triangles = vk::BufferRange(triangles, 0, uint64_t(n) * sizeof(gpu::scene::Triangle));
   arrays.vertices = vertices;
@@ -154,10 +158,10 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
     for (uint32_t round = 0; round < treeletRounds && n > 2; ++round) {
       // Karras & Aila grow the smallest restructured subtree each round: the bottom levels
       // improve most in the first round, later rounds polish the upper tree at less cost.
-      passes.treelet.record(cmd, {&arrays, counters, &schedule, nodeList, n, options.treeletMinTriangles << round}, &timer);
+      passes.treelet.record(cmd, {&arrays, &texels, counters, &schedule, nodeList, n, options.treeletMinTriangles << round}, &timer);
     }
     vk::TimedScope scope(&timer, cmd, "bvh_emit");
-    passes.emit.record(cmd, {&arrays, info, interiorTexels.handle(), leafTexels.handle(), primTexels.handle(), n});
+    passes.emit.record(cmd, {&arrays, &texels, info, n});
   };
 
   uint32_t rounds = options.treeletRounds;
