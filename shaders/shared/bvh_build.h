@@ -153,7 +153,8 @@ OSR_CONST(uint, kScanBindingCount, 2u);
 OSR_CONST(uint, kLbvhBindingKeys, kBuildArrayBindingCount);
 OSR_CONST(uint, kLbvhBindingValues, kBuildArrayBindingCount + 1u);
 OSR_CONST(uint, kLbvhBindingKeyTexels, kBuildArrayBindingCount + 2u);
-OSR_CONST(uint, kLbvhBindingCount, kBuildArrayBindingCount + 3u);
+OSR_CONST(uint, kLbvhBindingTexels, kBuildArrayBindingCount + 3u);  // texel reads (of prims)
+OSR_CONST(uint, kLbvhBindingCount, kLbvhBindingTexels + kBuildTexelBindingCount);
 OSR_CONST(uint, kLbvhSpecKeyTexels, 3u);  // spec constant id: bool
 
 // bvh_refit (climb) and the treelet passes: arrays interior, leaves.

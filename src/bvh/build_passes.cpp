@@ -215,7 +215,7 @@ void RadixSort::record(VkCommandBuffer cmd, const Args& a, vk::GpuTimer* timer) 
 
 namespace {
 std::vector<VkDescriptorType> lbvhTypes() {
-  std::vector<VkDescriptorType> t(bb::kLbvhBindingCount, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
+  std::vector<VkDescriptorType> t = texelTypes(bb::kLbvhBindingCount, bb::kLbvhBindingTexels);
   t[bb::kLbvhBindingKeyTexels] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
   return t;
 }
@@ -223,7 +223,7 @@ std::vector<VkDescriptorType> lbvhTypes() {
 // by maxStorageBufferRange): 128M texels on lavapipe against 32M keys.
 std::vector<vk::SpecConstant> lbvhSpec(const vk::Context& ctx, bool byAddress) {
   bool texels = uint64_t(ctx.caps().maxTexelBufferElements) * 4 >= ctx.caps().maxStorageBufferRange;
-  std::vector<vk::SpecConstant> spec = arraySpec(byAddress);
+  std::vector<vk::SpecConstant> spec = texelSpec(ctx, byAddress, arraySpec(byAddress));
   spec.push_back(vk::specUint(bb::kLbvhSpecKeyTexels, texels ? 1u : 0u));
   return spec;
 }
@@ -238,8 +238,9 @@ void LbvhPass::record(VkCommandBuffer cmd, const Args& a) const {
   BuildPush p = bindArrays(binder, access_, *a.arrays, a.triangleCount, 0);
   binder.set(bb::kLbvhBindingKeys, a.keys)
       .set(bb::kLbvhBindingValues, a.values)
-      .setTexel(bb::kLbvhBindingKeyTexels, a.keyTexels)
-      .bind(cmd, p);
+      .setTexel(bb::kLbvhBindingKeyTexels, a.keyTexels);
+  bindTexels(binder, bb::kLbvhBindingTexels, *a.texels);
+  binder.bind(cmd, p);
   dispatchItems(pipeline_, cmd, a.triangleCount);
   vk::computeBarrier(cmd);
 }
@@ -264,9 +265,11 @@ std::vector<VkDescriptorType> treeletTypes() { return texelTypes(bb::kTreeletBin
 
 TreeletPass::TreeletPass(const vk::Context& ctx, uint32_t treeletLeaves, bool byAddress)
     : access_{&ctx, byAddress},
-      count_(ctx, shaders::Id::bvh_treelet_count, treeletTypes(), sizeof(BuildPush), climbSpec(ctx, byAddress, 0)),
+      count_(ctx, shaders::Id::bvh_treelet_count, treeletTypes(), sizeof(BuildPush),
+             texelSpec(ctx, byAddress, climbSpec(ctx, byAddress, 0))),
       plan_(ctx, shaders::Id::bvh_treelet_plan, treeletTypes(), sizeof(BuildPush), climbSpec(ctx, byAddress, 0)),
-      scatter_(ctx, shaders::Id::bvh_treelet_scatter, treeletTypes(), sizeof(BuildPush), climbSpec(ctx, byAddress, 0)),
+      scatter_(ctx, shaders::Id::bvh_treelet_scatter, treeletTypes(), sizeof(BuildPush),
+               texelSpec(ctx, byAddress, climbSpec(ctx, byAddress, 0))),
       treelet_(ctx, shaders::Id::bvh_treelet, treeletTypes(), sizeof(BuildPush),
                texelSpec(ctx, byAddress, climbSpec(ctx, byAddress, treeletLeaves))) {
   if (treeletLeaves < 3 || treeletLeaves > bb::kTreeletMaxLeaves)
@@ -285,8 +288,7 @@ void TreeletPass::record(VkCommandBuffer cmd, const Args& a, vk::GpuTimer* timer
   vkCmdFillBuffer(cmd, a.schedule->handle(), 0, VK_WHOLE_SIZE, 0);
   vk::transferBarrier(cmd);
   BuildPush schedulePush{};
-  // The four treelet pipelines bind the same buffers at the same slots (only bvh_treelet reads
-  // the texels).
+  // The four treelet pipelines bind the same buffers at the same slots.
   auto binder = [&](const vk::ComputePipeline& p) {
     vk::Binder b(p);
     schedulePush = bindArrays(b, access_, *a.arrays, a.triangleCount, a.minTriangles);

@@ -116,7 +116,7 @@ class RadixSort {
 };
 
 // bvh_lbvh: Karras 2012 hierarchy over sorted keys; initialises the leaves. Arrays: prims
-// (in), interior, leaves (out).
+// (in, through texels), interior, leaves (out).
 class LbvhPass {
  public:
   LbvhPass(const vk::Context& ctx, bool byAddress);
@@ -124,6 +124,7 @@ class LbvhPass {
   static constexpr VkBufferUsageFlags kKeysUsage = VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT;
   struct Args {
     const BuildArrayBuffers* arrays = nullptr;
+    const BuildTexelViews* texels = nullptr;
     vk::BufferRange keys, values;
     VkBufferView keyTexels = VK_NULL_HANDLE;  // R32UI view of keys (vk::BufferView::uintWords)
     uint32_t triangleCount = 0;
