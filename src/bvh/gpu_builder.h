@@ -19,11 +19,8 @@ struct GpuBuildOptions {
   // LBVH, so the default restructures every node that can hold a full treelet.
   uint32_t treeletMinTriangles = gpu::bvh_build::kTreeletMaxLeaves;
   // 3..7. 6 rather than 7 (measured on the 1.05M-triangle bench mesh, lavapipe): a third less
-  // restructuring time (444 -> 275 ms), SAH/CPU-SAH 1.056 instead of 1.047. 5 rather than 6
-  // (same mesh, same run): a further 38% off restructuring (treelet passes 2.1x -> 1.3x the
-  // time of morton + sort + lbvh), SAH/CPU-SAH 1.068 instead of 1.056; cornell and room stay
-  // within 1.01 of the CPU tree.
-  uint32_t treeletLeaves = 5;
+  // restructuring time (444 -> 275 ms), SAH/CPU-SAH 1.056 instead of 1.047.
+  uint32_t treeletLeaves = 6;
 };
 
 Bvh buildGpu(const vk::Context& ctx, const vk::Buffer& vertices, const vk::Buffer& triangles,
