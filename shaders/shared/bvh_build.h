@@ -161,6 +161,9 @@ OSR_CONST(uint, kLbvhSpecKeyTexels, 3u);  // spec constant id: bool
 OSR_CONST(uint, kClimbBindingCounters, kBuildArrayBindingCount);
 OSR_CONST(uint, kClimbBindingCount, kBuildArrayBindingCount + 1u);
 OSR_CONST(uint, kClimbSpecFences, 1u);  // spec constant id: bool, memory fences around the counter
+// bvh_refit reads what bvh_lbvh wrote (leaves, every node's links) through texels.
+OSR_CONST(uint, kRefitBindingTexels, kClimbBindingCount);
+OSR_CONST(uint, kRefitBindingCount, kRefitBindingTexels + kBuildTexelBindingCount);
 
 // Treelet restructuring (Karras & Aila 2013) runs level-synchronously: the nodes to restructure
 // (interior, not collapsed, at least `minTriangles` below) are bucketed by height, then one

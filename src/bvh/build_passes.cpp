@@ -247,13 +247,15 @@ void LbvhPass::record(VkCommandBuffer cmd, const Args& a) const {
 
 RefitPass::RefitPass(const vk::Context& ctx, bool byAddress)
     : access_{&ctx, byAddress},
-      pipeline_(ctx, shaders::Id::bvh_refit, bb::kClimbBindingCount, sizeof(BuildPush), climbSpec(ctx, byAddress, 0)) {}
+      pipeline_(ctx, shaders::Id::bvh_refit, texelTypes(bb::kRefitBindingCount, bb::kRefitBindingTexels), sizeof(BuildPush),
+                texelSpec(ctx, byAddress, climbSpec(ctx, byAddress, 0))) {}
 
 void RefitPass::record(VkCommandBuffer cmd, const Args& a) const {
   vkCmdFillBuffer(cmd, a.counters->handle(), 0, VK_WHOLE_SIZE, 0);
   vk::transferBarrier(cmd);
   vk::Binder binder(pipeline_);
   BuildPush p = bindArrays(binder, access_, *a.arrays, a.triangleCount, 0);
+  bindTexels(binder, bb::kRefitBindingTexels, *a.texels);
   binder.set(bb::kClimbBindingCounters, *a.counters).bind(cmd, p);
   dispatchItems(pipeline_, cmd, a.triangleCount);
   vk::computeBarrier(cmd);

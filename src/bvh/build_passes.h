@@ -137,12 +137,13 @@ class LbvhPass {
 };
 
 // bvh_refit: bottom-up bounds, counts, costs, heights; counters are zeroed by record().
-// Arrays: interior, leaves.
+// Arrays: interior, leaves (also through texels).
 class RefitPass {
  public:
   RefitPass(const vk::Context& ctx, bool byAddress);
   struct Args {
     const BuildArrayBuffers* arrays = nullptr;
+    const BuildTexelViews* texels = nullptr;
     const vk::Buffer* counters = nullptr;  // uint per interior node
     uint32_t triangleCount = 0;
   };

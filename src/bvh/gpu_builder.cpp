@@ -153,7 +153,7 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
     }
     if (n > 1) {
       vk::TimedScope scope(&timer, cmd, "bvh_refit");
-      passes.refit.record(cmd, {&arrays, &counters, n});
+      passes.refit.record(cmd, {&arrays, &texels, &counters, n});
     }
     for (uint32_t round = 0; round < treeletRounds && n > 2; ++round) {
       // Karras & Aila grow the smallest restructured subtree each round: the bottom levels
