@@ -12,6 +12,8 @@
 
 layout(local_size_x = kWorkgroupSize) in;
 layout(std430, binding = kEmitBindingInfo) buffer Info { BvhBuildInfo gInfo; };
+#define OSR_BUILD_TEXEL_BINDING kEmitBindingTexels
+#include "lib/bvh_build_texels.glsl"
 
 bool becomesLeaf(uint u, BvhBuildNode n) {
   return u >= interiorCount() || (n.flags & kFlagCollapsed) != 0u;
@@ -23,7 +25,7 @@ uint emitChild(uint u, BvhBuildNode n, uint slot) {
   if (!becomesLeaf(u, n)) return u;
   uint count = n.triangleCount;
   if (u >= interiorCount()) {
-    storeLeafTriangle(slot, loadPrim(n.left));
+    storeLeafTriangle(slot, readPrim(n.left));
   } else {
     // Depth-first over a subtree of at most kBvhMaxLeafTriangles leaves: the stack never holds
     // more entries than the subtree has leaves.
@@ -33,9 +35,9 @@ uint emitChild(uint u, BvhBuildNode n, uint slot) {
     while (sp > 0u) {
       uint v = stack[--sp];
       if (v >= interiorCount()) {
-        storeLeafTriangle(slot + written++, loadPrim(leafTriangle(v - interiorCount())));
+        storeLeafTriangle(slot + written++, readPrim(readLeafTriangle(v - interiorCount())));
       } else {
-        BvhBuildNode m = loadInterior(v);
+        BuildLinks m = readLinks(v);
         stack[sp++] = m.left;
         stack[sp++] = m.right;
       }
@@ -59,7 +61,7 @@ void main() {
   uint n = gPush.triangleCount;
   if (n == 1u) {  // no interior node: a root with one leaf and one empty child
     if (i != 0u) return;
-    BvhBuildNode leaf = loadNode(0u);  // leaf 0: there is no interior node
+    BvhBuildNode leaf = readNode(0u);  // leaf 0: there is no interior node
     gInfo.leafCounter = 1u;
     BvhNode root;
     root.aMin = leaf.lo;
@@ -74,18 +76,18 @@ void main() {
     return;
   }
   if (i >= n - 1u) return;
-  BvhBuildNode node = loadInterior(i);
+  BuildLinks node = readLinks(i);
   bool live = (node.flags & kFlagCollapsed) == 0u;
   // Only subtrees of at most kBvhMaxLeafTriangles collapse, so only such ancestors matter.
   for (uint p = node.parent; live && p != kInvalidNode;) {
-    BvhBuildNode a = loadInterior(p);
+    BuildLinks a = readLinks(p);
     if (a.triangleCount > kBvhMaxLeafTriangles) break;
     if ((a.flags & kFlagCollapsed) != 0u) live = false;
     p = a.parent;
   }
   // Unreachable nodes stop here: the subgroup allocation below only counts the live lanes.
   if (!live) return;
-  BvhBuildNode l = loadNode(node.left), r = loadNode(node.right);
+  BvhBuildNode l = readNode(node.left), r = readNode(node.right);
   uint countA = becomesLeaf(node.left, l) ? l.triangleCount : 0u;
   uint countB = becomesLeaf(node.right, r) ? r.triangleCount : 0u;
   uint slot = allocateLeafEntries(countA + countB);

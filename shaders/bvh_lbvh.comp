@@ -14,6 +14,8 @@ layout(std430, binding = kLbvhBindingKeys) readonly buffer Keys { uint gKeys[]; 
 layout(std430, binding = kLbvhBindingValues) readonly buffer Values { uint gValues[]; };
 layout(binding = kLbvhBindingKeyTexels) uniform usamplerBuffer gKeyTexels;
 layout(constant_id = kLbvhSpecKeyTexels) const bool kKeyTexels = true;
+#define OSR_BUILD_TEXEL_BINDING kLbvhBindingTexels
+#include "lib/bvh_build_texels.glsl"
 
 uint sortedKey(int i) {
   if (kKeyTexels) return texelFetch(gKeyTexels, i).x;
@@ -31,7 +33,7 @@ int delta(int i, int j) {
 
 void initSortedLeaf(uint i) {
   uint tri = gValues[i];
-  BvhLeafTriangle p = loadPrim(tri);
+  BvhLeafTriangle p = readPrim(tri);  // scattered: through texels
   BvhBuildNode n;
   n.lo = min(min(p.v0.xyz, p.v1.xyz), p.v2.xyz);
   n.hi = max(max(p.v0.xyz, p.v1.xyz), p.v2.xyz);

@@ -13,6 +13,9 @@
 layout(local_size_x = kWorkgroupSize) in;
 layout(constant_id = kTreeletSpecLeaves) const uint kTreeletLeaves = kTreeletMaxLeaves;
 #include "lib/bvh_build_nodes.glsl"
+// Reads through texels (lib/bvh_treelet_schedule.glsl): every node read here was written by an
+// earlier dispatch (the subtrees below this height), but for the treelet root, which this
+// invocation refits and keeps in registers.
 #include "lib/bvh_treelet_schedule.glsl"
 
 const uint kSubsets = 1u << kTreeletMaxLeaves;
@@ -29,7 +32,7 @@ struct Slot {
 };
 
 Slot makeSlot(uint u) {
-  BvhBuildNode n = loadNode(u);
+  BvhBuildNode n = readNode(u);
   Slot s;
   s.node = u;
   s.lo = n.lo;
@@ -42,10 +45,10 @@ Slot makeSlot(uint u) {
 
 const uint kCollapseBit = 0x80000000u;  // in split[]: the subset becomes one leaf
 
-void restructure(uint root) {
+// root: an interior node refitted from its children, rn: its fields.
+void restructure(uint root, BvhBuildNode rn) {
   Slot slots[kTreeletMaxLeaves];
   uint interior[kTreeletMaxLeaves - 1u];
-  BvhBuildNode rn = loadInterior(root);
   slots[0] = makeSlot(rn.left);
   slots[1] = makeSlot(rn.right);
   interior[0] = root;
@@ -62,16 +65,19 @@ void restructure(uint root) {
     }
     if (best < 0) break;
     uint expanded = slots[best].node;
-    BvhBuildNode e = loadInterior(expanded);
+    BuildLinks e = readLinks(expanded);
     interior[ni++] = expanded;
     slots[best] = makeSlot(e.left);
     slots[nl++] = makeSlot(e.right);
   }
-  if (nl < 3u) return;  // two leaves have one topology only
+  // A subtree with fewer leaves than a treelet (only below minTriangles < kTreeletLeaves) is
+  // left as it is. The dynamic program then runs the same trip counts on every lane: on lavapipe
+  // that keeps its loops uniform, and the subset indices with them.
+  if (nl < kTreeletLeaves) return;
+  const uint full = (1u << kTreeletLeaves) - 1u;
 
   float cost[kSubsets];
   uint split[kSubsets];
-  uint full = (1u << nl) - 1u;
   // Subsets in increasing order: every proper subset of s is smaller than s.
   for (uint s = 1u; s <= full; ++s) {
     if (bitCount(s) == 1) {
@@ -81,7 +87,7 @@ void restructure(uint root) {
     }
     vec3 slo = vec3(3.0e38), shi = vec3(-3.0e38);
     uint tris = 0u;
-    for (uint k = 0u; k < nl; ++k)
+    for (uint k = 0u; k < kTreeletLeaves; ++k)
       if ((s & (1u << k)) != 0u) {
         slo = min(slo, slots[k].lo);
         shi = max(shi, slots[k].hi);
@@ -148,7 +154,7 @@ void restructure(uint root) {
     n.lo = vec3(3.0e38);
     n.hi = vec3(-3.0e38);
     n.triangleCount = 0u;
-    for (uint j = 0u; j < nl; ++j)
+    for (uint j = 0u; j < kTreeletLeaves; ++j)
       if ((s & (1u << j)) != 0u) {
         n.lo = min(n.lo, slots[j].lo);
         n.hi = max(n.hi, slots[j].hi);
@@ -180,6 +186,8 @@ void main() {
   uint i = bvhBuildItem();
   if (i >= level.count) return;
   uint node = gNodeList[level.offset + i];
-  refitStored(node);
-  restructure(node);
+  BvhBuildNode n = readInterior(node);
+  n = refitNode(n, readNode(n.left), readNode(n.right), node == 0u);
+  storeInterior(node, n);
+  restructure(node, n);
 }

@@ -100,6 +100,18 @@ struct BuildPush {
   BuildArrays arrays;
 };
 
+// Texel reads of the build arrays (lib/bvh_build_texels.glsl): passes whose reads of interior,
+// leaves and prims are scattered, and never of data written in the same dispatch, declare
+// RGBA32UI views of them at kBuildTexelBindingCount slots from their own base slot. Where spec
+// constant kBuildSpecTexels is set they read through the views (on lavapipe a texel fetch is a
+// gather, a storage load a loop over the SIMD lanes), else through the arrays.
+OSR_CONST(uint, kBuildTexelInterior, 0u);  // slot offsets from the pass's base slot
+OSR_CONST(uint, kBuildTexelLeaves, 1u);
+OSR_CONST(uint, kBuildTexelPrims, 2u);
+OSR_CONST(uint, kBuildTexelBindingCount, 3u);
+OSR_CONST(uint, kBuildSpecTexels, 4u);  // spec constant id: bool
+OSR_CONST(uint, kBuildNodeTexels, 3u);  // 16-byte texels per BvhBuildNode
+
 // bvh_bounds: arrays triangles, vertices (in), prims (out).
 OSR_CONST(uint, kBoundsBindingInfo, kBuildArrayBindingCount);
 OSR_CONST(uint, kBoundsBindingCount, kBuildArrayBindingCount + 1u);
@@ -141,13 +153,17 @@ OSR_CONST(uint, kScanBindingCount, 2u);
 OSR_CONST(uint, kLbvhBindingKeys, kBuildArrayBindingCount);
 OSR_CONST(uint, kLbvhBindingValues, kBuildArrayBindingCount + 1u);
 OSR_CONST(uint, kLbvhBindingKeyTexels, kBuildArrayBindingCount + 2u);
-OSR_CONST(uint, kLbvhBindingCount, kBuildArrayBindingCount + 3u);
+OSR_CONST(uint, kLbvhBindingTexels, kBuildArrayBindingCount + 3u);  // texel reads (of prims)
+OSR_CONST(uint, kLbvhBindingCount, kLbvhBindingTexels + kBuildTexelBindingCount);
 OSR_CONST(uint, kLbvhSpecKeyTexels, 3u);  // spec constant id: bool
 
 // bvh_refit (climb) and the treelet passes: arrays interior, leaves.
 OSR_CONST(uint, kClimbBindingCounters, kBuildArrayBindingCount);
 OSR_CONST(uint, kClimbBindingCount, kBuildArrayBindingCount + 1u);
 OSR_CONST(uint, kClimbSpecFences, 1u);  // spec constant id: bool, memory fences around the counter
+// bvh_refit reads what bvh_lbvh wrote (leaves, every node's links) through texels.
+OSR_CONST(uint, kRefitBindingTexels, kClimbBindingCount);
+OSR_CONST(uint, kRefitBindingCount, kRefitBindingTexels + kBuildTexelBindingCount);
 
 // Treelet restructuring (Karras & Aila 2013) runs level-synchronously: the nodes to restructure
 // (interior, not collapsed, at least `minTriangles` below) are bucketed by height, then one
@@ -164,7 +180,8 @@ OSR_CONST(uint, kTreeletSpecLeaves, 0u);  // spec constant id: leaves per treele
 OSR_CONST(uint, kTreeletMaxLevels, 128u);
 OSR_CONST(uint, kTreeletBindingSchedule, kBuildArrayBindingCount + 1u);  // TreeletLevel[kTreeletMaxLevels], then DispatchArgs[kTreeletMaxLevels]
 OSR_CONST(uint, kTreeletBindingNodeList, kBuildArrayBindingCount + 2u);  // uint per interior node
-OSR_CONST(uint, kTreeletBindingCount, kBuildArrayBindingCount + 3u);
+OSR_CONST(uint, kTreeletBindingTexels, kBuildArrayBindingCount + 3u);  // bvh_treelet's texel reads
+OSR_CONST(uint, kTreeletBindingCount, kTreeletBindingTexels + kBuildTexelBindingCount);
 struct TreeletLevel {
   uint count;
   uint offset;
@@ -177,9 +194,10 @@ struct DispatchArgs {
   uint z;
 };
 
-// bvh_emit: arrays interior, leaves, prims (in), nodes, leafTriangles (out).
+// bvh_emit: arrays interior, leaves, prims (in), nodes, leafTriangles (out); texel reads.
 OSR_CONST(uint, kEmitBindingInfo, kBuildArrayBindingCount);
-OSR_CONST(uint, kEmitBindingCount, kBuildArrayBindingCount + 1u);
+OSR_CONST(uint, kEmitBindingTexels, kBuildArrayBindingCount + 1u);
+OSR_CONST(uint, kEmitBindingCount, kEmitBindingTexels + kBuildTexelBindingCount);
 
 // A float's bits mapped to a uint that orders like the float (atomicMin/Max on floats).
 OSR_BVH_FN uint bvhOrderedFromBits(uint bits) {

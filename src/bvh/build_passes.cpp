@@ -6,6 +6,7 @@
 #include <optional>
 #include <string>
 
+#include "bvh/bvh.h"
 #include "common/error.h"
 #include "vk/binder.h"
 #include "vk/timer.h"
@@ -82,6 +83,26 @@ BuildPush bindArrays(vk::Binder& binder, const ArrayAccess& access, const BuildA
     binder.set(i, r);
   }
   return p;
+}
+// Storage-buffer slots but for the kBuildTexelBindingCount texel slots from `texelBase`.
+std::vector<VkDescriptorType> texelTypes(uint32_t bindingCount, uint32_t texelBase) {
+  std::vector<VkDescriptorType> t(bindingCount, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
+  for (uint32_t k = 0; k < bb::kBuildTexelBindingCount; ++k) t[texelBase + k] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+  return t;
+}
+// `spec` plus kBuildSpecTexels: texel reads where a view reaches as far as the largest array
+// read (BvhBuildNode[N]) can be, one binding's worth or, by address, the triangle limit's.
+std::vector<vk::SpecConstant> texelSpec(const vk::Context& ctx, bool byAddress, std::vector<vk::SpecConstant> spec) {
+  const vk::Capabilities& caps = ctx.caps();
+  uint64_t arrayBytes = byAddress ? uint64_t(triangleLimit(ctx).triangles) * sizeof(bb::BvhBuildNode)
+                                  : uint64_t(caps.maxStorageBufferRange);
+  spec.push_back(vk::specUint(bb::kBuildSpecTexels, uint64_t(caps.maxTexelBufferElements) * 16 >= arrayBytes ? 1u : 0u));
+  return spec;
+}
+void bindTexels(vk::Binder& binder, uint32_t texelBase, const BuildTexelViews& views) {
+  binder.setTexel(texelBase + bb::kBuildTexelInterior, views.interior)
+      .setTexel(texelBase + bb::kBuildTexelLeaves, views.leaves)
+      .setTexel(texelBase + bb::kBuildTexelPrims, views.prims);
 }
 }  // namespace
 
@@ -194,7 +215,7 @@ void RadixSort::record(VkCommandBuffer cmd, const Args& a, vk::GpuTimer* timer) 
 
 namespace {
 std::vector<VkDescriptorType> lbvhTypes() {
-  std::vector<VkDescriptorType> t(bb::kLbvhBindingCount, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
+  std::vector<VkDescriptorType> t = texelTypes(bb::kLbvhBindingCount, bb::kLbvhBindingTexels);
   t[bb::kLbvhBindingKeyTexels] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
   return t;
 }
@@ -202,7 +223,7 @@ std::vector<VkDescriptorType> lbvhTypes() {
 // by maxStorageBufferRange): 128M texels on lavapipe against 32M keys.
 std::vector<vk::SpecConstant> lbvhSpec(const vk::Context& ctx, bool byAddress) {
   bool texels = uint64_t(ctx.caps().maxTexelBufferElements) * 4 >= ctx.caps().maxStorageBufferRange;
-  std::vector<vk::SpecConstant> spec = arraySpec(byAddress);
+  std::vector<vk::SpecConstant> spec = texelSpec(ctx, byAddress, arraySpec(byAddress));
   spec.push_back(vk::specUint(bb::kLbvhSpecKeyTexels, texels ? 1u : 0u));
   return spec;
 }
@@ -217,33 +238,42 @@ void LbvhPass::record(VkCommandBuffer cmd, const Args& a) const {
   BuildPush p = bindArrays(binder, access_, *a.arrays, a.triangleCount, 0);
   binder.set(bb::kLbvhBindingKeys, a.keys)
       .set(bb::kLbvhBindingValues, a.values)
-      .setTexel(bb::kLbvhBindingKeyTexels, a.keyTexels)
-      .bind(cmd, p);
+      .setTexel(bb::kLbvhBindingKeyTexels, a.keyTexels);
+  bindTexels(binder, bb::kLbvhBindingTexels, *a.texels);
+  binder.bind(cmd, p);
   dispatchItems(pipeline_, cmd, a.triangleCount);
   vk::computeBarrier(cmd);
 }
 
 RefitPass::RefitPass(const vk::Context& ctx, bool byAddress)
     : access_{&ctx, byAddress},
-      pipeline_(ctx, shaders::Id::bvh_refit, bb::kClimbBindingCount, sizeof(BuildPush), climbSpec(ctx, byAddress, 0)) {}
+      pipeline_(ctx, shaders::Id::bvh_refit, texelTypes(bb::kRefitBindingCount, bb::kRefitBindingTexels), sizeof(BuildPush),
+                texelSpec(ctx, byAddress, climbSpec(ctx, byAddress, 0))) {}
 
 void RefitPass::record(VkCommandBuffer cmd, const Args& a) const {
   vkCmdFillBuffer(cmd, a.counters->handle(), 0, VK_WHOLE_SIZE, 0);
   vk::transferBarrier(cmd);
   vk::Binder binder(pipeline_);
   BuildPush p = bindArrays(binder, access_, *a.arrays, a.triangleCount, 0);
+  bindTexels(binder, bb::kRefitBindingTexels, *a.texels);
   binder.set(bb::kClimbBindingCounters, *a.counters).bind(cmd, p);
   dispatchItems(pipeline_, cmd, a.triangleCount);
   vk::computeBarrier(cmd);
 }
 
+namespace {
+std::vector<VkDescriptorType> treeletTypes() { return texelTypes(bb::kTreeletBindingCount, bb::kTreeletBindingTexels); }
+}  // namespace
+
 TreeletPass::TreeletPass(const vk::Context& ctx, uint32_t treeletLeaves, bool byAddress)
     : access_{&ctx, byAddress},
-      count_(ctx, shaders::Id::bvh_treelet_count, bb::kTreeletBindingCount, sizeof(BuildPush), climbSpec(ctx, byAddress, 0)),
-      plan_(ctx, shaders::Id::bvh_treelet_plan, bb::kTreeletBindingCount, sizeof(BuildPush), climbSpec(ctx, byAddress, 0)),
-      scatter_(ctx, shaders::Id::bvh_treelet_scatter, bb::kTreeletBindingCount, sizeof(BuildPush), climbSpec(ctx, byAddress, 0)),
-      treelet_(ctx, shaders::Id::bvh_treelet, bb::kTreeletBindingCount, sizeof(BuildPush),
-               climbSpec(ctx, byAddress, treeletLeaves)) {
+      count_(ctx, shaders::Id::bvh_treelet_count, treeletTypes(), sizeof(BuildPush),
+             texelSpec(ctx, byAddress, climbSpec(ctx, byAddress, 0))),
+      plan_(ctx, shaders::Id::bvh_treelet_plan, treeletTypes(), sizeof(BuildPush), climbSpec(ctx, byAddress, 0)),
+      scatter_(ctx, shaders::Id::bvh_treelet_scatter, treeletTypes(), sizeof(BuildPush),
+               texelSpec(ctx, byAddress, climbSpec(ctx, byAddress, 0))),
+      treelet_(ctx, shaders::Id::bvh_treelet, treeletTypes(), sizeof(BuildPush),
+               texelSpec(ctx, byAddress, climbSpec(ctx, byAddress, treeletLeaves))) {
   if (treeletLeaves < 3 || treeletLeaves > bb::kTreeletMaxLeaves)
     throw InputError("bvh: treelet size " + std::to_string(treeletLeaves) + " outside 3.." +
                      std::to_string(bb::kTreeletMaxLeaves));
@@ -267,6 +297,7 @@ void TreeletPass::record(VkCommandBuffer cmd, const Args& a, vk::GpuTimer* timer
     b.set(bb::kClimbBindingCounters, a.counters)
         .set(bb::kTreeletBindingSchedule, *a.schedule)
         .set(bb::kTreeletBindingNodeList, a.nodeList);
+    bindTexels(b, bb::kTreeletBindingTexels, *a.texels);
     return b;
   };
   binder(count_).bind(cmd, schedulePush);
@@ -294,11 +325,13 @@ void TreeletPass::record(VkCommandBuffer cmd, const Args& a, vk::GpuTimer* timer
 
 EmitPass::EmitPass(const vk::Context& ctx, bool byAddress)
     : access_{&ctx, byAddress},
-      pipeline_(ctx, shaders::Id::bvh_emit, bb::kEmitBindingCount, sizeof(BuildPush), arraySpec(byAddress)) {}
+      pipeline_(ctx, shaders::Id::bvh_emit, texelTypes(bb::kEmitBindingCount, bb::kEmitBindingTexels), sizeof(BuildPush),
+                texelSpec(ctx, byAddress, arraySpec(byAddress))) {}
 
 void EmitPass::record(VkCommandBuffer cmd, const Args& a) const {
   vk::Binder binder(pipeline_);
   BuildPush p = bindArrays(binder, access_, *a.arrays, a.triangleCount, 0);
+  bindTexels(binder, bb::kEmitBindingTexels, *a.texels);
   binder.set(bb::kEmitBindingInfo, a.info).bind(cmd, p);
   dispatchItems(pipeline_, cmd, std::max<uint32_t>(a.triangleCount - 1, 1));
   vk::computeBarrier(cmd);

@@ -29,6 +29,16 @@ struct BuildArrayBuffers {
   bool pastOneBinding(const vk::Context& ctx) const;
 };
 
+// RGBA32UI views (vk::BufferView::uintTexels) of interior, leaves and prims, for the passes
+// that read them by texel fetch (shared/bvh_build.h, "Texel reads"); those buffers need
+// kUsage on top of storage use.
+struct BuildTexelViews {
+  static constexpr VkBufferUsageFlags kUsage = VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT;
+  VkBufferView interior = VK_NULL_HANDLE;
+  VkBufferView leaves = VK_NULL_HANDLE;
+  VkBufferView prims = VK_NULL_HANDLE;
+};
+
 // How a pass reaches the large arrays, fixed when its pipeline is made.
 struct ArrayAccess {
   const vk::Context* ctx = nullptr;
@@ -106,7 +116,7 @@ class RadixSort {
 };
 
 // bvh_lbvh: Karras 2012 hierarchy over sorted keys; initialises the leaves. Arrays: prims
-// (in), interior, leaves (out).
+// (in, through texels), interior, leaves (out).
 class LbvhPass {
  public:
   LbvhPass(const vk::Context& ctx, bool byAddress);
@@ -114,6 +124,7 @@ class LbvhPass {
   static constexpr VkBufferUsageFlags kKeysUsage = VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT;
   struct Args {
     const BuildArrayBuffers* arrays = nullptr;
+    const BuildTexelViews* texels = nullptr;
     vk::BufferRange keys, values;
     VkBufferView keyTexels = VK_NULL_HANDLE;  // R32UI view of keys (vk::BufferView::uintWords)
     uint32_t triangleCount = 0;
@@ -126,12 +137,13 @@ class LbvhPass {
 };
 
 // bvh_refit: bottom-up bounds, counts, costs, heights; counters are zeroed by record().
-// Arrays: interior, leaves.
+// Arrays: interior, leaves (also through texels).
 class RefitPass {
  public:
   RefitPass(const vk::Context& ctx, bool byAddress);
   struct Args {
     const BuildArrayBuffers* arrays = nullptr;
+    const BuildTexelViews* texels = nullptr;
     const vk::Buffer* counters = nullptr;  // uint per interior node
     uint32_t triangleCount = 0;
   };
@@ -143,7 +155,8 @@ class RefitPass {
 };
 
 // One round of treelet restructuring: bvh_treelet_count / _plan / _scatter, then bvh_treelet
-// once per height with an indirect dispatch (see shared/bvh_build.h). Arrays: interior, leaves.
+// once per height with an indirect dispatch (see shared/bvh_build.h). Arrays: interior, leaves
+// (bvh_treelet reads them through texels).
 class TreeletPass {
  public:
   // treeletLeaves in 3..kTreeletMaxLeaves.
@@ -151,6 +164,7 @@ class TreeletPass {
   static uint64_t scheduleBytes();
   struct Args {
     const BuildArrayBuffers* arrays = nullptr;
+    const BuildTexelViews* texels = nullptr;
     vk::BufferRange counters;
     const vk::Buffer* schedule = nullptr;  // scheduleBytes()
     vk::BufferRange nodeList;              // uint per interior node
@@ -167,12 +181,13 @@ class TreeletPass {
 };
 
 // bvh_emit: traversal nodes and leaf triangles (info.leafCounter must be 0). Arrays: interior,
-// leaves, prims (in), nodes, leafTriangles (out).
+// leaves, prims (in, through texels), nodes, leafTriangles (out).
 class EmitPass {
  public:
   EmitPass(const vk::Context& ctx, bool byAddress);
   struct Args {
     const BuildArrayBuffers* arrays = nullptr;
+    const BuildTexelViews* texels = nullptr;
     vk::BufferRange info;
     uint32_t triangleCount = 0;
   };

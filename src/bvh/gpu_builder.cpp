@@ -77,15 +77,15 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
   const uint32_t interiorCount = std::max<uint32_t>(n - 1, 1);
   const uint64_t nodeBytes = sizeof(bb::BvhBuildNode);
 
-  vk::Buffer prims = scratch(ctx, uint64_t(n) * sizeof(gpu::bvh::BvhLeafTriangle), "bvh prims");
+  vk::Buffer prims = scratch(ctx, uint64_t(n) * sizeof(gpu::bvh::BvhLeafTriangle), "bvh prims", BuildTexelViews::kUsage);
   vk::Buffer info = scratch(ctx, sizeof(bb::BvhBuildInfo), "bvh build info");
   vk::Buffer keys = scratch(ctx, 4ull * n, "bvh keys", LbvhPass::kKeysUsage), keysTmp = scratch(ctx, 4ull * n, "bvh keys tmp");
   vk::Buffer values = scratch(ctx, 4ull * n, "bvh values"), valuesTmp = scratch(ctx, 4ull * n, "bvh values tmp");
   uint64_t histBytes = RadixSort::histogramBytes(n);
   vk::Buffer hist = scratch(ctx, histBytes, "bvh radix histogram");
   vk::Buffer partials = scratch(ctx, ExclusiveScan::partialsBytes(uint32_t(histBytes / 4)), "bvh scan partials");
-  vk::Buffer interior = scratch(ctx, interiorCount * nodeBytes, "bvh build interior");
-  vk::Buffer leaves = scratch(ctx, n * nodeBytes, "bvh build leaves");
+  vk::Buffer interior = scratch(ctx, interiorCount * nodeBytes, "bvh build interior", BuildTexelViews::kUsage);
+  vk::Buffer leaves = scratch(ctx, n * nodeBytes, "bvh build leaves", BuildTexelViews::kUsage);
   vk::Buffer counters = scratch(ctx, 4ull * interiorCount, "bvh climb counters");
   vk::Buffer schedule = scratch(ctx, TreeletPass::scheduleBytes(), "bvh treelet schedule");
   vk::Buffer nodeList = scratch(ctx, 4ull * interiorCount, "bvh treelet node list");
@@ -103,6 +103,13 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
 
   // Where the sort leaves the keys (an even number of rounds), for bvh_lbvh's texel reads.
   const vk::BufferView keyTexels = vk::BufferView::uintWords(ctx, keys, "bvh key texels");
+  const vk::BufferView interiorTexels = vk::BufferView::uintTexels(ctx, interior, "bvh interior texels");
+  const vk::BufferView leafTexels = vk::BufferView::uintTexels(ctx, leaves, "bvh leaf texels");
+  const vk::BufferView primTexels = vk::BufferView::uintTexels(ctx, prims, "bvh prim texels");
+  BuildTexelViews texels;
+  texels.interior = interiorTexels.handle();
+  texels.leaves = leafTexels.handle();
+  texels.prims = primTexels.handle();
   BuildArrayBuffers arrays;
   arrays.triangles = vk::BufferRange(triangles, 0, uint64_t(n) * sizeof(gpu::scene::Triangle));
   arrays.vertices = vertices;
@@ -142,19 +149,19 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
     passes.sort.record(cmd, {keys, values, keysTmp, valuesTmp, hist, partials, n}, &timer);
     {
       vk::TimedScope scope(&timer, cmd, "bvh_lbvh");
-      passes.lbvh.record(cmd, {&arrays, keys, values, keyTexels.handle(), n});
+      passes.lbvh.record(cmd, {&arrays, &texels, keys, values, keyTexels.handle(), n});
     }
     if (n > 1) {
       vk::TimedScope scope(&timer, cmd, "bvh_refit");
-      passes.refit.record(cmd, {&arrays, &counters, n});
+      passes.refit.record(cmd, {&arrays, &texels, &counters, n});
     }
     for (uint32_t round = 0; round < treeletRounds && n > 2; ++round) {
       // Karras & Aila grow the smallest restructured subtree each round: the bottom levels
       // improve most in the first round, later rounds polish the upper tree at less cost.
-      passes.treelet.record(cmd, {&arrays, counters, &schedule, nodeList, n, options.treeletMinTriangles << round}, &timer);
+      passes.treelet.record(cmd, {&arrays, &texels, counters, &schedule, nodeList, n, options.treeletMinTriangles << round}, &timer);
     }
     vk::TimedScope scope(&timer, cmd, "bvh_emit");
-    passes.emit.record(cmd, {&arrays, info, n});
+    passes.emit.record(cmd, {&arrays, &texels, info, n});
   };
 
   uint32_t rounds = options.treeletRounds;

@@ -2,10 +2,33 @@
 
 #include <cstring>
 
+#ifdef __linux__
+#include <sys/mman.h>
+#endif
+
 #include "common/error.h"
 #include "vk/check.h"
 
 namespace osr::vk {
+
+namespace {
+// On a CPU device the memory is process memory, and a fresh allocation costs a page fault per
+// 4 KiB on first touch: measured on the 2-core bench VM, 4.5 ms per MiB (1.2 s for 256 MiB),
+// more than the GPU BVH build's own work on a 1M-triangle scene. Transparent huge pages (where
+// the system offers them on request: /sys/kernel/mm/transparent_hugepage/enabled = madvise)
+// fault 2 MiB at a time. Only the whole 2 MiB pages inside the allocation are advised.
+void adviseHugePages(void* data, VkDeviceSize bytes) {
+#ifdef __linux__
+  constexpr uintptr_t kHuge = uintptr_t(2) << 20;
+  uintptr_t begin = (reinterpret_cast<uintptr_t>(data) + kHuge - 1) & ~(kHuge - 1);
+  uintptr_t end = (reinterpret_cast<uintptr_t>(data) + bytes) & ~(kHuge - 1);
+  if (end > begin) madvise(reinterpret_cast<void*>(begin), end - begin, MADV_HUGEPAGE);  // advice only: failure is harmless
+#else
+  (void)data;
+  (void)bytes;
+#endif
+}
+}  // namespace
 
 Buffer::Buffer(const Context& ctx, VkDeviceSize size, MemoryUse use, std::string name,
                VkBufferUsageFlags extraUsage)
@@ -64,6 +87,7 @@ Buffer::Buffer(const Context& ctx, VkDeviceSize size, MemoryUse use, std::string
   check(vkBindBufferMemory(ctx.device(), buffer_, memory_, 0), "vkBindBufferMemory");
   if (flags & VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT)
     check(vkMapMemory(ctx.device(), memory_, 0, VK_WHOLE_SIZE, 0, &mapped_), "vkMapMemory");
+  if (ctx.caps().isCpu() && mapped_) adviseHugePages(mapped_, req.size);
 }
 
 Buffer::~Buffer() { release(); }
