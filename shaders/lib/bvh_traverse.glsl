@@ -187,7 +187,7 @@ bool osrBvhTraverse(vec3 origin, vec3 dir, float tMin, float tMax, bool anyHit, 
       // nothing. Stores under a partial lane mask compile to a branch per lane on lavapipe.
       bool step = walking && held1.y == 0u;
       BvhNode n = osrBvhNode(node);
-      float ta, tb;
+      float ta = 0.0, tb = 0.0;  // set only where the step tests the box
       bool ha = step && osrBvhBox(r, n.aMin, n.aMax, tMin, tFar, ta);
       bool hb = step && osrBvhBox(r, n.bMin, n.bMax, tMin, tFar, tb);
       bool leafA = ha && (n.a & kBvhLeafFlag) != 0u;
