@@ -68,14 +68,6 @@ BvhBuildNode loadNode(uint u) {
 }
 // Single fields, where another invocation may write the node's other fields meanwhile (or a
 // whole-node load would move twelve words for one).
-uint parentOf(uint u) {
-  if (u < interiorCount()) {
-    if (kBuildByAddress) return BuildNodeRef(gPush.arrays.interior).v[u].parent;
-    return gInterior[u].parent;
-  }
-  if (kBuildByAddress) return BuildNodeRef(gPush.arrays.leaves).v[u - interiorCount()].parent;
-  return gLeaves[u - interiorCount()].parent;
-}
 void setParent(uint u, uint parent) {
   if (u < interiorCount()) {
     if (kBuildByAddress) BuildNodeRef(gPush.arrays.interior).v[u].parent = parent;

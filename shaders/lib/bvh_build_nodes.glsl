@@ -44,12 +44,4 @@ BvhBuildNode refitNode(BvhBuildNode n, BvhBuildNode l, BvhBuildNode r, bool isRo
   return n;
 }
 
-// Refits interior node u from its children in memory and stores it.
-BvhBuildNode refitStored(uint u) {
-  BvhBuildNode n = loadInterior(u);
-  n = refitNode(n, loadNode(n.left), loadNode(n.right), u == 0u);
-  storeInterior(u, n);
-  return n;
-}
-
 #endif
