@@ -7,7 +7,7 @@ cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build build
 cd build
 # --repeat until-pass:2: a test that fails is run once more, and fails the suite only if it
-# fails again. With cold shader caches (every fresh machine, so every CI run) about one full
-# run in five sees heap corruption inside the Khronos validation layer on lavapipe (README, Device
+# fails again. With cold shader caches (every fresh machine, so every CI run) most full runs
+# see one test hit heap corruption inside the Khronos validation layer on lavapipe (README, Device
 # notes, "Known flake"); a second attempt runs with warm caches. A test that fails twice still fails.
 ctest --output-on-failure -j"$(nproc)" --repeat until-pass:2 "$@"
