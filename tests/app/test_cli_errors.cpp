@@ -134,6 +134,21 @@ TEST(CliErrors, HelpAnywherePrintsTheUsage) {
   }
 }
 
+// `osr-vk help NAME` with a NAME that is no command is a mistake, not a request for the
+// general usage (which it printed, exit 0, as if the typo were an answer).
+TEST(CliErrors, HelpForAnUnknownCommandExitsTwo) {
+  expectOneLine(runOsr("help mpas"), "osr-vk: help: unknown command 'mpas'");
+}
+
+// The same option twice would silently drop one of the values (the output named first was
+// never written): refused before any work.
+TEST(CliErrors, AnOptionGivenTwiceExitsTwo) {
+  const std::string dir = ::testing::TempDir();
+  Outcome r = runOsr("--mode preview --offline '" + dir + "twice_a.exr' --offline '" + dir +
+                     "twice_b.exr' " + osr::test::referencePath("cornell/cornell.gltf"));
+  expectOneLine(r, "osr-vk: render: option --offline given twice");
+}
+
 TEST(CliErrors, VersionIsOneLine) {
   Outcome r = runOsr("--version");
   EXPECT_EQ(r.exitCode, 0) << r.err;
