@@ -161,6 +161,12 @@ int runRender(const std::vector<std::string>& args) {
                      " is coarser than --grid-start " + std::to_string(osrSettings.gridStart));
   if (dumpMaps && !osrMode) throw InputError("--dump-maps: an option of --mode osr");
   const bool live = !exrPath && !pngPath;  // no output file: the viewer
+  // Options that only shape a file which is not written would be ignored without a word.
+  if (exposure && !live && !pngPath)
+    throw InputError(
+        "--exposure: sets the exposure of the --png preview (the EXR holds radiance); "
+        "give --png too");
+  if (exrFloat && !exrPath) throw InputError("--exr-float: an option of the --offline EXR");
   if (live && dumpMaps)
     throw InputError("--dump-maps: an option of --offline/--png renders (the viewer saves with S)");
   if (!live && (viewerScript || saveDir))

@@ -155,6 +155,18 @@ TEST(CliErrors, AnOptionGivenTwiceExitsTwo) {
   expectOneLine(r, "osr-vk: render: option --offline given twice");
 }
 
+// --exposure shapes the PNG alone and --exr-float the EXR alone: without that file they were
+// ignored silently (an EXR "with exposure 2" came out as without).
+TEST(CliErrors, OptionsOfAFileNotWrittenExitTwo) {
+  const std::string cornell = osr::test::referencePath("cornell/cornell.gltf");
+  const std::string dir = tempPrefix();
+  expectOneLine(
+      runOsr("--mode preview --exposure 2 --offline '" + dir + "exposure.exr' " + cornell),
+      "osr-vk: --exposure: sets the exposure of the --png preview");
+  expectOneLine(runOsr("--mode preview --exr-float --png '" + dir + "float.png' " + cornell),
+                "osr-vk: --exr-float: an option of the --offline EXR");
+}
+
 TEST(CliErrors, VersionIsOneLine) {
   Outcome r = runOsr("--version");
   EXPECT_EQ(r.exitCode, 0) << r.err;
