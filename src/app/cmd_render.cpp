@@ -173,6 +173,9 @@ int runRender(const std::vector<std::string>& args) {
     throw InputError(
         "render: --viewer-script and --save-dir are options of the viewer "
         "(without --offline/--png)");
+  // Checked now, not at the first save: every S in the window would fail with it.
+  if (saveDir && !std::filesystem::is_directory(*saveDir))
+    throw InputError("--save-dir: " + *saveDir + " is not a folder");
   if (live) {
     // Before any work: no display means one line suggesting --offline and exit 2.
     vkOptions.instanceExtensions = viewer::requireDisplay();

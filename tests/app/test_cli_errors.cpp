@@ -167,6 +167,15 @@ TEST(CliErrors, OptionsOfAFileNotWrittenExitTwo) {
                 "osr-vk: --exr-float: an option of the --offline EXR");
 }
 
+// The viewer's --save-dir must be a folder: it was taken as given and every save (S, the
+// panel's buttons) then failed. Refused before the window opens, so no display is needed.
+TEST(CliErrors, SaveDirThatIsNoFolderExitsTwo) {
+  const std::string cornell = osr::test::referencePath("cornell/cornell.gltf");
+  const std::string missing = tempPrefix() + "no_such_folder";
+  expectOneLine(runOsr("--save-dir '" + missing + "' " + cornell),
+                "osr-vk: --save-dir: " + missing + " is not a folder");
+}
+
 TEST(CliErrors, VersionIsOneLine) {
   Outcome r = runOsr("--version");
   EXPECT_EQ(r.exitCode, 0) << r.err;
