@@ -19,6 +19,7 @@
 #include <set>
 
 #include "common/error.h"
+#include "common/input_file.h"
 #include "scene/emissive.h"
 #include "scene/scene.h"
 
@@ -222,9 +223,7 @@ class Loader {
 
   void parse() {
     namespace fs = std::filesystem;
-    std::error_code ec;
-    if (!fs::exists(path_, ec)) fail("file not found");
-    if (fs::is_directory(path_, ec)) fail("is a directory, not a glTF file");
+    if (auto problem = inputFileProblem(path_)) fail(*problem);
     std::ifstream in(path_, std::ios::binary);
     if (!in) fail("cannot open file");
     std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)),

@@ -79,6 +79,9 @@ TEST(Environment, BadFiles) {
   expectInputError(junkHdr, ".hdr");
   std::string png = test::dataPath("scene/checker.png");
   expectInputError(png, ".exr or .hdr");
+  // A device was "file not found"; a pipe is refused before it is opened.
+  expectInputError("/dev/zero", "not a regular file");
+  expectInputError(test::makeFifo("scene_environment", "pipe.hdr"), "not a regular file");
 }
 
 TEST(Environment, CdfTables) {

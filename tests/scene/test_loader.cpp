@@ -383,6 +383,13 @@ TEST(LoaderBadInput, EachKindNamesTheFileAndTheProblem) {
   expectInputError(test::dataPath("scene"), "directory");
 }
 
+// A pipe was opened and waited on forever, a device (/dev/zero) read until memory ran out:
+// both are refused before they are opened.
+TEST(LoaderBadInput, DevicesAndPipesAreRefusedUnopened) {
+  expectInputError(test::makeFifo("scene_loader", "pipe.gltf"), "not a regular file");
+  expectInputError("/dev/null", "not a regular file");
+}
+
 namespace {
 
 std::string tempFile(const std::string& name, const std::vector<unsigned char>& bytes) {
