@@ -50,6 +50,23 @@ gpu::Material defaultMaterial() {
 
 namespace {
 
+// tinygltf's file callbacks with the check of the scene file itself: a buffer or image URI
+// naming a folder was "out of memory loading the scene" (the stream size of a folder), one
+// naming a pipe blocked forever (tinygltf's FileExists opens the file to see if it exists).
+bool fileExists(const std::string& path, void*) {
+  std::error_code ec;
+  return std::filesystem::exists(path, ec);
+}
+
+bool readRegularFile(std::vector<unsigned char>* out, std::string* err, const std::string& path,
+                     void* userData) {
+  if (auto problem = inputFileProblem(path)) {
+    if (err) *err += *problem;
+    return false;
+  }
+  return tinygltf::ReadWholeFile(out, err, path, userData);
+}
+
 // Extensions whose data the loader uses. Everything else is warned about once and ignored.
 const std::set<std::string> kSupportedExtensions = {
     "KHR_materials_emissive_strength", "KHR_materials_specular", "KHR_materials_ior",
@@ -236,6 +253,8 @@ class Loader {
     if (baseDir.empty()) baseDir = ".";
 
     tinygltf::TinyGLTF gltf;
+    gltf.SetFsCallbacks({&fileExists, &tinygltf::ExpandFilePath, &readRegularFile,
+                         &tinygltf::WriteWholeFile, nullptr});
     std::string err, warn;
     bool ok;
     // Decide by content, not by name: a .glb starts with the magic "glTF".

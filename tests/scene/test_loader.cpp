@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <nlohmann/json.hpp>
@@ -388,6 +389,21 @@ TEST(LoaderBadInput, EachKindNamesTheFileAndTheProblem) {
 TEST(LoaderBadInput, DevicesAndPipesAreRefusedUnopened) {
   expectInputError(test::makeFifo("scene_loader", "pipe.gltf"), "not a regular file");
   expectInputError("/dev/null", "not a regular file");
+}
+
+// The same for the files a .gltf names: a buffer URI naming a folder was "out of memory
+// loading the scene", one naming a pipe hung.
+TEST(LoaderBadInput, BuffersThatAreNoRegularFileAreRefused) {
+  const std::filesystem::path dir = test::tempDir("scene_loader_buffers");
+  const std::filesystem::path gltf = dir / "cornell.gltf", bin = dir / "cornell.bin";
+  std::filesystem::copy_file(test::referencePath("cornell/cornell.gltf"), gltf,
+                             std::filesystem::copy_options::overwrite_existing);
+  std::filesystem::remove_all(bin);
+  std::filesystem::create_directory(bin);
+  expectInputError(gltf.string(), "cornell.bin : is a directory");
+  std::filesystem::remove_all(bin);
+  test::makeFifo("scene_loader_buffers", "cornell.bin");
+  expectInputError(gltf.string(), "cornell.bin : not a regular file");
 }
 
 namespace {
