@@ -34,6 +34,7 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 import maps_data  # noqa: E402
+from arg_types import positive_int  # noqa: E402
 from gltf_build import png  # noqa: E402
 
 GAUSS = np.array([0.05448, 0.24420, 0.40262, 0.24420, 0.05448])
@@ -99,7 +100,7 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--weights", action="append", default=[], help="a train.py checkpoint (best.pt); repeatable")
     p.add_argument("--target", help="same scenes and points with training-kind targets (fewer paths)")
     p.add_argument("--out", required=True, help="folder for eval.json, eval.md and grid.png")
-    p.add_argument("--rows", type=int, default=6, help="maps in the picture grid (default 6)")
+    p.add_argument("--rows", type=positive_int, default=6, help="maps in the picture grid (default 6)")
     args = p.parse_args(argv)
     for folder in [args.val] + ([args.target] if args.target else []):
         if not (Path(folder) / "dataset.json").is_file():

@@ -27,7 +27,8 @@ from pathlib import Path
 
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
-from make_interiors import make_scene, parse_seeds  # noqa: E402
+from arg_types import parse_seeds, positive_int  # noqa: E402
+from make_interiors import make_scene  # noqa: E402
 
 
 def shard_settings(args) -> dict:
@@ -48,11 +49,11 @@ def main(argv: list[str] | None = None) -> int:
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("out", help="dataset folder")
     p.add_argument("--seeds", action="append", required=True, help="scene seeds: 1-40 or 1,5,9")
-    p.add_argument("--cameras", type=int, default=1, help="cameras traced per scene (default 1)")
-    p.add_argument("--grid", type=int, default=16, help="one map per GRID x GRID pixel cell (default 16)")
-    p.add_argument("--size", type=int, default=256, help="image width and height (default 256)")
-    p.add_argument("--views", type=int, default=1, help="jittered views per camera (default 1)")
-    p.add_argument("--reference-spp", type=int, default=16,
+    p.add_argument("--cameras", type=positive_int, default=1, help="cameras traced per scene (default 1)")
+    p.add_argument("--grid", type=positive_int, default=16, help="one map per GRID x GRID pixel cell (default 16)")
+    p.add_argument("--size", type=positive_int, default=256, help="image width and height (default 256)")
+    p.add_argument("--views", type=positive_int, default=1, help="jittered views per camera (default 1)")
+    p.add_argument("--reference-spp", type=positive_int, default=16,
                    help="paths per texel of the target; 1 = Noise2Noise target (default 16)")
     p.add_argument("--osr-vk", default=str(HERE.parent / "build" / "osr-vk"), help="the osr-vk executable")
     p.add_argument("--scenes", help="where generated scenes go (default OUT/scenes)")
@@ -61,8 +62,8 @@ def main(argv: list[str] | None = None) -> int:
     scenes = Path(args.scenes) if args.scenes else out / "scenes"
     try:
         seeds = parse_seeds(args.seeds)
-    except ValueError:
-        print(f"make_dataset.py: --seeds {args.seeds}: not a list of integers or ranges", file=sys.stderr)
+    except ValueError as e:
+        print(f"make_dataset.py: --seeds: {e}", file=sys.stderr)
         return 2
     if not Path(args.osr_vk).is_file():
         print(f"make_dataset.py: {args.osr_vk}: no such executable (build first or pass --osr-vk)", file=sys.stderr)

@@ -34,6 +34,7 @@ import sys
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
+from arg_types import parse_seeds, positive_int  # noqa: E402
 from gltf_build import Gltf, REPEAT, png  # noqa: E402
 
 Vec = tuple[float, float, float]
@@ -672,26 +673,17 @@ def make_scene(seed: int, out: Path, cameras: int) -> dict:
     return info
 
 
-def parse_seeds(texts: list[str]) -> list[int]:
-    seeds: list[int] = []
-    for t in texts:
-        for part in t.split(","):
-            a, _, b = part.partition("-")
-            seeds += list(range(int(a), int(b or a) + 1))
-    return seeds
-
-
 def main(argv: list[str] | None = None) -> int:
     p = argparse.ArgumentParser(prog="make_interiors.py", description=__doc__.split("\n", 2)[2],
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("out", help="output folder (one subfolder per seed)")
     p.add_argument("--seeds", action="append", required=True, help="seeds: 5, 1-20 or 1-10,40")
-    p.add_argument("--cameras", type=int, default=3, help="cameras per scene (default 3)")
+    p.add_argument("--cameras", type=positive_int, default=3, help="cameras per scene (default 3)")
     args = p.parse_args(argv)
     try:
         seeds = parse_seeds(args.seeds)
-    except ValueError:
-        print(f"make_interiors.py: --seeds {args.seeds}: not a list of integers or ranges", file=sys.stderr)
+    except ValueError as e:
+        print(f"make_interiors.py: --seeds: {e}", file=sys.stderr)
         return 2
     for s in seeds:
         info = make_scene(s, Path(args.out) / str(s), args.cameras)

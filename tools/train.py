@@ -43,6 +43,7 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 import maps_data  # noqa: E402
+from arg_types import positive_float, positive_int  # noqa: E402
 
 
 def git_commit() -> str:
@@ -133,16 +134,16 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("data", nargs="+", help="training dataset folders (make_dataset.py)")
     p.add_argument("--val", required=True, help="validation dataset folder (other scenes)")
     p.add_argument("--out", required=True, help="run folder (resumed if it holds checkpoint.pt)")
-    p.add_argument("--k", type=int, default=16, help="base width K of the U-Net (default 16)")
-    p.add_argument("--minutes", type=float, default=30.0, help="training time budget (default 30)")
-    p.add_argument("--steps", type=int, help="a budget in steps instead of time (comparisons on a busy machine)")
-    p.add_argument("--batch", type=int, default=64, help="batch size (default 64)")
-    p.add_argument("--lr", type=float, default=1e-3, help="initial Adam learning rate (default 1e-3)")
+    p.add_argument("--k", type=positive_int, default=16, help="base width K of the U-Net (default 16)")
+    p.add_argument("--minutes", type=positive_float, default=30.0, help="training time budget (default 30)")
+    p.add_argument("--steps", type=positive_int, help="a budget in steps instead of time (comparisons on a busy machine)")
+    p.add_argument("--batch", type=positive_int, default=64, help="batch size (default 64)")
+    p.add_argument("--lr", type=positive_float, default=1e-3, help="initial Adam learning rate (default 1e-3)")
     p.add_argument("--loss", choices=["relmse", "l1log"], default="relmse", help="loss (default relmse)")
-    p.add_argument("--threads", type=int, default=2, help="PyTorch CPU threads (default 2)")
+    p.add_argument("--threads", type=positive_int, default=2, help="PyTorch CPU threads (default 2)")
     p.add_argument("--seed", type=int, default=1, help="seed of initialization and batches (default 1)")
-    p.add_argument("--eval-s", type=float, default=120.0, help="seconds between validations (default 120)")
-    p.add_argument("--checkpoint-s", type=float, default=60.0, help="seconds between checkpoints (default 60)")
+    p.add_argument("--eval-s", type=positive_float, default=120.0, help="seconds between validations (default 120)")
+    p.add_argument("--checkpoint-s", type=positive_float, default=60.0, help="seconds between checkpoints (default 60)")
     p.add_argument("--select", choices=["rescaled", "absolute"], default="rescaled",
                    help="which validation error picks best.pt: of the map rescaled to the one-shot "
                    "means (the shipped normalization, default) or as predicted")

@@ -38,16 +38,23 @@ std::optional<std::string> Args::value(const std::string& name) {
   std::optional<std::string> result;
   for (size_t i = 0; i < args_.size(); ++i) {
     if (used_[i]) continue;
+    std::optional<std::string> found;
     if (args_[i] == name) {
       if (i + 1 >= args_.size())
         throw InputError(command_ + ": option " + name + " needs a value");
       used_[i] = used_[i + 1] = true;
-      result = args_[i + 1];
+      found = args_[i + 1];
       ++i;
     } else if (args_[i].rfind(name + "=", 0) == 0) {
       used_[i] = true;
-      result = args_[i].substr(name.size() + 1);
+      found = args_[i].substr(name.size() + 1);
     }
+    // A second value would silently replace the first (`--offline a.exr --offline b.exr`
+    // writes no a.exr): refuse it rather than guess which one the user meant.
+    if (found && result)
+      throw InputError(command_ + ": option " + name + " given twice ('" + *result + "', '" +
+                       *found + "')");
+    if (found) result = std::move(found);
   }
   return result;
 }

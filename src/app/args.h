@@ -14,7 +14,8 @@ class Args {
 
   // True if `name` (e.g. "--quiet") is present; consumes it.
   bool flag(const std::string& name);
-  // Value following `name` ("--width 512" or "--width=512"); consumes both.
+  // Value following `name` ("--width 512" or "--width=512"); consumes both. An option given
+  // twice is an InputError.
   std::optional<std::string> value(const std::string& name);
   std::optional<long long> integer(const std::string& name, long long min, long long max);
   std::optional<double> number(const std::string& name, double min, double max);

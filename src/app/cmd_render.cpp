@@ -61,13 +61,12 @@ class ProgressPrinter {
   double lastPrinted_ = -1e9;
 };
 
-// --dump-maps DIR: the maps of the last map pass as atlases a person can look at (one tile
-// per grid cell, in grid order, 1-texel gaps): oneshot.png (the traced input), clean.png (what
-// the denoiser made of it; the raw map with --denoiser none), and grid.png, the image with
-// the grid points marked in red.
+// --dump-maps DIR (made before the render): the maps of the last map pass as atlases a person
+// can look at (one tile per grid cell, in grid order, 1-texel gaps): oneshot.png (the traced
+// input), clean.png (what the denoiser made of it; the raw map with --denoiser none), and
+// grid.png, the image with the grid points marked in red.
 void writeMapDump(const std::string& dir, const oneshot::OsrIntegrator::MapDump& d,
                   const render::FilmLayers& film) {
-  std::filesystem::create_directories(dir);
   const int tile = 33, w = int(d.cellsX) * tile, h = int(d.cellsY) * tile;
   auto atlas = [&](const std::vector<float>& maps, uint32_t channels) {
     image::RgbImage img{w, h, std::vector<float>(size_t(w) * h * 3, 0.f)};
@@ -162,10 +161,21 @@ int runRender(const std::vector<std::string>& args) {
                      " is coarser than --grid-start " + std::to_string(osrSettings.gridStart));
   if (dumpMaps && !osrMode) throw InputError("--dump-maps: an option of --mode osr");
   const bool live = !exrPath && !pngPath;  // no output file: the viewer
+  // Options that only shape a file which is not written would be ignored without a word.
+  if (exposure && !live && !pngPath)
+    throw InputError(
+        "--exposure: sets the exposure of the --png preview (the EXR holds radiance); "
+        "give --png too");
+  if (exrFloat && !exrPath) throw InputError("--exr-float: an option of the --offline EXR");
+  if (live && dumpMaps)
+    throw InputError("--dump-maps: an option of --offline/--png renders (the viewer saves with S)");
   if (!live && (viewerScript || saveDir))
     throw InputError(
         "render: --viewer-script and --save-dir are options of the viewer "
         "(without --offline/--png)");
+  // Checked now, not at the first save: every S in the window would fail with it.
+  if (saveDir && !std::filesystem::is_directory(*saveDir))
+    throw InputError("--save-dir: " + *saveDir + " is not a folder");
   if (live) {
     // Before any work: no display means one line suggesting --offline and exit 2.
     vkOptions.instanceExtensions = viewer::requireDisplay();
@@ -177,10 +187,19 @@ int runRender(const std::vector<std::string>& args) {
   std::vector<OutputFile> outputs;
   if (exrPath) outputs.push_back({"--offline", *exrPath, ".exr", "OpenEXR"});
   if (pngPath) outputs.push_back({"--png", *pngPath, ".png", "PNG"});
-  if (dumpMaps)
+  if (dumpMaps) {
+    // The folder is made now, not after the render: a path that cannot be one (an existing
+    // file, a file on the way) is bad input found in a second, not an error after minutes.
+    if (std::filesystem::exists(*dumpMaps) && !std::filesystem::is_directory(*dumpMaps))
+      throw InputError("--dump-maps: " + *dumpMaps + " exists and is not a folder");
+    std::error_code ec;
+    std::filesystem::create_directories(*dumpMaps, ec);
+    if (ec)
+      throw InputError("--dump-maps: " + *dumpMaps + ": cannot create the folder (" + ec.message() +
+                       ")");
     for (const char* name : {"oneshot.png", "clean.png", "grid.png"})
-      if (std::filesystem::is_directory(*dumpMaps))
-        outputs.push_back({"--dump-maps", *dumpMaps + "/" + name, ".png", "PNG"});
+      outputs.push_back({"--dump-maps", *dumpMaps + "/" + name, ".png", "PNG"});
+  }
   std::vector<NamedPath> inputs;
   for (const std::string& f : host.scene.files)
     inputs.push_back({f == files[0] ? "the scene" : "a file of the scene", f});

@@ -5,8 +5,9 @@
 #include <fstream>
 
 #include "app/args.h"
-#include "app/device_options.h"
 #include "app/commands.h"
+#include "app/device_options.h"
+#include "app/output_paths.h"
 #include "common/error.h"
 #include "nn_kernels/unet.h"
 #include "nn_kernels/weights_format.h"
@@ -26,6 +27,12 @@ int runUnet(const std::vector<std::string>& args) {
   a.finish();
   if (!weightsPath || !inPath || !outPath)
     throw InputError("unet: --weights, --in and --out are required (usage: osr-vk unet --help)");
+  // Not checkOutputs: --out may be /dev/null or a pipe, which a rename must not replace.
+  for (const auto& [role, path] :
+       {std::pair{"the --in maps", *inPath}, {"the --weights file", *weightsPath}})
+    if (sameFile(*outPath, path))
+      throw InputError("--out " + *outPath + ": is " + role +
+                       ", which this command reads; refusing to overwrite it");
   if (precision && *precision != "fp32" && *precision != "fp16")
     throw InputError("unet: --precision must be fp32 or fp16, not '" + *precision + "'");
 

@@ -94,6 +94,9 @@ int main(int argc, char** argv) {
     }
     if (args[0] == "help") {  // `osr-vk help [COMMAND]`
       const Command* c = args.size() > 1 ? findCommand(args[1]) : nullptr;
+      if (args.size() > 1 && !c)  // a typo must not look like the answer
+        throw osr::InputError("help: unknown command '" + args[1] +
+                              "' (unet, compare, maps, --list-devices; osr-vk --help: render)");
       std::fputs(c ? c->usage : kUsage, stdout);
       if (!c) std::fputs(osr::viewer::kViewerHelp, stdout);
       return osr::kExitOk;

@@ -8,6 +8,7 @@
 #include <random>
 
 #include "common/error.h"
+#include "common/input_file.h"
 #include "nn_kernels/weights_format.h"
 
 namespace osr::nn {
@@ -200,6 +201,7 @@ void readTensor(const std::string& path, std::span<const uint8_t> file, uint64_t
 }  // namespace
 
 UNetWeights UNetWeights::load(const std::string& path) {
+  if (auto problem = inputFileProblem(path)) fail(path, *problem);
   std::ifstream in(path, std::ios::binary);
   if (!in) fail(path, "cannot open weights file");
   std::vector<uint8_t> file((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());

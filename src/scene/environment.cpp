@@ -11,6 +11,7 @@
 #include <filesystem>
 
 #include "common/error.h"
+#include "common/input_file.h"
 
 namespace osr::scene {
 
@@ -31,8 +32,7 @@ std::string oneLine(std::string s) {
 }  // namespace
 
 Environment loadEnvironment(const std::string& path) {
-  std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) throw InputError(path + ": file not found");
+  if (auto problem = inputFileProblem(path)) throw InputError(path + ": " + *problem);
   Environment env;
   env.path = path;
   std::string ext = lowerExtension(path);

@@ -19,6 +19,7 @@
 #include <set>
 
 #include "common/error.h"
+#include "common/input_file.h"
 #include "scene/emissive.h"
 #include "scene/scene.h"
 
@@ -48,6 +49,23 @@ gpu::Material defaultMaterial() {
 }
 
 namespace {
+
+// tinygltf's file callbacks with the check of the scene file itself: a buffer or image URI
+// naming a folder was "out of memory loading the scene" (the stream size of a folder), one
+// naming a pipe blocked forever (tinygltf's FileExists opens the file to see if it exists).
+bool fileExists(const std::string& path, void*) {
+  std::error_code ec;
+  return std::filesystem::exists(path, ec);
+}
+
+bool readRegularFile(std::vector<unsigned char>* out, std::string* err, const std::string& path,
+                     void* userData) {
+  if (auto problem = inputFileProblem(path)) {
+    if (err) *err += *problem;
+    return false;
+  }
+  return tinygltf::ReadWholeFile(out, err, path, userData);
+}
 
 // Extensions whose data the loader uses. Everything else is warned about once and ignored.
 const std::set<std::string> kSupportedExtensions = {
@@ -222,9 +240,7 @@ class Loader {
 
   void parse() {
     namespace fs = std::filesystem;
-    std::error_code ec;
-    if (!fs::exists(path_, ec)) fail("file not found");
-    if (fs::is_directory(path_, ec)) fail("is a directory, not a glTF file");
+    if (auto problem = inputFileProblem(path_)) fail(*problem);
     std::ifstream in(path_, std::ios::binary);
     if (!in) fail("cannot open file");
     std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)),
@@ -237,6 +253,8 @@ class Loader {
     if (baseDir.empty()) baseDir = ".";
 
     tinygltf::TinyGLTF gltf;
+    gltf.SetFsCallbacks({&fileExists, &tinygltf::ExpandFilePath, &readRegularFile,
+                         &tinygltf::WriteWholeFile, nullptr});
     std::string err, warn;
     bool ok;
     // Decide by content, not by name: a .glb starts with the magic "glTF".

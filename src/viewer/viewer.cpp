@@ -32,7 +32,8 @@ const char* const kViewerHelp =
     "         +/- exposure by 1/2 EV (switches to manual), F frame the scene, Esc quit\n"
     "  any camera or render-setting change restarts the refinement at once\n"
     "  --viewer-script FILE  timed camera moves, key presses and screenshots (docs/viewer.md)\n"
-    "  --save-dir DIR        where S and the save buttons write (default: the current one)\n";
+    "  --save-dir DIR        existing folder where S and the save buttons write (default:\n"
+    "                        the current one)\n";
 
 namespace {
 

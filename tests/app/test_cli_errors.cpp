@@ -13,6 +13,12 @@
 
 namespace {
 
+// Files of this process only: the fixed names in gtest's shared TempDir() collided with
+// the same suite run at the same time from another checkout or build folder.
+std::string tempPrefix() {
+  return osr::test::tempDir("cli_errors").string() + "/";
+}
+
 struct Outcome {
   int exitCode;
   std::string err;
@@ -27,8 +33,8 @@ std::string slurp(const std::string& path) {
 }
 
 Outcome runExe(const std::string& exe, const std::string& args) {
-  std::string errFile = ::testing::TempDir() + "osr_cli_stderr.txt";
-  std::string outFile = ::testing::TempDir() + "osr_cli_stdout.txt";
+  std::string errFile = tempPrefix() + "osr_cli_stderr.txt";
+  std::string outFile = tempPrefix() + "osr_cli_stdout.txt";
   std::string cmd = std::string(OSR_BINARY_DIR) + "/" + exe + " " + args + " >" + outFile + " 2>" + errFile;
   int status = std::system(cmd.c_str());
   return {WIFEXITED(status) ? WEXITSTATUS(status) : 128 + WTERMSIG(status), slurp(errFile),
@@ -44,7 +50,7 @@ bool placeholderRender(const Outcome& r) {
 // Runs the render command on `scene`. The full command wants an output (--offline); while the
 // render command is still the placeholder, which knows no options, the scene alone is enough.
 Outcome renderScene(const std::string& scene, const std::string& options = "") {
-  std::string out = ::testing::TempDir() + "osr_cli_test.exr";
+  std::string out = tempPrefix() + "osr_cli_test.exr";
   Outcome r = runOsr("--offline '" + out + "' " + options + " '" + scene + "'");
   if (placeholderRender(r) && options.empty()) r = runOsr("'" + scene + "'");
   return r;
@@ -97,7 +103,7 @@ TEST(CliErrors, BadCameraAndEnvironment) {
   expectOneLine(camera, "osr-vk: " + cornell + ": no camera named 'nope'");
   expectOneLine(renderScene(cornell, "--camera 3"),
                 "osr-vk: " + cornell + ": camera 3 does not exist");
-  std::string env = ::testing::TempDir() + "no_such_env.exr";
+  std::string env = tempPrefix() + "no_such_env.exr";
   expectOneLine(renderScene(cornell, "--env '" + env + "'"), "osr-vk: " + env + ": file not found");
 }
 
@@ -134,6 +140,42 @@ TEST(CliErrors, HelpAnywherePrintsTheUsage) {
   }
 }
 
+// `osr-vk help NAME` with a NAME that is no command is a mistake, not a request for the
+// general usage (which it printed, exit 0, as if the typo were an answer).
+TEST(CliErrors, HelpForAnUnknownCommandExitsTwo) {
+  expectOneLine(runOsr("help mpas"), "osr-vk: help: unknown command 'mpas'");
+}
+
+// The same option twice would silently drop one of the values (the output named first was
+// never written): refused before any work.
+TEST(CliErrors, AnOptionGivenTwiceExitsTwo) {
+  const std::string dir = tempPrefix();
+  Outcome r = runOsr("--mode preview --offline '" + dir + "twice_a.exr' --offline '" + dir +
+                     "twice_b.exr' " + osr::test::referencePath("cornell/cornell.gltf"));
+  expectOneLine(r, "osr-vk: render: option --offline given twice");
+}
+
+// --exposure shapes the PNG alone and --exr-float the EXR alone: without that file they were
+// ignored silently (an EXR "with exposure 2" came out as without).
+TEST(CliErrors, OptionsOfAFileNotWrittenExitTwo) {
+  const std::string cornell = osr::test::referencePath("cornell/cornell.gltf");
+  const std::string dir = tempPrefix();
+  expectOneLine(
+      runOsr("--mode preview --exposure 2 --offline '" + dir + "exposure.exr' " + cornell),
+      "osr-vk: --exposure: sets the exposure of the --png preview");
+  expectOneLine(runOsr("--mode preview --exr-float --png '" + dir + "float.png' " + cornell),
+                "osr-vk: --exr-float: an option of the --offline EXR");
+}
+
+// The viewer's --save-dir must be a folder: it was taken as given and every save (S, the
+// panel's buttons) then failed. Refused before the window opens, so no display is needed.
+TEST(CliErrors, SaveDirThatIsNoFolderExitsTwo) {
+  const std::string cornell = osr::test::referencePath("cornell/cornell.gltf");
+  const std::string missing = tempPrefix() + "no_such_folder";
+  expectOneLine(runOsr("--save-dir '" + missing + "' " + cornell),
+                "osr-vk: --save-dir: " + missing + " is not a folder");
+}
+
 TEST(CliErrors, VersionIsOneLine) {
   Outcome r = runOsr("--version");
   EXPECT_EQ(r.exitCode, 0) << r.err;
@@ -145,7 +187,7 @@ TEST(CliErrors, VersionIsOneLine) {
 // one line naming the size and the limit. 16384^2 pixels of FilmPixel are 24 GiB, over
 // lavapipe's (and most devices') maxMemoryAllocationSize.
 TEST(CliErrors, FilmOverTheDeviceLimitExitsOne) {
-  std::string out = ::testing::TempDir() + "osr_cli_huge.exr";
+  std::string out = tempPrefix() + "osr_cli_huge.exr";
   Outcome r = runOsr("--mode preview --spp 1 --quiet --width 16384 --height 16384 --offline '" +
                      out + "' " + osr::test::referencePath("cornell/cornell.gltf"));
   expectOneLine(r, "osr-vk: error: film: 16384x16384 needs 24576 MiB", 1);
@@ -160,7 +202,7 @@ TEST(CliErrors, MessagesAgreeWithWhatTheUserWrote) {
                 "osr-vk: render: option --time must be in [0.001, 10000000], got 100000000");
   expectOneLine(runOsr("--exposure 100 --offline x.exr " + cornell),
                 "osr-vk: render: option --exposure must be in [-64, 64], got 100");
-  const std::string png = ::testing::TempDir() + "osr_cli_image.glb";
+  const std::string png = tempPrefix() + "osr_cli_image.glb";
   {
     std::ofstream f(png, std::ios::binary);
     f << "\x89PNG\r\n\x1a\n" << std::string(64, '\0');

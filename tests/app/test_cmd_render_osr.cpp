@@ -91,6 +91,33 @@ TEST(CmdRenderOsr, BadInputIsOneLineExitTwoAndTouchesNoOutput) {
   }
 }
 
+// --dump-maps onto something that cannot be a folder used to fail after the whole render,
+// exit 1 with a raw filesystem message, after writing the other outputs: now one line, exit 2,
+// before any work, and the user's files untouched. In the viewer, which never dumps maps, the
+// option is refused rather than ignored.
+TEST(CmdRenderOsr, DumpMapsThatCannotBeAFolderIsBadInput) {
+  fs::path dir = osr::test::tempDir("cmd_render_osr_dump");
+  fs::path file = dir / "a_file", png = dir / "keep.png";
+  for (const fs::path& p : {file, png}) std::ofstream(p) << "the user's file";
+  for (const fs::path& target : {file, file / "below"}) {
+    SCOPED_TRACE(target);
+    Outcome r = run("--passes 1 --width 16 --quiet --png '" + png.string() + "' --dump-maps '" +
+                    target.string() + "' " + cornell());
+    EXPECT_EQ(r.exitCode, 2) << r.err;
+    EXPECT_EQ(r.err.rfind("osr-vk: --dump-maps: " + target.string(), 0), 0u) << r.err;
+    EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << "more than one line: " << r.err;
+    for (const fs::path& p : {file, png}) {
+      std::ifstream in(p);
+      EXPECT_EQ(std::string((std::istreambuf_iterator<char>(in)), {}), "the user's file") << p;
+    }
+  }
+  Outcome live = run("--dump-maps '" + (dir / "maps").string() + "' " + cornell());
+  EXPECT_EQ(live.exitCode, 2) << live.err;
+  EXPECT_EQ(live.err,
+            "osr-vk: --dump-maps: an option of --offline/--png renders (the viewer "
+            "saves with S)\n");
+}
+
 TEST(CmdRenderOsr, WritesEveryLayerAndTheMapAtlases) {
   fs::path dir = osr::test::tempDir("cmd_render_osr");
   fs::path exr = dir / "osr.exr", maps = dir / "maps";

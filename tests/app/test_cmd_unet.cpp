@@ -61,9 +61,10 @@ TEST(CmdUnet, BadInputIsOneLineAndExitTwo) {
   // Input not a whole number of maps: the golden output file (3 x 3 x 32 x 32 floats).
   const std::string notMaps = osr::test::dataPath("unet_k8_golden/output.f32");
   const std::pair<std::string, std::string> cases[] = {
-      {"--weights " + weights + " --in " + notMaps + " --out /dev/null", "is not a positive multiple"},
+      {"--weights " + weights + " --in " + notMaps + " --out /dev/null",
+       "is not a positive multiple"},
       {"--weights " + maps + " --in " + maps + " --out /dev/null", "bad magic"},
-      {"--weights /nonexistent.osrw --in " + maps + " --out /dev/null", "cannot open"},
+      {"--weights /nonexistent.osrw --in " + maps + " --out /dev/null", "file not found"},
       {"--weights " + weights + " --in " + maps, "usage"},
       {"--weights " + weights + " --in " + maps + " --out /dev/null --bogus", "--bogus"},
   };
@@ -73,4 +74,26 @@ TEST(CmdUnet, BadInputIsOneLineAndExitTwo) {
     EXPECT_EQ(std::count(r.err.begin(), r.err.end(), '\n'), 1) << r.err;
     EXPECT_NE(r.err.find(problem), std::string::npos) << r.err;
   }
+}
+
+// --out naming a file the command reads wrote the predictions over it (the user's maps or
+// weights, gone): refused before any work, the file untouched.
+TEST(CmdUnet, OutputThatIsAnInputIsRefused) {
+  const fs::path dir = osr::test::tempDir("cmd_unet");
+  const fs::path maps = dir / "maps.f32", weights = dir / "w.osrw";
+  fs::copy_file(osr::test::dataPath("unet_k8_golden/input.f32"), maps,
+                fs::copy_options::overwrite_existing);
+  fs::copy_file(osr::test::dataPath("unet_k8.osrw"), weights, fs::copy_options::overwrite_existing);
+  const auto before = readFloats(maps.string());
+  const auto weightsBefore = fs::file_size(weights);
+  const std::string in = " --weights " + weights.string() + " --in " + maps.string();
+  for (const auto& [out, role] :
+       {std::pair{maps, "the --in maps"}, {weights, "the --weights file"}}) {
+    CliRun r = runCli(in + " --out " + out.string());
+    EXPECT_EQ(r.exitCode, 2) << r.err;
+    EXPECT_EQ(r.err, "osr-vk: --out " + out.string() + ": is " + role +
+                         ", which this command reads; refusing to overwrite it\n");
+  }
+  EXPECT_EQ(readFloats(maps.string()), before);
+  EXPECT_EQ(fs::file_size(weights), weightsBefore);
 }

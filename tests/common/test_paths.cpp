@@ -1,6 +1,9 @@
 #include "common/test_paths.h"
 
+#include <sys/stat.h>
 #include <unistd.h>
+
+#include <stdexcept>
 
 namespace osr::test {
 
@@ -11,6 +14,13 @@ std::filesystem::path tempDir(const std::string& tag) {
                             ("osr_test_" + tag + "_" + std::to_string(::getpid()));
   std::filesystem::create_directories(d);
   return d;
+}
+
+std::string makeFifo(const std::string& tag, const std::string& name) {
+  const std::string path = (tempDir(tag) / name).string();
+  ::unlink(path.c_str());
+  if (::mkfifo(path.c_str(), 0600) != 0) throw std::runtime_error(path + ": mkfifo failed");
+  return path;
 }
 
 std::string referencePath(const std::string& name) {

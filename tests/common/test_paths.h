@@ -11,6 +11,10 @@ std::string dataPath(const std::string& name);
 // `tag` (the test file's name), so parallel CTest runs never share one.
 std::filesystem::path tempDir(const std::string& tag);
 
+// A named pipe (FIFO) with no writer, `name` in tempDir(tag): an input path that a loader
+// must refuse without opening it (open() would block forever).
+std::string makeFifo(const std::string& tag, const std::string& name);
+
 // Path of a reference scene file, e.g. referencePath("cornell/cornell.gltf").
 std::string referencePath(const std::string& name);
 

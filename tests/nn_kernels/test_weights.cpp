@@ -84,6 +84,20 @@ TEST(Weights, RejectsTruncated) {
   expectRejected({bytes.begin(), bytes.end() - 100}, "truncated_data", "truncated");
 }
 
+// A pipe blocked open() forever and a device (/dev/zero) was read until memory ran out: both
+// are refused before they are opened.
+TEST(Weights, RejectsDevicesAndPipesUnopened) {
+  for (const std::string& path :
+       {test::makeFifo("weights", "pipe.osrw"), std::string("/dev/zero")}) {
+    try {
+      nn::UNetWeights::load(path);
+      ADD_FAILURE() << path << ": accepted";
+    } catch (const InputError& e) {
+      EXPECT_EQ(std::string(e.what()), path + ": not a regular file (a device, pipe or socket)");
+    }
+  }
+}
+
 TEST(Weights, RejectsChecksumMismatch) {
   auto bytes = readFile(test::dataPath(kGood));
   bytes[bytes.size() - 5] ^= 0x40;  // one bit of the last tensor

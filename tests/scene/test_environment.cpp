@@ -20,11 +20,17 @@ using namespace osr;
 
 namespace {
 
+// Files of this process only: the fixed names in gtest's shared TempDir() collided with
+// the same suite run at the same time from another checkout or build folder.
+std::string tempPrefix() {
+  return osr::test::tempDir("scene_environment").string() + "/";
+}
+
 constexpr float kPi = 3.14159265358979f;
 
 
 std::string temp(const std::string& name) {
-  return ::testing::TempDir() + name;
+  return tempPrefix() + name;
 }
 
 void expectInputError(const std::string& path, const std::string& part) {
@@ -73,6 +79,9 @@ TEST(Environment, BadFiles) {
   expectInputError(junkHdr, ".hdr");
   std::string png = test::dataPath("scene/checker.png");
   expectInputError(png, ".exr or .hdr");
+  // A device was "file not found"; a pipe is refused before it is opened.
+  expectInputError("/dev/zero", "not a regular file");
+  expectInputError(test::makeFifo("scene_environment", "pipe.hdr"), "not a regular file");
 }
 
 TEST(Environment, CdfTables) {

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <nlohmann/json.hpp>
@@ -21,6 +22,12 @@ using test::hasWarning;
 namespace gs = osr::gpu::scene;
 
 namespace {
+
+// Files of this process only: the fixed names in gtest's shared TempDir() collided with
+// the same suite run at the same time from another checkout or build folder.
+std::string tempPrefix() {
+  return osr::test::tempDir("scene_loader").string() + "/";
+}
 
 const gs::Material* findEmissive(const scene::Scene& s, glm::vec3 emission) {
   for (const auto& m : s.materials)
@@ -377,10 +384,32 @@ TEST(LoaderBadInput, EachKindNamesTheFileAndTheProblem) {
   expectInputError(test::dataPath("scene"), "directory");
 }
 
+// A pipe was opened and waited on forever, a device (/dev/zero) read until memory ran out:
+// both are refused before they are opened.
+TEST(LoaderBadInput, DevicesAndPipesAreRefusedUnopened) {
+  expectInputError(test::makeFifo("scene_loader", "pipe.gltf"), "not a regular file");
+  expectInputError("/dev/null", "not a regular file");
+}
+
+// The same for the files a .gltf names: a buffer URI naming a folder was "out of memory
+// loading the scene", one naming a pipe hung.
+TEST(LoaderBadInput, BuffersThatAreNoRegularFileAreRefused) {
+  const std::filesystem::path dir = test::tempDir("scene_loader_buffers");
+  const std::filesystem::path gltf = dir / "cornell.gltf", bin = dir / "cornell.bin";
+  std::filesystem::copy_file(test::referencePath("cornell/cornell.gltf"), gltf,
+                             std::filesystem::copy_options::overwrite_existing);
+  std::filesystem::remove_all(bin);
+  std::filesystem::create_directory(bin);
+  expectInputError(gltf.string(), "cornell.bin : is a directory");
+  std::filesystem::remove_all(bin);
+  test::makeFifo("scene_loader_buffers", "cornell.bin");
+  expectInputError(gltf.string(), "cornell.bin : not a regular file");
+}
+
 namespace {
 
 std::string tempFile(const std::string& name, const std::vector<unsigned char>& bytes) {
-  std::string path = ::testing::TempDir() + name;
+  std::string path = tempPrefix() + name;
   std::FILE* f = std::fopen(path.c_str(), "wb");
   if (!bytes.empty()) std::fwrite(bytes.data(), 1, bytes.size(), f);
   std::fclose(f);
@@ -436,7 +465,7 @@ std::string withNodes(const std::string& name, const nlohmann::json& nodes,
   nlohmann::json doc = nlohmann::json::parse(in);
   doc["nodes"] = nodes;
   doc["scenes"][0]["nodes"] = roots;
-  std::string path = ::testing::TempDir() + name;
+  std::string path = tempPrefix() + name;
   std::ofstream(path) << doc.dump();
   return path;
 }
@@ -471,7 +500,7 @@ TEST(LoaderBadInput, HugeCountWithoutBufferView) {
   doc["accessors"][0].erase("min");
   doc["accessors"][0].erase("max");
   doc["accessors"][0]["count"] = 1ll << 40;
-  std::string path = ::testing::TempDir() + "huge_count.gltf";
+  std::string path = tempPrefix() + "huge_count.gltf";
   std::ofstream(path) << doc.dump();
   expectInputError(path, "too large");
 }
@@ -481,7 +510,7 @@ TEST(Loader, SpotConesOutOfRangeAreClamped) {
   nlohmann::json doc = nlohmann::json::parse(in);
   doc["extensions"]["KHR_lights_punctual"]["lights"][1]["spot"] = {{"innerConeAngle", 1.0},
                                                                    {"outerConeAngle", 0.5}};
-  std::string path = ::testing::TempDir() + "bad_cone.gltf";
+  std::string path = tempPrefix() + "bad_cone.gltf";
   std::ofstream(path) << doc.dump();
   scene::Scene s = scene::loadScene(path);
   EXPECT_TRUE(hasWarning(s, "clamped"));
@@ -494,7 +523,7 @@ TEST(LoaderBadInput, RequiredGeometryCompression) {
   nlohmann::json doc = nlohmann::json::parse(in);
   doc["extensionsUsed"] = {"KHR_draco_mesh_compression"};
   doc["extensionsRequired"] = {"KHR_draco_mesh_compression"};
-  std::string path = ::testing::TempDir() + "draco.gltf";
+  std::string path = tempPrefix() + "draco.gltf";
   std::ofstream(path) << doc.dump();
   expectInputError(path, "KHR_draco_mesh_compression");
 }
@@ -554,7 +583,7 @@ TEST(LoaderBadInput, RandomMutationsNeverCrash) {
                                          {1, 2},
                                          true};
   std::mt19937 rng(2024);
-  std::string path = ::testing::TempDir() + "mutated.gltf";
+  std::string path = tempPrefix() + "mutated.gltf";
   for (int iteration = 0; iteration < 400; ++iteration) {
     const char* file = files[rng() % std::size(files)];
     std::ifstream in(data(file));
