@@ -10,5 +10,10 @@ cmake --build build
 # noise-free image within seconds that keeps converging. Arguments given to run.sh replace
 # these defaults (e.g. ./run.sh --mode path --spp 256 --time 60).
 if [ $# -eq 0 ]; then set -- --mode osr --time 60; fi
+stamp=build/.run_started
+touch "$stamp"
 ./build/osr-vk --offline out.exr --png out.png "$@" scenes/cornell/cornell.gltf
-echo "osr-vk: wrote out.exr and out.png"
+# Only a render writes them (./run.sh --help, say, prints the usage and writes nothing).
+if [ out.exr -nt "$stamp" ] && [ out.png -nt "$stamp" ]; then
+  echo "osr-vk: wrote out.exr and out.png"
+fi
