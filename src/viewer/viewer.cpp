@@ -687,15 +687,17 @@ void Viewer::drawPanel() {
   // Camera.
   ImGui::Separator();
   if (!config_.scene->cameras.empty()) {
-    std::vector<std::string> names;
-    std::vector<const char*> labels;
-    for (size_t i = 0; i < config_.scene->cameras.size(); ++i)
-      names.push_back(std::to_string(i) + ": " + config_.scene->cameras[i].name);
-    for (const std::string& n : names) labels.push_back(n.c_str());
-    int pick = -1;
-    if (ImGui::Combo("file camera", &pick, labels.data(), int(labels.size())) && pick >= 0) {
-      camera_.set(config_.scene->cameras[size_t(pick)]);
-      requestRestart();
+    // The closed combo names what it does: the view may have moved off every file camera.
+    const std::string preview = std::to_string(config_.scene->cameras.size()) + " in the file";
+    if (ImGui::BeginCombo("file camera", preview.c_str())) {
+      for (size_t i = 0; i < config_.scene->cameras.size(); ++i) {
+        const std::string label = std::to_string(i) + ": " + config_.scene->cameras[i].name;
+        if (ImGui::Selectable(label.c_str(), false)) {
+          camera_.set(config_.scene->cameras[i]);
+          requestRestart();
+        }
+      }
+      ImGui::EndCombo();
     }
   }
   if (ImGui::Button("Reset")) camera_.set(config_.camera), requestRestart();
