@@ -104,6 +104,9 @@ int runTrace(const std::vector<std::string>& argv) {
   int repeat = int(args.integer("--repeat", 1, 100).value_or(3));
   // How traversal reads the BVH (shared/bvh.h); default: the device's choice.
   std::string accessName = args.value("--bvh-access").value_or("auto");
+  // Rays per invocation of the batch tracer's pools (bvh::TraceRaysPass::Args::raysPerLane);
+  // 1 traces one ray per invocation, as the renderers do.
+  uint32_t raysPerLane = uint32_t(args.integer("--rays-per-lane", 1, 64).value_or(bvh::TraceRaysPass::Args().raysPerLane));
   args.finish();
   bvh::Access access = bvh::Access::Auto;
   if (accessName == "storage")
@@ -148,6 +151,7 @@ int runTrace(const std::vector<std::string>& argv) {
           a.rays = rayBuf;
           a.hits = hitBuf;
           a.rayCount = count;
+          a.raysPerLane = raysPerLane;
           pass.record(cmd, a);
         });
         if (r > 0) best = std::min(best, timer.totalMs("bvh_trace_rays"));
@@ -166,7 +170,8 @@ int runTrace(const std::vector<std::string>& argv) {
       for (const auto& h : hits) hitCount += h.triangle != gpu::bvh_trace::kNoHit;
       JsonLine line;
       line.str("bench", "trace").str("scene", s.name).integer("triangles", n).str("device", ctx.caps().deviceName);
-      line.str("rays", kind).integer("ray_count", count).num("mrays_per_s", count / (best * 1e3));
+      line.str("rays", kind).integer("ray_count", count).integer("rays_per_lane", raysPerLane);
+      line.num("mrays_per_s", count / (best * 1e3));
       line.num("ms", best).num("cpu_time_ms", bestCpu).num("hit_fraction", double(hitCount) / count);
 #ifdef OSR_HAVE_EMBREE
       std::vector<TraceHit> peerHits;

@@ -14,6 +14,9 @@
 #ifndef OSR_BVH_TRAVERSE_GLSL
 #define OSR_BVH_TRAVERSE_GLSL
 #extension GL_KHR_shader_subgroup_vote : require
+#ifdef OSR_BVH_RAY_POOL
+#extension GL_KHR_shader_subgroup_ballot : require
+#endif
 #include "shared/bvh.h"
 
 #ifndef OSR_BVH_BINDING
@@ -157,8 +160,8 @@ bool osrBvhTriangle(OsrBvhRay r, vec3 v0, vec3 v1, vec3 v2, float tMin, float tF
   return true;
 }
 
-// Shared loop of both queries; `anyHit` is a constant at each call site, so the compiler
-// specialises it away.
+// Shared loop of both queries and of the ray pool; `anyHit` is a constant at each call site, so
+// the compiler specialises it away.
 //
 // Leaves are intersected in a separate phase, for the whole SIMD group at once (Aila & Laine
 // 2009, "Understanding the Efficiency of Ray Traversal on GPUs": while-while with speculative
@@ -168,6 +171,36 @@ bool osrBvhTriangle(OsrBvhRay r, vec3 v0, vec3 v1, vec3 v2, float tMin, float tF
 // needs it, so intersecting leaves where the walk meets them cost max over lanes of each
 // node's leaf triangles at every node (measured on incoherent rays: 3x the lanes' mean work);
 // gathering them first costs one max per phase.
+//
+// With OSR_BVH_RAY_POOL defined the loop is osrBvhTracePool instead: a lane whose ray is done
+// takes the next ray of the subgroup's pool after each leaf phase (Aila & Laine's dynamic ray
+// fetch), so a subgroup no longer runs as long as its slowest ray while the other lanes idle.
+// The includer provides
+//   OsrBvhPoolRayDesc osrBvhPoolRay(uint i);          // ray i of the pool
+//   void osrBvhPoolResult(uint i, bool found, Hit hit); // its result
+// and bvhClosestHit / bvhAnyHit are not defined.
+#ifdef OSR_BVH_RAY_POOL
+struct OsrBvhPoolRayDesc {
+  vec3 origin;
+  float tMin;
+  vec3 dir;
+  float tMax;
+};
+OsrBvhPoolRayDesc osrBvhPoolRay(uint i);
+void osrBvhPoolResult(uint i, bool found, Hit hit);
+
+// Traces rays [first, end) with this subgroup: each lane holds one ray at a time and takes the
+// next index when its ray is done. Must be called in uniform control flow of the subgroup, with
+// the same first and end on every lane.
+void osrBvhTracePool(uint first, uint end, bool anyHit) {
+  OsrBvhRay r;
+  float tMin = 0.0, tFar = 0.0;
+  Hit hit;
+  bool found = false;
+  uint ray = 0u;        // pool index of the lane's ray
+  bool holding = false; // the lane has a ray whose result is not yet written
+  uint next = first;    // first pool index not yet taken (uniform)
+#else
 bool osrBvhTraverse(vec3 origin, vec3 dir, float tMin, float tMax, bool anyHit, out Hit hit) {
   OsrBvhRay r = osrBvhMakeRay(origin, dir);
   hit.t = tMax;
@@ -175,13 +208,40 @@ bool osrBvhTraverse(vec3 origin, vec3 dir, float tMin, float tMax, bool anyHit, 
   hit.barycentrics = vec2(0.0);
   bool found = false;
   float tFar = tMax;
+#endif
   uint stack[kBvhMaxDepth];
   uint sp = 0u;
   uint node = 0u;
+#ifdef OSR_BVH_RAY_POOL
+  bool walking = false;
+#else
   bool walking = true;  // `node` is still to be visited
+#endif
   // Leaf ranges met by the walk and not yet intersected: (first entry, count), count 0 = none.
   uvec2 held0 = uvec2(0u), held1 = uvec2(0u);
   for (;;) {
+#ifdef OSR_BVH_RAY_POOL
+    // Lanes without a ray take the next ones, in lane order.
+    uvec4 idle = subgroupBallot(!holding);
+    uint slot = next + subgroupBallotExclusiveBitCount(idle);
+    next += subgroupBallotBitCount(idle);
+    if (!holding && slot < end) {
+      OsrBvhPoolRayDesc d = osrBvhPoolRay(slot);
+      r = osrBvhMakeRay(d.origin, d.dir);
+      tMin = d.tMin;
+      tFar = d.tMax;
+      hit.t = d.tMax;
+      hit.triangle = 0xffffffffu;
+      hit.barycentrics = vec2(0.0);
+      found = false;
+      ray = slot;
+      holding = true;
+      walking = true;
+      node = 0u;
+      sp = 0u;
+    }
+    if (!subgroupAny(holding)) return;
+#endif
     while (subgroupAny(walking && held0.y == 0u)) {
       // Every lane runs the step; lanes that wait (finished, or holding two ranges) change
       // nothing. Stores under a partial lane mask compile to a branch per lane on lavapipe.
@@ -233,16 +293,29 @@ bool osrBvhTraverse(vec3 origin, vec3 dir, float tMin, float tMax, bool anyHit, 
       hit.t = t;
       hit.triangle = id;
       hit.barycentrics = bary;
-      if (anyHit) return true;
       tFar = t;
+      if (anyHit) {  // done: the walk stops here
+        walking = false;
+        break;
+      }
     }
     held0 = uvec2(0u);
     held1 = uvec2(0u);
+#ifdef OSR_BVH_RAY_POOL
+    if (holding && !walking) {
+      osrBvhPoolResult(ray, found, hit);
+      holding = false;
+    }
+#else
     if (!walking) break;
+#endif
   }
+#ifndef OSR_BVH_RAY_POOL
   return found;
+#endif
 }
 
+#ifndef OSR_BVH_RAY_POOL
 bool bvhClosestHit(vec3 origin, vec3 dir, float tMin, float tMax, out Hit hit) {
   return osrBvhTraverse(origin, dir, tMin, tMax, false, hit);
 }
@@ -251,5 +324,6 @@ bool bvhAnyHit(vec3 origin, vec3 dir, float tMin, float tMax) {
   Hit unused;
   return osrBvhTraverse(origin, dir, tMin, tMax, true, unused);
 }
+#endif
 
 #endif

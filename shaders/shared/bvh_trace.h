@@ -38,7 +38,7 @@ struct TraceHit {
 struct Push {
   uint rayCount;
   uint mode;
-  uint rowInvocations;  // invocations per dispatch row (2-D dispatch past 65535 groups)
+  uint raysPerLane;  // rays each invocation's subgroup pool holds per invocation (>= 1)
   uint _pad0;
 };
 OSR_NAMESPACE_END

@@ -36,10 +36,11 @@ void TraceRaysPass::record(VkCommandBuffer cmd, const Args& args) const {
     throw DeviceError("bvh: a BVH of " + std::to_string(args.bvh->triangleCount) +
                       " triangles passes maxStorageBufferRange (" + std::to_string(args.bvh->storageRange >> 20) +
                       " MiB), which storage-buffer traversal cannot read; use texel fetch");
-  uint32_t groups = vk::groupCount(args.rayCount, tr::kWorkgroupSize);
+  const uint32_t raysPerLane = std::max(args.raysPerLane, 1u);
+  uint32_t groups = vk::groupCount((args.rayCount + raysPerLane - 1) / raysPerLane, tr::kWorkgroupSize);
   uint32_t x = std::min(groups, 65535u);
   uint32_t y = (groups + x - 1) / x;
-  tr::Push push{args.rayCount, args.mode, x * tr::kWorkgroupSize, 0};
+  tr::Push push{args.rayCount, args.mode, raysPerLane, 0};
   vk::Binder binder(pipeline_);
   binder.set(tr::kBindingRays, args.rays).set(tr::kBindingHits, args.hits);
   args.bvh->bind(binder, tr::kBindingBvh);

@@ -21,6 +21,10 @@ class TraceRaysPass {
     vk::BufferRange alphaMask;  // uint per triangle; alpha variant only
     uint32_t rayCount = 0;
     uint32_t mode = gpu::bvh_trace::kModeClosest;
+    // Rays per invocation: each subgroup traces a pool of this many rays per lane, a lane taking
+    // the next when its ray is done (shaders/lib/bvh_trace_rays_main.glsl). 1 = one ray per
+    // invocation, as the renderers trace.
+    uint32_t raysPerLane = 16;
   };
   // Records bind + dispatch + the barrier that makes the hits visible to later passes.
   void record(VkCommandBuffer cmd, const Args& args) const;

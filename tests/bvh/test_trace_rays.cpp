@@ -55,6 +55,41 @@ TEST(TraceRays, StorageAndTexelFetchReadsAgree) {
   }
 }
 
+// Each subgroup traces a pool of rays, a lane taking the next when its ray is done
+// (lib/bvh_trace_rays_main.glsl). Any pool size must give the bits of one ray per invocation,
+// for both queries and with alpha masks, including ray counts that end mid-pool and batches
+// smaller than one pool.
+TEST(TraceRays, RayPoolsGiveTheBitsOfOneRayPerInvocation) {
+  auto& ctx = test::context();
+  for (const auto& [name, mesh] : test::testMeshes()) {
+    bvh::Bvh tree = bvh::upload(ctx, bvh::buildCpu(mesh.vertices, mesh.triangles), mesh.vertices,
+                                mesh.triangles);
+    std::vector<uint32_t> mask(mesh.triangles.size());
+    for (size_t i = 0; i < mask.size(); ++i) mask[i] = uint32_t(i % 3);  // opaque, cut, half cut
+    for (uint32_t count : {5u, 20011u}) {
+      auto rays = test::randomRays(mesh, count, 13);
+      for (uint32_t mode : {gpu::bvh_trace::kModeClosest, gpu::bvh_trace::kModeAny}) {
+        const std::vector<uint32_t>* masks[] = {nullptr, &mask};
+        for (const std::vector<uint32_t>* m : masks) {
+          auto single = test::traceOnDevice(ctx, tree, rays, mode, m, bvh::Access::Auto, 1);
+          for (uint32_t perLane : {3u, 16u, 64u}) {
+            auto pooled = test::traceOnDevice(ctx, tree, rays, mode, m, bvh::Access::Auto, perLane);
+            ASSERT_EQ(single.size(), pooled.size());
+            size_t differ = 0;
+            for (size_t i = 0; i < single.size(); ++i)
+              differ += std::memcmp(&single[i], &pooled[i], sizeof(single[i])) != 0;
+            EXPECT_EQ(differ, 0u) << name << " rays " << count << " per lane " << perLane << " mode "
+                                  << mode << (m ? " masked" : "");
+          }
+          if (mode == gpu::bvh_trace::kModeClosest && !m) {
+            EXPECT_EQ(test::compareClosest(name, mesh, rays, single), 0u) << name;
+          }
+        }
+      }
+    }
+  }
+}
+
 TEST(TraceRays, AnyHitAgreesWithClosestHit) {
   auto& ctx = test::context();
   for (const auto& [name, mesh] : test::testMeshes()) {

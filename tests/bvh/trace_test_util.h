@@ -1,5 +1,6 @@
 // Runs bvh_trace_rays (or its alpha variant when a mask is given) over host rays, reading the
-// BVH the way `access` says (Auto: the device's default).
+// BVH the way `access` says (Auto: the device's default), with `raysPerLane` rays per
+// invocation (0: the pass's default).
 #pragma once
 #include <vector>
 
@@ -12,7 +13,7 @@ namespace osr::test {
 inline std::vector<gpu::bvh_trace::TraceHit> traceOnDevice(
     const vk::Context& ctx, const bvh::Bvh& tree, const std::vector<gpu::bvh_trace::TraceRay>& rays,
     uint32_t mode, const std::vector<uint32_t>* mask = nullptr,
-    bvh::Access access = bvh::Access::Auto) {
+    bvh::Access access = bvh::Access::Auto, uint32_t raysPerLane = 0) {
   using gpu::bvh_trace::TraceHit;
   using gpu::bvh_trace::TraceRay;
   vk::Buffer rayBuf(ctx, rays.size() * sizeof(TraceRay), vk::MemoryUse::DeviceLocal, "test rays");
@@ -32,6 +33,7 @@ inline std::vector<gpu::bvh_trace::TraceHit> traceOnDevice(
     if (mask) args.alphaMask = maskBuf;
     args.rayCount = uint32_t(rays.size());
     args.mode = mode;
+    if (raysPerLane) args.raysPerLane = raysPerLane;
     pass.record(cmd, args);
   });
   return hitBuf.downloadVector<TraceHit>(rays.size());

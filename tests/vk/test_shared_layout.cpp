@@ -114,7 +114,7 @@ const std::vector<Layout>& layouts() {
       STRUCT(bvh_build, DispatchArgs, F(x), F(y), F(z)),
       STRUCT(bvh_trace, TraceRay, F(origin), F(tMin), F(dir), F(tMax)),
       STRUCT(bvh_trace, TraceHit, F(t), F(triangle), F(barycentrics)),
-      STRUCT(bvh_trace, Push, F(rayCount), F(mode), F(rowInvocations), F(_pad0)),
+      STRUCT(bvh_trace, Push, F(rayCount), F(mode), F(raysPerLane), F(_pad0)),
       STRUCT(nn, View, F(cTotal), F(c0), F(_pad0), F(_pad1)),
       STRUCT(nn, ConvPush, F(src), F(dst), F(maps), F(cin), F(cout), F(coutPadded), F(height),
              F(width), F(tileCount), F(tileGroupsY)),
