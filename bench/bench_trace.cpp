@@ -3,6 +3,7 @@
 // random surface points: incoherent), with Embree's rtcIntersect1 on 2 threads as the peer.
 // The GPU hits are first checked against the CPU twin of the traversal on the same tree.
 // --bvh-access storage|texel forces how traversal reads the BVH (for comparing the two).
+// --rays-per-lane lists the ray-pool sizes to time (see bvh::TraceRaysPass::Args::raysPerLane).
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -104,9 +105,11 @@ int runTrace(const std::vector<std::string>& argv) {
   int repeat = int(args.integer("--repeat", 1, 100).value_or(3));
   // How traversal reads the BVH (shared/bvh.h); default: the device's choice.
   std::string accessName = args.value("--bvh-access").value_or("auto");
-  // Rays per invocation of the batch tracer's pools (bvh::TraceRaysPass::Args::raysPerLane);
-  // 1 traces one ray per invocation, as the renderers do.
-  uint32_t raysPerLane = uint32_t(args.integer("--rays-per-lane", 1, 64).value_or(bvh::TraceRaysPass::Args().raysPerLane));
+  // Rays per invocation of the batch tracer's pools (bvh::TraceRaysPass::Args::raysPerLane), one
+  // timed line each; 1 traces one ray per invocation, as the renderers' kernels do.
+  // Default: the pools the pass uses, and one ray per invocation beside them.
+  std::vector<uint32_t> raysPerLane = {1u, bvh::TraceRaysPass::Args().raysPerLane};
+  if (auto v = args.integerList("--rays-per-lane", 1, 64)) raysPerLane.assign(v->begin(), v->end());
   args.finish();
   bvh::Access access = bvh::Access::Auto;
   if (accessName == "storage")
@@ -140,39 +143,8 @@ int runTrace(const std::vector<std::string>& argv) {
       vk::Buffer rayBuf(ctx, count * sizeof(TraceRay), vk::MemoryUse::DeviceLocal, "bench rays");
       vk::Buffer hitBuf(ctx, count * sizeof(TraceHit), vk::MemoryUse::DeviceLocal, "bench hits");
       rayBuf.uploadVector(rays);
-      double best = std::numeric_limits<double>::infinity(), bestCpu = best;
-      for (int r = 0; r <= repeat; ++r) {  // the first run is verified, the rest timed
-        double cpuStart = processCpuMs();
-        ctx.submitAndWait([&](VkCommandBuffer cmd) {
-          timer.reset(cmd);
-          vk::TimedScope scope(&timer, cmd, "bvh_trace_rays");
-          bvh::TraceRaysPass::Args a;
-          a.bvh = &tree;
-          a.rays = rayBuf;
-          a.hits = hitBuf;
-          a.rayCount = count;
-          a.raysPerLane = raysPerLane;
-          pass.record(cmd, a);
-        });
-        if (r > 0) best = std::min(best, timer.totalMs("bvh_trace_rays"));
-        if (r > 0) bestCpu = std::min(bestCpu, processCpuMs() - cpuStart);
-      }
-      auto hits = hitBuf.downloadVector<TraceHit>(count);
-      size_t checked = std::min<size_t>(count, 20000), hitCount = 0;
-      std::vector<TraceHit> expected(checked);
-      for (size_t i = 0; i < checked; ++i) expected[i] = twin.closest(rays[i]);
-      double agree = agreement(expected, hits, checked, 1e-4f);
-      if (agree < 0.999) {
-        std::fprintf(stderr, "osr-bench trace: %s %s: GPU hits agree with the CPU traversal on only %.4f\n",
-                     s.name.c_str(), kind, agree);
-        return 1;
-      }
-      for (const auto& h : hits) hitCount += h.triangle != gpu::bvh_trace::kNoHit;
-      JsonLine line;
-      line.str("bench", "trace").str("scene", s.name).integer("triangles", n).str("device", ctx.caps().deviceName);
-      line.str("rays", kind).integer("ray_count", count).integer("rays_per_lane", raysPerLane);
-      line.num("mrays_per_s", count / (best * 1e3));
-      line.num("ms", best).num("cpu_time_ms", bestCpu).num("hit_fraction", double(hitCount) / count);
+      std::vector<TraceHit> expected(std::min<size_t>(count, 20000));
+      for (size_t i = 0; i < expected.size(); ++i) expected[i] = twin.closest(rays[i]);
 #ifdef OSR_HAVE_EMBREE
       std::vector<TraceHit> peerHits;
       double peerMs = std::numeric_limits<double>::infinity(), peerCpu = peerMs;
@@ -181,8 +153,46 @@ int runTrace(const std::vector<std::string>& argv) {
         peerMs = std::min(peerMs, peer.trace(rays, peerHits));
         peerCpu = std::min(peerCpu, processCpuMs() - cpuStart);
       }
-      line.num("ratio_vs_embree", peerMs / best).num("cpu_time_ratio_vs_embree", peerCpu / bestCpu);
-      line.print();
+#endif
+      std::vector<TraceHit> hits;
+      for (uint32_t perLane : raysPerLane) {
+        double best = std::numeric_limits<double>::infinity(), bestCpu = best;
+        for (int r = 0; r <= repeat; ++r) {  // the first run warms up, the rest are timed
+          double cpuStart = processCpuMs();
+          ctx.submitAndWait([&](VkCommandBuffer cmd) {
+            timer.reset(cmd);
+            vk::TimedScope scope(&timer, cmd, "bvh_trace_rays");
+            bvh::TraceRaysPass::Args a;
+            a.bvh = &tree;
+            a.rays = rayBuf;
+            a.hits = hitBuf;
+            a.rayCount = count;
+            a.raysPerLane = perLane;
+            pass.record(cmd, a);
+          });
+          if (r > 0) best = std::min(best, timer.totalMs("bvh_trace_rays"));
+          if (r > 0) bestCpu = std::min(bestCpu, processCpuMs() - cpuStart);
+        }
+        hits = hitBuf.downloadVector<TraceHit>(count);
+        double agree = agreement(expected, hits, expected.size(), 1e-4f);
+        if (agree < 0.999) {
+          std::fprintf(stderr, "osr-bench trace: %s %s: GPU hits agree with the CPU traversal on only %.4f\n",
+                       s.name.c_str(), kind, agree);
+          return 1;
+        }
+        size_t hitCount = 0;
+        for (const auto& h : hits) hitCount += h.triangle != gpu::bvh_trace::kNoHit;
+        JsonLine line;
+        line.str("bench", "trace").str("scene", s.name).integer("triangles", n).str("device", ctx.caps().deviceName);
+        line.str("rays", kind).integer("ray_count", count).integer("rays_per_lane", perLane);
+        line.num("mrays_per_s", count / (best * 1e3));
+        line.num("ms", best).num("cpu_time_ms", bestCpu).num("hit_fraction", double(hitCount) / count);
+#ifdef OSR_HAVE_EMBREE
+        line.num("ratio_vs_embree", peerMs / best).num("cpu_time_ratio_vs_embree", peerCpu / bestCpu);
+#endif
+        line.print();
+      }
+#ifdef OSR_HAVE_EMBREE
       JsonLine()
           .str("bench", "trace")
           .str("peer", "embree")
@@ -196,8 +206,6 @@ int runTrace(const std::vector<std::string>& argv) {
           .num("cpu_time_ms", peerCpu)
           .num("agree_with_gpu", agreement(peerHits, hits, count, 1e-3f))
           .print();
-#else
-      line.print();
 #endif
     }
   }

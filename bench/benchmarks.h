@@ -36,15 +36,16 @@ int runBvh(const std::vector<std::string>& args);   // GPU BVH build vs CPU SAH 
 inline constexpr char kTraceSummary[] = "rays/s of BVH traversal against Embree";
 inline constexpr char kTraceUsage[] =
     "osr-bench trace [--scene NAME | --triangles N] [--side N] [--repeat N]\n"
-    "                [--bvh-access auto|storage|texel] [--rays-per-lane N]\n"
+    "                [--bvh-access auto|storage|texel] [--rays-per-lane N,...]\n"
     "  --scene NAME       generated_1m, cornell or room (default: all)\n"
     "  --triangles N      instead, a displaced sphere of at least N triangles\n"
     "  --side N           rays = N x N, 16 to 2048 (default 1024)\n"
     "  --repeat N         timed repeats, 1 to 100 (default 3)\n"
     "  --bvh-access MODE  how traversal reads the BVH: storage buffers, texel fetches or the\n"
     "                     device's choice (default auto)\n"
-    "  --rays-per-lane N  rays each invocation takes in turn from its subgroup's pool, 1 to 64\n"
-    "                     (default 16); 1 traces one ray per invocation, as the renderers do";
+    "  --rays-per-lane N,...  rays each invocation takes in turn from its subgroup's pool, 1 to\n"
+    "                     64, one line each (default 1,16); 1 traces one ray per invocation, as\n"
+    "                     the renderers' kernels do";
 int runTrace(const std::vector<std::string>& args); // rays/s of bvh_trace_rays vs Embree
 inline constexpr char kUnetSummary[] = "U-Net maps/s against PyTorch on the same cores";
 inline constexpr char kUnetUsage[] =
