@@ -35,7 +35,8 @@ namespace {
 
 // One progress line on stderr: rewritten in place on a terminal, else at most every 5 s.
 // Format (parsed by front ends; README "Progress"): "osr-vk: U/T UNIT, E s elapsed, ~R s
-// remaining", where "/T" is left out when only --time bounds the render.
+// remaining", where "/T" is left out when only --time bounds the render and " (+P% of the
+// next)" follows UNIT while a unit runs in slices.
 class ProgressPrinter {
  public:
   ProgressPrinter(bool quiet, bool unitBound) : quiet_(quiet), unitBound_(unitBound), tty_(::isatty(2)) {}
@@ -45,9 +46,13 @@ class ProgressPrinter {
     if (!tty_ && !last && p.elapsedS - lastPrinted_ < 5.0) return;
     lastPrinted_ = p.elapsedS;
     const std::string target = unitBound_ ? "/" + std::to_string(p.targetUnits) : "";
-    std::fprintf(stderr, "%sosr-vk: %u%s %s, %.1f s elapsed, ~%.1f s remaining%s",
-                 tty_ ? "\r" : "", p.units, target.c_str(), p.unitName, p.elapsedS, p.remainingS,
-                 tty_ ? "   " : "\n");
+    // A unit in slices: how much of the next one is done, after the unit name.
+    char partial[48] = "";
+    if (p.unitFraction > 0.0)
+      std::snprintf(partial, sizeof partial, " (+%.0f%% of the next)", 100.0 * p.unitFraction);
+    std::fprintf(stderr, "%sosr-vk: %u%s %s%s, %.1f s elapsed, ~%.1f s remaining%s",
+                 tty_ ? "\r" : "", p.units, target.c_str(), p.unitName, partial, p.elapsedS,
+                 p.remainingS, tty_ ? "   " : "\n");
     std::fflush(stderr);
     printed_ = true;
   }
@@ -218,6 +223,11 @@ int runRender(const std::vector<std::string>& args) {
     ds.timeLimitS = *timeLimit;
     if (!spp && !passes) ds.maxUnits = 1u << 24;  // --time alone: as many units as fit
   }
+  // A unit longer than the batch target (an OSR pass at 4K takes minutes on lavapipe) runs in
+  // slices, so progress lines keep coming during it. 16 for the first unit, before any is
+  // timed: enough for progress, too few to cost a small render anything.
+  ds.sliceUnits = true;
+  ds.firstUnitSlices = 16;
   const uint32_t renderSeed = seed ? uint32_t(*seed) : 0u;
 
   vk::Context ctx(vkOptions);
@@ -266,6 +276,11 @@ int runRender(const std::vector<std::string>& args) {
   const render::RenderStats& stats = driver.run([&](const render::Progress& p) { progress(p); });
   render::FilmLayers film = integrator->resolve();
   progress.finish();
+  // The driver never stops inside a unit, and an image needs one whole: say why --time ran over.
+  // (A quarter over: nearer, the budget's own rounding.)
+  if (!quiet && timeLimit && stats.units == 1 && stats.seconds > 1.25 * *timeLimit)
+    std::fprintf(stderr, "osr-vk: note: the image needs one whole %s, which took %.1f s, past --time %g\n",
+                 osrMode ? "pass" : "sample per pixel", stats.seconds, *timeLimit);
   if (film.droppedSamples > 0)
     std::fprintf(stderr, "osr-vk: warning: %llu non-finite samples dropped\n",
                  static_cast<unsigned long long>(film.droppedSamples));

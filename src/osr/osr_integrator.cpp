@@ -261,9 +261,12 @@ void OsrIntegrator::recordSlice(VkCommandBuffer cmd, uint32_t unit, uint32_t sli
   if (slice == 0) beginPass(unit);
   const uint32_t maps = current_.cellsX * current_.cellsY;
   // At least 16 maps a chunk: smaller ones cost more in dispatches and barriers than they
-  // save in submission length (about 30 ms of map paths on lavapipe).
-  const uint32_t chunk = std::clamp((maps + slices - 1) / slices, std::min(16u, buffers_->chunkMaps),
-                                    buffers_->chunkMaps);
+  // save in submission length (about 30 ms of map paths on lavapipe). keepAllMaps keeps the
+  // one chunk of all maps, which downloadMaps reads.
+  const uint32_t chunk =
+      settings_.keepAllMaps ? buffers_->chunkMaps
+                            : std::clamp((maps + slices - 1) / slices, std::min(16u, buffers_->chunkMaps),
+                                         buffers_->chunkMaps);
   const std::vector<Step> steps = stepsOfPass(unit, slices, chunk);
   double total = 0.0;
   for (const Step& s : steps) total += s.cost;
@@ -274,6 +277,11 @@ void OsrIntegrator::recordSlice(VkCommandBuffer cmd, uint32_t unit, uint32_t sli
     const double mid = total > 0.0 ? (before + 0.5 * s.cost) / total : 0.0;
     before += s.cost;
     if (std::min(uint32_t(mid * slices), slices - 1) == slice) recordStep(cmd, unit, s, timer);
+  }
+  if (slice + 1 == slices) passesDone_ = unit + 1;
+  if (!settings_.resolveEverySubmission) {  // nothing shows the film before the end (the CLI)
+    filmBehind_ = true;
+    return;
   }
   // The film shows the last resolved image; during the first pass after a restart there is
   // none, so the viewer would show black for a whole pass: resolve what is there (direct

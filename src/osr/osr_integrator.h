@@ -88,8 +88,8 @@ class OsrIntegrator : public render::Integrator {
   uint32_t seed_ = 0;
   Grid current_;  // maps in mapRecords / mapClean
   uint64_t mapsTraced_ = 0;
-  uint32_t passesDone_ = 0;  // by the last record()
-  mutable bool filmBehind_ = false;  // record() skipped the resolve
+  uint32_t passesDone_ = 0;  // by the last record() or last slice of a pass
+  mutable bool filmBehind_ = false;  // record() or recordSlice() skipped the resolve
 };
 
 }  // namespace osr::oneshot

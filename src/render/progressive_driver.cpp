@@ -78,8 +78,10 @@ uint32_t ProgressiveDriver::nextBatch() const {
 uint32_t ProgressiveDriver::slicesFor(double unitSeconds) const {
   const uint32_t most = std::max(1u, integrator_.maxSlicesPerUnit());
   if (!settings_.sliceUnits || most == 1) return 1;
-  // Nothing measured yet: as many slices as allowed, since a whole unit may take seconds.
-  if (unitSeconds <= 0.0) return most;
+  // Nothing measured yet: as many slices as allowed (or asked for), since a whole unit may
+  // take seconds.
+  if (unitSeconds <= 0.0)
+    return settings_.firstUnitSlices ? std::clamp(settings_.firstUnitSlices, 1u, most) : most;
   if (unitSeconds <= settings_.batchTargetS) return 1;
   return uint32_t(
       std::min<double>(most, std::ceil(unitSeconds / std::max(settings_.batchTargetS, 1e-6))));
@@ -158,7 +160,10 @@ Progress ProgressiveDriver::progress() const {
   p.targetUnits = settings_.maxUnits;
   p.unitName = integrator_.unitName();
   p.elapsedS = started_ ? elapsed() : 0.0;
-  const double byUnits = (settings_.maxUnits - done_) * secondsPerUnit_;
+  // Before the first unit ends, its slices so far predict its length.
+  double perUnit = secondsPerUnit_;
+  if (perUnit <= 0.0 && slices_ > 0 && slice_ > 0) perUnit = sliceSeconds_ * slices_ / slice_;
+  const double byUnits = (settings_.maxUnits - done_ - p.unitFraction) * perUnit;
   p.remainingS = settings_.timeLimitS > 0.0
                      ? std::max(0.0, std::min(byUnits, settings_.timeLimitS - p.elapsedS))
                      : byUnits;

@@ -29,6 +29,10 @@ struct DriverSettings {
   // viewer's submissions must stay short while the window redraws; a CLI render needs no more
   // submissions than units.
   bool sliceUnits = false;
+  // With sliceUnits, the slices of a unit when no unit has been timed yet; 0: the integrator's
+  // most. The viewer needs short submissions from the first frame; the CLI only needs progress
+  // lines during a first pass that may take minutes, and few slices cost it nothing.
+  uint32_t firstUnitSlices = 0;
 };
 
 struct Progress {
@@ -37,7 +41,7 @@ struct Progress {
   uint32_t targetUnits = 0;
   const char* unitName = "";  // Integrator::unitName()
   double elapsedS = 0.0;
-  double remainingS = 0.0;  // estimate
+  double remainingS = 0.0;  // estimate (from the slices done while no unit has ended yet)
 };
 
 struct RenderStats {

@@ -191,6 +191,27 @@ TEST(ProgressiveDriver, LongUnitsAreSlicedForTheViewer) {
   EXPECT_EQ(whole.ranges.size(), 3u);
 }
 
+// The CLI's setting: the first unit, untimed, in firstUnitSlices slices, and progress during it
+// predicts the remaining time from the slices done (nothing else is timed yet).
+TEST(ProgressiveDriver, FirstUnitSlicesAndTheEstimateDuringIt) {
+  auto& ctx = test::context();
+  SlicedIntegrator integ(ctx, 0.08);
+  render::DriverSettings settings{2, 0.0, 0.02, true};
+  settings.firstUnitSlices = 4;
+  render::ProgressiveDriver driver(ctx, integ, settings);
+  driver.restart({}, 0);
+  std::vector<render::Progress> seen;
+  driver.run([&](const render::Progress& p) { seen.push_back(p); });
+  ASSERT_FALSE(integ.slicesSeen.empty());
+  EXPECT_EQ(integ.slicesSeen[0].slices, 4u);
+  ASSERT_GE(seen.size(), 2u);
+  EXPECT_EQ(seen[0].units, 0u);
+  EXPECT_DOUBLE_EQ(seen[0].unitFraction, 0.25);
+  // 1.75 units left at about 0.08 s each (sleeps only overrun).
+  EXPECT_GT(seen[0].remainingS, 0.13);
+  EXPECT_LT(seen[0].remainingS, 1.0);
+}
+
 TEST(ProgressiveDriver, RefusesAZeroUnitBudget) {
   auto& ctx = test::context();
   ScriptedIntegrator integ(ctx, 0.0, 1);
