@@ -15,33 +15,47 @@ import time
 _PROGRESS = re.compile(r"(\d+)\s*/\s*(\d+)\s*([A-Za-z]+)?")
 _ELAPSED = re.compile(r"([\d.]+)\s*s\s+elapsed")
 _REMAINING = re.compile(r"~?\s*([\d.]+)\s*s\s+remaining")
+# --time alone leaves out "/M": "osr-vk: 12 passes, 3.1 s elapsed, ~13.2 s remaining" (taken
+# only with "elapsed", so the summary line "osr-vk: 96x72, 16 spp in 0.63 s" is not progress).
+_UNBOUNDED = re.compile(r"^osr-vk:\s*(\d+)\s+([A-Za-z]+)")
+# A unit running in slices: "osr-vk: 0/32 passes (+40% of the next), ...".
+_PARTIAL = re.compile(r"\(\+(\d+)%\s+of\s+the\s+next\)")
 
 
 class Progress:
-    def __init__(self, done, total, unit, elapsed_s, remaining_s, line):
-        self.done, self.total, self.unit = done, total, unit
+    def __init__(self, done, total, unit, elapsed_s, remaining_s, line, partial=0.0):
+        self.done, self.total, self.unit = done, total, unit  # total 0: only --time bounds it
         self.elapsed_s, self.remaining_s, self.line = elapsed_s, remaining_s, line
+        self.partial = partial  # of the unit in progress, 0 to 1
 
     def fraction(self):
-        # Time-limited renders announce a huge unit target: then elapsed / (elapsed + remaining).
+        # Time-limited renders announce no or a huge unit target: then elapsed / (elapsed +
+        # remaining).
+        units = self.done + self.partial
         if self.elapsed_s is not None and self.remaining_s is not None:
             by_time = self.elapsed_s / max(self.elapsed_s + self.remaining_s, 1e-9)
             if self.total <= 0 or self.total >= 1 << 20:
                 return min(1.0, by_time)
-            return min(1.0, max(self.done / self.total, by_time))
-        return min(1.0, self.done / self.total) if self.total > 0 else 0.0
+            return min(1.0, max(units / self.total, by_time))
+        return min(1.0, units / self.total) if self.total > 0 else 0.0
 
 
 def parse_progress(line):
     """A Progress for an osr-vk progress line, None for any other line."""
     if not line.startswith("osr-vk:") or "warning" in line or "error" in line:
         return None
+    e, r, part = _ELAPSED.search(line), _REMAINING.search(line), _PARTIAL.search(line)
     m = _PROGRESS.search(line)
-    if not m:
-        return None
-    e, r = _ELAPSED.search(line), _REMAINING.search(line)
-    return Progress(int(m.group(1)), int(m.group(2)), m.group(3) or "",
-                    float(e.group(1)) if e else None, float(r.group(1)) if r else None, line)
+    if m:
+        done, total, unit = int(m.group(1)), int(m.group(2)), m.group(3) or ""
+    else:
+        m = _UNBOUNDED.search(line)
+        if not m or not e:
+            return None
+        done, total, unit = int(m.group(1)), 0, m.group(2)
+    return Progress(done, total, unit, float(e.group(1)) if e else None,
+                    float(r.group(1)) if r else None, line,
+                    min(1.0, int(part.group(1)) / 100.0) if part else 0.0)
 
 
 def find_executable(configured, addon_dir):

@@ -29,6 +29,14 @@ def main() -> int:
     # --time alone: a huge unit target, progress from the clock.
     p = process.parse_progress("osr-vk: 40/16777216 passes, 5.0 s elapsed, ~15.0 s remaining")
     check(p and abs(p.fraction() - 0.25) < 1e-9, "time-limited fraction")
+    # --time alone: no "/M" at all.
+    p = process.parse_progress("osr-vk: 7 passes, 3.0 s elapsed, ~1.0 s remaining")
+    check(p and (p.done, p.total, p.unit) == (7, 0, "passes"), "time-only line")
+    check(abs(p.fraction() - 0.75) < 1e-9, "time-only fraction %g" % p.fraction())
+    # A unit in slices: its share counts.
+    p = process.parse_progress("osr-vk: 0/2 passes (+40% of the next), 8.0 s elapsed, ~50.0 s remaining")
+    check(p and (p.done, p.total, p.partial) == (0, 2, 0.4), "partial unit")
+    check(abs(p.fraction() - 0.2) < 1e-9, "partial fraction %g" % p.fraction())
     # Reworded lines keep working as long as they say N/M.
     p = process.parse_progress("osr-vk: pass 3 / 32 (2.0 s elapsed)")
     check(p and (p.done, p.total) == (3, 32) and p.remaining_s is None, "reworded line")
