@@ -197,6 +197,8 @@ class OsrVkRenderEngine(bpy.types.RenderEngine):
         if code != 0:
             errors = [l for l in tail if "warning" not in l and process.parse_progress(l) is None]
             why = errors[-1] if errors else "exit code %d" % code
+            # The glTF is the add-on's temporary export, a path the user never chose.
+            why = why.replace(scene_export.gltf_path, "the exported scene")
             self.report({"ERROR"}, "osr-vk failed (exit %d): %s" % (code, why))
             return
         try:

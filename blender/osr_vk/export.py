@@ -309,6 +309,10 @@ def export(depsgraph, directory):
         raise ExportError("the scene has no active camera")
     if scene.camera.type != "CAMERA" or scene.camera.data.type != "PERSP":
         raise ExportError("camera %s: osr-vk renders perspective cameras only" % scene.camera.name)
+    geometry = ("MESH", "CURVE", "SURFACE", "META", "FONT")
+    if not any(obj.type in geometry or (obj.type == "LIGHT" and obj.data.type == "AREA")
+               for obj in _renderable_objects(depsgraph)):
+        raise ExportError("nothing to render: the scene has no visible mesh objects or area lights")
     warnings = survey(depsgraph)
     gltf_path = os.path.join(directory, "scene.gltf")
     _run_gltf_exporter(depsgraph, gltf_path)

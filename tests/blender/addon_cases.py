@@ -12,7 +12,9 @@
 # CASE border: resolution percentage, render region and two view layers.
 # CASE world: the world colour and image as --env files (export only).
 # CASE cycles: the area light's direct light against Cycles' (light units).
-# CASE failed: osr-vk exits with an error (a weights file that is not there): a report naming it.
+# CASE failed: osr-vk exits with an error (a weights file that is not there): a report naming it;
+#   a scene with nothing to render and one whose only mesh has no faces: reports that name no
+#   temporary file.
 # Failures raise (the exit code is 1); the driver checks the rest from the output.
 import json
 import os
@@ -208,8 +210,33 @@ def case_failed(executable, work):
         print("osr-vk test: report: %s" % e)
         if "osr-vk failed (exit 2)" not in str(e) or "missing.osrw" not in str(e):
             raise AssertionError("unexpected report: %s" % e)
+    else:
+        raise AssertionError("a failed osr-vk run reported no error")
+    # Nothing renderable: the export says so.
+    scene.osr_vk.weights = ""
+    for obj in list(scene.objects):
+        if obj.type != "CAMERA":
+            bpy.data.objects.remove(obj, do_unlink=True)
+    try:
+        bpy.ops.render.render()
+    except RuntimeError as e:
+        print("osr-vk test: report: %s" % e)
+        if "nothing to render" not in str(e):
+            raise AssertionError("unexpected report: %s" % e)
+    else:
+        raise AssertionError("an empty scene reported no error")
+    # A mesh without faces: osr-vk finds no triangles, and the report names no temporary file.
+    empty = bpy.data.objects.new("no_faces", bpy.data.meshes.new("no_faces"))
+    scene.collection.objects.link(empty)
+    try:
+        bpy.ops.render.render()
+    except RuntimeError as e:
+        print("osr-vk test: report: %s" % e)
+        if "osr-vk failed (exit 2)" not in str(e) or "the exported scene" not in str(e) \
+                or "scene.gltf" in str(e):
+            raise AssertionError("unexpected report: %s" % e)
         return
-    raise AssertionError("a failed osr-vk run reported no error")
+    raise AssertionError("a scene without triangles reported no error")
 
 
 def case_install(executable, work, addon_zip):
