@@ -33,6 +33,11 @@ namespace osr::app {
 
 namespace {
 
+// "1 pass", not "1 passes", where the count stands alone ("1/32 passes" reads "of 32").
+const char* unitWord(const char* unitName, uint32_t count) {
+  return count == 1 && std::string(unitName) == "passes" ? "pass" : unitName;
+}
+
 // One progress line on stderr: rewritten in place on a terminal, else at most every 5 s.
 // Format (parsed by front ends; README "Progress"): "osr-vk: U/T UNIT, E s elapsed, ~R s
 // remaining", where "/T" is left out when only --time bounds the render and " (+P% of the
@@ -51,7 +56,8 @@ class ProgressPrinter {
     if (p.unitFraction > 0.0)
       std::snprintf(partial, sizeof partial, " (+%.0f%% of the next)", 100.0 * p.unitFraction);
     std::fprintf(stderr, "%sosr-vk: %u%s %s%s, %.1f s elapsed, ~%.1f s remaining%s",
-                 tty_ ? "\r" : "", p.units, target.c_str(), p.unitName, partial, p.elapsedS,
+                 tty_ ? "\r" : "", p.units, target.c_str(),
+                 unitBound_ ? p.unitName : unitWord(p.unitName, p.units), partial, p.elapsedS,
                  p.remainingS, tty_ ? "   " : "\n");
     std::fflush(stderr);
     printed_ = true;
@@ -292,7 +298,7 @@ int runRender(const std::vector<std::string>& args) {
   if (dumpMaps) writeMapDump(*dumpMaps, osr->downloadMaps(), film);
   if (!quiet) {
     std::fprintf(stderr, "osr-vk: %ux%u, %u %s in %.2f s", imageWidth, imageHeight, stats.units,
-                 integrator->unitName(), stats.seconds);
+                 unitWord(integrator->unitName(), stats.units), stats.seconds);
     for (const auto& t : stats.gpuScopes)
       std::fprintf(stderr, ", %s %.0f ms", t.name.c_str(), t.ms);
     std::fputc('\n', stderr);
