@@ -189,54 +189,39 @@ def case_cancel(executable, work):
     print("osr-vk test: rendered again after the cancel")
 
 
-def case_missing(executable, work):
-    blender_scene.build_scene(os.path.join(work, "no-such-dir", "osr-vk"), WIDTH, HEIGHT)
+def _expect_report(accept, what):
+    """Renders, expecting a failure whose report `accept` (a function of its text) takes."""
     try:
         bpy.ops.render.render()
     except RuntimeError as e:
         print("osr-vk test: report: %s" % e)
-        if "osr-vk executable not found" not in str(e):
+        if not accept(str(e)):
             raise AssertionError("unexpected report: %s" % e)
         return
-    raise AssertionError("a render without osr-vk reported no error")
+    raise AssertionError("%s reported no error" % what)
+
+
+def case_missing(executable, work):
+    blender_scene.build_scene(os.path.join(work, "no-such-dir", "osr-vk"), WIDTH, HEIGHT)
+    _expect_report(lambda r: "osr-vk executable not found" in r, "a render without osr-vk")
 
 
 def case_failed(executable, work):
     scene = blender_scene.build_scene(executable, WIDTH, HEIGHT)
     scene.osr_vk.mode, scene.osr_vk.weights = "osr", os.path.join(work, "missing.osrw")
-    try:
-        bpy.ops.render.render()
-    except RuntimeError as e:
-        print("osr-vk test: report: %s" % e)
-        if "osr-vk failed (exit 2)" not in str(e) or "missing.osrw" not in str(e):
-            raise AssertionError("unexpected report: %s" % e)
-    else:
-        raise AssertionError("a failed osr-vk run reported no error")
+    _expect_report(lambda r: "osr-vk failed (exit 2)" in r and "missing.osrw" in r,
+                   "a failed osr-vk run")
     # Nothing renderable: the export says so.
     scene.osr_vk.weights = ""
     for obj in list(scene.objects):
         if obj.type != "CAMERA":
             bpy.data.objects.remove(obj, do_unlink=True)
-    try:
-        bpy.ops.render.render()
-    except RuntimeError as e:
-        print("osr-vk test: report: %s" % e)
-        if "nothing to render" not in str(e):
-            raise AssertionError("unexpected report: %s" % e)
-    else:
-        raise AssertionError("an empty scene reported no error")
+    _expect_report(lambda r: "nothing to render" in r, "an empty scene")
     # A mesh without faces: osr-vk finds no triangles, and the report names no temporary file.
     empty = bpy.data.objects.new("no_faces", bpy.data.meshes.new("no_faces"))
     scene.collection.objects.link(empty)
-    try:
-        bpy.ops.render.render()
-    except RuntimeError as e:
-        print("osr-vk test: report: %s" % e)
-        if "osr-vk failed (exit 2)" not in str(e) or "the exported scene" not in str(e) \
-                or "scene.gltf" in str(e):
-            raise AssertionError("unexpected report: %s" % e)
-        return
-    raise AssertionError("a scene without triangles reported no error")
+    _expect_report(lambda r: "osr-vk failed (exit 2)" in r and "the exported scene" in r
+                   and "scene.gltf" not in r, "a scene without triangles")
 
 
 def case_install(executable, work, addon_zip):
