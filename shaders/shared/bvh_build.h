@@ -9,7 +9,9 @@
 //   bvh_lbvh          hierarchy from the sorted codes (Karras 2012)
 //   bvh_refit         bounds, triangle counts, SAH costs and heights bottom-up (atomic counters)
 //   bvh_treelet_*     treelet restructuring (Karras & Aila 2013), level by level, several rounds
-//   bvh_emit          the traversal layout of shared/bvh.h, collapsing subtrees into leaves
+//   bvh_emit_nodes    the nodes of the traversal layout of shared/bvh.h (subtrees collapsed into
+//                     leaves), and where each leaf's triangles go
+//   bvh_emit_leaves   the leaf triangles, in place
 // Build nodes share one index space: interior nodes [0, N-1) (root 0), leaves [N-1, 2N-1) in
 // sorted order, in two arrays.
 //
@@ -60,7 +62,7 @@ struct BvhBuildNode {
 struct BvhBuildInfo {
   uvec4 centroidMin;  // ordered-uint encoded floats (bvhOrderedFromBits), xyz
   uvec4 centroidMax;
-  uint leafCounter;   // leaf entries emitted so far (bvh_emit)
+  uint leafCounter;   // leaf entries allocated so far (bvh_emit_nodes)
   uint _pad0;
   uint _pad1;
   uint _pad2;
@@ -86,8 +88,8 @@ struct BuildArrays {
   uvec2 prims;          // BvhLeafTriangle[triangleCount]: vertex copies in scene order
   uvec2 interior;       // BvhBuildNode[triangleCount - 1]
   uvec2 leaves;         // BvhBuildNode[triangleCount], sorted order
-  uvec2 nodes;          // out of bvh_emit: BvhNode[triangleCount - 1]
-  uvec2 leafTriangles;  // out of bvh_emit: BvhLeafTriangle[triangleCount]
+  uvec2 nodes;          // out of bvh_emit_nodes: BvhNode[triangleCount - 1]
+  uvec2 leafTriangles;  // out of bvh_emit_leaves: BvhLeafTriangle[triangleCount]
   uvec2 _pad0;
 };
 
@@ -194,10 +196,20 @@ struct DispatchArgs {
   uint z;
 };
 
-// bvh_emit: arrays interior, leaves, prims (in), nodes, leafTriangles (out); texel reads.
+// bvh_emit_nodes: arrays interior, leaves (texels), nodes (out); info, slots (out).
+// bvh_emit_leaves: arrays interior, leaves, prims (texels), leafTriangles (out); slots (through
+// the R32UI view where spec constant kEmitSpecSlotTexels is set, else the storage binding).
+// slots[i] (uint per interior node) tells where the triangles of interior node i's leaf-like
+// children go: bvhEmitSlot(first leaf entry of a's, entries of a's (0 when a is a node)); b's
+// follow a's. Unreachable nodes write garbage there, which no leaf reads.
 OSR_CONST(uint, kEmitBindingInfo, kBuildArrayBindingCount);
-OSR_CONST(uint, kEmitBindingTexels, kBuildArrayBindingCount + 1u);
+OSR_CONST(uint, kEmitBindingSlots, kBuildArrayBindingCount + 1u);
+OSR_CONST(uint, kEmitBindingSlotTexels, kBuildArrayBindingCount + 2u);
+OSR_CONST(uint, kEmitBindingTexels, kBuildArrayBindingCount + 3u);
 OSR_CONST(uint, kEmitBindingCount, kEmitBindingTexels + kBuildTexelBindingCount);
+OSR_CONST(uint, kEmitSpecSlotTexels, 5u);  // spec constant id: bool
+OSR_CONST(uint, kEmitSlotCountShift, 27u);  // above kBvhLeafFirstMask: first entries < 2^27
+OSR_BVH_FN uint bvhEmitSlot(uint first, uint countA) { return first | (countA << kEmitSlotCountShift); }
 
 // A float's bits mapped to a uint that orders like the float (atomicMin/Max on floats).
 OSR_BVH_FN uint bvhOrderedFromBits(uint bits) {

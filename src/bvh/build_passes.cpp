@@ -99,6 +99,11 @@ std::vector<vk::SpecConstant> texelSpec(const vk::Context& ctx, bool byAddress, 
   spec.push_back(vk::specUint(bb::kBuildSpecTexels, uint64_t(caps.maxTexelBufferElements) * 16 >= arrayBytes ? 1u : 0u));
   return spec;
 }
+// Whether an R32UI view reaches as far as a binding of the 4-byte-per-item arrays (keys, slots)
+// can (triangleLimit bounds them by maxStorageBufferRange): 128M texels on lavapipe against 32M.
+bool wordTexelsCoverBindings(const vk::Context& ctx) {
+  return uint64_t(ctx.caps().maxTexelBufferElements) * 4 >= ctx.caps().maxStorageBufferRange;
+}
 void bindTexels(vk::Binder& binder, uint32_t texelBase, const BuildTexelViews& views) {
   binder.setTexel(texelBase + bb::kBuildTexelInterior, views.interior)
       .setTexel(texelBase + bb::kBuildTexelLeaves, views.leaves)
@@ -219,12 +224,9 @@ std::vector<VkDescriptorType> lbvhTypes() {
   t[bb::kLbvhBindingKeyTexels] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
   return t;
 }
-// Key texels where a view reaches as far as a keys binding can (triangleLimit bounds the keys
-// by maxStorageBufferRange): 128M texels on lavapipe against 32M keys.
 std::vector<vk::SpecConstant> lbvhSpec(const vk::Context& ctx, bool byAddress) {
-  bool texels = uint64_t(ctx.caps().maxTexelBufferElements) * 4 >= ctx.caps().maxStorageBufferRange;
   std::vector<vk::SpecConstant> spec = texelSpec(ctx, byAddress, arraySpec(byAddress));
-  spec.push_back(vk::specUint(bb::kLbvhSpecKeyTexels, texels ? 1u : 0u));
+  spec.push_back(vk::specUint(bb::kLbvhSpecKeyTexels, wordTexelsCoverBindings(ctx) ? 1u : 0u));
   return spec;
 }
 }  // namespace
@@ -323,17 +325,43 @@ void TreeletPass::record(VkCommandBuffer cmd, const Args& a, vk::GpuTimer* timer
   }
 }
 
+namespace {
+std::vector<VkDescriptorType> emitTypes() {
+  std::vector<VkDescriptorType> t = texelTypes(bb::kEmitBindingCount, bb::kEmitBindingTexels);
+  t[bb::kEmitBindingSlotTexels] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+  return t;
+}
+std::vector<vk::SpecConstant> emitSpec(const vk::Context& ctx, bool byAddress) {
+  std::vector<vk::SpecConstant> spec = texelSpec(ctx, byAddress, arraySpec(byAddress));
+  spec.push_back(vk::specUint(bb::kEmitSpecSlotTexels, wordTexelsCoverBindings(ctx) ? 1u : 0u));
+  return spec;
+}
+}  // namespace
+
 EmitPass::EmitPass(const vk::Context& ctx, bool byAddress)
     : access_{&ctx, byAddress},
-      pipeline_(ctx, shaders::Id::bvh_emit, texelTypes(bb::kEmitBindingCount, bb::kEmitBindingTexels), sizeof(BuildPush),
-                texelSpec(ctx, byAddress, arraySpec(byAddress))) {}
+      nodes_(ctx, shaders::Id::bvh_emit_nodes, emitTypes(), sizeof(BuildPush), emitSpec(ctx, byAddress)),
+      leaves_(ctx, shaders::Id::bvh_emit_leaves, emitTypes(), sizeof(BuildPush), emitSpec(ctx, byAddress)) {}
 
-void EmitPass::record(VkCommandBuffer cmd, const Args& a) const {
-  vk::Binder binder(pipeline_);
-  BuildPush p = bindArrays(binder, access_, *a.arrays, a.triangleCount, 0);
-  bindTexels(binder, bb::kEmitBindingTexels, *a.texels);
-  binder.set(bb::kEmitBindingInfo, a.info).bind(cmd, p);
-  dispatchItems(pipeline_, cmd, std::max<uint32_t>(a.triangleCount - 1, 1));
+void EmitPass::record(VkCommandBuffer cmd, const Args& a, vk::GpuTimer* timer) const {
+  BuildPush p{};
+  // The two pipelines bind the same buffers at the same slots.
+  auto binder = [&](const vk::ComputePipeline& pipeline) {
+    vk::Binder b(pipeline);
+    p = bindArrays(b, access_, *a.arrays, a.triangleCount, 0);
+    b.set(bb::kEmitBindingInfo, a.info).set(bb::kEmitBindingSlots, a.slots).setTexel(bb::kEmitBindingSlotTexels, a.slotTexels);
+    bindTexels(b, bb::kEmitBindingTexels, *a.texels);
+    return b;
+  };
+  {
+    vk::TimedScope scope(timer, cmd, "bvh_emit_nodes");
+    binder(nodes_).bind(cmd, p);
+    dispatchItems(nodes_, cmd, std::max<uint32_t>(a.triangleCount - 1, 1));
+    vk::computeBarrier(cmd);
+  }
+  vk::TimedScope scope(timer, cmd, "bvh_emit_leaves");
+  binder(leaves_).bind(cmd, p);
+  dispatchItems(leaves_, cmd, a.triangleCount);
   vk::computeBarrier(cmd);
 }
 

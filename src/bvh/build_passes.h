@@ -180,22 +180,27 @@ class TreeletPass {
   vk::ComputePipeline count_, plan_, scatter_, treelet_;
 };
 
-// bvh_emit: traversal nodes and leaf triangles (info.leafCounter must be 0). Arrays: interior,
-// leaves, prims (in, through texels), nodes, leafTriangles (out).
+// bvh_emit_nodes, then bvh_emit_leaves: traversal nodes, then leaf triangles (info.leafCounter
+// must be 0). Arrays: interior, leaves, prims (in, through texels), nodes, leafTriangles (out).
 class EmitPass {
  public:
   EmitPass(const vk::Context& ctx, bool byAddress);
+  // Usage the slots buffer needs on top of storage use (its R32UI view, slotTexels).
+  static constexpr VkBufferUsageFlags kSlotsUsage = VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT;
   struct Args {
     const BuildArrayBuffers* arrays = nullptr;
     const BuildTexelViews* texels = nullptr;
     vk::BufferRange info;
+    vk::BufferRange slots;                     // scratch: uint per interior node
+    VkBufferView slotTexels = VK_NULL_HANDLE;  // R32UI view of slots (vk::BufferView::uintWords)
     uint32_t triangleCount = 0;
   };
-  void record(VkCommandBuffer cmd, const Args& args) const;
+  // `timer` (may be null) gets scopes "bvh_emit_nodes" and "bvh_emit_leaves".
+  void record(VkCommandBuffer cmd, const Args& args, vk::GpuTimer* timer = nullptr) const;
 
  private:
   ArrayAccess access_;
-  vk::ComputePipeline pipeline_;
+  vk::ComputePipeline nodes_, leaves_;
 };
 
 }  // namespace osr::bvh

@@ -86,7 +86,8 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
   vk::Buffer partials = scratch(ctx, ExclusiveScan::partialsBytes(uint32_t(histBytes / 4)), "bvh scan partials");
   vk::Buffer interior = scratch(ctx, interiorCount * nodeBytes, "bvh build interior", BuildTexelViews::kUsage);
   vk::Buffer leaves = scratch(ctx, n * nodeBytes, "bvh build leaves", BuildTexelViews::kUsage);
-  vk::Buffer counters = scratch(ctx, 4ull * interiorCount, "bvh climb counters");
+  // Climb counters of bvh_refit, then slots of the emit passes.
+  vk::Buffer counters = scratch(ctx, 4ull * interiorCount, "bvh climb counters", EmitPass::kSlotsUsage);
   vk::Buffer schedule = scratch(ctx, TreeletPass::scheduleBytes(), "bvh treelet schedule");
   vk::Buffer nodeList = scratch(ctx, 4ull * interiorCount, "bvh treelet node list");
   uint64_t scratchBytes = 0;
@@ -106,6 +107,7 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
   const vk::BufferView interiorTexels = vk::BufferView::uintTexels(ctx, interior, "bvh interior texels");
   const vk::BufferView leafTexels = vk::BufferView::uintTexels(ctx, leaves, "bvh leaf texels");
   const vk::BufferView primTexels = vk::BufferView::uintTexels(ctx, prims, "bvh prim texels");
+  const vk::BufferView slotTexels = vk::BufferView::uintWords(ctx, counters, "bvh emit slot texels");
   BuildTexelViews texels;
   texels.interior = interiorTexels.handle();
   texels.leaves = leafTexels.handle();
@@ -160,8 +162,7 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
       // improve most in the first round, later rounds polish the upper tree at less cost.
       passes.treelet.record(cmd, {&arrays, &texels, counters, &schedule, nodeList, n, options.treeletMinTriangles << round}, &timer);
     }
-    vk::TimedScope scope(&timer, cmd, "bvh_emit");
-    passes.emit.record(cmd, {&arrays, &texels, info, n});
+    passes.emit.record(cmd, {&arrays, &texels, info, counters, slotTexels.handle(), n}, &timer);
   };
 
   uint32_t rounds = options.treeletRounds;
