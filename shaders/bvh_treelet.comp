@@ -20,8 +20,9 @@ layout(constant_id = kTreeletSpecLeaves) const uint kTreeletLeaves = kTreeletMax
 
 const uint kSubsets = 1u << kTreeletMaxLeaves;
 
-// Treelet leaf slots: the node and the fields the dynamic program and the rewrite need, kept in
-// registers so that each node is read once (memory traffic, not arithmetic, dominates here).
+// Treelet leaf slots: the node and the fields that growing the treelet, the dynamic program and
+// the rewrite need, kept so that each node is read once (memory latency, not arithmetic,
+// dominates here).
 struct Slot {
   uint node;
   vec3 lo;
@@ -29,10 +30,11 @@ struct Slot {
   float cost;
   uint triangles;
   uint flags;
+  uint left;  // children, where node is interior
+  uint right;
 };
 
-Slot makeSlot(uint u) {
-  BvhBuildNode n = readNode(u);
+Slot makeSlot(uint u, BvhBuildNode n) {
   Slot s;
   s.node = u;
   s.lo = n.lo;
@@ -40,8 +42,11 @@ Slot makeSlot(uint u) {
   s.cost = n.cost;
   s.triangles = n.triangleCount;
   s.flags = n.flags;
+  s.left = n.left;
+  s.right = n.right;
   return s;
 }
+Slot readSlot(uint u) { return makeSlot(u, readNode(u)); }
 
 const uint kCollapseBit = 0x80000000u;  // in gSplit[]: the subset becomes one leaf
 
@@ -101,11 +106,11 @@ void treeletDpLoop(bool mayCollapseAll) {
 }
 #include "bvh_treelet_dp.glsl"
 
-// root: an interior node refitted from its children, rn: its fields.
-void restructure(uint root, BvhBuildNode rn) {
+// root: an interior node refitted from its children, rn: its fields; l, r: its children's.
+void restructure(uint root, BvhBuildNode rn, BvhBuildNode l, BvhBuildNode r) {
   uint interior[kTreeletMaxLeaves - 1u];
-  gSlots[0] = makeSlot(rn.left);
-  gSlots[1] = makeSlot(rn.right);
+  gSlots[0] = makeSlot(rn.left, l);
+  gSlots[1] = makeSlot(rn.right, r);
   interior[0] = root;
   uint nl = 2u, ni = 1u;
   while (nl < kTreeletLeaves) {
@@ -119,11 +124,10 @@ void restructure(uint root, BvhBuildNode rn) {
       }
     }
     if (best < 0) break;
-    uint expanded = gSlots[best].node;
-    BuildLinks e = readLinks(expanded);
-    interior[ni++] = expanded;
-    gSlots[best] = makeSlot(e.left);
-    gSlots[nl++] = makeSlot(e.right);
+    Slot expanded = gSlots[best];
+    interior[ni++] = expanded.node;
+    gSlots[best] = readSlot(expanded.left);
+    gSlots[nl++] = readSlot(expanded.right);
   }
   // A subtree with fewer leaves than a treelet (only below minTriangles < kTreeletLeaves) is
   // left as it is, so that the dynamic program runs the same code on every lane.
@@ -202,7 +206,8 @@ void main() {
   if (i >= level.count) return;
   uint node = gNodeList[level.offset + i];
   BvhBuildNode n = readInterior(node);
-  n = refitNode(n, readNode(n.left), readNode(n.right), node == 0u);
+  BvhBuildNode l = readNode(n.left), r = readNode(n.right);
+  n = refitNode(n, l, r, node == 0u);
   storeInterior(node, n);
-  restructure(node, n);
+  restructure(node, n, l, r);
 }
