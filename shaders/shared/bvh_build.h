@@ -118,11 +118,12 @@ OSR_CONST(uint, kBuildNodeTexels, 3u);  // 16-byte texels per BvhBuildNode
 OSR_CONST(uint, kBoundsBindingInfo, kBuildArrayBindingCount);
 OSR_CONST(uint, kBoundsBindingCount, kBuildArrayBindingCount + 1u);
 
-// bvh_morton: arrays prims.
+// bvh_morton: arrays prims (through texels).
 OSR_CONST(uint, kMortonBindingInfo, kBuildArrayBindingCount);
 OSR_CONST(uint, kMortonBindingKeys, kBuildArrayBindingCount + 1u);
 OSR_CONST(uint, kMortonBindingValues, kBuildArrayBindingCount + 2u);
-OSR_CONST(uint, kMortonBindingCount, kBuildArrayBindingCount + 3u);
+OSR_CONST(uint, kMortonBindingTexels, kBuildArrayBindingCount + 3u);
+OSR_CONST(uint, kMortonBindingCount, kMortonBindingTexels + kBuildTexelBindingCount);
 
 // Radix sort: each invocation owns a chunk of kRadixChunk consecutive keys and keeps its 256
 // digit counters in registers/private memory: no shared memory and no barriers, which lavapipe

@@ -62,12 +62,14 @@ class BoundsPass {
   vk::ComputePipeline pipeline_;
 };
 
-// bvh_morton: keys = Morton codes of the centroids, values = triangle indices. Arrays: prims.
+// bvh_morton: keys = Morton codes of the centroids, values = triangle indices. Arrays: prims
+// (through texels).
 class MortonPass {
  public:
   MortonPass(const vk::Context& ctx, bool byAddress);
   struct Args {
     const BuildArrayBuffers* arrays = nullptr;
+    const BuildTexelViews* texels = nullptr;
     vk::BufferRange info, keys, values;
     uint32_t triangleCount = 0;
   };

@@ -172,7 +172,7 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
     }
     {
       vk::TimedScope scope(&timer, cmd, "bvh_morton");
-      passes.morton.record(cmd, {&arrays, info, keys, values, n});
+      passes.morton.record(cmd, {&arrays, &texels, info, keys, values, n});
     }
     passes.sort.record(cmd, {keys, values, keysTmp, valuesTmp, hist, partials, n}, &timer);
     {

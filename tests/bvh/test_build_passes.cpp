@@ -10,6 +10,7 @@
 
 #include "bvh/build_passes.h"
 #include "bvh/synthetic_mesh.h"
+#include "vk/buffer_view.h"
 #include "common/vk_test.h"
 
 using namespace osr;
@@ -49,7 +50,14 @@ TEST(BuildPasses, BoundsAndMortonMatchTheCpuTwin) {
     vk::Buffer tris = deviceBuffer(ctx, m.triangles.size() * 16, "tris");
     verts.uploadVector(m.vertices);
     tris.uploadVector(m.triangles);
-    vk::Buffer prims = deviceBuffer(ctx, count * 48ull, "prims");
+    vk::Buffer prims(ctx, count * 48ull, vk::MemoryUse::DeviceLocal, "prims", bvh::BuildTexelViews::kUsage);
+    // bvh_morton reads prims through a texel view; it binds but reads no interior or leaf nodes.
+    vk::Buffer noNodes(ctx, sizeof(bb::BvhBuildNode), vk::MemoryUse::DeviceLocal, "no nodes", bvh::BuildTexelViews::kUsage);
+    vk::BufferView primTexels = vk::BufferView::uintTexels(ctx, prims, "prim texels");
+    vk::BufferView noNodeTexels = vk::BufferView::uintTexels(ctx, noNodes, "no node texels");
+    bvh::BuildTexelViews texels;
+    texels.prims = primTexels.handle();
+    texels.interior = texels.leaves = noNodeTexels.handle();
     vk::Buffer info = deviceBuffer(ctx, sizeof(bb::BvhBuildInfo), "info");
     vk::Buffer keys = deviceBuffer(ctx, count * 4ull, "keys"), values = deviceBuffer(ctx, count * 4ull, "values");
     bb::BvhBuildInfo init{};
@@ -68,7 +76,7 @@ TEST(BuildPasses, BoundsAndMortonMatchTheCpuTwin) {
     bvh::MortonPass morton(ctx, byAddress);
     ctx.submitAndWait([&](VkCommandBuffer cmd) {
       bounds.record(cmd, {&arrays, info, count});
-      morton.record(cmd, {&arrays, info, keys, values, count});
+      morton.record(cmd, {&arrays, &texels, info, keys, values, count});
     });
     // CPU twin.
     glm::vec3 lo(big), hi(small);
