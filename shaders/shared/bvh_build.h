@@ -134,13 +134,19 @@ OSR_CONST(uint, kRadixBits, 8u);
 OSR_CONST(uint, kRadixBins, 256u);
 OSR_CONST(uint, kRadixChunk, 512u);
 OSR_CONST(uint, kRadixKeyBits, 30u);
+// Each invocation reads its own chunk, so the lanes' reads are scattered: where spec constant
+// kRadixSpecTexels is set they come from R32UI views of the input keys and values (on lavapipe a
+// gather, where a storage load is a loop over the lanes), else from the storage bindings. Both
+// passes share one binding list.
 OSR_CONST(uint, kRadixBindingKeysIn, 0u);
 OSR_CONST(uint, kRadixBindingValuesIn, 1u);
 OSR_CONST(uint, kRadixBindingHist, 2u);
 OSR_CONST(uint, kRadixBindingKeysOut, 3u);
 OSR_CONST(uint, kRadixBindingValuesOut, 4u);
-OSR_CONST(uint, kRadixHistogramBindingCount, 3u);  // keys, values (unused), hist
-OSR_CONST(uint, kRadixScatterBindingCount, 5u);
+OSR_CONST(uint, kRadixBindingKeyTexelsIn, 5u);
+OSR_CONST(uint, kRadixBindingValueTexelsIn, 6u);
+OSR_CONST(uint, kRadixBindingCount, 7u);
+OSR_CONST(uint, kRadixSpecTexels, 6u);  // spec constant id: bool
 
 // Exclusive scan in three dispatches: per-segment sums, a serial scan of the sums by one
 // invocation, per-segment scans. triangleCount = element count, param = segment count.

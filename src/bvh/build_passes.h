@@ -102,12 +102,17 @@ class RadixSort {
  public:
   explicit RadixSort(const vk::Context& ctx);
   static uint64_t histogramBytes(uint32_t count);
+  // Usage keys, values and their scratch twins need on top of storage use (their R32UI views).
+  static constexpr VkBufferUsageFlags kUsage = VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT;
   struct Args {
     vk::BufferRange keys, values;        // in/out
     vk::BufferRange keysTmp, valuesTmp;  // scratch, same sizes
     vk::BufferRange histogram;           // scratch: histogramBytes(count)
     vk::BufferRange partials;            // scratch: ExclusiveScan::partialsBytes(histogram words)
     uint32_t count = 0;
+    // R32UI views (vk::BufferView::uintWords) of keys, values, keysTmp, valuesTmp.
+    VkBufferView keyTexels = VK_NULL_HANDLE, valueTexels = VK_NULL_HANDLE;
+    VkBufferView keyTmpTexels = VK_NULL_HANDLE, valueTmpTexels = VK_NULL_HANDLE;
   };
   // `timer` (may be null) gets scopes "bvh_radix_histogram", "bvh_scan", "bvh_radix_scatter".
   void record(VkCommandBuffer cmd, const Args& args, vk::GpuTimer* timer = nullptr) const;
@@ -122,8 +127,6 @@ class RadixSort {
 class LbvhPass {
  public:
   LbvhPass(const vk::Context& ctx, bool byAddress);
-  // Usage the keys buffer needs on top of storage use (its R32UI view, keyTexels).
-  static constexpr VkBufferUsageFlags kKeysUsage = VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT;
   struct Args {
     const BuildArrayBuffers* arrays = nullptr;
     const BuildTexelViews* texels = nullptr;

@@ -53,8 +53,10 @@ struct GpuBuilder::Scratch {
   uint32_t capacity;
   vk::Buffer prims, info, keys, keysTmp, values, valuesTmp, hist, partials, interior, leaves, counters, schedule,
       nodeList;
-  // keys: where the sort leaves them (an even number of rounds), for bvh_lbvh's texel reads.
-  vk::BufferView keyTexels, interiorTexels, leafTexels, primTexels, slotTexels;
+  // Of keys, values and their scratch twins for the sort; keys (where the sort leaves them) also
+  // for bvh_lbvh.
+  vk::BufferView keyTexels, valueTexels, keyTmpTexels, valueTmpTexels;
+  vk::BufferView interiorTexels, leafTexels, primTexels, slotTexels;
   uint64_t bytes = 0;
 
   Scratch(const vk::Context& ctx, uint32_t n) : capacity(n) {
@@ -63,10 +65,10 @@ struct GpuBuilder::Scratch {
     const uint64_t histBytes = RadixSort::histogramBytes(n);
     prims = scratch(ctx, uint64_t(n) * sizeof(gpu::bvh::BvhLeafTriangle), "bvh prims", BuildTexelViews::kUsage);
     info = scratch(ctx, sizeof(bb::BvhBuildInfo), "bvh build info");
-    keys = scratch(ctx, 4ull * n, "bvh keys", LbvhPass::kKeysUsage);
-    keysTmp = scratch(ctx, 4ull * n, "bvh keys tmp");
-    values = scratch(ctx, 4ull * n, "bvh values");
-    valuesTmp = scratch(ctx, 4ull * n, "bvh values tmp");
+    keys = scratch(ctx, 4ull * n, "bvh keys", RadixSort::kUsage);
+    keysTmp = scratch(ctx, 4ull * n, "bvh keys tmp", RadixSort::kUsage);
+    values = scratch(ctx, 4ull * n, "bvh values", RadixSort::kUsage);
+    valuesTmp = scratch(ctx, 4ull * n, "bvh values tmp", RadixSort::kUsage);
     hist = scratch(ctx, histBytes, "bvh radix histogram");
     partials = scratch(ctx, ExclusiveScan::partialsBytes(uint32_t(histBytes / 4)), "bvh scan partials");
     interior = scratch(ctx, interiorCount * nodeBytes, "bvh build interior", BuildTexelViews::kUsage);
@@ -79,6 +81,9 @@ struct GpuBuilder::Scratch {
                                 &leaves, &counters, &schedule, &nodeList})
       bytes += b->size();
     keyTexels = vk::BufferView::uintWords(ctx, keys, "bvh key texels");
+    valueTexels = vk::BufferView::uintWords(ctx, values, "bvh value texels");
+    keyTmpTexels = vk::BufferView::uintWords(ctx, keysTmp, "bvh key tmp texels");
+    valueTmpTexels = vk::BufferView::uintWords(ctx, valuesTmp, "bvh value tmp texels");
     interiorTexels = vk::BufferView::uintTexels(ctx, interior, "bvh interior texels");
     leafTexels = vk::BufferView::uintTexels(ctx, leaves, "bvh leaf texels");
     primTexels = vk::BufferView::uintTexels(ctx, prims, "bvh prim texels");
@@ -174,7 +179,10 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
       vk::TimedScope scope(&timer, cmd, "bvh_morton");
       passes.morton.record(cmd, {&arrays, &texels, info, keys, values, n});
     }
-    passes.sort.record(cmd, {keys, values, keysTmp, valuesTmp, hist, partials, n}, &timer);
+    passes.sort.record(cmd,
+                       {keys, values, keysTmp, valuesTmp, hist, partials, n, sc.keyTexels.handle(),
+                        sc.valueTexels.handle(), sc.keyTmpTexels.handle(), sc.valueTmpTexels.handle()},
+                       &timer);
     {
       vk::TimedScope scope(&timer, cmd, "bvh_lbvh");
       passes.lbvh.record(cmd, {&arrays, &texels, keys, values, sc.keyTexels.handle(), n});

@@ -136,14 +136,20 @@ TEST(BuildPasses, RadixSortIsAStableSortOf30BitKeys) {
       values[i] = i;
     }
     uint64_t bytes = count * 4ull;
-    vk::Buffer k = deviceBuffer(ctx, bytes, "k"), v = deviceBuffer(ctx, bytes, "v");
-    vk::Buffer kt = deviceBuffer(ctx, bytes, "kt"), vt = deviceBuffer(ctx, bytes, "vt");
+    auto sortBuffer = [&](const char* name) {
+      return vk::Buffer(ctx, bytes, vk::MemoryUse::DeviceLocal, name, bvh::RadixSort::kUsage);
+    };
+    vk::Buffer k = sortBuffer("k"), v = sortBuffer("v"), kt = sortBuffer("kt"), vt = sortBuffer("vt");
+    vk::BufferView kView = vk::BufferView::uintWords(ctx, k, "k texels"), vView = vk::BufferView::uintWords(ctx, v, "v texels");
+    vk::BufferView ktView = vk::BufferView::uintWords(ctx, kt, "kt texels"), vtView = vk::BufferView::uintWords(ctx, vt, "vt texels");
     uint64_t histBytes = bvh::RadixSort::histogramBytes(count);
     vk::Buffer hist = deviceBuffer(ctx, histBytes, "hist");
     vk::Buffer partials = deviceBuffer(ctx, bvh::ExclusiveScan::partialsBytes(uint32_t(histBytes / 4)), "partials");
     k.uploadVector(keys);
     v.uploadVector(values);
-    ctx.submitAndWait([&](VkCommandBuffer cmd) { sort.record(cmd, {k, v, kt, vt, hist, partials, count}); });
+    ctx.submitAndWait([&](VkCommandBuffer cmd) {
+      sort.record(cmd, {k, v, kt, vt, hist, partials, count, kView.handle(), vView.handle(), ktView.handle(), vtView.handle()});
+    });
     std::vector<uint32_t> order(count);
     std::iota(order.begin(), order.end(), 0u);
     std::stable_sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return keys[a] < keys[b]; });
