@@ -179,29 +179,37 @@ OSR_CONST(uint, kRefitBindingCount, kRefitBindingTexels + kBuildTexelBindingCoun
 // indirect dispatch per height processes a bucket with every SIMD lane busy. Nodes of one
 // height are disjoint subtrees, and everything below a node has a smaller height, so a node is
 // restructured after all of its descendants without any invocation waiting for another.
-//   bvh_treelet_count   levels[h].count per height        (param = minTriangles)
-//   bvh_treelet_plan    offsets, cursors, indirect dispatch arguments per height (1 invocation)
-//   bvh_treelet_scatter node lists per height             (param = minTriangles)
+//   bvh_treelet_count   banks[b][h].count per bank and height   (param = minTriangles)
+//   bvh_treelet_plan    levels[h] (count, offset), bank cursors, indirect dispatch arguments
+//                       per height (1 invocation)
+//   bvh_treelet_scatter node lists per height                   (param = minTriangles)
 //   bvh_treelet         restructures the nodes of one height (param = height)
+// Counting and appending go to one of kTreeletBanks copies of the per-height counters, picked
+// by workgroup: with one copy, lavapipe's two threads took its cache line from each other for
+// every atomic, which was most of the counting and appending passes' time.
 OSR_CONST(uint, kTreeletMaxLeaves, 7u);   // 2^7 subsets per dynamic program
 OSR_CONST(uint, kTreeletSpecLeaves, 0u);  // spec constant id: leaves per treelet (3..7)
 // Heights scheduled; a taller tree exceeds kBvhMaxDepth anyway and is rebuilt without treelets.
 OSR_CONST(uint, kTreeletMaxLevels, 128u);
-OSR_CONST(uint, kTreeletBindingSchedule, kBuildArrayBindingCount + 1u);  // TreeletLevel[kTreeletMaxLevels], then DispatchArgs[kTreeletMaxLevels]
+OSR_CONST(uint, kTreeletBanks, 16u);
+// TreeletLevel[kTreeletMaxLevels], DispatchArgs[kTreeletMaxLevels], then per bank b and height
+// h at [b * kTreeletMaxLevels + h] a uvec2: the count, and the cursor (next free list entry).
+OSR_CONST(uint, kTreeletBindingSchedule, kBuildArrayBindingCount + 1u);
 OSR_CONST(uint, kTreeletBindingNodeList, kBuildArrayBindingCount + 2u);  // uint per interior node
 OSR_CONST(uint, kTreeletBindingTexels, kBuildArrayBindingCount + 3u);  // bvh_treelet's texel reads
 OSR_CONST(uint, kTreeletBindingCount, kTreeletBindingTexels + kBuildTexelBindingCount);
 struct TreeletLevel {
-  uint count;
-  uint offset;
-  uint cursor;
+  uint count;   // nodes of this height this round
+  uint offset;  // where they start in the node list
   uint _pad0;
+  uint _pad1;
 };
 struct DispatchArgs {
   uint x;
   uint y;
   uint z;
 };
+
 
 // bvh_emit_nodes: arrays interior, leaves (texels), nodes (out); info, slots (out).
 // bvh_emit_leaves: arrays interior, leaves, prims (texels), leafTriangles (out); slots (through

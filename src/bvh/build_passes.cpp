@@ -296,7 +296,8 @@ TreeletPass::TreeletPass(const vk::Context& ctx, uint32_t treeletLeaves, bool by
 }
 
 uint64_t TreeletPass::scheduleBytes() {
-  return bb::kTreeletMaxLevels * (sizeof(bb::TreeletLevel) + sizeof(bb::DispatchArgs));
+  return bb::kTreeletMaxLevels * (sizeof(bb::TreeletLevel) + sizeof(bb::DispatchArgs)) +
+         bb::kTreeletBanks * bb::kTreeletMaxLevels * sizeof(glm::uvec2);
 }
 
 void TreeletPass::record(VkCommandBuffer cmd, const Args& a, vk::GpuTimer* timer) const {
