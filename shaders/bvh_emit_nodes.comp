@@ -4,10 +4,10 @@
 // node i (root 0). Nodes that are collapsed, or lie below a collapsed node, are unreachable:
 // they allocate nothing, and what they write is never read. Each child that is a leaf or a
 // collapsed subtree becomes a leaf: the leaf entries of a, then b, are allocated with an atomic
-// counter (once per subgroup), and bvh_emit_leaves copies the triangles there
+// counter (once per workgroup), and bvh_emit_leaves copies the triangles there
 // (bvhEmitSlot in shared/bvh_build.h: where they start, and how many are a's).
-// Every lane stores (no store under a partial lane mask: on lavapipe that is a test-and-branch
-// per lane).
+// Every lane but those past the last node stores (no store under a partial lane mask: on
+// lavapipe that is a test-and-branch per lane).
 // Inputs: build nodes, info.leafCounter = 0. Outputs: nodes, slots.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
@@ -30,14 +30,27 @@ uint childRef(uint u, BvhBuildNode n, uint slot) {
   return kBvhLeafFlag | (n.triangleCount << kBvhLeafCountShift) | slot;
 }
 
-// Leaf entries for `count` triangles: one atomic per subgroup instead of one per invocation
-// (a single counter that every invocation hits serialises on lavapipe's two threads).
+// Leaf entries for `count` triangles: one atomic per workgroup (a single counter that every
+// subgroup hits moves its cache line between lavapipe's two threads on every atomic). Called in
+// uniform control flow by the whole workgroup.
+shared uint sSubgroupFirst[kWorkgroupSize];  // per subgroup: its first entry
 uint allocateLeafEntries(uint count) {
   uint offset = subgroupExclusiveAdd(count);
   uint total = subgroupAdd(count);
-  uint base = 0u;
-  if (subgroupElect()) base = atomicAdd(gInfo.leafCounter, total);
-  return subgroupBroadcastFirst(base) + offset;
+  if (subgroupElect()) sSubgroupFirst[gl_SubgroupID] = total;
+  barrier();
+  if (gl_LocalInvocationIndex == 0u) {
+    uint sum = 0u;
+    for (uint s = 0u; s < gl_NumSubgroups; ++s) {
+      uint t = sSubgroupFirst[s];
+      sSubgroupFirst[s] = sum;
+      sum += t;
+    }
+    uint base = atomicAdd(gInfo.leafCounter, sum);
+    for (uint s = 0u; s < gl_NumSubgroups; ++s) sSubgroupFirst[s] += base;
+  }
+  barrier();
+  return sSubgroupFirst[gl_SubgroupID] + offset;
 }
 
 void main() {
@@ -59,9 +72,10 @@ void main() {
     storeNode(0u, root);
     return;
   }
-  if (i >= n - 1u) return;
-  BuildLinks node = readLinks(i);
-  bool live = (node.flags & kFlagCollapsed) == 0u;
+  // Past the last node: no leaf entries, no stores, but through the allocation's barriers.
+  bool inRange = i < n - 1u;
+  BuildLinks node = readLinks(min(i, n - 2u));
+  bool live = inRange && (node.flags & kFlagCollapsed) == 0u;
   // Only subtrees of at most kBvhMaxLeafTriangles collapse, so only such ancestors matter.
   for (uint p = node.parent; live && node.triangleCount <= kBvhMaxLeafTriangles && p != kInvalidNode;) {
     BuildLinks a = readLinks(p);
@@ -82,6 +96,7 @@ void main() {
   out_.b = childRef(node.right, r, slot + countA);
   out_._pad0 = 0u;
   out_._pad1 = 0u;
+  if (!inRange) return;
   storeNode(i, out_);
   gSlots[i] = bvhEmitSlot(slot, countA);
 }
