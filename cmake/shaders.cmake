@@ -3,11 +3,22 @@
 # plus generated/shaders/shader_id.h, the enum listing them and the lookup function.
 # Modules keep their OpName/OpMemberName debug names (no -g0): tests/vk/test_shared_layout.cpp
 # reads the struct layouts the shaders use from them; drivers ignore names.
+# GLSL that a script in tools/ writes (generated/glsl, on the include path): the unrolled
+# treelet dynamic program (tools/gen_treelet_dp.py says why).
+find_package(Python3 3.9 REQUIRED COMPONENTS Interpreter)
 function(osr_compile_shaders target dir)
   file(GLOB comps CONFIGURE_DEPENDS ${dir}/*.comp)
   file(GLOB_RECURSE headers CONFIGURE_DEPENDS ${dir}/*.h ${dir}/*.glsl)
   set(gen ${CMAKE_CURRENT_BINARY_DIR}/generated/shaders)
   file(MAKE_DIRECTORY ${gen})
+  set(glslGen ${CMAKE_CURRENT_BINARY_DIR}/generated/glsl)
+  set(treeletDp ${glslGen}/bvh_treelet_dp.glsl)
+  add_custom_command(OUTPUT ${treeletDp}
+    COMMAND Python3::Interpreter ${PROJECT_SOURCE_DIR}/tools/gen_treelet_dp.py --output ${treeletDp}
+    DEPENDS ${PROJECT_SOURCE_DIR}/tools/gen_treelet_dp.py
+    COMMENT "gen_treelet_dp.py"
+    VERBATIM)
+  list(APPEND headers ${treeletDp})
   set(sources "")
   set(enumEntries "")
   set(tableEntries "")
@@ -18,7 +29,7 @@ function(osr_compile_shaders target dir)
     set(out ${gen}/${name}.spv.h)
     # Every shared header is a dependency: cheap at this size and never stale.
     add_custom_command(OUTPUT ${out}
-      COMMAND ${GLSLANG_VALIDATOR} --quiet --target-env vulkan1.2 -V -I${dir}
+      COMMAND ${GLSLANG_VALIDATOR} --quiet --target-env vulkan1.2 -V -I${dir} -I${glslGen}
               --vn spv_${name} -o ${out} ${comp}
       DEPENDS ${comp} ${headers}
       COMMENT "glslang ${name}.comp"

@@ -1,9 +1,10 @@
 #version 460
 // bvh_bounds: for each triangle, a copy of its world-space vertices (BvhLeafTriangle, scene
 // index in v0.w) and the scene's centroid bounds: subgroup min/max, then one atomic per
-// subgroup on order-preserving uints (bvhOrderedFromBits). Inputs: scene triangles and vertices
-// (lib/bvh_build_arrays.glsl). Outputs: prims, info.centroidMin/Max,
-// which the caller has set to the empty box. Precondition: vertex indices in range.
+// subgroup and axis where that grows the box, on order-preserving uints (bvhOrderedFromBits).
+// Inputs: scene triangles and vertices (lib/bvh_build_arrays.glsl). Outputs: prims,
+// info.centroidMin/Max, which the caller has set to the empty box. Precondition: vertex indices
+// in range.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
 #include "lib/bvh_build_arrays.glsl"
@@ -26,10 +27,14 @@ void main() {
   }
   cmin = subgroupMin(cmin);
   cmax = subgroupMax(cmax);
+  // An atomic only where the box grows past what was read: the bounds only grow, so a skipped
+  // atomic could not have changed them. Most subgroups then only read the shared cache line
+  // instead of taking it from the other thread for a compare-and-swap loop.
   if (subgroupElect()) {
     for (int k = 0; k < 3; ++k) {
-      atomicMin(gInfo.centroidMin[k], bvhOrderedFromBits(floatBitsToUint(cmin[k])));
-      atomicMax(gInfo.centroidMax[k], bvhOrderedFromBits(floatBitsToUint(cmax[k])));
+      uint lo = bvhOrderedFromBits(floatBitsToUint(cmin[k])), hi = bvhOrderedFromBits(floatBitsToUint(cmax[k]));
+      if (lo < gInfo.centroidMin[k]) atomicMin(gInfo.centroidMin[k], lo);
+      if (hi > gInfo.centroidMax[k]) atomicMax(gInfo.centroidMax[k], hi);
     }
   }
 }

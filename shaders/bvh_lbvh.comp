@@ -22,13 +22,17 @@ uint sortedKey(int i) {
   return gKeys[i];
 }
 
-// Length of the common prefix of (key, index) at sorted positions i and j; -1 outside.
-int delta(int i, int j) {
+// This invocation's sorted position and key (read once: every delta() compares against it).
+int gI;
+uint gKeyI;
+
+// Length of the common prefix of (key, index) at sorted positions gI and j; -1 outside.
+int delta(int j) {
   int n = int(gPush.triangleCount);
   if (j < 0 || j >= n) return -1;
-  uint a = sortedKey(i), b = sortedKey(j);
-  if (a != b) return 31 - findMSB(a ^ b);
-  return 32 + 31 - findMSB(uint(i ^ j));
+  uint b = sortedKey(j);
+  if (gKeyI != b) return 31 - findMSB(gKeyI ^ b);
+  return 32 + 31 - findMSB(uint(gI ^ j));
 }
 
 void initSortedLeaf(uint i) {
@@ -55,19 +59,22 @@ void main() {
   if (gi == 0u) setParent(0u, kInvalidNode);  // the root: interior 0, or leaf 0 when n == 1
   if (gi + 1u >= n) return;  // n - 1 interior nodes
   int i = int(gi);
-  int d = delta(i, i + 1) - delta(i, i - 1) >= 0 ? 1 : -1;
-  int dMin = delta(i, i - d);
+  gI = i;
+  gKeyI = sortedKey(i);
+  int d = delta(i + 1) - delta(i - 1) >= 0 ? 1 : -1;
+  int dMin = delta(i - d);
   int lMax = 2;
-  while (delta(i, i + lMax * d) > dMin) lMax *= 2;
+  while (delta(i + lMax * d) > dMin) lMax *= 2;
   int l = 0;
   for (int t = lMax / 2; t >= 1; t /= 2)
-    if (delta(i, i + (l + t) * d) > dMin) l += t;
+    if (delta(i + (l + t) * d) > dMin) l += t;
   int j = i + l * d;
-  int dNode = delta(i, j);
+  int dNode = delta(j);
   int s = 0;
-  for (int div = 2;; div *= 2) {
-    int t = (l + div - 1) / div;
-    if (delta(i, i + (s + t) * d) > dNode) s += t;
+  // t = ceil(l / 2^k) by shifts: a division by a variable is a scalar idiv per lane on lavapipe.
+  for (int k = 1;; ++k) {
+    int t = (l + (1 << k) - 1) >> k;
+    if (delta(i + (s + t) * d) > dNode) s += t;
     if (t <= 1) break;
   }
   int gamma = i + s * d + min(d, 0);

@@ -8,7 +8,14 @@
 layout(local_size_x = kWorkgroupSize) in;
 layout(std430, binding = kRadixBindingKeysIn) readonly buffer Keys { uint gKeys[]; };
 layout(std430, binding = kRadixBindingHist) writeonly buffer Hist { uint gHist[]; };
+layout(binding = kRadixBindingKeyTexelsIn) uniform usamplerBuffer gKeyTexels;
 layout(push_constant) uniform PushBlock { BuildPush gPush; };
+layout(constant_id = kRadixSpecTexels) const bool kTexels = false;
+
+uint keyAt(uint i) {
+  if (kTexels) return texelFetch(gKeyTexels, int(i)).x;
+  return gKeys[i];
+}
 
 void main() {
   uint chunk = gl_GlobalInvocationID.x;
@@ -18,6 +25,6 @@ void main() {
   for (uint d = 0u; d < kRadixBins; ++d) counts[d] = 0u;
   uint begin = chunk * kRadixChunk;
   uint end = min(begin + kRadixChunk, gPush.triangleCount);
-  for (uint i = begin; i < end; ++i) counts[(gKeys[i] >> gPush.param) & (kRadixBins - 1u)]++;
+  for (uint i = begin; i < end; ++i) counts[(keyAt(i) >> gPush.param) & (kRadixBins - 1u)]++;
   for (uint d = 0u; d < kRadixBins; ++d) gHist[d * chunkCount + chunk] = counts[d];
 }

@@ -11,7 +11,19 @@ layout(std430, binding = kRadixBindingValuesIn) readonly buffer ValuesIn { uint 
 layout(std430, binding = kRadixBindingHist) readonly buffer Hist { uint gHist[]; };
 layout(std430, binding = kRadixBindingKeysOut) writeonly buffer KeysOut { uint gKeysOut[]; };
 layout(std430, binding = kRadixBindingValuesOut) writeonly buffer ValuesOut { uint gValuesOut[]; };
+layout(binding = kRadixBindingKeyTexelsIn) uniform usamplerBuffer gKeyTexels;
+layout(binding = kRadixBindingValueTexelsIn) uniform usamplerBuffer gValueTexels;
 layout(push_constant) uniform PushBlock { BuildPush gPush; };
+layout(constant_id = kRadixSpecTexels) const bool kTexels = false;
+
+uint keyAt(uint i) {
+  if (kTexels) return texelFetch(gKeyTexels, int(i)).x;
+  return gKeysIn[i];
+}
+uint valueAt(uint i) {
+  if (kTexels) return texelFetch(gValueTexels, int(i)).x;
+  return gValuesIn[i];
+}
 
 void main() {
   uint chunk = gl_GlobalInvocationID.x;
@@ -22,9 +34,9 @@ void main() {
   uint begin = chunk * kRadixChunk;
   uint end = min(begin + kRadixChunk, gPush.triangleCount);
   for (uint i = begin; i < end; ++i) {
-    uint key = gKeysIn[i];
+    uint key = keyAt(i);
     uint pos = offsets[(key >> gPush.param) & (kRadixBins - 1u)]++;
     gKeysOut[pos] = key;
-    gValuesOut[pos] = gValuesIn[i];
+    gValuesOut[pos] = valueAt(i);
   }
 }

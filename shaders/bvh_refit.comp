@@ -4,7 +4,7 @@
 // invocation to arrive (atomic counter) stops and the second refits it, so every node is
 // refitted once, after both children, and no invocation ever waits for another.
 // Each climbing invocation keeps the node it comes from in registers and reads only the
-// sibling: leaves and the links of every node (bvh_lbvh's, which this pass rewrites unchanged)
+// sibling: leaves and the links of every node (bvh_lbvh's, which this pass leaves as they are)
 // through texels, interior siblings (refitted in this dispatch) from the coherent array.
 // Inputs: lbvh topology, leaf fields; counters zeroed. Output: interior node fields.
 #extension GL_GOOGLE_include_directive : require
@@ -15,9 +15,10 @@ layout(local_size_x = kWorkgroupSize) in;
 #define OSR_BUILD_TEXEL_BINDING kRefitBindingTexels
 #include "lib/bvh_build_texels.glsl"
 
+// Only the fields refitNode reads.
 BvhBuildNode sibling(uint u) {
   if (isLeafNode(u)) return readNode(u);
-  return loadInterior(u);
+  return loadInteriorSums(u);
 }
 
 void main() {
@@ -38,7 +39,7 @@ void main() {
     bool fromLeft = links.left == u;
     BvhBuildNode other = sibling(fromLeft ? links.right : links.left);
     pn = fromLeft ? refitNode(pn, node, other, p == 0u) : refitNode(pn, other, node, p == 0u);
-    storeInterior(p, pn);
+    storeInteriorSums(p, pn);  // the links are bvh_lbvh's
     node = pn;
     u = p;
     p = links.parent;

@@ -20,8 +20,9 @@ layout(constant_id = kTreeletSpecLeaves) const uint kTreeletLeaves = kTreeletMax
 
 const uint kSubsets = 1u << kTreeletMaxLeaves;
 
-// Treelet leaf slots: the node and the fields the dynamic program and the rewrite need, kept in
-// registers so that each node is read once (memory traffic, not arithmetic, dominates here).
+// Treelet leaf slots: the node and the fields that growing the treelet, the dynamic program and
+// the rewrite need, kept so that each node is read once (memory latency, not arithmetic,
+// dominates here).
 struct Slot {
   uint node;
   vec3 lo;
@@ -29,10 +30,11 @@ struct Slot {
   float cost;
   uint triangles;
   uint flags;
+  uint left;  // children, where node is interior
+  uint right;
 };
 
-Slot makeSlot(uint u) {
-  BvhBuildNode n = readNode(u);
+Slot makeSlot(uint u, BvhBuildNode n) {
   Slot s;
   s.node = u;
   s.lo = n.lo;
@@ -40,58 +42,43 @@ Slot makeSlot(uint u) {
   s.cost = n.cost;
   s.triangles = n.triangleCount;
   s.flags = n.flags;
+  s.left = n.left;
+  s.right = n.right;
   return s;
 }
+Slot readSlot(uint u) { return makeSlot(u, readNode(u)); }
 
-const uint kCollapseBit = 0x80000000u;  // in split[]: the subset becomes one leaf
+const uint kCollapseBit = 0x80000000u;  // in gSplit[]: the subset becomes one leaf
 
-// root: an interior node refitted from its children, rn: its fields.
-void restructure(uint root, BvhBuildNode rn) {
-  Slot slots[kTreeletMaxLeaves];
-  uint interior[kTreeletMaxLeaves - 1u];
-  slots[0] = makeSlot(rn.left);
-  slots[1] = makeSlot(rn.right);
-  interior[0] = root;
-  uint nl = 2u, ni = 1u;
-  while (nl < kTreeletLeaves) {
-    int best = -1;
-    float bestArea = -1.0;
-    for (uint k = 0u; k < nl; ++k) {
-      float a = boxArea(slots[k].lo, slots[k].hi);
-      if (!isLeafNode(slots[k].node) && a > bestArea) {
-        best = int(k);
-        bestArea = a;
-      }
-    }
-    if (best < 0) break;
-    uint expanded = slots[best].node;
-    BuildLinks e = readLinks(expanded);
-    interior[ni++] = expanded;
-    slots[best] = makeSlot(e.left);
-    slots[nl++] = makeSlot(e.right);
-  }
-  // A subtree with fewer leaves than a treelet (only below minTriangles < kTreeletLeaves) is
-  // left as it is. The dynamic program then runs the same trip counts on every lane: on lavapipe
-  // that keeps its loops uniform, and the subset indices with them.
-  if (nl < kTreeletLeaves) return;
+// The treelet's leaf slots and the dynamic program's tables: per subset of the slots, the least
+// SAH cost of a tree over it and the first part of its root split (kCollapseBit: the subset
+// becomes one leaf).
+Slot gSlots[kTreeletMaxLeaves];
+float gCost[kSubsets];
+uint gSplit[kSubsets];
+
+// The dynamic program over all subsets of the kTreeletLeaves slots (mayCollapseAll: the full set
+// may become one leaf, which the tree's root may not). These loops define it; treeletDp (generated
+// by tools/gen_treelet_dp.py, which says why) runs the same program unrolled for the treelet
+// sizes it covers and these loops for larger ones: on lavapipe the tables here live in scratch
+// memory, read with a scalar load per SIMD lane.
+void treeletDpLoop(bool mayCollapseAll) {
   const uint full = (1u << kTreeletLeaves) - 1u;
-
-  float cost[kSubsets];
-  uint split[kSubsets];
-  // Subsets in increasing order: every proper subset of s is smaller than s.
+  // Subsets in increasing order: every proper subset of s is smaller than s. The trip counts are
+  // the same on every lane: on lavapipe that keeps the loops uniform.
   for (uint s = 1u; s <= full; ++s) {
     if (bitCount(s) == 1) {
-      cost[s] = slots[findLSB(s)].cost;
-      split[s] = 0u;
+      gCost[s] = gSlots[findLSB(s)].cost;
+      gSplit[s] = 0u;
       continue;
     }
     vec3 slo = vec3(3.0e38), shi = vec3(-3.0e38);
     uint tris = 0u;
     for (uint k = 0u; k < kTreeletLeaves; ++k)
       if ((s & (1u << k)) != 0u) {
-        slo = min(slo, slots[k].lo);
-        shi = max(shi, slots[k].hi);
-        tris += slots[k].triangles;
+        slo = min(slo, gSlots[k].lo);
+        shi = max(shi, gSlots[k].hi);
+        tris += gSlots[k].triangles;
       }
     float area = boxArea(slo, shi);
     // Each unordered partition once: p = the lowest member of s plus any proper subset q of
@@ -102,22 +89,54 @@ void restructure(uint root, BvhBuildNode rn) {
     uint bestP = 0u;
     for (uint q = (rest - 1u) & rest;; q = (q - 1u) & rest) {
       uint p = lowest | q;
-      float c = cost[p] + cost[s ^ p];
+      float c = gCost[p] + gCost[s ^ p];
       if (c < best) {
         best = c;
         bestP = p;
       }
       if (q == 0u) break;
     }
-    // Same rule as refitNode: collapse when not more costly (never the tree's root).
+    // Same rule as refitNode: collapse when not more costly.
     float interiorCost = kSahNodeCost * area + best;
     float leafCost = kSahTriangleCost * area * float(tris);
-    bool collapse = tris <= kBvhMaxLeafTriangles && !(s == full && root == 0u) && leafCost <= interiorCost;
-    cost[s] = collapse ? leafCost : interiorCost;
-    split[s] = bestP | (collapse ? kCollapseBit : 0u);
+    bool collapse = tris <= kBvhMaxLeafTriangles && (s != full || mayCollapseAll) && leafCost <= interiorCost;
+    gCost[s] = collapse ? leafCost : interiorCost;
+    gSplit[s] = bestP | (collapse ? kCollapseBit : 0u);
   }
+}
+#include "bvh_treelet_dp.glsl"
+
+// root: an interior node refitted from its children, rn: its fields; l, r: its children's.
+void restructure(uint root, BvhBuildNode rn, BvhBuildNode l, BvhBuildNode r) {
+  uint interior[kTreeletMaxLeaves - 1u];
+  gSlots[0] = makeSlot(rn.left, l);
+  gSlots[1] = makeSlot(rn.right, r);
+  interior[0] = root;
+  uint nl = 2u, ni = 1u;
+  while (nl < kTreeletLeaves) {
+    int best = -1;
+    float bestArea = -1.0;
+    for (uint k = 0u; k < nl; ++k) {
+      float a = boxArea(gSlots[k].lo, gSlots[k].hi);
+      if (!isLeafNode(gSlots[k].node) && a > bestArea) {
+        best = int(k);
+        bestArea = a;
+      }
+    }
+    if (best < 0) break;
+    Slot expanded = gSlots[best];
+    interior[ni++] = expanded.node;
+    gSlots[best] = readSlot(expanded.left);
+    gSlots[nl++] = readSlot(expanded.right);
+  }
+  // A subtree with fewer leaves than a treelet (only below minTriangles < kTreeletLeaves) is
+  // left as it is, so that the dynamic program runs the same code on every lane.
+  if (nl < kTreeletLeaves) return;
+  const uint full = (1u << kTreeletLeaves) - 1u;
+
+  treeletDp(root != 0u);
   // Keep the old topology unless the new one is measurably cheaper (ties would churn).
-  if (!(cost[full] < rn.cost * 0.9999)) return;
+  if (!(gCost[full] < rn.cost * 0.9999)) return;
 
   // Assign subsets to the treelet's interior nodes top-down: node interior[k] gets subset
   // subsetOf[k]; its children are leaf slots or interior nodes assigned after it. A child is
@@ -130,13 +149,13 @@ void restructure(uint root, BvhBuildNode rn) {
   uint next = 1u;
   for (uint k = 0u; k < ni; ++k) {
     uint s = subsetOf[k];
-    uint p = split[s] & ~kCollapseBit;
+    uint p = gSplit[s] & ~kCollapseBit;
     uint parts[2] = uint[2](p, s ^ p);
     for (int c = 0; c < 2; ++c) {
       if (bitCount(parts[c]) == 1) {
         uint j = uint(findLSB(parts[c]));
         childOf[k][c] = j;
-        setParent(slots[j].node, interior[k]);
+        setParent(gSlots[j].node, interior[k]);
       } else {
         childOf[k][c] = kTreeletMaxLeaves + next;
         subsetOf[next] = parts[c];
@@ -156,21 +175,21 @@ void restructure(uint root, BvhBuildNode rn) {
     n.triangleCount = 0u;
     for (uint j = 0u; j < kTreeletLeaves; ++j)
       if ((s & (1u << j)) != 0u) {
-        n.lo = min(n.lo, slots[j].lo);
-        n.hi = max(n.hi, slots[j].hi);
-        n.triangleCount += slots[j].triangles;
+        n.lo = min(n.lo, gSlots[j].lo);
+        n.hi = max(n.hi, gSlots[j].hi);
+        n.triangleCount += gSlots[j].triangles;
       }
-    n.cost = cost[s];
+    n.cost = gCost[s];
     uint height = 0u, traversalHeight = 0u;
     uint ids[2];
     for (int c = 0; c < 2; ++c) {
       uint child = childOf[k][c];
-      uint childFlags = child < kTreeletMaxLeaves ? slots[child].flags : flagsOf[child - kTreeletMaxLeaves];
-      ids[c] = child < kTreeletMaxLeaves ? slots[child].node : interior[child - kTreeletMaxLeaves];
+      uint childFlags = child < kTreeletMaxLeaves ? gSlots[child].flags : flagsOf[child - kTreeletMaxLeaves];
+      ids[c] = child < kTreeletMaxLeaves ? gSlots[child].node : interior[child - kTreeletMaxLeaves];
       height = max(height, childFlags & kHeightMask);
       traversalHeight = max(traversalHeight, (childFlags >> kTraversalHeightShift) & kHeightMask);
     }
-    bool collapse = (split[s] & kCollapseBit) != 0u;
+    bool collapse = (gSplit[s] & kCollapseBit) != 0u;
     n.flags = (collapse ? kFlagCollapsed : 0u) | ((collapse ? 0u : traversalHeight + 1u) << kTraversalHeightShift) |
               (height + 1u);
     n.left = ids[0];
@@ -187,7 +206,8 @@ void main() {
   if (i >= level.count) return;
   uint node = gNodeList[level.offset + i];
   BvhBuildNode n = readInterior(node);
-  n = refitNode(n, readNode(n.left), readNode(n.right), node == 0u);
+  BvhBuildNode l = readNode(n.left), r = readNode(n.right);
+  n = refitNode(n, l, r, node == 0u);
   storeInterior(node, n);
-  restructure(node, n);
+  restructure(node, n, l, r);
 }

@@ -1,6 +1,7 @@
 #version 460
 // bvh_treelet_count: number of nodes per height that this treelet round restructures
-// (treeletLevel). Inputs: refitted build nodes, schedule zeroed. Output: gLevels[h].count.
+// (treeletLevel), per counter bank. Inputs: refitted build nodes, schedule zeroed. Output:
+// gBanks[bank entry of h].x.
 // param = minTriangles.
 #extension GL_GOOGLE_include_directive : require
 #include "shared/bvh_build.h"
@@ -13,5 +14,5 @@ void main() {
   uint i = bvhBuildItem();
   if (i >= interiorCount()) return;
   int h = treeletLevel(i, gPush.param);
-  if (h >= 0) atomicAdd(gLevels[h].count, 1u);
+  if (h >= 0) atomicAdd(gBanks[treeletBankEntry(h)].x, 1u);
 }

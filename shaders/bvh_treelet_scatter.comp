@@ -1,6 +1,7 @@
 #version 460
-// bvh_treelet_scatter: appends each node this round restructures to its height's list (order
-// within a height does not matter: those subtrees are disjoint). param = minTriangles.
+// bvh_treelet_scatter: appends each node this round restructures to its height's list, in its
+// bank's part (order within a height does not matter: those subtrees are disjoint).
+// param = minTriangles.
 #extension GL_GOOGLE_include_directive : require
 #include "shared/bvh_build.h"
 
@@ -12,5 +13,5 @@ void main() {
   uint i = bvhBuildItem();
   if (i >= interiorCount()) return;
   int h = treeletLevel(i, gPush.param);
-  if (h >= 0) gNodeList[atomicAdd(gLevels[h].cursor, 1u)] = i;
+  if (h >= 0) gNodeList[atomicAdd(gBanks[treeletBankEntry(h)].y, 1u)] = i;
 }

@@ -61,6 +61,44 @@ void storeInterior(uint i, BvhBuildNode n) {
   if (kBuildByAddress) BuildNodeRef(gPush.arrays.interior).v[i] = n;
   else gInterior[i] = n;
 }
+// The fields a refit reads and writes (bounds, cost, triangle count, flags; the links stay), for
+// passes that keep a node's links elsewhere: fewer words moved, and on lavapipe each moved field
+// is a loop over the SIMD lanes.
+BvhBuildNode loadInteriorSums(uint i) {
+  BvhBuildNode n;
+  if (kBuildByAddress) {
+    BuildNodeRef interior = BuildNodeRef(gPush.arrays.interior);
+    n.lo = interior.v[i].lo;
+    n.cost = interior.v[i].cost;
+    n.hi = interior.v[i].hi;
+    n.triangleCount = interior.v[i].triangleCount;
+    n.flags = interior.v[i].flags;
+  } else {
+    n.lo = gInterior[i].lo;
+    n.cost = gInterior[i].cost;
+    n.hi = gInterior[i].hi;
+    n.triangleCount = gInterior[i].triangleCount;
+    n.flags = gInterior[i].flags;
+  }
+  n.left = n.right = n.parent = kInvalidNode;
+  return n;
+}
+void storeInteriorSums(uint i, BvhBuildNode n) {
+  if (kBuildByAddress) {
+    BuildNodeRef interior = BuildNodeRef(gPush.arrays.interior);
+    interior.v[i].lo = n.lo;
+    interior.v[i].cost = n.cost;
+    interior.v[i].hi = n.hi;
+    interior.v[i].triangleCount = n.triangleCount;
+    interior.v[i].flags = n.flags;
+  } else {
+    gInterior[i].lo = n.lo;
+    gInterior[i].cost = n.cost;
+    gInterior[i].hi = n.hi;
+    gInterior[i].triangleCount = n.triangleCount;
+    gInterior[i].flags = n.flags;
+  }
+}
 BvhBuildNode loadNode(uint u) {
   if (u < interiorCount()) return loadInterior(u);
   if (kBuildByAddress) return BuildNodeRef(gPush.arrays.leaves).v[u - interiorCount()];

@@ -46,10 +46,24 @@ BuildLinks readLinks(uint i) {
   return BuildLinks(interiorTexel(i, 1u).w, c.x, c.y, c.z, c.w);
 }
 
+// Triangles below interior node i.
+uint readTriangleCount(uint i) {
+  if (!kBuildTexels) return loadInterior(i).triangleCount;
+  return interiorTexel(i, 1u).w;
+}
+
 // Leaf i's scene triangle (lib/bvh_build_arrays.glsl leafTriangle).
 uint readLeafTriangle(uint i) {
   if (!kBuildTexels) return leafTriangle(i);
   return leafTexel(i, 2u).x;
+}
+// Leaf i's scene triangle and parent.
+uvec2 readLeafTriangleAndParent(uint i) {
+  if (!kBuildTexels) {
+    BvhBuildNode n = loadNode(interiorCount() + i);
+    return uvec2(n.left, n.parent);
+  }
+  return leafTexel(i, 2u).xz;
 }
 
 BvhLeafTriangle readPrim(uint i) {

@@ -10,6 +10,7 @@
 layout(std430, binding = kTreeletBindingSchedule) buffer Schedule {
   TreeletLevel gLevels[kTreeletMaxLevels];
   DispatchArgs gDispatch[kTreeletMaxLevels];
+  uvec2 gBanks[kTreeletBanks * kTreeletMaxLevels];  // (count, cursor) per bank and height
 };
 layout(std430, binding = kTreeletBindingNodeList) buffer NodeList { uint gNodeList[]; };
 
@@ -20,6 +21,12 @@ int treeletLevel(uint i, uint minTriangles) {
   if ((n.flags & kFlagCollapsed) != 0u || n.triangleCount < minTriangles) return -1;
   uint h = n.flags & kHeightMask;
   return h < kTreeletMaxLevels ? int(h) : -1;
+}
+
+// The counters of height h in this invocation's workgroup's bank (bvh_treelet_count and
+// _scatter agree on it).
+uint treeletBankEntry(int h) {
+  return (bvhBuildItem() / kWorkgroupSize) % kTreeletBanks * kTreeletMaxLevels + uint(h);
 }
 
 #endif

@@ -9,7 +9,9 @@
 //   bvh_lbvh          hierarchy from the sorted codes (Karras 2012)
 //   bvh_refit         bounds, triangle counts, SAH costs and heights bottom-up (atomic counters)
 //   bvh_treelet_*     treelet restructuring (Karras & Aila 2013), level by level, several rounds
-//   bvh_emit          the traversal layout of shared/bvh.h, collapsing subtrees into leaves
+//   bvh_emit_nodes    the nodes of the traversal layout of shared/bvh.h (subtrees collapsed into
+//                     leaves), and where each leaf's triangles go
+//   bvh_emit_leaves   the leaf triangles, in place
 // Build nodes share one index space: interior nodes [0, N-1) (root 0), leaves [N-1, 2N-1) in
 // sorted order, in two arrays.
 //
@@ -60,7 +62,7 @@ struct BvhBuildNode {
 struct BvhBuildInfo {
   uvec4 centroidMin;  // ordered-uint encoded floats (bvhOrderedFromBits), xyz
   uvec4 centroidMax;
-  uint leafCounter;   // leaf entries emitted so far (bvh_emit)
+  uint leafCounter;   // leaf entries allocated so far (bvh_emit_nodes)
   uint _pad0;
   uint _pad1;
   uint _pad2;
@@ -86,8 +88,8 @@ struct BuildArrays {
   uvec2 prims;          // BvhLeafTriangle[triangleCount]: vertex copies in scene order
   uvec2 interior;       // BvhBuildNode[triangleCount - 1]
   uvec2 leaves;         // BvhBuildNode[triangleCount], sorted order
-  uvec2 nodes;          // out of bvh_emit: BvhNode[triangleCount - 1]
-  uvec2 leafTriangles;  // out of bvh_emit: BvhLeafTriangle[triangleCount]
+  uvec2 nodes;          // out of bvh_emit_nodes: BvhNode[triangleCount - 1]
+  uvec2 leafTriangles;  // out of bvh_emit_leaves: BvhLeafTriangle[triangleCount]
   uvec2 _pad0;
 };
 
@@ -116,11 +118,12 @@ OSR_CONST(uint, kBuildNodeTexels, 3u);  // 16-byte texels per BvhBuildNode
 OSR_CONST(uint, kBoundsBindingInfo, kBuildArrayBindingCount);
 OSR_CONST(uint, kBoundsBindingCount, kBuildArrayBindingCount + 1u);
 
-// bvh_morton: arrays prims.
+// bvh_morton: arrays prims (through texels).
 OSR_CONST(uint, kMortonBindingInfo, kBuildArrayBindingCount);
 OSR_CONST(uint, kMortonBindingKeys, kBuildArrayBindingCount + 1u);
 OSR_CONST(uint, kMortonBindingValues, kBuildArrayBindingCount + 2u);
-OSR_CONST(uint, kMortonBindingCount, kBuildArrayBindingCount + 3u);
+OSR_CONST(uint, kMortonBindingTexels, kBuildArrayBindingCount + 3u);
+OSR_CONST(uint, kMortonBindingCount, kMortonBindingTexels + kBuildTexelBindingCount);
 
 // Radix sort: each invocation owns a chunk of kRadixChunk consecutive keys and keeps its 256
 // digit counters in registers/private memory: no shared memory and no barriers, which lavapipe
@@ -131,13 +134,19 @@ OSR_CONST(uint, kRadixBits, 8u);
 OSR_CONST(uint, kRadixBins, 256u);
 OSR_CONST(uint, kRadixChunk, 512u);
 OSR_CONST(uint, kRadixKeyBits, 30u);
+// Each invocation reads its own chunk, so the lanes' reads are scattered: where spec constant
+// kRadixSpecTexels is set they come from R32UI views of the input keys and values (on lavapipe a
+// gather, where a storage load is a loop over the lanes), else from the storage bindings. Both
+// passes share one binding list.
 OSR_CONST(uint, kRadixBindingKeysIn, 0u);
 OSR_CONST(uint, kRadixBindingValuesIn, 1u);
 OSR_CONST(uint, kRadixBindingHist, 2u);
 OSR_CONST(uint, kRadixBindingKeysOut, 3u);
 OSR_CONST(uint, kRadixBindingValuesOut, 4u);
-OSR_CONST(uint, kRadixHistogramBindingCount, 3u);  // keys, values (unused), hist
-OSR_CONST(uint, kRadixScatterBindingCount, 5u);
+OSR_CONST(uint, kRadixBindingKeyTexelsIn, 5u);
+OSR_CONST(uint, kRadixBindingValueTexelsIn, 6u);
+OSR_CONST(uint, kRadixBindingCount, 7u);
+OSR_CONST(uint, kRadixSpecTexels, 6u);  // spec constant id: bool
 
 // Exclusive scan in three dispatches: per-segment sums, a serial scan of the sums by one
 // invocation, per-segment scans. triangleCount = element count, param = segment count.
@@ -170,23 +179,30 @@ OSR_CONST(uint, kRefitBindingCount, kRefitBindingTexels + kBuildTexelBindingCoun
 // indirect dispatch per height processes a bucket with every SIMD lane busy. Nodes of one
 // height are disjoint subtrees, and everything below a node has a smaller height, so a node is
 // restructured after all of its descendants without any invocation waiting for another.
-//   bvh_treelet_count   levels[h].count per height        (param = minTriangles)
-//   bvh_treelet_plan    offsets, cursors, indirect dispatch arguments per height (1 invocation)
-//   bvh_treelet_scatter node lists per height             (param = minTriangles)
+//   bvh_treelet_count   banks[b][h].count per bank and height   (param = minTriangles)
+//   bvh_treelet_plan    levels[h] (count, offset), bank cursors, indirect dispatch arguments
+//                       per height (1 invocation)
+//   bvh_treelet_scatter node lists per height                   (param = minTriangles)
 //   bvh_treelet         restructures the nodes of one height (param = height)
+// Counting and appending go to one of kTreeletBanks copies of the per-height counters, picked
+// by workgroup: with one copy, lavapipe's two threads took its cache line from each other for
+// every atomic, which was most of the counting and appending passes' time.
 OSR_CONST(uint, kTreeletMaxLeaves, 7u);   // 2^7 subsets per dynamic program
 OSR_CONST(uint, kTreeletSpecLeaves, 0u);  // spec constant id: leaves per treelet (3..7)
 // Heights scheduled; a taller tree exceeds kBvhMaxDepth anyway and is rebuilt without treelets.
 OSR_CONST(uint, kTreeletMaxLevels, 128u);
-OSR_CONST(uint, kTreeletBindingSchedule, kBuildArrayBindingCount + 1u);  // TreeletLevel[kTreeletMaxLevels], then DispatchArgs[kTreeletMaxLevels]
+OSR_CONST(uint, kTreeletBanks, 16u);
+// TreeletLevel[kTreeletMaxLevels], DispatchArgs[kTreeletMaxLevels], then per bank b and height
+// h at [b * kTreeletMaxLevels + h] a uvec2: the count, and the cursor (next free list entry).
+OSR_CONST(uint, kTreeletBindingSchedule, kBuildArrayBindingCount + 1u);
 OSR_CONST(uint, kTreeletBindingNodeList, kBuildArrayBindingCount + 2u);  // uint per interior node
 OSR_CONST(uint, kTreeletBindingTexels, kBuildArrayBindingCount + 3u);  // bvh_treelet's texel reads
 OSR_CONST(uint, kTreeletBindingCount, kTreeletBindingTexels + kBuildTexelBindingCount);
 struct TreeletLevel {
-  uint count;
-  uint offset;
-  uint cursor;
+  uint count;   // nodes of this height this round
+  uint offset;  // where they start in the node list
   uint _pad0;
+  uint _pad1;
 };
 struct DispatchArgs {
   uint x;
@@ -194,10 +210,21 @@ struct DispatchArgs {
   uint z;
 };
 
-// bvh_emit: arrays interior, leaves, prims (in), nodes, leafTriangles (out); texel reads.
+
+// bvh_emit_nodes: arrays interior, leaves (texels), nodes (out); info, slots (out).
+// bvh_emit_leaves: arrays interior, leaves, prims (texels), leafTriangles (out); slots (through
+// the R32UI view where spec constant kEmitSpecSlotTexels is set, else the storage binding).
+// slots[i] (uint per interior node) tells where the triangles of interior node i's leaf-like
+// children go: bvhEmitSlot(first leaf entry of a's, entries of a's (0 when a is a node)); b's
+// follow a's. Unreachable nodes write garbage there, which no leaf reads.
 OSR_CONST(uint, kEmitBindingInfo, kBuildArrayBindingCount);
-OSR_CONST(uint, kEmitBindingTexels, kBuildArrayBindingCount + 1u);
+OSR_CONST(uint, kEmitBindingSlots, kBuildArrayBindingCount + 1u);
+OSR_CONST(uint, kEmitBindingSlotTexels, kBuildArrayBindingCount + 2u);
+OSR_CONST(uint, kEmitBindingTexels, kBuildArrayBindingCount + 3u);
 OSR_CONST(uint, kEmitBindingCount, kEmitBindingTexels + kBuildTexelBindingCount);
+OSR_CONST(uint, kEmitSpecSlotTexels, 5u);  // spec constant id: bool
+OSR_CONST(uint, kEmitSlotCountShift, 27u);  // above kBvhLeafFirstMask: first entries < 2^27
+OSR_BVH_FN uint bvhEmitSlot(uint first, uint countA) { return first | (countA << kEmitSlotCountShift); }
 
 // A float's bits mapped to a uint that orders like the float (atomicMin/Max on floats).
 OSR_BVH_FN uint bvhOrderedFromBits(uint bits) {

@@ -99,6 +99,11 @@ std::vector<vk::SpecConstant> texelSpec(const vk::Context& ctx, bool byAddress, 
   spec.push_back(vk::specUint(bb::kBuildSpecTexels, uint64_t(caps.maxTexelBufferElements) * 16 >= arrayBytes ? 1u : 0u));
   return spec;
 }
+// Whether an R32UI view reaches as far as a binding of the 4-byte-per-item arrays (keys, slots)
+// can (triangleLimit bounds them by maxStorageBufferRange): 128M texels on lavapipe against 32M.
+bool wordTexelsCoverBindings(const vk::Context& ctx) {
+  return uint64_t(ctx.caps().maxTexelBufferElements) * 4 >= ctx.caps().maxStorageBufferRange;
+}
 void bindTexels(vk::Binder& binder, uint32_t texelBase, const BuildTexelViews& views) {
   binder.setTexel(texelBase + bb::kBuildTexelInterior, views.interior)
       .setTexel(texelBase + bb::kBuildTexelLeaves, views.leaves)
@@ -126,15 +131,15 @@ void BoundsPass::record(VkCommandBuffer cmd, const Args& a) const {
 
 MortonPass::MortonPass(const vk::Context& ctx, bool byAddress)
     : access_{&ctx, byAddress},
-      pipeline_(ctx, shaders::Id::bvh_morton, bb::kMortonBindingCount, sizeof(BuildPush), arraySpec(byAddress)) {}
+      pipeline_(ctx, shaders::Id::bvh_morton, texelTypes(bb::kMortonBindingCount, bb::kMortonBindingTexels),
+                sizeof(BuildPush), texelSpec(ctx, byAddress, arraySpec(byAddress))) {}
 
 void MortonPass::record(VkCommandBuffer cmd, const Args& a) const {
   vk::Binder binder(pipeline_);
   BuildPush p = bindArrays(binder, access_, *a.arrays, a.triangleCount, 0);
-  binder.set(bb::kMortonBindingInfo, a.info)
-      .set(bb::kMortonBindingKeys, a.keys)
-      .set(bb::kMortonBindingValues, a.values)
-      .bind(cmd, p);
+  binder.set(bb::kMortonBindingInfo, a.info).set(bb::kMortonBindingKeys, a.keys).set(bb::kMortonBindingValues, a.values);
+  bindTexels(binder, bb::kMortonBindingTexels, *a.texels);
+  binder.bind(cmd, p);
   dispatchItems(pipeline_, cmd, a.triangleCount);
   vk::computeBarrier(cmd);
 }
@@ -167,9 +172,20 @@ void ExclusiveScan::record(VkCommandBuffer cmd, const Args& a) const {
   vk::computeBarrier(cmd);
 }
 
+namespace {
+std::vector<VkDescriptorType> radixTypes() {
+  std::vector<VkDescriptorType> t(bb::kRadixBindingCount, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
+  t[bb::kRadixBindingKeyTexelsIn] = t[bb::kRadixBindingValueTexelsIn] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+  return t;
+}
+std::vector<vk::SpecConstant> radixSpec(const vk::Context& ctx) {
+  return {vk::specUint(bb::kRadixSpecTexels, wordTexelsCoverBindings(ctx) ? 1u : 0u)};
+}
+}  // namespace
+
 RadixSort::RadixSort(const vk::Context& ctx)
-    : histogram_(ctx, shaders::Id::bvh_radix_histogram, bb::kRadixHistogramBindingCount, sizeof(BuildPush)),
-      scatter_(ctx, shaders::Id::bvh_radix_scatter, bb::kRadixScatterBindingCount, sizeof(BuildPush)),
+    : histogram_(ctx, shaders::Id::bvh_radix_histogram, radixTypes(), sizeof(BuildPush), radixSpec(ctx)),
+      scatter_(ctx, shaders::Id::bvh_radix_scatter, radixTypes(), sizeof(BuildPush), radixSpec(ctx)),
       scan_(ctx) {}
 
 uint64_t RadixSort::histogramBytes(uint32_t count) {
@@ -180,19 +196,28 @@ void RadixSort::record(VkCommandBuffer cmd, const Args& a, vk::GpuTimer* timer) 
   uint32_t chunks = vk::groupCount(a.count, bb::kRadixChunk);
   uint32_t histWords = chunks * bb::kRadixBins;
   vk::BufferRange keys[2] = {a.keys, a.keysTmp}, values[2] = {a.values, a.valuesTmp};
+  VkBufferView keyTexels[2] = {a.keyTexels, a.keyTmpTexels}, valueTexels[2] = {a.valueTexels, a.valueTmpTexels};
   static_assert((bb::kRadixKeyBits + bb::kRadixBits - 1) / bb::kRadixBits % 2 == 0,
                 "an even number of rounds leaves the result in keys/values");
   int src = 0;
   for (uint32_t shift = 0; shift < bb::kRadixKeyBits; shift += bb::kRadixBits, src ^= 1) {
     BuildPush pushed = push(a.count, shift);
     pushed.param2 = chunks;
-    {
-      vk::TimedScope scope(timer, cmd, "bvh_radix_histogram");
-      vk::Binder(histogram_)
+    // Both pipelines bind the same buffers at the same slots.
+    auto bind = [&](const vk::ComputePipeline& p) {
+      vk::Binder(p)
           .set(bb::kRadixBindingKeysIn, keys[src])
           .set(bb::kRadixBindingValuesIn, values[src])
           .set(bb::kRadixBindingHist, a.histogram)
+          .set(bb::kRadixBindingKeysOut, keys[src ^ 1])
+          .set(bb::kRadixBindingValuesOut, values[src ^ 1])
+          .setTexel(bb::kRadixBindingKeyTexelsIn, keyTexels[src])
+          .setTexel(bb::kRadixBindingValueTexelsIn, valueTexels[src])
           .bind(cmd, pushed);
+    };
+    {
+      vk::TimedScope scope(timer, cmd, "bvh_radix_histogram");
+      bind(histogram_);
       histogram_.dispatch(cmd, groups(chunks));
       vk::computeBarrier(cmd);
     }
@@ -201,13 +226,7 @@ void RadixSort::record(VkCommandBuffer cmd, const Args& a, vk::GpuTimer* timer) 
       scan_.record(cmd, {a.histogram, a.partials, histWords});
     }
     vk::TimedScope scope(timer, cmd, "bvh_radix_scatter");
-    vk::Binder(scatter_)
-        .set(bb::kRadixBindingKeysIn, keys[src])
-        .set(bb::kRadixBindingValuesIn, values[src])
-        .set(bb::kRadixBindingHist, a.histogram)
-        .set(bb::kRadixBindingKeysOut, keys[src ^ 1])
-        .set(bb::kRadixBindingValuesOut, values[src ^ 1])
-        .bind(cmd, pushed);
+    bind(scatter_);
     scatter_.dispatch(cmd, groups(chunks));
     vk::computeBarrier(cmd);
   }
@@ -219,12 +238,9 @@ std::vector<VkDescriptorType> lbvhTypes() {
   t[bb::kLbvhBindingKeyTexels] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
   return t;
 }
-// Key texels where a view reaches as far as a keys binding can (triangleLimit bounds the keys
-// by maxStorageBufferRange): 128M texels on lavapipe against 32M keys.
 std::vector<vk::SpecConstant> lbvhSpec(const vk::Context& ctx, bool byAddress) {
-  bool texels = uint64_t(ctx.caps().maxTexelBufferElements) * 4 >= ctx.caps().maxStorageBufferRange;
   std::vector<vk::SpecConstant> spec = texelSpec(ctx, byAddress, arraySpec(byAddress));
-  spec.push_back(vk::specUint(bb::kLbvhSpecKeyTexels, texels ? 1u : 0u));
+  spec.push_back(vk::specUint(bb::kLbvhSpecKeyTexels, wordTexelsCoverBindings(ctx) ? 1u : 0u));
   return spec;
 }
 }  // namespace
@@ -280,7 +296,8 @@ TreeletPass::TreeletPass(const vk::Context& ctx, uint32_t treeletLeaves, bool by
 }
 
 uint64_t TreeletPass::scheduleBytes() {
-  return bb::kTreeletMaxLevels * (sizeof(bb::TreeletLevel) + sizeof(bb::DispatchArgs));
+  return bb::kTreeletMaxLevels * (sizeof(bb::TreeletLevel) + sizeof(bb::DispatchArgs)) +
+         bb::kTreeletBanks * bb::kTreeletMaxLevels * sizeof(glm::uvec2);
 }
 
 void TreeletPass::record(VkCommandBuffer cmd, const Args& a, vk::GpuTimer* timer) const {
@@ -323,17 +340,43 @@ void TreeletPass::record(VkCommandBuffer cmd, const Args& a, vk::GpuTimer* timer
   }
 }
 
+namespace {
+std::vector<VkDescriptorType> emitTypes() {
+  std::vector<VkDescriptorType> t = texelTypes(bb::kEmitBindingCount, bb::kEmitBindingTexels);
+  t[bb::kEmitBindingSlotTexels] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+  return t;
+}
+std::vector<vk::SpecConstant> emitSpec(const vk::Context& ctx, bool byAddress) {
+  std::vector<vk::SpecConstant> spec = texelSpec(ctx, byAddress, arraySpec(byAddress));
+  spec.push_back(vk::specUint(bb::kEmitSpecSlotTexels, wordTexelsCoverBindings(ctx) ? 1u : 0u));
+  return spec;
+}
+}  // namespace
+
 EmitPass::EmitPass(const vk::Context& ctx, bool byAddress)
     : access_{&ctx, byAddress},
-      pipeline_(ctx, shaders::Id::bvh_emit, texelTypes(bb::kEmitBindingCount, bb::kEmitBindingTexels), sizeof(BuildPush),
-                texelSpec(ctx, byAddress, arraySpec(byAddress))) {}
+      nodes_(ctx, shaders::Id::bvh_emit_nodes, emitTypes(), sizeof(BuildPush), emitSpec(ctx, byAddress)),
+      leaves_(ctx, shaders::Id::bvh_emit_leaves, emitTypes(), sizeof(BuildPush), emitSpec(ctx, byAddress)) {}
 
-void EmitPass::record(VkCommandBuffer cmd, const Args& a) const {
-  vk::Binder binder(pipeline_);
-  BuildPush p = bindArrays(binder, access_, *a.arrays, a.triangleCount, 0);
-  bindTexels(binder, bb::kEmitBindingTexels, *a.texels);
-  binder.set(bb::kEmitBindingInfo, a.info).bind(cmd, p);
-  dispatchItems(pipeline_, cmd, std::max<uint32_t>(a.triangleCount - 1, 1));
+void EmitPass::record(VkCommandBuffer cmd, const Args& a, vk::GpuTimer* timer) const {
+  BuildPush p{};
+  // The two pipelines bind the same buffers at the same slots.
+  auto binder = [&](const vk::ComputePipeline& pipeline) {
+    vk::Binder b(pipeline);
+    p = bindArrays(b, access_, *a.arrays, a.triangleCount, 0);
+    b.set(bb::kEmitBindingInfo, a.info).set(bb::kEmitBindingSlots, a.slots).setTexel(bb::kEmitBindingSlotTexels, a.slotTexels);
+    bindTexels(b, bb::kEmitBindingTexels, *a.texels);
+    return b;
+  };
+  {
+    vk::TimedScope scope(timer, cmd, "bvh_emit_nodes");
+    binder(nodes_).bind(cmd, p);
+    dispatchItems(nodes_, cmd, std::max<uint32_t>(a.triangleCount - 1, 1));
+    vk::computeBarrier(cmd);
+  }
+  vk::TimedScope scope(timer, cmd, "bvh_emit_leaves");
+  binder(leaves_).bind(cmd, p);
+  dispatchItems(leaves_, cmd, a.triangleCount);
   vk::computeBarrier(cmd);
 }
 

@@ -62,12 +62,14 @@ class BoundsPass {
   vk::ComputePipeline pipeline_;
 };
 
-// bvh_morton: keys = Morton codes of the centroids, values = triangle indices. Arrays: prims.
+// bvh_morton: keys = Morton codes of the centroids, values = triangle indices. Arrays: prims
+// (through texels).
 class MortonPass {
  public:
   MortonPass(const vk::Context& ctx, bool byAddress);
   struct Args {
     const BuildArrayBuffers* arrays = nullptr;
+    const BuildTexelViews* texels = nullptr;
     vk::BufferRange info, keys, values;
     uint32_t triangleCount = 0;
   };
@@ -100,12 +102,17 @@ class RadixSort {
  public:
   explicit RadixSort(const vk::Context& ctx);
   static uint64_t histogramBytes(uint32_t count);
+  // Usage keys, values and their scratch twins need on top of storage use (their R32UI views).
+  static constexpr VkBufferUsageFlags kUsage = VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT;
   struct Args {
     vk::BufferRange keys, values;        // in/out
     vk::BufferRange keysTmp, valuesTmp;  // scratch, same sizes
     vk::BufferRange histogram;           // scratch: histogramBytes(count)
     vk::BufferRange partials;            // scratch: ExclusiveScan::partialsBytes(histogram words)
     uint32_t count = 0;
+    // R32UI views (vk::BufferView::uintWords) of keys, values, keysTmp, valuesTmp.
+    VkBufferView keyTexels = VK_NULL_HANDLE, valueTexels = VK_NULL_HANDLE;
+    VkBufferView keyTmpTexels = VK_NULL_HANDLE, valueTmpTexels = VK_NULL_HANDLE;
   };
   // `timer` (may be null) gets scopes "bvh_radix_histogram", "bvh_scan", "bvh_radix_scatter".
   void record(VkCommandBuffer cmd, const Args& args, vk::GpuTimer* timer = nullptr) const;
@@ -120,8 +127,6 @@ class RadixSort {
 class LbvhPass {
  public:
   LbvhPass(const vk::Context& ctx, bool byAddress);
-  // Usage the keys buffer needs on top of storage use (its R32UI view, keyTexels).
-  static constexpr VkBufferUsageFlags kKeysUsage = VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT;
   struct Args {
     const BuildArrayBuffers* arrays = nullptr;
     const BuildTexelViews* texels = nullptr;
@@ -180,22 +185,27 @@ class TreeletPass {
   vk::ComputePipeline count_, plan_, scatter_, treelet_;
 };
 
-// bvh_emit: traversal nodes and leaf triangles (info.leafCounter must be 0). Arrays: interior,
-// leaves, prims (in, through texels), nodes, leafTriangles (out).
+// bvh_emit_nodes, then bvh_emit_leaves: traversal nodes, then leaf triangles (info.leafCounter
+// must be 0). Arrays: interior, leaves, prims (in, through texels), nodes, leafTriangles (out).
 class EmitPass {
  public:
   EmitPass(const vk::Context& ctx, bool byAddress);
+  // Usage the slots buffer needs on top of storage use (its R32UI view, slotTexels).
+  static constexpr VkBufferUsageFlags kSlotsUsage = VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT;
   struct Args {
     const BuildArrayBuffers* arrays = nullptr;
     const BuildTexelViews* texels = nullptr;
     vk::BufferRange info;
+    vk::BufferRange slots;                     // scratch: uint per interior node
+    VkBufferView slotTexels = VK_NULL_HANDLE;  // R32UI view of slots (vk::BufferView::uintWords)
     uint32_t triangleCount = 0;
   };
-  void record(VkCommandBuffer cmd, const Args& args) const;
+  // `timer` (may be null) gets scopes "bvh_emit_nodes" and "bvh_emit_leaves".
+  void record(VkCommandBuffer cmd, const Args& args, vk::GpuTimer* timer = nullptr) const;
 
  private:
   ArrayAccess access_;
-  vk::ComputePipeline pipeline_;
+  vk::ComputePipeline nodes_, leaves_;
 };
 
 }  // namespace osr::bvh

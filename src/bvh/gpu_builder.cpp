@@ -46,6 +46,51 @@ vk::Buffer scratch(const vk::Context& ctx, uint64_t bytes, const char* name, VkB
 
 }  // namespace
 
+// The build's scratch buffers for up to `capacity` triangles, and their views. A builder keeps
+// them for its next build: on a CPU device fresh memory is faulted in on first touch, which
+// measured about a quarter of a 1M-triangle build's CPU time (huge pages included).
+struct GpuBuilder::Scratch {
+  uint32_t capacity;
+  vk::Buffer prims, info, keys, keysTmp, values, valuesTmp, hist, partials, interior, leaves, counters, schedule,
+      nodeList;
+  // Of keys, values and their scratch twins for the sort; keys (where the sort leaves them) also
+  // for bvh_lbvh.
+  vk::BufferView keyTexels, valueTexels, keyTmpTexels, valueTmpTexels;
+  vk::BufferView interiorTexels, leafTexels, primTexels, slotTexels;
+  uint64_t bytes = 0;
+
+  Scratch(const vk::Context& ctx, uint32_t n) : capacity(n) {
+    const uint32_t interiorCount = std::max<uint32_t>(n - 1, 1);
+    const uint64_t nodeBytes = sizeof(bb::BvhBuildNode);
+    const uint64_t histBytes = RadixSort::histogramBytes(n);
+    prims = scratch(ctx, uint64_t(n) * sizeof(gpu::bvh::BvhLeafTriangle), "bvh prims", BuildTexelViews::kUsage);
+    info = scratch(ctx, sizeof(bb::BvhBuildInfo), "bvh build info");
+    keys = scratch(ctx, 4ull * n, "bvh keys", RadixSort::kUsage);
+    keysTmp = scratch(ctx, 4ull * n, "bvh keys tmp", RadixSort::kUsage);
+    values = scratch(ctx, 4ull * n, "bvh values", RadixSort::kUsage);
+    valuesTmp = scratch(ctx, 4ull * n, "bvh values tmp", RadixSort::kUsage);
+    hist = scratch(ctx, histBytes, "bvh radix histogram");
+    partials = scratch(ctx, ExclusiveScan::partialsBytes(uint32_t(histBytes / 4)), "bvh scan partials");
+    interior = scratch(ctx, interiorCount * nodeBytes, "bvh build interior", BuildTexelViews::kUsage);
+    leaves = scratch(ctx, n * nodeBytes, "bvh build leaves", BuildTexelViews::kUsage);
+    // Climb counters of bvh_refit, then slots of the emit passes.
+    counters = scratch(ctx, 4ull * interiorCount, "bvh climb counters", EmitPass::kSlotsUsage);
+    schedule = scratch(ctx, TreeletPass::scheduleBytes(), "bvh treelet schedule");
+    nodeList = scratch(ctx, 4ull * interiorCount, "bvh treelet node list");
+    for (const vk::Buffer* b : {&prims, &info, &keys, &keysTmp, &values, &valuesTmp, &hist, &partials, &interior,
+                                &leaves, &counters, &schedule, &nodeList})
+      bytes += b->size();
+    keyTexels = vk::BufferView::uintWords(ctx, keys, "bvh key texels");
+    valueTexels = vk::BufferView::uintWords(ctx, values, "bvh value texels");
+    keyTmpTexels = vk::BufferView::uintWords(ctx, keysTmp, "bvh key tmp texels");
+    valueTmpTexels = vk::BufferView::uintWords(ctx, valuesTmp, "bvh value tmp texels");
+    interiorTexels = vk::BufferView::uintTexels(ctx, interior, "bvh interior texels");
+    leafTexels = vk::BufferView::uintTexels(ctx, leaves, "bvh leaf texels");
+    primTexels = vk::BufferView::uintTexels(ctx, prims, "bvh prim texels");
+    slotTexels = vk::BufferView::uintWords(ctx, counters, "bvh emit slot texels");
+  }
+};
+
 Bvh buildGpu(const vk::Context& ctx, const vk::Buffer& vertices, const vk::Buffer& triangles,
              uint32_t triangleCount, BuildStats* stats) {
   return GpuBuilder(ctx).build(vertices, triangles, triangleCount, stats);
@@ -77,22 +122,15 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
   const uint32_t interiorCount = std::max<uint32_t>(n - 1, 1);
   const uint64_t nodeBytes = sizeof(bb::BvhBuildNode);
 
-  vk::Buffer prims = scratch(ctx, uint64_t(n) * sizeof(gpu::bvh::BvhLeafTriangle), "bvh prims", BuildTexelViews::kUsage);
-  vk::Buffer info = scratch(ctx, sizeof(bb::BvhBuildInfo), "bvh build info");
-  vk::Buffer keys = scratch(ctx, 4ull * n, "bvh keys", LbvhPass::kKeysUsage), keysTmp = scratch(ctx, 4ull * n, "bvh keys tmp");
-  vk::Buffer values = scratch(ctx, 4ull * n, "bvh values"), valuesTmp = scratch(ctx, 4ull * n, "bvh values tmp");
-  uint64_t histBytes = RadixSort::histogramBytes(n);
-  vk::Buffer hist = scratch(ctx, histBytes, "bvh radix histogram");
-  vk::Buffer partials = scratch(ctx, ExclusiveScan::partialsBytes(uint32_t(histBytes / 4)), "bvh scan partials");
-  vk::Buffer interior = scratch(ctx, interiorCount * nodeBytes, "bvh build interior", BuildTexelViews::kUsage);
-  vk::Buffer leaves = scratch(ctx, n * nodeBytes, "bvh build leaves", BuildTexelViews::kUsage);
-  vk::Buffer counters = scratch(ctx, 4ull * interiorCount, "bvh climb counters");
-  vk::Buffer schedule = scratch(ctx, TreeletPass::scheduleBytes(), "bvh treelet schedule");
-  vk::Buffer nodeList = scratch(ctx, 4ull * interiorCount, "bvh treelet node list");
-  uint64_t scratchBytes = 0;
-  for (const vk::Buffer* b : {&prims, &info, &keys, &keysTmp, &values, &valuesTmp, &hist, &partials, &interior,
-                              &leaves, &counters, &schedule, &nodeList})
-    scratchBytes += b->size();
+  if (!scratch_ || scratch_->capacity < n) {
+    scratch_.reset();  // before the next allocation: at most one set of scratch exists
+    scratch_ = std::make_unique<Scratch>(ctx, n);
+  }
+  const Scratch& sc = *scratch_;
+  const uint64_t scratchBytes = sc.bytes;
+  const vk::Buffer &info = sc.info, &keys = sc.keys, &keysTmp = sc.keysTmp, &values = sc.values,
+                   &valuesTmp = sc.valuesTmp, &hist = sc.hist, &partials = sc.partials, &interior = sc.interior,
+                   &leaves = sc.leaves, &counters = sc.counters, &schedule = sc.schedule, &nodeList = sc.nodeList;
 
   Bvh bvh;
   bvh.nodeCount = interiorCount;
@@ -101,21 +139,16 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
   bvh.leafData = vk::Buffer(ctx, uint64_t(n) * sizeof(gpu::bvh::BvhLeafTriangle), vk::MemoryUse::DeviceLocal, "bvh leaf triangles", Bvh::kExtraUsage);
   bvh.makeTexelViews(ctx);
 
-  // Where the sort leaves the keys (an even number of rounds), for bvh_lbvh's texel reads.
-  const vk::BufferView keyTexels = vk::BufferView::uintWords(ctx, keys, "bvh key texels");
-  const vk::BufferView interiorTexels = vk::BufferView::uintTexels(ctx, interior, "bvh interior texels");
-  const vk::BufferView leafTexels = vk::BufferView::uintTexels(ctx, leaves, "bvh leaf texels");
-  const vk::BufferView primTexels = vk::BufferView::uintTexels(ctx, prims, "bvh prim texels");
   BuildTexelViews texels;
-  texels.interior = interiorTexels.handle();
-  texels.leaves = leafTexels.handle();
-  texels.prims = primTexels.handle();
+  texels.interior = sc.interiorTexels.handle();
+  texels.leaves = sc.leafTexels.handle();
+  texels.prims = sc.primTexels.handle();
   BuildArrayBuffers arrays;
   arrays.triangles = vk::BufferRange(triangles, 0, uint64_t(n) * sizeof(gpu::scene::Triangle));
   arrays.vertices = vertices;
-  arrays.prims = prims;
-  arrays.interior = interior;
-  arrays.leaves = leaves;
+  arrays.prims = vk::BufferRange(sc.prims, 0, uint64_t(n) * sizeof(gpu::bvh::BvhLeafTriangle));
+  arrays.interior = vk::BufferRange(sc.interior, 0, interiorCount * nodeBytes);
+  arrays.leaves = vk::BufferRange(sc.leaves, 0, n * nodeBytes);
   arrays.nodes = bvh.nodes;
   arrays.leafTriangles = bvh.leafData;
   // Past one binding, pipelines that reach the arrays by address (made on first need: on
@@ -144,12 +177,15 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
     }
     {
       vk::TimedScope scope(&timer, cmd, "bvh_morton");
-      passes.morton.record(cmd, {&arrays, info, keys, values, n});
+      passes.morton.record(cmd, {&arrays, &texels, info, keys, values, n});
     }
-    passes.sort.record(cmd, {keys, values, keysTmp, valuesTmp, hist, partials, n}, &timer);
+    passes.sort.record(cmd,
+                       {keys, values, keysTmp, valuesTmp, hist, partials, n, sc.keyTexels.handle(),
+                        sc.valueTexels.handle(), sc.keyTmpTexels.handle(), sc.valueTmpTexels.handle()},
+                       &timer);
     {
       vk::TimedScope scope(&timer, cmd, "bvh_lbvh");
-      passes.lbvh.record(cmd, {&arrays, &texels, keys, values, keyTexels.handle(), n});
+      passes.lbvh.record(cmd, {&arrays, &texels, keys, values, sc.keyTexels.handle(), n});
     }
     if (n > 1) {
       vk::TimedScope scope(&timer, cmd, "bvh_refit");
@@ -160,8 +196,7 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
       // improve most in the first round, later rounds polish the upper tree at less cost.
       passes.treelet.record(cmd, {&arrays, &texels, counters, &schedule, nodeList, n, options.treeletMinTriangles << round}, &timer);
     }
-    vk::TimedScope scope(&timer, cmd, "bvh_emit");
-    passes.emit.record(cmd, {&arrays, &texels, info, n});
+    passes.emit.record(cmd, {&arrays, &texels, info, counters, sc.slotTexels.handle(), n}, &timer);
   };
 
   uint32_t rounds = options.treeletRounds;

@@ -27,7 +27,9 @@ Bvh buildGpu(const vk::Context& ctx, const vk::Buffer& vertices, const vk::Buffe
              uint32_t triangleCount, const GpuBuildOptions& options, BuildStats* stats = nullptr);
 
 // Keeps the build's pipelines between builds (creating them compiles every pass, which on
-// lavapipe costs far more than building a small scene). Same contract as buildGpu.
+// lavapipe costs far more than building a small scene), and its scratch buffers, sized for the
+// largest scene built so far (fresh memory costs page faults on a CPU device). Same contract as
+// buildGpu.
 class GpuBuilder {
  public:
   explicit GpuBuilder(const vk::Context& ctx, const GpuBuildOptions& options = {});
@@ -39,10 +41,12 @@ class GpuBuilder {
 
  private:
   struct Passes;
+  struct Scratch;
   const vk::Context& ctx_;
   GpuBuildOptions options_;
   std::unique_ptr<Passes> passes_;                 // arrays in storage bindings
   mutable std::unique_ptr<Passes> addressPasses_;  // arrays by device address (scenes past one binding)
+  mutable std::unique_ptr<Scratch> scratch_;
 };
 
 }  // namespace osr::bvh

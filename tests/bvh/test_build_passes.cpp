@@ -10,6 +10,7 @@
 
 #include "bvh/build_passes.h"
 #include "bvh/synthetic_mesh.h"
+#include "vk/buffer_view.h"
 #include "common/vk_test.h"
 
 using namespace osr;
@@ -49,7 +50,14 @@ TEST(BuildPasses, BoundsAndMortonMatchTheCpuTwin) {
     vk::Buffer tris = deviceBuffer(ctx, m.triangles.size() * 16, "tris");
     verts.uploadVector(m.vertices);
     tris.uploadVector(m.triangles);
-    vk::Buffer prims = deviceBuffer(ctx, count * 48ull, "prims");
+    vk::Buffer prims(ctx, count * 48ull, vk::MemoryUse::DeviceLocal, "prims", bvh::BuildTexelViews::kUsage);
+    // bvh_morton reads prims through a texel view; it binds but reads no interior or leaf nodes.
+    vk::Buffer noNodes(ctx, sizeof(bb::BvhBuildNode), vk::MemoryUse::DeviceLocal, "no nodes", bvh::BuildTexelViews::kUsage);
+    vk::BufferView primTexels = vk::BufferView::uintTexels(ctx, prims, "prim texels");
+    vk::BufferView noNodeTexels = vk::BufferView::uintTexels(ctx, noNodes, "no node texels");
+    bvh::BuildTexelViews texels;
+    texels.prims = primTexels.handle();
+    texels.interior = texels.leaves = noNodeTexels.handle();
     vk::Buffer info = deviceBuffer(ctx, sizeof(bb::BvhBuildInfo), "info");
     vk::Buffer keys = deviceBuffer(ctx, count * 4ull, "keys"), values = deviceBuffer(ctx, count * 4ull, "values");
     bb::BvhBuildInfo init{};
@@ -68,7 +76,7 @@ TEST(BuildPasses, BoundsAndMortonMatchTheCpuTwin) {
     bvh::MortonPass morton(ctx, byAddress);
     ctx.submitAndWait([&](VkCommandBuffer cmd) {
       bounds.record(cmd, {&arrays, info, count});
-      morton.record(cmd, {&arrays, info, keys, values, count});
+      morton.record(cmd, {&arrays, &texels, info, keys, values, count});
     });
     // CPU twin.
     glm::vec3 lo(big), hi(small);
@@ -128,14 +136,20 @@ TEST(BuildPasses, RadixSortIsAStableSortOf30BitKeys) {
       values[i] = i;
     }
     uint64_t bytes = count * 4ull;
-    vk::Buffer k = deviceBuffer(ctx, bytes, "k"), v = deviceBuffer(ctx, bytes, "v");
-    vk::Buffer kt = deviceBuffer(ctx, bytes, "kt"), vt = deviceBuffer(ctx, bytes, "vt");
+    auto sortBuffer = [&](const char* name) {
+      return vk::Buffer(ctx, bytes, vk::MemoryUse::DeviceLocal, name, bvh::RadixSort::kUsage);
+    };
+    vk::Buffer k = sortBuffer("k"), v = sortBuffer("v"), kt = sortBuffer("kt"), vt = sortBuffer("vt");
+    vk::BufferView kView = vk::BufferView::uintWords(ctx, k, "k texels"), vView = vk::BufferView::uintWords(ctx, v, "v texels");
+    vk::BufferView ktView = vk::BufferView::uintWords(ctx, kt, "kt texels"), vtView = vk::BufferView::uintWords(ctx, vt, "vt texels");
     uint64_t histBytes = bvh::RadixSort::histogramBytes(count);
     vk::Buffer hist = deviceBuffer(ctx, histBytes, "hist");
     vk::Buffer partials = deviceBuffer(ctx, bvh::ExclusiveScan::partialsBytes(uint32_t(histBytes / 4)), "partials");
     k.uploadVector(keys);
     v.uploadVector(values);
-    ctx.submitAndWait([&](VkCommandBuffer cmd) { sort.record(cmd, {k, v, kt, vt, hist, partials, count}); });
+    ctx.submitAndWait([&](VkCommandBuffer cmd) {
+      sort.record(cmd, {k, v, kt, vt, hist, partials, count, kView.handle(), vView.handle(), ktView.handle(), vtView.handle()});
+    });
     std::vector<uint32_t> order(count);
     std::iota(order.begin(), order.end(), 0u);
     std::stable_sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return keys[a] < keys[b]; });

@@ -110,7 +110,7 @@ const std::vector<Layout>& layouts() {
       STRUCT(bvh_build, BuildArrays, F(triangles), F(vertices), F(prims), F(interior), F(leaves),
              F(nodes), F(leafTriangles), F(_pad0)),
       STRUCT(bvh_build, BuildPush, F(triangleCount), F(param), F(param2), F(_pad0), F(arrays)),
-      STRUCT(bvh_build, TreeletLevel, F(count), F(offset), F(cursor), F(_pad0)),
+      STRUCT(bvh_build, TreeletLevel, F(count), F(offset), F(_pad0), F(_pad1)),
       STRUCT(bvh_build, DispatchArgs, F(x), F(y), F(z)),
       STRUCT(bvh_trace, TraceRay, F(origin), F(tMin), F(dir), F(tMax)),
       STRUCT(bvh_trace, TraceHit, F(t), F(triangle), F(barycentrics)),
