@@ -3,7 +3,7 @@
 # Used by run.sh and test.sh; safe to run repeatedly.
 set -euo pipefail
 packages=(
-  build-essential cmake ninja-build pkg-config
+  build-essential cmake ninja-build pkg-config python3
   libvulkan-dev mesa-vulkan-drivers vulkan-validationlayers vulkan-tools
   glslang-tools spirv-tools
   libglm-dev libtinygltf-dev nlohmann-json3-dev libstb-dev
