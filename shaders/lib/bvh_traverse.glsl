@@ -15,7 +15,6 @@
 #define OSR_BVH_TRAVERSE_GLSL
 #extension GL_KHR_shader_subgroup_vote : require
 #ifdef OSR_BVH_RAY_POOL
-#extension GL_KHR_shader_subgroup_basic : require
 #extension GL_KHR_shader_subgroup_ballot : require
 #endif
 #include "shared/bvh.h"
@@ -161,8 +160,8 @@ bool osrBvhTriangle(OsrBvhRay r, vec3 v0, vec3 v1, vec3 v2, float tMin, float tF
   return true;
 }
 
-// Shared loop of both queries and of the ray pool; `anyHit` is a constant at each call site of
-// osrBvhTraverse, so the compiler specialises it away (in the pool it is per ray).
+// Shared loop of both queries and of the ray pool; `anyHit` is a constant at each call site, so
+// the compiler specialises it away.
 //
 // Leaves are intersected in a separate phase, for the whole SIMD group at once (Aila & Laine
 // 2009, "Understanding the Efficiency of Ray Traversal on GPUs": while-while with speculative
@@ -174,39 +173,33 @@ bool osrBvhTriangle(OsrBvhRay r, vec3 v0, vec3 v1, vec3 v2, float tMin, float tF
 // gathering them first costs one max per phase.
 //
 // With OSR_BVH_RAY_POOL defined the loop is osrBvhTracePool instead: a lane whose ray is done
-// takes its next ray after a leaf phase (Aila & Laine's dynamic ray fetch), so a subgroup no
-// longer runs as long as its slowest ray while the other lanes idle. Rays come from the
-// includer:
-//   bool osrBvhPoolTake(bool idle, bool found, Hit hit, out OsrBvhPoolRayDesc next);
-// is called in uniform control flow, whenever at least half of the subgroup's lanes are idle
-// (or all are). On idle lanes it first takes the result of the lane's last ray, if it had one
-// (found, hit), then returns true with the lane's next ray, or false when the lane has no more.
-// It is never called with idle = false on a lane that has rays left, so it may keep per-lane
-// state in globals. Waiting for half the lanes makes the includer's own work (the shading of a
-// result, the making of a ray) run for several lanes at once, not one at a time.
-// bvhClosestHit and bvhAnyHit are not defined then.
+// takes the next ray of the subgroup's pool after each leaf phase (Aila & Laine's dynamic ray
+// fetch), so a subgroup no longer runs as long as its slowest ray while the other lanes idle.
+// The includer provides
+//   OsrBvhPoolRayDesc osrBvhPoolRay(uint i);          // ray i of the pool
+//   void osrBvhPoolResult(uint i, bool found, Hit hit); // its result
+// and bvhClosestHit / bvhAnyHit are not defined.
 #ifdef OSR_BVH_RAY_POOL
 struct OsrBvhPoolRayDesc {
   vec3 origin;
   float tMin;
   vec3 dir;
   float tMax;
-  bool anyHit;  // any hit ends the ray (occlusion); else the closest hit
 };
-bool osrBvhPoolTake(bool idle, bool found, Hit hit, out OsrBvhPoolRayDesc next);
+OsrBvhPoolRayDesc osrBvhPoolRay(uint i);
+void osrBvhPoolResult(uint i, bool found, Hit hit);
 
-// Traces the includer's rays with this subgroup, each lane holding one at a time. Must be
-// called in uniform control flow.
-void osrBvhTracePool() {
+// Traces rays [first, end) with this subgroup: each lane holds one ray at a time and takes the
+// next index when its ray is done. Must be called in uniform control flow of the subgroup, with
+// the same first and end on every lane.
+void osrBvhTracePool(uint first, uint end, bool anyHit) {
   OsrBvhRay r;
   float tMin = 0.0, tFar = 0.0;
   Hit hit;
-  hit.t = 0.0;
-  hit.triangle = 0xffffffffu;
-  hit.barycentrics = vec2(0.0);
   bool found = false;
-  bool holding = false;  // the lane has a ray in flight
-  bool anyHit = false;   // of the ray in flight
+  uint ray = 0u;        // pool index of the lane's ray
+  bool holding = false; // the lane has a ray whose result is not yet written
+  uint next = first;    // first pool index not yet taken (uniform)
 #else
 bool osrBvhTraverse(vec3 origin, vec3 dir, float tMin, float tMax, bool anyHit, out Hit hit) {
   OsrBvhRay r = osrBvhMakeRay(origin, dir);
@@ -228,26 +221,26 @@ bool osrBvhTraverse(vec3 origin, vec3 dir, float tMin, float tMax, bool anyHit, 
   uvec2 held0 = uvec2(0u), held1 = uvec2(0u);
   for (;;) {
 #ifdef OSR_BVH_RAY_POOL
-    uint idleLanes = subgroupBallotBitCount(subgroupBallot(!holding));
-    if (2u * idleLanes >= gl_SubgroupSize || !subgroupAny(holding)) {
-      OsrBvhPoolRayDesc d;
-      bool took = osrBvhPoolTake(!holding, found, hit, d);
-      if (!holding && took) {
-        r = osrBvhMakeRay(d.origin, d.dir);
-        tMin = d.tMin;
-        tFar = d.tMax;
-        anyHit = d.anyHit;
-        hit.t = d.tMax;
-        hit.triangle = 0xffffffffu;
-        hit.barycentrics = vec2(0.0);
-        found = false;
-        holding = true;
-        walking = true;
-        node = 0u;
-        sp = 0u;
-      }
-      if (!subgroupAny(holding)) return;
+    // Lanes without a ray take the next ones, in lane order.
+    uvec4 idle = subgroupBallot(!holding);
+    uint slot = next + subgroupBallotExclusiveBitCount(idle);
+    next += subgroupBallotBitCount(idle);
+    if (!holding && slot < end) {
+      OsrBvhPoolRayDesc d = osrBvhPoolRay(slot);
+      r = osrBvhMakeRay(d.origin, d.dir);
+      tMin = d.tMin;
+      tFar = d.tMax;
+      hit.t = d.tMax;
+      hit.triangle = 0xffffffffu;
+      hit.barycentrics = vec2(0.0);
+      found = false;
+      ray = slot;
+      holding = true;
+      walking = true;
+      node = 0u;
+      sp = 0u;
     }
+    if (!subgroupAny(holding)) return;
 #endif
     while (subgroupAny(walking && held0.y == 0u)) {
       // Every lane runs the step; lanes that wait (finished, or holding two ranges) change
@@ -309,7 +302,10 @@ bool osrBvhTraverse(vec3 origin, vec3 dir, float tMin, float tMax, bool anyHit, 
     held0 = uvec2(0u);
     held1 = uvec2(0u);
 #ifdef OSR_BVH_RAY_POOL
-    holding = holding && walking;  // a finished ray's result waits for the next take
+    if (holding && !walking) {
+      osrBvhPoolResult(ray, found, hit);
+      holding = false;
+    }
 #else
     if (!walking) break;
 #endif
