@@ -160,7 +160,7 @@ bool osrBvhTriangle(OsrBvhRay r, vec3 v0, vec3 v1, vec3 v2, float tMin, float tF
   return true;
 }
 
-// Shared loop of both queries and of the ray pool; `anyHit` is a constant at each call site, so
+// The loop of both queries and of the ray pool; `anyHit` is a constant at each call site, so
 // the compiler specialises it away.
 //
 // Leaves are intersected in a separate phase, for the whole SIMD group at once (Aila & Laine
@@ -178,7 +178,10 @@ bool osrBvhTriangle(OsrBvhRay r, vec3 v0, vec3 v1, vec3 v2, float tMin, float tF
 // The includer provides
 //   OsrBvhPoolRayDesc osrBvhPoolRay(uint i);          // ray i of the pool
 //   void osrBvhPoolResult(uint i, bool found, Hit hit); // its result
-// and bvhClosestHit / bvhAnyHit are not defined.
+// bvhClosestHit and bvhAnyHit stay defined. Both loops are the text of
+// lib/bvh_traverse_loop.glsl. (A more general pool, whose includer made each lane's next ray
+// and took its result in one hook called when half the lanes were idle, measured 10-15%
+// slower here, and the one kernel that tried it, osr_direct, got slower: docs/bvh.md.)
 #ifdef OSR_BVH_RAY_POOL
 struct OsrBvhPoolRayDesc {
   vec3 origin;
@@ -188,134 +191,17 @@ struct OsrBvhPoolRayDesc {
 };
 OsrBvhPoolRayDesc osrBvhPoolRay(uint i);
 void osrBvhPoolResult(uint i, bool found, Hit hit);
+#endif
 
-// Traces rays [first, end) with this subgroup: each lane holds one ray at a time and takes the
-// next index when its ray is done. Must be called in uniform control flow of the subgroup, with
-// the same first and end on every lane.
-void osrBvhTracePool(uint first, uint end, bool anyHit) {
-  OsrBvhRay r;
-  float tMin = 0.0, tFar = 0.0;
-  Hit hit;
-  bool found = false;
-  uint ray = 0u;        // pool index of the lane's ray
-  bool holding = false; // the lane has a ray whose result is not yet written
-  uint next = first;    // first pool index not yet taken (uniform)
-#else
-bool osrBvhTraverse(vec3 origin, vec3 dir, float tMin, float tMax, bool anyHit, out Hit hit) {
-  OsrBvhRay r = osrBvhMakeRay(origin, dir);
-  hit.t = tMax;
-  hit.triangle = 0xffffffffu;
-  hit.barycentrics = vec2(0.0);
-  bool found = false;
-  float tFar = tMax;
-#endif
-  uint stack[kBvhMaxDepth];
-  uint sp = 0u;
-  uint node = 0u;
+#define OSR_BVH_LOOP_POOL 0
+#include "lib/bvh_traverse_loop.glsl"
 #ifdef OSR_BVH_RAY_POOL
-  bool walking = false;
-#else
-  bool walking = true;  // `node` is still to be visited
+#undef OSR_BVH_LOOP_POOL
+#define OSR_BVH_LOOP_POOL 1
+#include "lib/bvh_traverse_loop.glsl"
 #endif
-  // Leaf ranges met by the walk and not yet intersected: (first entry, count), count 0 = none.
-  uvec2 held0 = uvec2(0u), held1 = uvec2(0u);
-  for (;;) {
-#ifdef OSR_BVH_RAY_POOL
-    // Lanes without a ray take the next ones, in lane order.
-    uvec4 idle = subgroupBallot(!holding);
-    uint slot = next + subgroupBallotExclusiveBitCount(idle);
-    next += subgroupBallotBitCount(idle);
-    if (!holding && slot < end) {
-      OsrBvhPoolRayDesc d = osrBvhPoolRay(slot);
-      r = osrBvhMakeRay(d.origin, d.dir);
-      tMin = d.tMin;
-      tFar = d.tMax;
-      hit.t = d.tMax;
-      hit.triangle = 0xffffffffu;
-      hit.barycentrics = vec2(0.0);
-      found = false;
-      ray = slot;
-      holding = true;
-      walking = true;
-      node = 0u;
-      sp = 0u;
-    }
-    if (!subgroupAny(holding)) return;
-#endif
-    while (subgroupAny(walking && held0.y == 0u)) {
-      // Every lane runs the step; lanes that wait (finished, or holding two ranges) change
-      // nothing. Stores under a partial lane mask compile to a branch per lane on lavapipe.
-      bool step = walking && held1.y == 0u;
-      BvhNode n = osrBvhNode(node);
-      float ta = 0.0, tb = 0.0;  // set only where the step tests the box
-      bool ha = step && osrBvhBox(r, n.aMin, n.aMax, tMin, tFar, ta);
-      bool hb = step && osrBvhBox(r, n.bMin, n.bMax, tMin, tFar, tb);
-      bool leafA = ha && (n.a & kBvhLeafFlag) != 0u;
-      bool leafB = hb && (n.b & kBvhLeafFlag) != 0u;
-      // Two leaf children have consecutive entries (shared/bvh.h), so the hit ones are one range.
-      uint count = (leafA ? (n.a >> kBvhLeafCountShift) & kBvhLeafCountMask : 0u) +
-                   (leafB ? (n.b >> kBvhLeafCountShift) & kBvhLeafCountMask : 0u);
-      uvec2 range = uvec2((leafA ? n.a : n.b) & kBvhLeafFirstMask, count);
-      bool first = held0.y == 0u;
-      held0 = count != 0u && first ? range : held0;
-      held1 = count != 0u && !first ? range : held1;
-      ha = ha && !leafA;
-      hb = hb && !leafB;
-      bool aFirst = ta <= tb;
-      // The far child is written whether or not it is pushed (see above).
-      stack[sp] = aFirst ? n.b : n.a;
-      uint popped = stack[max(sp, 1u) - 1u];
-      if (ha && hb) {
-        sp++;
-        node = aFirst ? n.a : n.b;
-      } else if (ha || hb) {
-        node = ha ? n.a : n.b;
-      } else if (step) {
-        walking = sp > 0u;
-        if (walking) {
-          node = popped;
-          sp--;
-        }
-      }
-    }
-    // held0 before held1: the walk met it first, so it tends to be nearer.
-    for (uint k = 0u; k < held0.y + held1.y; ++k) {
-      uint i = k < held0.y ? held0.x + k : held1.x + (k - held0.y);
-      BvhLeafTriangle tri = osrBvhLeafTriangle(i);
-      float t;
-      vec2 bary;
-      if (!osrBvhTriangle(r, tri.v0.xyz, tri.v1.xyz, tri.v2.xyz, tMin, tFar, t, bary)) continue;
-      uint id = floatBitsToUint(tri.v0.w);
-#ifdef OSR_BVH_ALPHA_TEST
-      if (osrAlphaCutout(id, bary)) continue;
-#endif
-      found = true;
-      hit.t = t;
-      hit.triangle = id;
-      hit.barycentrics = bary;
-      tFar = t;
-      if (anyHit) {  // done: the walk stops here
-        walking = false;
-        break;
-      }
-    }
-    held0 = uvec2(0u);
-    held1 = uvec2(0u);
-#ifdef OSR_BVH_RAY_POOL
-    if (holding && !walking) {
-      osrBvhPoolResult(ray, found, hit);
-      holding = false;
-    }
-#else
-    if (!walking) break;
-#endif
-  }
-#ifndef OSR_BVH_RAY_POOL
-  return found;
-#endif
-}
+#undef OSR_BVH_LOOP_POOL
 
-#ifndef OSR_BVH_RAY_POOL
 bool bvhClosestHit(vec3 origin, vec3 dir, float tMin, float tMax, out Hit hit) {
   return osrBvhTraverse(origin, dir, tMin, tMax, false, hit);
 }
@@ -324,6 +210,5 @@ bool bvhAnyHit(vec3 origin, vec3 dir, float tMin, float tMax) {
   Hit unused;
   return osrBvhTraverse(origin, dir, tMin, tMax, true, unused);
 }
-#endif
 
 #endif

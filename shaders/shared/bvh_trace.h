@@ -11,6 +11,11 @@ OSR_CONST(uint, kBindingBvh, 2u);  // kBvhBindingCount bindings from here
 // Only in bvh_trace_rays_alpha.comp: one uint per triangle, see kAlpha* below.
 OSR_CONST(uint, kBindingAlphaMask, 6u);
 
+// constant_id of the kernel's choice: a subgroup pool of rays per lane (1), or one ray per
+// invocation through bvhClosestHit / bvhAnyHit as the renderers trace (0). Two pipelines, so
+// neither carries the other's code.
+OSR_CONST(uint, kSpecRayPool, 0u);
+
 OSR_CONST(uint, kModeClosest, 0u);
 OSR_CONST(uint, kModeAny, 1u);
 OSR_CONST(uint, kNoHit, 0xffffffffu);
@@ -38,7 +43,7 @@ struct TraceHit {
 struct Push {
   uint rayCount;
   uint mode;
-  uint raysPerLane;  // rays each invocation's subgroup pool holds per invocation (>= 1)
+  uint raysPerLane;  // rays each subgroup's pool holds per invocation (1 with kSpecRayPool 0)
   uint _pad0;
 };
 OSR_NAMESPACE_END

@@ -26,8 +26,12 @@ std::vector<VkDescriptorType> descriptorTypes(bool alphaTest) {
 TraceRaysPass::TraceRaysPass(const vk::Context& ctx, bool alphaTest, Access access)
     : alphaTest_(alphaTest),
       storageAccess_(traversalSpec(ctx, access).bits == 0),
-      pipeline_(ctx, alphaTest ? shaders::Id::bvh_trace_rays_alpha : shaders::Id::bvh_trace_rays,
-                descriptorTypes(alphaTest), sizeof(tr::Push), {traversalSpec(ctx, access)}) {}
+      pooled_(ctx, alphaTest ? shaders::Id::bvh_trace_rays_alpha : shaders::Id::bvh_trace_rays,
+              descriptorTypes(alphaTest), sizeof(tr::Push),
+              {traversalSpec(ctx, access), vk::specUint(tr::kSpecRayPool, 1)}),
+      single_(ctx, alphaTest ? shaders::Id::bvh_trace_rays_alpha : shaders::Id::bvh_trace_rays,
+              descriptorTypes(alphaTest), sizeof(tr::Push),
+              {traversalSpec(ctx, access), vk::specUint(tr::kSpecRayPool, 0)}) {}
 
 void TraceRaysPass::record(VkCommandBuffer cmd, const Args& args) const {
   if (args.rayCount == 0) return;
@@ -41,12 +45,13 @@ void TraceRaysPass::record(VkCommandBuffer cmd, const Args& args) const {
   uint32_t x = std::min(groups, 65535u);
   uint32_t y = (groups + x - 1) / x;
   tr::Push push{args.rayCount, args.mode, raysPerLane, 0};
-  vk::Binder binder(pipeline_);
+  const vk::ComputePipeline& pipeline = raysPerLane > 1 ? pooled_ : single_;
+  vk::Binder binder(pipeline);
   binder.set(tr::kBindingRays, args.rays).set(tr::kBindingHits, args.hits);
   args.bvh->bind(binder, tr::kBindingBvh);
   if (alphaTest_) binder.set(tr::kBindingAlphaMask, args.alphaMask);
   binder.bind(cmd, push);
-  pipeline_.dispatch(cmd, x, y);
+  pipeline.dispatch(cmd, x, y);
   vk::computeBarrier(cmd);
 }
 

@@ -23,7 +23,7 @@ class TraceRaysPass {
     uint32_t mode = gpu::bvh_trace::kModeClosest;
     // Rays per invocation: each subgroup traces a pool of this many rays per lane, a lane taking
     // the next when its ray is done (shaders/lib/bvh_trace_rays_main.glsl). 1 = one ray per
-    // invocation, as the renderers trace.
+    // invocation through bvhClosestHit / bvhAnyHit, as the renderers trace.
     uint32_t raysPerLane = 16;
   };
   // Records bind + dispatch + the barrier that makes the hits visible to later passes.
@@ -32,7 +32,8 @@ class TraceRaysPass {
  private:
   bool alphaTest_;
   bool storageAccess_;  // reads the BVH's storage bindings (traversalSpec chose storage)
-  vk::ComputePipeline pipeline_;
+  vk::ComputePipeline pooled_;  // ray pools (raysPerLane > 1)
+  vk::ComputePipeline single_;  // one ray per invocation (raysPerLane 1)
 };
 
 }  // namespace osr::bvh
