@@ -104,6 +104,18 @@ std::vector<vk::SpecConstant> texelSpec(const vk::Context& ctx, bool byAddress, 
 bool wordTexelsCoverBindings(const vk::Context& ctx) {
   return uint64_t(ctx.caps().maxTexelBufferElements) * 4 >= ctx.caps().maxStorageBufferRange;
 }
+// The layout and spec of a pass that also reads one array of 4-byte items (keys, slots) through
+// an R32UI view at binding `wordTexels`, switched by spec constant `wordSpec`.
+std::vector<VkDescriptorType> wordTexelTypes(uint32_t bindingCount, uint32_t texelBase, uint32_t wordTexels) {
+  std::vector<VkDescriptorType> t = texelTypes(bindingCount, texelBase);
+  t[wordTexels] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+  return t;
+}
+std::vector<vk::SpecConstant> wordTexelSpec(const vk::Context& ctx, bool byAddress, uint32_t wordSpec) {
+  std::vector<vk::SpecConstant> spec = texelSpec(ctx, byAddress, arraySpec(byAddress));
+  spec.push_back(vk::specUint(wordSpec, wordTexelsCoverBindings(ctx) ? 1u : 0u));
+  return spec;
+}
 void bindTexels(vk::Binder& binder, uint32_t texelBase, const BuildTexelViews& views) {
   binder.setTexel(texelBase + bb::kBuildTexelInterior, views.interior)
       .setTexel(texelBase + bb::kBuildTexelLeaves, views.leaves)
@@ -232,22 +244,11 @@ void RadixSort::record(VkCommandBuffer cmd, const Args& a, vk::GpuTimer* timer) 
   }
 }
 
-namespace {
-std::vector<VkDescriptorType> lbvhTypes() {
-  std::vector<VkDescriptorType> t = texelTypes(bb::kLbvhBindingCount, bb::kLbvhBindingTexels);
-  t[bb::kLbvhBindingKeyTexels] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
-  return t;
-}
-std::vector<vk::SpecConstant> lbvhSpec(const vk::Context& ctx, bool byAddress) {
-  std::vector<vk::SpecConstant> spec = texelSpec(ctx, byAddress, arraySpec(byAddress));
-  spec.push_back(vk::specUint(bb::kLbvhSpecKeyTexels, wordTexelsCoverBindings(ctx) ? 1u : 0u));
-  return spec;
-}
-}  // namespace
-
 LbvhPass::LbvhPass(const vk::Context& ctx, bool byAddress)
     : access_{&ctx, byAddress},
-      pipeline_(ctx, shaders::Id::bvh_lbvh, lbvhTypes(), sizeof(BuildPush), lbvhSpec(ctx, byAddress)) {}
+      pipeline_(ctx, shaders::Id::bvh_lbvh,
+                wordTexelTypes(bb::kLbvhBindingCount, bb::kLbvhBindingTexels, bb::kLbvhBindingKeyTexels),
+                sizeof(BuildPush), wordTexelSpec(ctx, byAddress, bb::kLbvhSpecKeyTexels)) {}
 
 void LbvhPass::record(VkCommandBuffer cmd, const Args& a) const {
   vk::Binder binder(pipeline_);
@@ -342,21 +343,16 @@ void TreeletPass::record(VkCommandBuffer cmd, const Args& a, vk::GpuTimer* timer
 
 namespace {
 std::vector<VkDescriptorType> emitTypes() {
-  std::vector<VkDescriptorType> t = texelTypes(bb::kEmitBindingCount, bb::kEmitBindingTexels);
-  t[bb::kEmitBindingSlotTexels] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
-  return t;
-}
-std::vector<vk::SpecConstant> emitSpec(const vk::Context& ctx, bool byAddress) {
-  std::vector<vk::SpecConstant> spec = texelSpec(ctx, byAddress, arraySpec(byAddress));
-  spec.push_back(vk::specUint(bb::kEmitSpecSlotTexels, wordTexelsCoverBindings(ctx) ? 1u : 0u));
-  return spec;
+  return wordTexelTypes(bb::kEmitBindingCount, bb::kEmitBindingTexels, bb::kEmitBindingSlotTexels);
 }
 }  // namespace
 
 EmitPass::EmitPass(const vk::Context& ctx, bool byAddress)
     : access_{&ctx, byAddress},
-      nodes_(ctx, shaders::Id::bvh_emit_nodes, emitTypes(), sizeof(BuildPush), emitSpec(ctx, byAddress)),
-      leaves_(ctx, shaders::Id::bvh_emit_leaves, emitTypes(), sizeof(BuildPush), emitSpec(ctx, byAddress)) {}
+      nodes_(ctx, shaders::Id::bvh_emit_nodes, emitTypes(), sizeof(BuildPush),
+             wordTexelSpec(ctx, byAddress, bb::kEmitSpecSlotTexels)),
+      leaves_(ctx, shaders::Id::bvh_emit_leaves, emitTypes(), sizeof(BuildPush),
+              wordTexelSpec(ctx, byAddress, bb::kEmitSpecSlotTexels)) {}
 
 void EmitPass::record(VkCommandBuffer cmd, const Args& a, vk::GpuTimer* timer) const {
   BuildPush p{};
