@@ -47,7 +47,8 @@ class ProgressPrinter {
   ProgressPrinter(bool quiet, bool unitBound) : quiet_(quiet), unitBound_(unitBound), tty_(::isatty(2)) {}
   void operator()(const render::Progress& p) {
     if (quiet_) return;
-    bool last = p.units >= p.targetUnits || p.remainingS <= 0.0;
+    // The final line; not each slice of a unit that runs past the time budget.
+    bool last = p.units >= p.targetUnits || (p.remainingS <= 0.0 && p.unitFraction == 0.0);
     if (!tty_ && !last && p.elapsedS - lastPrinted_ < 5.0) return;
     lastPrinted_ = p.elapsedS;
     const std::string target = unitBound_ ? "/" + std::to_string(p.targetUnits) : "";
