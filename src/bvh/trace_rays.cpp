@@ -40,7 +40,8 @@ void TraceRaysPass::record(VkCommandBuffer cmd, const Args& args) const {
     throw DeviceError("bvh: a BVH of " + std::to_string(args.bvh->triangleCount) +
                       " triangles passes maxStorageBufferRange (" + std::to_string(args.bvh->storageRange >> 20) +
                       " MiB), which storage-buffer traversal cannot read; use texel fetch");
-  const uint32_t raysPerLane = std::max(args.raysPerLane, 1u);
+  // Capped so that neither the group count nor a subgroup's pool end can wrap.
+  const uint32_t raysPerLane = std::clamp(args.raysPerLane, 1u, 1024u);
   uint32_t groups = vk::groupCount((args.rayCount + raysPerLane - 1) / raysPerLane, tr::kWorkgroupSize);
   uint32_t x = std::min(groups, 65535u);
   uint32_t y = (groups + x - 1) / x;
