@@ -171,8 +171,7 @@ class OsrVkRenderEngine(bpy.types.RenderEngine):
             progress = process.parse_progress(line)
             if progress is not None:
                 self.update_progress(progress.fraction())
-                unbounded = progress.total <= 0 or progress.total >= 1 << 20  # --time alone
-                done = ("%d %s" % (progress.done, progress.unit) if unbounded
+                done = ("%d %s" % (progress.done, progress.unit) if progress.unbounded()
                         else "%d/%d %s" % (progress.done, progress.total, progress.unit))
                 if progress.remaining_s is not None:
                     done += " (~%.0f s left)" % progress.remaining_s

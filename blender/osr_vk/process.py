@@ -28,13 +28,16 @@ class Progress:
         self.elapsed_s, self.remaining_s, self.line = elapsed_s, remaining_s, line
         self.partial = partial  # of the unit in progress, 0 to 1
 
+    def unbounded(self):
+        """Only --time bounds the render: osr-vk announces no or a huge unit target."""
+        return self.total <= 0 or self.total >= 1 << 20
+
     def fraction(self):
-        # Time-limited renders announce no or a huge unit target: then elapsed / (elapsed +
-        # remaining).
+        # Time-limited renders: elapsed / (elapsed + remaining).
         units = self.done + self.partial
         if self.elapsed_s is not None and self.remaining_s is not None:
             by_time = self.elapsed_s / max(self.elapsed_s + self.remaining_s, 1e-9)
-            if self.total <= 0 or self.total >= 1 << 20:
+            if self.unbounded():
                 return min(1.0, by_time)
             return min(1.0, max(units / self.total, by_time))
         return min(1.0, units / self.total) if self.total > 0 else 0.0
