@@ -26,8 +26,8 @@ struct DriverSettings {
   double timeLimitS = 0.0;     // 0: no limit; otherwise stop starting submissions past it
   double batchTargetS = 0.25;  // aim for submissions this long (progress, time limit, viewer)
   // Split a unit longer than batchTargetS into slices (Integrator::maxSlicesPerUnit): the
-  // viewer's submissions must stay short while the window redraws; a CLI render needs no more
-  // submissions than units.
+  // viewer's submissions must stay short while the window redraws, and the CLI prints progress
+  // during a unit that takes minutes. Off: whole units only (tests that count submissions).
   bool sliceUnits = false;
   // With sliceUnits, the slices of a unit when no unit has been timed yet; 0: the integrator's
   // most. The viewer needs short submissions from the first frame; the CLI only needs progress
