@@ -63,40 +63,29 @@ void storeInterior(uint i, BvhBuildNode n) {
 }
 // The fields a refit reads and writes (bounds, cost, triangle count, flags; the links stay), for
 // passes that keep a node's links elsewhere: fewer words moved, and on lavapipe each moved field
-// is a loop over the SIMD lanes.
+// is a loop over the SIMD lanes. One macro for both the by-address and the binding form (GLSL
+// has no references to buffer elements).
+#define OSR_COPY_NODE_SUMS(to, from) \
+  to.lo = from.lo;                   \
+  to.cost = from.cost;               \
+  to.hi = from.hi;                   \
+  to.triangleCount = from.triangleCount; \
+  to.flags = from.flags
 BvhBuildNode loadInteriorSums(uint i) {
   BvhBuildNode n;
   if (kBuildByAddress) {
-    BuildNodeRef interior = BuildNodeRef(gPush.arrays.interior);
-    n.lo = interior.v[i].lo;
-    n.cost = interior.v[i].cost;
-    n.hi = interior.v[i].hi;
-    n.triangleCount = interior.v[i].triangleCount;
-    n.flags = interior.v[i].flags;
+    OSR_COPY_NODE_SUMS(n, BuildNodeRef(gPush.arrays.interior).v[i]);
   } else {
-    n.lo = gInterior[i].lo;
-    n.cost = gInterior[i].cost;
-    n.hi = gInterior[i].hi;
-    n.triangleCount = gInterior[i].triangleCount;
-    n.flags = gInterior[i].flags;
+    OSR_COPY_NODE_SUMS(n, gInterior[i]);
   }
   n.left = n.right = n.parent = kInvalidNode;
   return n;
 }
 void storeInteriorSums(uint i, BvhBuildNode n) {
   if (kBuildByAddress) {
-    BuildNodeRef interior = BuildNodeRef(gPush.arrays.interior);
-    interior.v[i].lo = n.lo;
-    interior.v[i].cost = n.cost;
-    interior.v[i].hi = n.hi;
-    interior.v[i].triangleCount = n.triangleCount;
-    interior.v[i].flags = n.flags;
+    OSR_COPY_NODE_SUMS(BuildNodeRef(gPush.arrays.interior).v[i], n);
   } else {
-    gInterior[i].lo = n.lo;
-    gInterior[i].cost = n.cost;
-    gInterior[i].hi = n.hi;
-    gInterior[i].triangleCount = n.triangleCount;
-    gInterior[i].flags = n.flags;
+    OSR_COPY_NODE_SUMS(gInterior[i], n);
   }
 }
 BvhBuildNode loadNode(uint u) {
@@ -133,21 +122,13 @@ void setChildren(uint i, uint left, uint right) {
 void initLeaf(uint i, BvhBuildNode n) {
   if (kBuildByAddress) {
     BuildNodeRef leaves = BuildNodeRef(gPush.arrays.leaves);
-    leaves.v[i].lo = n.lo;
-    leaves.v[i].hi = n.hi;
-    leaves.v[i].cost = n.cost;
-    leaves.v[i].triangleCount = n.triangleCount;
+    OSR_COPY_NODE_SUMS(leaves.v[i], n);
     leaves.v[i].left = n.left;
     leaves.v[i].right = n.right;
-    leaves.v[i].flags = n.flags;
   } else {
-    gLeaves[i].lo = n.lo;
-    gLeaves[i].hi = n.hi;
-    gLeaves[i].cost = n.cost;
-    gLeaves[i].triangleCount = n.triangleCount;
+    OSR_COPY_NODE_SUMS(gLeaves[i], n);
     gLeaves[i].left = n.left;
     gLeaves[i].right = n.right;
-    gLeaves[i].flags = n.flags;
   }
 }
 
