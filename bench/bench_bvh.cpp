@@ -54,7 +54,7 @@ int runBvh(const std::vector<std::string>& argv) {
     bvh::HostBvh gpuTree;
     {
       bvh::Bvh tree = builder.build(vertices, triangles, n, &stats);
-      bvhBytes = tree.nodes.size() + tree.leafData.size();
+      bvhBytes = tree.nodes.size() + tree.traversalNodes.size() + tree.leafData.size();
       gpuTree = bvh::download(tree);
     }
     std::string problem = bvh::checkInvariants(gpuTree, m.vertices, m.triangles);

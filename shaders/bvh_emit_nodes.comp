@@ -1,22 +1,23 @@
 #version 460
-// bvh_emit_nodes: the nodes of the traversal layout (shared/bvh.h) from the build nodes, and where
-// each leaf's triangles go. One invocation per interior build node; traversal node i is build
-// node i (root 0). Nodes that are collapsed, or lie below a collapsed node, are unreachable:
-// they allocate nothing, and what they write is never read. Each child that is a leaf or a
+// bvh_emit_nodes: the nodes of the traversal layout (shared/bvh.h) from the build nodes, exact
+// (BvhNode) and quantized (BvhTraversalNode, shared/bvh_quantize.h), and where each leaf's
+// triangles go. One invocation per interior build node; build node i becomes traversal node
+// positions[i] (bvh_order_level's depth-first order, root 0). Nodes that are collapsed, or lie
+// below a collapsed node, have no position: they allocate and store nothing. Each child that is a leaf or a
 // collapsed subtree becomes a leaf: the leaf entries of a, then b, are allocated with an atomic
 // counter (once per workgroup), and bvh_emit_leaves copies the triangles there
 // (bvhEmitSlot in shared/bvh_build.h: where they start, and how many are a's).
-// Every lane but those past the last node stores (no store under a partial lane mask: on
-// lavapipe that is a test-and-branch per lane).
-// Inputs: build nodes, info.leafCounter = 0. Outputs: nodes, slots.
+// Inputs: build nodes, positions, info.leafCounter = 0. Outputs: nodes, traversal nodes, slots.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
 #extension GL_KHR_shader_subgroup_ballot : require
 #include "lib/bvh_build_arrays.glsl"
+#include "shared/bvh_quantize.h"
 
 layout(local_size_x = kWorkgroupSize) in;
 layout(std430, binding = kEmitBindingInfo) buffer Info { BvhBuildInfo gInfo; };
 layout(std430, binding = kEmitBindingSlots) writeonly buffer Slots { uint gSlots[]; };
+layout(std430, binding = kEmitBindingPositions) readonly buffer Positions { uint gPositions[]; };
 #define OSR_BUILD_TEXEL_BINDING kEmitBindingTexels
 #include "lib/bvh_build_texels.glsl"
 
@@ -24,9 +25,10 @@ bool becomesLeaf(uint u, BvhBuildNode n) {
   return u >= interiorCount() || (n.flags & kFlagCollapsed) != 0u;
 }
 
-// Child reference for build node u: an interior index, or a leaf of its triangles at `slot`.
+// Child reference for build node u: a traversal node's position, or a leaf of its triangles at
+// `slot`.
 uint childRef(uint u, BvhBuildNode n, uint slot) {
-  if (!becomesLeaf(u, n)) return u;
+  if (!becomesLeaf(u, n)) return gPositions[u];
   return kBvhLeafFlag | (n.triangleCount << kBvhLeafCountShift) | slot;
 }
 
@@ -70,23 +72,19 @@ void main() {
     root._pad0 = 0u;
     root._pad1 = 0u;
     storeNode(0u, root);
+    storeTraversalNode(0u, bvhQuantizeNode(root));
     return;
   }
   // Past the last node: no leaf entries, no stores, but through the allocation's barriers.
   bool inRange = i < n - 1u;
   BuildLinks node = readLinks(min(i, n - 2u));
-  bool live = inRange && (node.flags & kFlagCollapsed) == 0u;
-  // Only subtrees of at most kBvhMaxLeafTriangles collapse, so only such ancestors matter.
-  for (uint p = node.parent; live && node.triangleCount <= kBvhMaxLeafTriangles && p != kInvalidNode;) {
-    BuildLinks a = readLinks(p);
-    if (a.triangleCount > kBvhMaxLeafTriangles) break;
-    if ((a.flags & kFlagCollapsed) != 0u) live = false;
-    p = a.parent;
-  }
+  uint position = gPositions[min(i, n - 2u)];
+  bool live = inRange && position != kInvalidNode;
   BvhBuildNode l = readNode(node.left), r = readNode(node.right);
   uint countA = live && becomesLeaf(node.left, l) ? l.triangleCount : 0u;
   uint countB = live && becomesLeaf(node.right, r) ? r.triangleCount : 0u;
   uint slot = allocateLeafEntries(countA + countB);
+  if (!live) return;
   BvhNode out_;
   out_.aMin = l.lo;
   out_.aMax = l.hi;
@@ -96,7 +94,7 @@ void main() {
   out_.b = childRef(node.right, r, slot + countA);
   out_._pad0 = 0u;
   out_._pad1 = 0u;
-  if (!inRange) return;
-  storeNode(i, out_);
+  storeNode(position, out_);
+  storeTraversalNode(position, bvhQuantizeNode(out_));
   gSlots[i] = bvhEmitSlot(slot, countA);
 }

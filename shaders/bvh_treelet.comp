@@ -201,7 +201,7 @@ void restructure(uint root, BvhBuildNode rn, BvhBuildNode l, BvhBuildNode r) {
 }
 
 void main() {
-  TreeletLevel level = gLevels[gPush.param];
+  LevelList level = gLevels[gPush.param];
   uint i = bvhBuildItem();
   if (i >= level.count) return;
   uint node = gNodeList[level.offset + i];

@@ -26,12 +26,16 @@ layout(std430, binding = kBuildBindingNodes) writeonly buffer BuildNodes { BvhNo
 layout(std430, binding = kBuildBindingLeafTriangles) writeonly buffer BuildLeafTriangles {
   BvhLeafTriangle gLeafTriangles[];
 };
+layout(std430, binding = kBuildBindingTraversalNodes) writeonly buffer BuildTraversalNodes {
+  BvhTraversalNode gTraversalNodes[];
+};
 
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer TriangleRef { Triangle v[]; };
 layout(buffer_reference, std430, buffer_reference_align = 16) readonly buffer VertexRef { Vertex v[]; };
 layout(buffer_reference, std430, buffer_reference_align = 16) buffer LeafTriangleRef { BvhLeafTriangle v[]; };
 layout(buffer_reference, std430, buffer_reference_align = 16) coherent buffer BuildNodeRef { BvhBuildNode v[]; };
 layout(buffer_reference, std430, buffer_reference_align = 16) writeonly buffer NodeRef { BvhNode v[]; };
+layout(buffer_reference, std430, buffer_reference_align = 16) writeonly buffer TraversalNodeRef { BvhTraversalNode v[]; };
 
 // if/else rather than ?: throughout: glslang types a ?: over two blocks' structs inconsistently.
 Triangle loadTriangle(uint i) {
@@ -136,6 +140,10 @@ void initLeaf(uint i, BvhBuildNode n) {
 void storeNode(uint i, BvhNode n) {
   if (kBuildByAddress) NodeRef(gPush.arrays.nodes).v[i] = n;
   else gNodes[i] = n;
+}
+void storeTraversalNode(uint i, BvhTraversalNode n) {
+  if (kBuildByAddress) TraversalNodeRef(gPush.arrays.traversalNodes).v[i] = n;
+  else gTraversalNodes[i] = n;
 }
 void storeLeafTriangle(uint i, BvhLeafTriangle t) {
   if (kBuildByAddress) LeafTriangleRef(gPush.arrays.leafTriangles).v[i] = t;

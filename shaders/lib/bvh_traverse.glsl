@@ -24,7 +24,7 @@
 #endif
 
 layout(std430, binding = OSR_BVH_BINDING + kBvhBindingNodes) readonly buffer OsrBvhNodes {
-  BvhNode gBvhNodes[];
+  BvhTraversalNode gBvhNodes[];
 };
 layout(std430, binding = OSR_BVH_BINDING + kBvhBindingLeafTriangles) readonly buffer OsrBvhLeaves {
   BvhLeafTriangle gBvhLeafTriangles[];
@@ -36,22 +36,12 @@ layout(constant_id = kBvhSpecTexelFetch) const bool kBvhTexelFetch = true;
 
 // Texels hold raw bits (RGBA32UI, not RGBA32F): a float format could flush the denormal bit
 // patterns of small triangle indices in v0.w or of child references.
-BvhNode osrBvhNode(uint i) {
+BvhTraversalNode osrBvhNode(uint i) {
   if (!kBvhTexelFetch) return gBvhNodes[i];
-  int base = int(i * kBvhNodeTexels);
-  uvec4 t0 = texelFetch(gBvhNodeTexels, base);
-  uvec4 t1 = texelFetch(gBvhNodeTexels, base + 1);
-  uvec4 t2 = texelFetch(gBvhNodeTexels, base + 2);
-  uvec4 t3 = texelFetch(gBvhNodeTexels, base + 3);
-  BvhNode n;
-  n.aMin = uintBitsToFloat(t0.xyz);
-  n.a = t0.w;
-  n.aMax = uintBitsToFloat(t1.xyz);
-  n.b = t1.w;
-  n.bMin = uintBitsToFloat(t2.xyz);
-  n._pad0 = 0u;
-  n.bMax = uintBitsToFloat(t3.xyz);
-  n._pad1 = 0u;
+  int base = int(i * kBvhTraversalNodeTexels);
+  BvhTraversalNode n;
+  n.frame = texelFetch(gBvhNodeTexels, base);
+  n.boxes = texelFetch(gBvhNodeTexels, base + 1);
   return n;
 }
 
@@ -81,7 +71,8 @@ struct OsrBvhRay {
   vec3 origin;
   vec3 invDir;
   vec3 originScaled;  // origin * invDir, so a slab distance is one fma
-  bvec3 dirNegative;  // the box's max plane is the near one on these axes
+  uvec3 nearShift;    // per axis, where the near plane's byte of child a sits in a node's boxes
+  uvec3 farShift;     // (the max plane's where the direction is negative); child b's: + 16
   ivec3 k;            // kx, ky, kz: kz the dominant axis, kx/ky keeping the winding
   vec3 shear;         // Sx, Sy, Sz
 };
@@ -96,7 +87,9 @@ OsrBvhRay osrBvhMakeRay(vec3 origin, vec3 dir) {
                   lessThan(abs(dir), vec3(kTiny)));
   r.invDir = 1.0 / safe;
   r.originScaled = origin * r.invDir;
-  r.dirNegative = lessThan(r.invDir, vec3(0.0));
+  bvec3 negative = lessThan(r.invDir, vec3(0.0));
+  r.nearShift = mix(uvec3(0u), uvec3(8u), negative);
+  r.farShift = mix(uvec3(8u), uvec3(0u), negative);
   vec3 a = abs(dir);
   int kz = a.x > a.y ? (a.x > a.z ? 0 : 2) : (a.y > a.z ? 1 : 2);
   int kx = kz == 2 ? 0 : kz + 1;
@@ -119,15 +112,30 @@ const float kOsrBvhExitScale = 1.00000036;  // 1 + 2 * gamma(3)
 float osrBvhMax(float a, float b) { return a > b ? a : b; }
 float osrBvhMin(float a, float b) { return a < b ? a : b; }
 
-// True when the ray overlaps [bmin, bmax] within [tMin, tFar]; tEnter = entry distance.
-// r.dirNegative picks each axis's near and far planes once per ray instead of a min and a max
-// per box.
-bool osrBvhBox(OsrBvhRay r, vec3 bmin, vec3 bmax, float tMin, float tFar, out float tEnter) {
-  vec3 lo = mix(bmin, bmax, r.dirNegative) * r.invDir - r.originScaled;
-  vec3 hi = mix(bmax, bmin, r.dirNegative) * r.invDir - r.originScaled;
-  tEnter = osrBvhMax(osrBvhMax(lo.x, lo.y), osrBvhMax(lo.z, tMin));
-  float tExit = osrBvhMin(osrBvhMin(hi.x, hi.y), osrBvhMin(hi.z, tFar)) * kOsrBvhExitScale;
+// Entry and exit distances of a quantized child from its near and far planes' distances per
+// axis; true when the ray overlaps it within [tMin, tFar].
+bool osrBvhSlabs(vec3 near, vec3 far, float tMin, float tFar, out float tEnter) {
+  tEnter = osrBvhMax(osrBvhMax(near.x, near.y), osrBvhMax(near.z, tMin));
+  float tExit = osrBvhMin(osrBvhMin(far.x, far.y), osrBvhMin(far.z, tFar)) * kOsrBvhExitScale;
   return tEnter <= tExit;
+}
+
+// Tests both children of a traversal node (shared/bvh.h BvhTraversalNode). A plane o + q * s is
+// at distance q * (s / d) + (o / d - origin / d) along the ray: two per-node terms per axis, then
+// one fma per plane. r.nearShift picks each axis's near and far byte once per ray.
+void osrBvhTestChildren(OsrBvhRay r, BvhTraversalNode n, float tMin, float tFar,
+                        out bool ha, out float ta, out bool hb, out float tb) {
+  vec3 origin = uintBitsToFloat(n.frame.xyz & ~0xffu);
+  vec3 scale = uintBitsToFloat((n.frame.xyz & 0xffu) << 23u);
+  vec3 step = scale * r.invDir;
+  vec3 base = origin * r.invDir - r.originScaled;
+  uvec3 q = n.boxes.yzw;
+  vec3 aNear = vec3((q >> r.nearShift) & 0xffu) * step + base;
+  vec3 aFar = vec3((q >> r.farShift) & 0xffu) * step + base;
+  vec3 bNear = vec3((q >> (r.nearShift + 16u)) & 0xffu) * step + base;
+  vec3 bFar = vec3((q >> (r.farShift + 16u)) & 0xffu) * step + base;
+  ha = osrBvhSlabs(aNear, aFar, tMin, tFar, ta);
+  hb = osrBvhSlabs(bNear, bFar, tMin, tFar, tb);
 }
 
 // Watertight test; on a hit inside (tMin, tFar) returns t and the weights of v1, v2.

@@ -59,16 +59,19 @@ bool osrBvhTraverse(vec3 origin, vec3 dir, float tMin, float tMax, bool anyHit, 
       // Every lane runs the step; lanes that wait (finished, or holding two ranges) change
       // nothing. Stores under a partial lane mask compile to a branch per lane on lavapipe.
       bool step = walking && held1.y == 0u;
-      BvhNode n = osrBvhNode(node);
-      float ta = 0.0, tb = 0.0;  // set only where the step tests the box
-      bool ha = step && osrBvhBox(r, n.aMin, n.aMax, tMin, tFar, ta);
-      bool hb = step && osrBvhBox(r, n.bMin, n.bMax, tMin, tFar, tb);
-      bool leafA = ha && (n.a & kBvhLeafFlag) != 0u;
-      bool leafB = hb && (n.b & kBvhLeafFlag) != 0u;
+      BvhTraversalNode tn = osrBvhNode(node);
+      float ta, tb;
+      bool ha, hb;
+      osrBvhTestChildren(r, tn, tMin, tFar, ha, ta, hb, tb);
+      ha = ha && step;
+      hb = hb && step;
+      uvec2 ref = uvec2(tn.frame.w, tn.boxes.x);  // child references a, b
+      bool leafA = ha && (ref.x & kBvhLeafFlag) != 0u;
+      bool leafB = hb && (ref.y & kBvhLeafFlag) != 0u;
       // Two leaf children have consecutive entries (shared/bvh.h), so the hit ones are one range.
-      uint count = (leafA ? (n.a >> kBvhLeafCountShift) & kBvhLeafCountMask : 0u) +
-                   (leafB ? (n.b >> kBvhLeafCountShift) & kBvhLeafCountMask : 0u);
-      uvec2 range = uvec2((leafA ? n.a : n.b) & kBvhLeafFirstMask, count);
+      uint count = (leafA ? (ref.x >> kBvhLeafCountShift) & kBvhLeafCountMask : 0u) +
+                   (leafB ? (ref.y >> kBvhLeafCountShift) & kBvhLeafCountMask : 0u);
+      uvec2 range = uvec2((leafA ? ref.x : ref.y) & kBvhLeafFirstMask, count);
       bool first = held0.y == 0u;
       held0 = count != 0u && first ? range : held0;
       held1 = count != 0u && !first ? range : held1;
@@ -76,13 +79,13 @@ bool osrBvhTraverse(vec3 origin, vec3 dir, float tMin, float tMax, bool anyHit, 
       hb = hb && !leafB;
       bool aFirst = ta <= tb;
       // The far child is written whether or not it is pushed (see above).
-      stack[sp] = aFirst ? n.b : n.a;
+      stack[sp] = aFirst ? ref.y : ref.x;
       uint popped = stack[max(sp, 1u) - 1u];
       if (ha && hb) {
         sp++;
-        node = aFirst ? n.a : n.b;
+        node = aFirst ? ref.x : ref.y;
       } else if (ha || hb) {
-        node = ha ? n.a : n.b;
+        node = ha ? ref.x : ref.y;
       } else if (step) {
         walking = sp > 0u;
         if (walking) {

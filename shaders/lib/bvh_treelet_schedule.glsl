@@ -8,7 +8,7 @@
 #include "lib/bvh_build_texels.glsl"
 
 layout(std430, binding = kTreeletBindingSchedule) buffer Schedule {
-  TreeletLevel gLevels[kTreeletMaxLevels];
+  LevelList gLevels[kTreeletMaxLevels];
   DispatchArgs gDispatch[kTreeletMaxLevels];
   uvec2 gBanks[kTreeletBanks * kTreeletMaxLevels];  // (count, cursor) per bank and height
 };

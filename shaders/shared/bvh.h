@@ -61,6 +61,21 @@ struct BvhNode {
   uint _pad1;
 };
 
+// Traversal's copy of a BvhNode in 32 bytes (two texels, half a BvhNode): both child boxes
+// quantized to 8 bits per plane within the node's box (Ylitie, Karras, Laine 2017, "Efficient
+// Incoherent Ray Traversal on GPUs Through Compressed Wide BVHs"). Per axis the node keeps an
+// origin o, a float whose low 8 mantissa bits are zero (they hold the axis's scale exponent
+// instead), and a scale s = 2^(e - 127); a quantized plane q stands for o + q * s. Quantization is
+// conservative: o + qLo * s <= the child's min, o + qHi * s >= its max, so a ray that enters the
+// exact box enters the quantized one. An empty child is qLo = 255 > qHi = 0 on every axis.
+// Incoherent traversal on lavapipe waits on node fetches, and this halves their bytes.
+// Written by bvh::quantizeNode (src/bvh/node_quantize.h) and its GLSL twin in bvh_emit_nodes.
+struct BvhTraversalNode {
+  uvec4 frame;  // xyz: origin bits | scale exponent (low byte); w: child reference a
+  uvec4 boxes;  // x: child reference b; y, z, w: axis x, y, z bytes aLo | aHi << 8 | bLo << 16 | bHi << 24
+};
+OSR_CONST(uint, kBvhTraversalNodeTexels, 2u);
+
 // One triangle of a leaf: world-space vertices; v0.w holds the scene triangle index (as bits).
 struct BvhLeafTriangle {
   vec4 v0;

@@ -9,8 +9,10 @@
 //   bvh_lbvh          hierarchy from the sorted codes (Karras 2012)
 //   bvh_refit         bounds, triangle counts, SAH costs and heights bottom-up (atomic counters)
 //   bvh_treelet_*     treelet restructuring (Karras & Aila 2013), level by level, several rounds
+//   bvh_order_count / bvh_order_level
+//                     depth-first positions of the traversal nodes
 //   bvh_emit_nodes    the nodes of the traversal layout of shared/bvh.h (subtrees collapsed into
-//                     leaves), and where each leaf's triangles go
+//                     leaves, exact and quantized), and where each leaf's triangles go
 //   bvh_emit_leaves   the leaf triangles, in place
 // Build nodes share one index space: interior nodes [0, N-1) (root 0), leaves [N-1, 2N-1) in
 // sorted order, in two arrays.
@@ -77,7 +79,8 @@ OSR_CONST(uint, kBuildBindingInterior, 3u);
 OSR_CONST(uint, kBuildBindingLeaves, 4u);
 OSR_CONST(uint, kBuildBindingNodes, 5u);
 OSR_CONST(uint, kBuildBindingLeafTriangles, 6u);
-OSR_CONST(uint, kBuildArrayBindingCount, 7u);
+OSR_CONST(uint, kBuildBindingTraversalNodes, 7u);
+OSR_CONST(uint, kBuildArrayBindingCount, 8u);
 OSR_CONST(uint, kBuildSpecByAddress, 2u);  // spec constant id: bool, read the arrays by address
 
 // Device addresses (low word, high word: GL_EXT_buffer_reference_uvec2) of the large arrays
@@ -90,7 +93,7 @@ struct BuildArrays {
   uvec2 leaves;         // BvhBuildNode[triangleCount], sorted order
   uvec2 nodes;          // out of bvh_emit_nodes: BvhNode[triangleCount - 1]
   uvec2 leafTriangles;  // out of bvh_emit_leaves: BvhLeafTriangle[triangleCount]
-  uvec2 _pad0;
+  uvec2 traversalNodes; // out of bvh_emit_nodes: BvhTraversalNode[triangleCount - 1]
 };
 
 // Generic push block of the build passes.
@@ -192,14 +195,15 @@ OSR_CONST(uint, kTreeletSpecLeaves, 0u);  // spec constant id: leaves per treele
 // Heights scheduled; a taller tree exceeds kBvhMaxDepth anyway and is rebuilt without treelets.
 OSR_CONST(uint, kTreeletMaxLevels, 128u);
 OSR_CONST(uint, kTreeletBanks, 16u);
-// TreeletLevel[kTreeletMaxLevels], DispatchArgs[kTreeletMaxLevels], then per bank b and height
+// LevelList[kTreeletMaxLevels], DispatchArgs[kTreeletMaxLevels], then per bank b and height
 // h at [b * kTreeletMaxLevels + h] a uvec2: the count, and the cursor (next free list entry).
 OSR_CONST(uint, kTreeletBindingSchedule, kBuildArrayBindingCount + 1u);
 OSR_CONST(uint, kTreeletBindingNodeList, kBuildArrayBindingCount + 2u);  // uint per interior node
 OSR_CONST(uint, kTreeletBindingTexels, kBuildArrayBindingCount + 3u);  // bvh_treelet's texel reads
 OSR_CONST(uint, kTreeletBindingCount, kTreeletBindingTexels + kBuildTexelBindingCount);
-struct TreeletLevel {
-  uint count;   // nodes of this height this round
+// One level (height or depth) of a level-synchronous pass: its nodes in the node list.
+struct LevelList {
+  uint count;   // nodes of this level
   uint offset;  // where they start in the node list
   uint _pad0;
   uint _pad1;
@@ -210,6 +214,28 @@ struct DispatchArgs {
   uint z;
 };
 
+// Depth-first order of the traversal nodes: a walk that descends to a child finds it in the next
+// node (or the same cache line), and every subtree is one contiguous run. Two passes:
+//   bvh_order_count  traversal nodes per subtree (0 for a leaf or a collapsed subtree),
+//                    bottom-up like bvh_refit (arrays interior, leaves; climb counters zeroed)
+//   bvh_order_level  one indirect dispatch per depth (param): each node of the depth places its
+//                    live children (a right after it, b after a's subtree) and appends them to
+//                    the next depth's list
+// positions[i] is interior build node i's traversal index, kInvalidNode where i is collapsed
+// or below a collapsed node (the build fills it so); bvh_emit_nodes stores node i there.
+// The schedule: LevelList[kOrderMaxLevels], then DispatchArgs[kOrderMaxLevels]; the host sets
+// depth 0 (the root) and y = z = 1 everywhere.
+#ifdef __cplusplus
+OSR_CONST(uint, kOrderMaxLevels, bvh::kBvhMaxDepth + 1u);
+#else
+OSR_CONST(uint, kOrderMaxLevels, kBvhMaxDepth + 1u);
+#endif
+OSR_CONST(uint, kOrderBindingSubtreeNodes, kClimbBindingCount);  // uint per interior node
+OSR_CONST(uint, kOrderBindingPositions, kClimbBindingCount + 1u);  // uint per interior node
+OSR_CONST(uint, kOrderBindingSchedule, kClimbBindingCount + 2u);
+OSR_CONST(uint, kOrderBindingLevelNodes, kClimbBindingCount + 3u);  // uint per interior node
+OSR_CONST(uint, kOrderBindingTexels, kClimbBindingCount + 4u);
+OSR_CONST(uint, kOrderBindingCount, kOrderBindingTexels + kBuildTexelBindingCount);
 
 // bvh_emit_nodes: arrays interior, leaves (texels), nodes (out); info, slots (out).
 // bvh_emit_leaves: arrays interior, leaves, prims (texels), leafTriangles (out); slots (through
@@ -221,7 +247,8 @@ OSR_CONST(uint, kEmitBindingInfo, kBuildArrayBindingCount);
 OSR_CONST(uint, kEmitBindingSlots, kBuildArrayBindingCount + 1u);
 OSR_CONST(uint, kEmitBindingSlotTexels, kBuildArrayBindingCount + 2u);
 OSR_CONST(uint, kEmitBindingTexels, kBuildArrayBindingCount + 3u);
-OSR_CONST(uint, kEmitBindingCount, kEmitBindingTexels + kBuildTexelBindingCount);
+OSR_CONST(uint, kEmitBindingPositions, kEmitBindingTexels + kBuildTexelBindingCount);  // bvh_order_level's
+OSR_CONST(uint, kEmitBindingCount, kEmitBindingPositions + 1u);
 OSR_CONST(uint, kEmitSpecSlotTexels, 5u);  // spec constant id: bool
 OSR_CONST(uint, kEmitSlotCountShift, 27u);  // above kBvhLeafFirstMask: first entries < 2^27
 OSR_BVH_FN uint bvhEmitSlot(uint first, uint countA) { return first | (countA << kEmitSlotCountShift); }

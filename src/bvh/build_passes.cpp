@@ -54,6 +54,7 @@ std::array<vk::BufferRange, bb::kBuildArrayBindingCount> slots(const BuildArrayB
   s[bb::kBuildBindingLeaves] = a.leaves;
   s[bb::kBuildBindingNodes] = a.nodes;
   s[bb::kBuildBindingLeafTriangles] = a.leafTriangles;
+  s[bb::kBuildBindingTraversalNodes] = a.traversalNodes;
   return s;
 }
 
@@ -70,7 +71,7 @@ BuildPush bindArrays(vk::Binder& binder, const ArrayAccess& access, const BuildA
   BuildPush p = push(triangleCount, param);
   glm::uvec2* addresses = &p.arrays.triangles;  // BuildArrays: one uvec2 per slot, in slot order
   static_assert(sizeof(bb::BuildArrays) >= bb::kBuildArrayBindingCount * sizeof(glm::uvec2));
-  static_assert(offsetof(bb::BuildArrays, leafTriangles) == bb::kBuildBindingLeafTriangles * sizeof(glm::uvec2));
+  static_assert(offsetof(bb::BuildArrays, traversalNodes) == bb::kBuildBindingTraversalNodes * sizeof(glm::uvec2));
   for (uint32_t i = 0; i < bb::kBuildArrayBindingCount; ++i) {
     vk::BufferRange r = ranges[i].buffer ? ranges[i] : *filler;
     if (access.byAddress) {
@@ -297,7 +298,7 @@ TreeletPass::TreeletPass(const vk::Context& ctx, uint32_t treeletLeaves, bool by
 }
 
 uint64_t TreeletPass::scheduleBytes() {
-  return bb::kTreeletMaxLevels * (sizeof(bb::TreeletLevel) + sizeof(bb::DispatchArgs)) +
+  return bb::kTreeletMaxLevels * (sizeof(bb::LevelList) + sizeof(bb::DispatchArgs)) +
          bb::kTreeletBanks * bb::kTreeletMaxLevels * sizeof(glm::uvec2);
 }
 
@@ -330,13 +331,71 @@ void TreeletPass::record(VkCommandBuffer cmd, const Args& a, vk::GpuTimer* timer
   scope.reset();
   scope.emplace(timer, cmd, "bvh_treelet");
   // Height 0 holds no restructurable node (leaves and collapsed subtrees).
-  const uint64_t argsOffset = bb::kTreeletMaxLevels * sizeof(bb::TreeletLevel);
+  const uint64_t argsOffset = bb::kTreeletMaxLevels * sizeof(bb::LevelList);
   const vk::Binder treelet = binder(treelet_);
   BuildPush levelPush = schedulePush;
   for (uint32_t h = 1; h < bb::kTreeletMaxLevels; ++h) {
     levelPush.param = h;
     treelet.bind(cmd, levelPush);
     treelet_.dispatchIndirect(cmd, *a.schedule, argsOffset + h * sizeof(bb::DispatchArgs));
+    vk::computeBarrier(cmd);
+  }
+}
+
+namespace {
+std::vector<VkDescriptorType> orderTypes() { return texelTypes(bb::kOrderBindingCount, bb::kOrderBindingTexels); }
+}  // namespace
+
+OrderPass::OrderPass(const vk::Context& ctx, bool byAddress)
+    : access_{&ctx, byAddress},
+      count_(ctx, shaders::Id::bvh_order_count, orderTypes(), sizeof(BuildPush),
+             texelSpec(ctx, byAddress, climbSpec(ctx, byAddress, 0))),
+      level_(ctx, shaders::Id::bvh_order_level, orderTypes(), sizeof(BuildPush), texelSpec(ctx, byAddress, arraySpec(byAddress))) {}
+
+uint64_t OrderPass::scheduleBytes() {
+  return bb::kOrderMaxLevels * (sizeof(bb::LevelList) + sizeof(bb::DispatchArgs));
+}
+
+void OrderPass::record(VkCommandBuffer cmd, const Args& a, vk::GpuTimer* timer) const {
+  vk::TimedScope scope(timer, cmd, "bvh_order");
+  // Depth 0 is the root alone, at position 0; every other depth starts empty (x = 0 groups).
+  struct Schedule {
+    bb::LevelList levels[bb::kOrderMaxLevels];
+    bb::DispatchArgs args[bb::kOrderMaxLevels];
+  } initial{};
+  static_assert(sizeof(Schedule) == bb::kOrderMaxLevels * (sizeof(bb::LevelList) + sizeof(bb::DispatchArgs)));
+  for (bb::DispatchArgs& d : initial.args) d = {0, 1, 1};
+  initial.levels[0].count = 1;
+  initial.args[0].x = 1;
+  vkCmdFillBuffer(cmd, a.counters.buffer->handle(), a.counters.offset, a.counters.bytes(), 0);
+  vkCmdFillBuffer(cmd, a.positions.buffer->handle(), a.positions.offset, a.positions.bytes(), bb::kInvalidNode);
+  vk::transferBarrier(cmd);
+  vkCmdUpdateBuffer(cmd, a.schedule->handle(), 0, sizeof(initial), &initial);
+  vkCmdFillBuffer(cmd, a.positions.buffer->handle(), a.positions.offset, 4, 0);    // the root's position
+  vkCmdFillBuffer(cmd, a.levelNodes.buffer->handle(), a.levelNodes.offset, 4, 0);  // depth 0: the root
+  vk::transferBarrier(cmd);
+  BuildPush p{};
+  // Both pipelines bind the same buffers at the same slots.
+  auto binder = [&](const vk::ComputePipeline& pipeline) {
+    vk::Binder b(pipeline);
+    p = bindArrays(b, access_, *a.arrays, a.triangleCount, 0);
+    b.set(bb::kClimbBindingCounters, a.counters)
+        .set(bb::kOrderBindingSubtreeNodes, a.subtreeNodes)
+        .set(bb::kOrderBindingPositions, a.positions)
+        .set(bb::kOrderBindingSchedule, *a.schedule)
+        .set(bb::kOrderBindingLevelNodes, a.levelNodes);
+    bindTexels(b, bb::kOrderBindingTexels, *a.texels);
+    return b;
+  };
+  binder(count_).bind(cmd, p);
+  dispatchItems(count_, cmd, a.triangleCount);
+  vk::computeBarrier(cmd);
+  const vk::Binder level = binder(level_);
+  const uint64_t argsOffset = bb::kOrderMaxLevels * sizeof(bb::LevelList);
+  for (uint32_t depth = 0; depth + 1 < bb::kOrderMaxLevels; ++depth) {
+    p.param = depth;
+    level.bind(cmd, p);
+    level_.dispatchIndirect(cmd, *a.schedule, argsOffset + depth * sizeof(bb::DispatchArgs));
     vk::computeBarrier(cmd);
   }
 }
@@ -361,6 +420,7 @@ void EmitPass::record(VkCommandBuffer cmd, const Args& a, vk::GpuTimer* timer) c
     vk::Binder b(pipeline);
     p = bindArrays(b, access_, *a.arrays, a.triangleCount, 0);
     b.set(bb::kEmitBindingInfo, a.info).set(bb::kEmitBindingSlots, a.slots).setTexel(bb::kEmitBindingSlotTexels, a.slotTexels);
+    b.set(bb::kEmitBindingPositions, a.positions.buffer ? a.positions : a.slots);  // one triangle: unread
     bindTexels(b, bb::kEmitBindingTexels, *a.texels);
     return b;
   };

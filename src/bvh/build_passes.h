@@ -25,6 +25,7 @@ struct BuildArrayBuffers {
   vk::BufferRange leaves;         // BvhBuildNode[triangleCount]
   vk::BufferRange nodes;          // BvhNode[triangleCount - 1]
   vk::BufferRange leafTriangles;  // BvhLeafTriangle[triangleCount]
+  vk::BufferRange traversalNodes; // BvhTraversalNode[triangleCount - 1]
   // Whether some array is past what one binding holds (passes must then be byAddress).
   bool pastOneBinding(const vk::Context& ctx) const;
 };
@@ -185,8 +186,33 @@ class TreeletPass {
   vk::ComputePipeline count_, plan_, scatter_, treelet_;
 };
 
+// bvh_order_count, then bvh_order_level once per depth (indirect): the depth-first position of
+// every traversal node (shared/bvh_build.h). Arrays: interior, leaves (through texels).
+class OrderPass {
+ public:
+  OrderPass(const vk::Context& ctx, bool byAddress);
+  static uint64_t scheduleBytes();
+  struct Args {
+    const BuildArrayBuffers* arrays = nullptr;
+    const BuildTexelViews* texels = nullptr;
+    vk::BufferRange counters;      // scratch: uint per interior node (zeroed here)
+    vk::BufferRange subtreeNodes;  // scratch: uint per interior node
+    vk::BufferRange positions;     // out: uint per interior node
+    vk::BufferRange levelNodes;    // scratch: uint per interior node
+    const vk::Buffer* schedule = nullptr;  // scratch: scheduleBytes()
+    uint32_t triangleCount = 0;    // >= 2
+  };
+  // `timer` (may be null) gets scope "bvh_order".
+  void record(VkCommandBuffer cmd, const Args& args, vk::GpuTimer* timer = nullptr) const;
+
+ private:
+  ArrayAccess access_;
+  vk::ComputePipeline count_, level_;
+};
+
 // bvh_emit_nodes, then bvh_emit_leaves: traversal nodes, then leaf triangles (info.leafCounter
-// must be 0). Arrays: interior, leaves, prims (in, through texels), nodes, leafTriangles (out).
+// must be 0). Arrays: interior, leaves, prims (in, through texels), nodes, traversalNodes,
+// leafTriangles (out).
 class EmitPass {
  public:
   EmitPass(const vk::Context& ctx, bool byAddress);
@@ -198,6 +224,7 @@ class EmitPass {
     vk::BufferRange info;
     vk::BufferRange slots;                     // scratch: uint per interior node
     VkBufferView slotTexels = VK_NULL_HANDLE;  // R32UI view of slots (vk::BufferView::uintWords)
+    vk::BufferRange positions;                 // OrderPass's (unset for one triangle)
     uint32_t triangleCount = 0;
   };
   // `timer` (may be null) gets scopes "bvh_emit_nodes" and "bvh_emit_leaves".

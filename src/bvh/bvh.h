@@ -18,9 +18,10 @@
 namespace osr::bvh {
 
 struct Bvh {
-  vk::Buffer nodes;     // BvhNode[nodeCount], root at 0
+  vk::Buffer nodes;     // BvhNode[nodeCount], root at 0: the exact tree (stats, checks, the host)
+  vk::Buffer traversalNodes;  // BvhTraversalNode[nodeCount]: the quantized copy traversal reads
   vk::Buffer leafData;  // BvhLeafTriangle[triangleCount]: leaves' reordered vertex copies
-  vk::BufferView nodeTexels;  // RGBA32UI views of the same two buffers (texel-fetch traversal)
+  vk::BufferView nodeTexels;  // RGBA32UI views of traversalNodes and leafData (texel-fetch traversal)
   vk::BufferView leafTexels;
   uint32_t nodeCount = 0;
   uint32_t triangleCount = 0;
@@ -28,7 +29,7 @@ struct Bvh {
   // Usage the builders give both buffers on top of storage use: traversal may read them as
   // uniform texel buffers (shaders/shared/bvh.h).
   static constexpr VkBufferUsageFlags kExtraUsage = VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT;
-  // Creates nodeTexels / leafTexels once nodes and leafData exist (both builders call it).
+  // Creates nodeTexels / leafTexels once traversalNodes and leafData exist (both builders call it).
   void makeTexelViews(const vk::Context& ctx);
 
   // Descriptor types by slot (element kBvhBinding*): a traversing pass places them at its

@@ -6,6 +6,7 @@
 #include <string>
 
 #include "bvh/aabb.h"
+#include "bvh/node_quantize.h"
 #include "common/error.h"
 
 namespace osr::bvh {
@@ -250,6 +251,9 @@ Bvh upload(const vk::Context& ctx, const HostBvh& tree,
   bvh.nodes = vk::Buffer(ctx, tree.nodes.size() * sizeof(gpu::bvh::BvhNode),
                          vk::MemoryUse::DeviceLocal, "bvh nodes", Bvh::kExtraUsage);
   bvh.nodes.uploadVector(tree.nodes);
+  bvh.traversalNodes = vk::Buffer(ctx, tree.nodes.size() * sizeof(gpu::bvh::BvhTraversalNode),
+                                  vk::MemoryUse::DeviceLocal, "bvh traversal nodes", Bvh::kExtraUsage);
+  bvh.traversalNodes.uploadVector(quantizeNodes(tree.nodes));
   auto leaves = makeLeafTriangles(tree, vertices, triangles);
   bvh.leafData = vk::Buffer(ctx, leaves.size() * sizeof(gpu::bvh::BvhLeafTriangle),
                             vk::MemoryUse::DeviceLocal, "bvh leaf triangles", Bvh::kExtraUsage);

@@ -9,6 +9,7 @@
 #include "bvh/build_passes.h"
 #include "bvh/bvh.h"
 #include "bvh/gpu_builder.h"
+#include "bvh/node_quantize.h"
 #include "common/error.h"
 
 namespace osr::bvh {
@@ -32,10 +33,11 @@ struct GpuBuilder::Passes {
   LbvhPass lbvh;
   RefitPass refit;
   TreeletPass treelet;
+  OrderPass order;
   EmitPass emit;
   Passes(const vk::Context& ctx, uint32_t treeletLeaves, bool byAddress)
       : bounds(ctx, byAddress), morton(ctx, byAddress), sort(ctx), lbvh(ctx, byAddress), refit(ctx, byAddress),
-        treelet(ctx, treeletLeaves, byAddress), emit(ctx, byAddress) {}
+        treelet(ctx, treeletLeaves, byAddress), order(ctx, byAddress), emit(ctx, byAddress) {}
 };
 
 namespace {
@@ -73,10 +75,12 @@ struct GpuBuilder::Scratch {
     partials = scratch(ctx, ExclusiveScan::partialsBytes(uint32_t(histBytes / 4)), "bvh scan partials");
     interior = scratch(ctx, interiorCount * nodeBytes, "bvh build interior", BuildTexelViews::kUsage);
     leaves = scratch(ctx, n * nodeBytes, "bvh build leaves", BuildTexelViews::kUsage);
-    // Climb counters of bvh_refit, then slots of the emit passes.
+    // Climb counters of bvh_refit and bvh_order_count, then slots of the emit passes.
     counters = scratch(ctx, 4ull * interiorCount, "bvh climb counters", EmitPass::kSlotsUsage);
-    schedule = scratch(ctx, TreeletPass::scheduleBytes(), "bvh treelet schedule");
-    nodeList = scratch(ctx, 4ull * interiorCount, "bvh treelet node list");
+    // The treelet rounds' schedule, then the depth-first order's.
+    schedule = scratch(ctx, std::max(TreeletPass::scheduleBytes(), OrderPass::scheduleBytes()), "bvh level schedule");
+    // Node lists of the treelet rounds, then of the depth-first order.
+    nodeList = scratch(ctx, 4ull * interiorCount, "bvh node list");
     for (const vk::Buffer* b : {&prims, &info, &keys, &keysTmp, &values, &valuesTmp, &hist, &partials, &interior,
                                 &leaves, &counters, &schedule, &nodeList})
       bytes += b->size();
@@ -136,6 +140,7 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
   bvh.nodeCount = interiorCount;
   bvh.triangleCount = n;
   bvh.nodes = vk::Buffer(ctx, uint64_t(interiorCount) * sizeof(gpu::bvh::BvhNode), vk::MemoryUse::DeviceLocal, "bvh nodes", Bvh::kExtraUsage);
+  bvh.traversalNodes = vk::Buffer(ctx, uint64_t(interiorCount) * sizeof(gpu::bvh::BvhTraversalNode), vk::MemoryUse::DeviceLocal, "bvh traversal nodes", Bvh::kExtraUsage);
   bvh.leafData = vk::Buffer(ctx, uint64_t(n) * sizeof(gpu::bvh::BvhLeafTriangle), vk::MemoryUse::DeviceLocal, "bvh leaf triangles", Bvh::kExtraUsage);
   bvh.makeTexelViews(ctx);
 
@@ -151,6 +156,7 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
   arrays.leaves = vk::BufferRange(sc.leaves, 0, n * nodeBytes);
   arrays.nodes = bvh.nodes;
   arrays.leafTriangles = bvh.leafData;
+  arrays.traversalNodes = bvh.traversalNodes;
   // Past one binding, pipelines that reach the arrays by address (made on first need: on
   // lavapipe an address load costs about twice a binding's, lib/bvh_build_arrays.glsl).
   const bool byAddress = arrays.pastOneBinding(ctx);
@@ -196,7 +202,12 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
       // improve most in the first round, later rounds polish the upper tree at less cost.
       passes.treelet.record(cmd, {&arrays, &texels, counters, &schedule, nodeList, n, options.treeletMinTriangles << round}, &timer);
     }
-    passes.emit.record(cmd, {&arrays, &texels, info, counters, sc.slotTexels.handle(), n}, &timer);
+    // The sort's temporary key and value arrays (uint per triangle) are free by now: they hold
+    // the subtree node counts and positions of the depth-first order.
+    const vk::BufferRange subtreeNodes(keysTmp, 0, 4ull * interiorCount), positions(valuesTmp, 0, 4ull * interiorCount);
+    if (n > 1)
+      passes.order.record(cmd, {&arrays, &texels, counters, subtreeNodes, positions, nodeList, &schedule, n}, &timer);
+    passes.emit.record(cmd, {&arrays, &texels, info, counters, sc.slotTexels.handle(), n > 1 ? positions : vk::BufferRange(), n}, &timer);
   };
 
   uint32_t rounds = options.treeletRounds;

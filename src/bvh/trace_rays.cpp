@@ -36,7 +36,7 @@ TraceRaysPass::TraceRaysPass(const vk::Context& ctx, bool alphaTest, Access acce
 void TraceRaysPass::record(VkCommandBuffer cmd, const Args& args) const {
   if (args.rayCount == 0) return;
   // Bvh::bind cuts a storage slot at maxStorageBufferRange; only texel fetch reads past it.
-  if (storageAccess_ && std::max(args.bvh->nodes.size(), args.bvh->leafData.size()) > args.bvh->storageRange)
+  if (storageAccess_ && std::max(args.bvh->traversalNodes.size(), args.bvh->leafData.size()) > args.bvh->storageRange)
     throw DeviceError("bvh: a BVH of " + std::to_string(args.bvh->triangleCount) +
                       " triangles passes maxStorageBufferRange (" + std::to_string(args.bvh->storageRange >> 20) +
                       " MiB), which storage-buffer traversal cannot read; use texel fetch");

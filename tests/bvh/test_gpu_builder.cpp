@@ -6,6 +6,7 @@
 
 #include "bvh/cpu_builder.h"
 #include "bvh/gpu_builder.h"
+#include "bvh/node_quantize.h"
 #include "bvh/tree_stats.h"
 #include "bvh_test_util.h"
 #include "common/error.h"
@@ -52,6 +53,34 @@ TEST_F(GpuBuilder, InvariantsHoldOnEveryTestMesh) {
     EXPECT_EQ(stats.depth, bvh::depth(host)) << name;
     EXPECT_NEAR(stats.sahCost, bvh::sahCost(host), 1e-3 * bvh::sahCost(host)) << name;
     EXPECT_FALSE(stats.passes.empty()) << name;
+  }
+}
+
+// Traversal nodes are stored depth-first (child a right after its parent, b after a's subtree, all
+// of them in [0, count)), and the quantized copy is the host's quantization of the exact nodes.
+TEST_F(GpuBuilder, NodesAreDepthFirstAndQuantizedAsOnTheHost) {
+  auto meshes = test::testMeshes();
+  meshes.push_back({"bumpy_sphere_20k", bvh::makeSphere({0, 0, 0}, 1.0f, 200, 50, 0.3f)});
+  for (const auto& [name, mesh] : meshes) {
+    bvh::Bvh tree = build(mesh);
+    auto nodes = tree.nodes.downloadVector<gpu::bvh::BvhNode>(tree.nodeCount);
+    auto quantized = tree.traversalNodes.downloadVector<gpu::bvh::BvhTraversalNode>(tree.nodeCount);
+    // Walk depth-first, a before b: the k-th node visited must sit at index k.
+    std::vector<uint32_t> stack = {0};
+    uint32_t visited = 0, misplaced = 0, differ = 0;
+    while (!stack.empty()) {
+      uint32_t i = stack.back();
+      stack.pop_back();
+      misplaced += i != visited++;
+      const gpu::bvh::BvhTraversalNode expected = bvh::quantizeNode(nodes[i]);
+      differ += expected.frame != quantized[i].frame || expected.boxes != quantized[i].boxes;
+      if (!(nodes[i].b & gpu::bvh::kBvhLeafFlag)) stack.push_back(nodes[i].b);
+      if (!(nodes[i].a & gpu::bvh::kBvhLeafFlag)) stack.push_back(nodes[i].a);
+      if (visited > tree.nodeCount) break;  // a cycle: reported below
+    }
+    EXPECT_LE(visited, tree.nodeCount) << name;
+    EXPECT_EQ(misplaced, 0u) << name << ": of " << visited << " nodes";
+    EXPECT_EQ(differ, 0u) << name << ": of " << visited << " nodes";
   }
 }
 
