@@ -357,7 +357,8 @@ uint64_t OrderPass::scheduleBytes() {
 }
 
 void OrderPass::record(VkCommandBuffer cmd, const Args& a, vk::GpuTimer* timer) const {
-  vk::TimedScope scope(timer, cmd, "bvh_order");
+  std::optional<vk::TimedScope> scope;
+  scope.emplace(timer, cmd, "bvh_order_count");
   // Depth 0 is the root alone, at position 0; every other depth starts empty (x = 0 groups).
   struct Schedule {
     bb::LevelList levels[bb::kOrderMaxLevels];
@@ -390,6 +391,8 @@ void OrderPass::record(VkCommandBuffer cmd, const Args& a, vk::GpuTimer* timer) 
   binder(count_).bind(cmd, p);
   dispatchItems(count_, cmd, a.triangleCount);
   vk::computeBarrier(cmd);
+  scope.reset();
+  scope.emplace(timer, cmd, "bvh_order_level");
   const vk::Binder level = binder(level_);
   const uint64_t argsOffset = bb::kOrderMaxLevels * sizeof(bb::LevelList);
   for (uint32_t depth = 0; depth + 1 < bb::kOrderMaxLevels; ++depth) {

@@ -202,7 +202,7 @@ class OrderPass {
     const vk::Buffer* schedule = nullptr;  // scratch: scheduleBytes()
     uint32_t triangleCount = 0;    // >= 2
   };
-  // `timer` (may be null) gets scope "bvh_order".
+  // `timer` (may be null) gets scopes "bvh_order_count" and "bvh_order_level" (all depths).
   void record(VkCommandBuffer cmd, const Args& args, vk::GpuTimer* timer = nullptr) const;
 
  private:
