@@ -23,8 +23,11 @@
 #error "define OSR_BVH_BINDING before including lib/bvh_traverse.glsl"
 #endif
 
+// The node array as 16-byte words: exact BvhNodes (kBvhNodeTexels words each) or quantized
+// BvhTraversalNodes (kBvhTraversalNodeTexels), as specialization constant kBvhSpecQuantized says
+// (C++: bvh::Bvh::quantized, which decides which array is bound).
 layout(std430, binding = OSR_BVH_BINDING + kBvhBindingNodes) readonly buffer OsrBvhNodes {
-  BvhTraversalNode gBvhNodes[];
+  uvec4 gBvhNodeWords[];
 };
 layout(std430, binding = OSR_BVH_BINDING + kBvhBindingLeafTriangles) readonly buffer OsrBvhLeaves {
   BvhLeafTriangle gBvhLeafTriangles[];
@@ -33,15 +36,35 @@ layout(std430, binding = OSR_BVH_BINDING + kBvhBindingLeafTriangles) readonly bu
 layout(binding = OSR_BVH_BINDING + kBvhBindingNodeTexels) uniform usamplerBuffer gBvhNodeTexels;
 layout(binding = OSR_BVH_BINDING + kBvhBindingLeafTexels) uniform usamplerBuffer gBvhLeafTexels;
 layout(constant_id = kBvhSpecTexelFetch) const bool kBvhTexelFetch = true;
+layout(constant_id = kBvhSpecQuantized) const bool kBvhQuantized = false;
 
 // Texels hold raw bits (RGBA32UI, not RGBA32F): a float format could flush the denormal bit
 // patterns of small triangle indices in v0.w or of child references.
-BvhTraversalNode osrBvhNode(uint i) {
-  if (!kBvhTexelFetch) return gBvhNodes[i];
-  int base = int(i * kBvhTraversalNodeTexels);
+uvec4 osrBvhNodeWord(uint i) {
+  if (kBvhTexelFetch) return texelFetch(gBvhNodeTexels, int(i));
+  return gBvhNodeWords[i];
+}
+
+BvhNode osrBvhExactNode(uint i) {
+  uint base = i * kBvhNodeTexels;
+  uvec4 t0 = osrBvhNodeWord(base), t1 = osrBvhNodeWord(base + 1u);
+  uvec4 t2 = osrBvhNodeWord(base + 2u), t3 = osrBvhNodeWord(base + 3u);
+  BvhNode n;
+  n.aMin = uintBitsToFloat(t0.xyz);
+  n.a = t0.w;
+  n.aMax = uintBitsToFloat(t1.xyz);
+  n.b = t1.w;
+  n.bMin = uintBitsToFloat(t2.xyz);
+  n._pad0 = 0u;
+  n.bMax = uintBitsToFloat(t3.xyz);
+  n._pad1 = 0u;
+  return n;
+}
+
+BvhTraversalNode osrBvhQuantizedNode(uint i) {
   BvhTraversalNode n;
-  n.frame = texelFetch(gBvhNodeTexels, base);
-  n.boxes = texelFetch(gBvhNodeTexels, base + 1);
+  n.frame = osrBvhNodeWord(i * kBvhTraversalNodeTexels);
+  n.boxes = osrBvhNodeWord(i * kBvhTraversalNodeTexels + 1u);
   return n;
 }
 
@@ -71,8 +94,9 @@ struct OsrBvhRay {
   vec3 origin;
   vec3 invDir;
   vec3 originScaled;  // origin * invDir, so a slab distance is one fma
-  uvec3 nearShift;    // per axis, where the near plane's byte of child a sits in a node's boxes
-  uvec3 farShift;     // (the max plane's where the direction is negative); child b's: + 16
+  bvec3 dirNegative;  // the box's max plane is the near one on these axes
+  uvec3 nearShift;    // quantized nodes: per axis, where the near plane's byte of child a sits
+  uvec3 farShift;     // in the node's boxes (the max plane's where dirNegative); child b's: + 16
   ivec3 k;            // kx, ky, kz: kz the dominant axis, kx/ky keeping the winding
   vec3 shear;         // Sx, Sy, Sz
 };
@@ -87,9 +111,9 @@ OsrBvhRay osrBvhMakeRay(vec3 origin, vec3 dir) {
                   lessThan(abs(dir), vec3(kTiny)));
   r.invDir = 1.0 / safe;
   r.originScaled = origin * r.invDir;
-  bvec3 negative = lessThan(r.invDir, vec3(0.0));
-  r.nearShift = mix(uvec3(0u), uvec3(8u), negative);
-  r.farShift = mix(uvec3(8u), uvec3(0u), negative);
+  r.dirNegative = lessThan(r.invDir, vec3(0.0));
+  r.nearShift = mix(uvec3(0u), uvec3(8u), r.dirNegative);
+  r.farShift = mix(uvec3(8u), uvec3(0u), r.dirNegative);
   vec3 a = abs(dir);
   int kz = a.x > a.y ? (a.x > a.z ? 0 : 2) : (a.y > a.z ? 1 : 2);
   int kx = kz == 2 ? 0 : kz + 1;
@@ -112,30 +136,40 @@ const float kOsrBvhExitScale = 1.00000036;  // 1 + 2 * gamma(3)
 float osrBvhMax(float a, float b) { return a > b ? a : b; }
 float osrBvhMin(float a, float b) { return a < b ? a : b; }
 
-// Entry and exit distances of a quantized child from its near and far planes' distances per
-// axis; true when the ray overlaps it within [tMin, tFar].
+// True when the ray overlaps a box within [tMin, tFar], given the distances of its near and far
+// planes per axis; tEnter = entry distance.
 bool osrBvhSlabs(vec3 near, vec3 far, float tMin, float tFar, out float tEnter) {
   tEnter = osrBvhMax(osrBvhMax(near.x, near.y), osrBvhMax(near.z, tMin));
   float tExit = osrBvhMin(osrBvhMin(far.x, far.y), osrBvhMin(far.z, tFar)) * kOsrBvhExitScale;
   return tEnter <= tExit;
 }
 
-// Tests both children of a traversal node (shared/bvh.h BvhTraversalNode). A plane o + q * s is
-// at distance q * (s / d) + (o / d - origin / d) along the ray: two per-node terms per axis, then
-// one fma per plane. r.nearShift picks each axis's near and far byte once per ray.
-void osrBvhTestChildren(OsrBvhRay r, BvhTraversalNode n, float tMin, float tFar,
-                        out bool ha, out float ta, out bool hb, out float tb) {
-  vec3 origin = uintBitsToFloat(n.frame.xyz & ~0xffu);
-  vec3 scale = uintBitsToFloat((n.frame.xyz & 0xffu) << 23u);
-  vec3 step = scale * r.invDir;
-  vec3 base = origin * r.invDir - r.originScaled;
-  uvec3 q = n.boxes.yzw;
-  vec3 aNear = vec3((q >> r.nearShift) & 0xffu) * step + base;
-  vec3 aFar = vec3((q >> r.farShift) & 0xffu) * step + base;
-  vec3 bNear = vec3((q >> (r.nearShift + 16u)) & 0xffu) * step + base;
-  vec3 bFar = vec3((q >> (r.farShift + 16u)) & 0xffu) * step + base;
-  ha = osrBvhSlabs(aNear, aFar, tMin, tFar, ta);
-  hb = osrBvhSlabs(bNear, bFar, tMin, tFar, tb);
+// Tests both children of node i, and returns their references (a, b). Exact nodes: r.dirNegative
+// picks each axis's near and far planes once per ray instead of a min and a max per box.
+// Quantized nodes (shared/bvh.h BvhTraversalNode): a plane o + q * s is at distance
+// q * (s / d) + (o / d - origin / d) along the ray, two per-node terms per axis and then one fma
+// per plane; r.nearShift picks each axis's near and far byte.
+uvec2 osrBvhTestChildren(OsrBvhRay r, uint i, float tMin, float tFar, out bool ha, out float ta,
+                         out bool hb, out float tb) {
+  if (kBvhQuantized) {
+    BvhTraversalNode n = osrBvhQuantizedNode(i);
+    vec3 origin = uintBitsToFloat(n.frame.xyz & ~kBvhQuantizeExponentBits);
+    vec3 scale = uintBitsToFloat((n.frame.xyz & kBvhQuantizeExponentBits) << 23u);
+    vec3 step = scale * r.invDir;
+    vec3 base = origin * r.invDir - r.originScaled;
+    uvec3 q = n.boxes.yzw;
+    ha = osrBvhSlabs(vec3((q >> r.nearShift) & 0xffu) * step + base,
+                     vec3((q >> r.farShift) & 0xffu) * step + base, tMin, tFar, ta);
+    hb = osrBvhSlabs(vec3((q >> (r.nearShift + 16u)) & 0xffu) * step + base,
+                     vec3((q >> (r.farShift + 16u)) & 0xffu) * step + base, tMin, tFar, tb);
+    return uvec2(n.frame.w, n.boxes.x);
+  }
+  BvhNode n = osrBvhExactNode(i);
+  ha = osrBvhSlabs(mix(n.aMin, n.aMax, r.dirNegative) * r.invDir - r.originScaled,
+                   mix(n.aMax, n.aMin, r.dirNegative) * r.invDir - r.originScaled, tMin, tFar, ta);
+  hb = osrBvhSlabs(mix(n.bMin, n.bMax, r.dirNegative) * r.invDir - r.originScaled,
+                   mix(n.bMax, n.bMin, r.dirNegative) * r.invDir - r.originScaled, tMin, tFar, tb);
+  return uvec2(n.a, n.b);
 }
 
 // Watertight test; on a hit inside (tMin, tFar) returns t and the weights of v1, v2.

@@ -59,13 +59,11 @@ bool osrBvhTraverse(vec3 origin, vec3 dir, float tMin, float tMax, bool anyHit, 
       // Every lane runs the step; lanes that wait (finished, or holding two ranges) change
       // nothing. Stores under a partial lane mask compile to a branch per lane on lavapipe.
       bool step = walking && held1.y == 0u;
-      BvhTraversalNode tn = osrBvhNode(node);
       float ta, tb;
       bool ha, hb;
-      osrBvhTestChildren(r, tn, tMin, tFar, ha, ta, hb, tb);
+      uvec2 ref = osrBvhTestChildren(r, node, tMin, tFar, ha, ta, hb, tb);  // child references a, b
       ha = ha && step;
       hb = hb && step;
-      uvec2 ref = uvec2(tn.frame.w, tn.boxes.x);  // child references a, b
       bool leafA = ha && (ref.x & kBvhLeafFlag) != 0u;
       bool leafB = hb && (ref.y & kBvhLeafFlag) != 0u;
       // Two leaf children have consecutive entries (shared/bvh.h), so the hit ones are one range.

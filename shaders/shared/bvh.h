@@ -27,6 +27,9 @@ OSR_CONST(uint, kBvhBindingLeafTriangles, 1u);
 OSR_CONST(uint, kBvhBindingNodeTexels, 2u);
 OSR_CONST(uint, kBvhBindingLeafTexels, 3u);
 OSR_CONST(uint, kBvhSpecTexelFetch, 200u);  // constant_id; ids below 200 belong to the passes
+// constant_id: traversal reads quantized BvhTraversalNodes, not exact BvhNodes (C++:
+// bvh::quantizedTraversal decides by the triangle count, bvh::Bvh::quantized records it).
+OSR_CONST(uint, kBvhSpecQuantized, 202u);
 OSR_CONST(uint, kBvhNodeTexels, 4u);        // 16-byte texels per BvhNode
 OSR_CONST(uint, kBvhLeafTriangleTexels, 3u);
 
@@ -75,6 +78,7 @@ struct BvhTraversalNode {
   uvec4 boxes;  // x: child reference b; y, z, w: axis x, y, z bytes aLo | aHi << 8 | bLo << 16 | bHi << 24
 };
 OSR_CONST(uint, kBvhTraversalNodeTexels, 2u);
+OSR_CONST(uint, kBvhQuantizeExponentBits, 0xffu);  // the low byte of each origin
 
 // One triangle of a leaf: world-space vertices; v0.w holds the scene triangle index (as bits).
 struct BvhLeafTriangle {

@@ -30,7 +30,6 @@ inline float ceil(float x) { return std::ceil(x); }
 OSR_NAMESPACE_BEGIN(bvh)
 
 OSR_CONST(float, kBvhQuantizeMargin, 1.0f / 1024.0f);
-OSR_CONST(uint, kBvhQuantizeExponentBits, 0xffu);  // the low byte of each origin
 
 // The largest float <= x whose low 8 mantissa bits are zero (negative: magnitude rounded up).
 OSR_QUANTIZE_FN float bvhOriginBelow(float x) {

@@ -21,15 +21,19 @@ struct Bvh {
   vk::Buffer nodes;     // BvhNode[nodeCount], root at 0: the exact tree (stats, checks, the host)
   vk::Buffer traversalNodes;  // BvhTraversalNode[nodeCount]: the quantized copy traversal reads
   vk::Buffer leafData;  // BvhLeafTriangle[triangleCount]: leaves' reordered vertex copies
-  vk::BufferView nodeTexels;  // RGBA32UI views of traversalNodes and leafData (texel-fetch traversal)
+  vk::BufferView nodeTexels;  // RGBA32UI views of the traversed nodes and leafData (texel-fetch traversal)
   vk::BufferView leafTexels;
   uint32_t nodeCount = 0;
   uint32_t triangleCount = 0;
+  // Which node array traversal reads (quantizedTraversal): the texel view and storage slot of
+  // the nodes show it, and traversing pipelines are specialised for it (TraversalPipeline).
+  bool quantized = false;
 
   // Usage the builders give both buffers on top of storage use: traversal may read them as
   // uniform texel buffers (shaders/shared/bvh.h).
   static constexpr VkBufferUsageFlags kExtraUsage = VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT;
-  // Creates nodeTexels / leafTexels once traversalNodes and leafData exist (both builders call it).
+  // Creates nodeTexels / leafTexels once nodes, traversalNodes and leafData exist and
+  // `quantized` is set (both builders call it; tests may switch the format and call it again).
   void makeTexelViews(const vk::Context& ctx);
 
   // Descriptor types by slot (element kBvhBinding*): a traversing pass places them at its
@@ -42,6 +46,13 @@ struct Bvh {
   void bind(vk::Binder& binder, uint32_t base) const;
   uint64_t storageRange = 0;  // the device's maxStorageBufferRange (set by makeTexelViews)
 };
+
+// Whether traversal reads the quantized nodes for a scene of `triangleCount` triangles. Measured
+// on lavapipe (osr-bench trace, diffuse rays): quantized nodes are 8% slower on the reference
+// scenes (86 and 2,380 triangles, whose nodes stay in cache), even at 20K triangles, and 15-20%
+// faster from 150K triangles on (docs/bvh.md).
+inline constexpr uint32_t kQuantizedTraversalFromTriangles = 16384;
+inline bool quantizedTraversal(uint32_t triangleCount) { return triangleCount >= kQuantizedTraversalFromTriangles; }
 
 // How traversal reads the BVH: Auto = texel fetch where every BVH the device can bind fits
 // maxTexelBufferElements (texelFetchCovers), storage buffers elsewhere. Tests force either.

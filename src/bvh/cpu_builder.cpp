@@ -258,6 +258,7 @@ Bvh upload(const vk::Context& ctx, const HostBvh& tree,
   bvh.leafData = vk::Buffer(ctx, leaves.size() * sizeof(gpu::bvh::BvhLeafTriangle),
                             vk::MemoryUse::DeviceLocal, "bvh leaf triangles", Bvh::kExtraUsage);
   bvh.leafData.uploadVector(leaves);
+  bvh.quantized = quantizedTraversal(bvh.triangleCount);
   bvh.makeTexelViews(ctx);
   return bvh;
 }

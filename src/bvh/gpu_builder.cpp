@@ -142,6 +142,7 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
   bvh.nodes = vk::Buffer(ctx, uint64_t(interiorCount) * sizeof(gpu::bvh::BvhNode), vk::MemoryUse::DeviceLocal, "bvh nodes", Bvh::kExtraUsage);
   bvh.traversalNodes = vk::Buffer(ctx, uint64_t(interiorCount) * sizeof(gpu::bvh::BvhTraversalNode), vk::MemoryUse::DeviceLocal, "bvh traversal nodes", Bvh::kExtraUsage);
   bvh.leafData = vk::Buffer(ctx, uint64_t(n) * sizeof(gpu::bvh::BvhLeafTriangle), vk::MemoryUse::DeviceLocal, "bvh leaf triangles", Bvh::kExtraUsage);
+  bvh.quantized = quantizedTraversal(bvh.triangleCount);
   bvh.makeTexelViews(ctx);
 
   BuildTexelViews texels;

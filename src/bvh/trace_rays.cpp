@@ -31,12 +31,12 @@ TraceRaysPass::TraceRaysPass(const vk::Context& ctx, bool alphaTest, Access acce
               {traversalSpec(ctx, access), vk::specUint(tr::kSpecRayPool, 1)}),
       single_(ctx, alphaTest ? shaders::Id::bvh_trace_rays_alpha : shaders::Id::bvh_trace_rays,
               descriptorTypes(alphaTest), sizeof(tr::Push),
-              {traversalSpec(ctx, access), vk::specUint(tr::kSpecRayPool, 0)}) {}
+              {traversalSpec(ctx, access), vk::specUint(tr::kSpecRayPool, 0)}) {}  // both made on first need
 
 void TraceRaysPass::record(VkCommandBuffer cmd, const Args& args) const {
   if (args.rayCount == 0) return;
   // Bvh::bind cuts a storage slot at maxStorageBufferRange; only texel fetch reads past it.
-  if (storageAccess_ && std::max(args.bvh->traversalNodes.size(), args.bvh->leafData.size()) > args.bvh->storageRange)
+  if (storageAccess_ && std::max((args.bvh->quantized ? args.bvh->traversalNodes : args.bvh->nodes).size(), args.bvh->leafData.size()) > args.bvh->storageRange)
     throw DeviceError("bvh: a BVH of " + std::to_string(args.bvh->triangleCount) +
                       " triangles passes maxStorageBufferRange (" + std::to_string(args.bvh->storageRange >> 20) +
                       " MiB), which storage-buffer traversal cannot read; use texel fetch");
@@ -46,7 +46,7 @@ void TraceRaysPass::record(VkCommandBuffer cmd, const Args& args) const {
   uint32_t x = std::min(groups, 65535u);
   uint32_t y = (groups + x - 1) / x;
   tr::Push push{args.rayCount, args.mode, raysPerLane, 0};
-  const vk::ComputePipeline& pipeline = raysPerLane > 1 ? pooled_ : single_;
+  const vk::ComputePipeline& pipeline = (raysPerLane > 1 ? pooled_ : single_).forBvh(*args.bvh);
   vk::Binder binder(pipeline);
   binder.set(tr::kBindingRays, args.rays).set(tr::kBindingHits, args.hits);
   args.bvh->bind(binder, tr::kBindingBvh);

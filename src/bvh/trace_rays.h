@@ -5,6 +5,7 @@
 #include <vulkan/vulkan.h>
 
 #include "bvh/bvh.h"
+#include "bvh/traversal_pipeline.h"
 #include "shaders/shared/bvh_trace.h"
 #include "vk/pipeline.h"
 
@@ -32,8 +33,8 @@ class TraceRaysPass {
  private:
   bool alphaTest_;
   bool storageAccess_;  // reads the BVH's storage bindings (traversalSpec chose storage)
-  vk::ComputePipeline pooled_;  // ray pools (raysPerLane > 1)
-  vk::ComputePipeline single_;  // one ray per invocation (raysPerLane 1)
+  TraversalPipeline pooled_;  // ray pools (raysPerLane > 1)
+  TraversalPipeline single_;  // one ray per invocation (raysPerLane 1)
 };
 
 }  // namespace osr::bvh

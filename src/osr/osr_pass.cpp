@@ -60,13 +60,14 @@ void cleanMapsOfPixels(const o::OsrPush& push, uint32_t width, uint32_t maxMaps,
 
 void OsrPass::record(VkCommandBuffer cmd, const OsrBindings& bindings, o::OsrPush push,
                      uint32_t pixelEnd, uint32_t pixelBegin) const {
-  vk::Binder binder(pipeline_);
+  const vk::ComputePipeline& pipeline = pipeline_.forBvh(*bindings.bvh);
+  vk::Binder binder(pipeline);
   const uint32_t width = bindings.film->width(), height = bindings.film->height();
   const uint32_t maxMaps = bindings.buffers->maxMaps;
   auto dispatch = [&](const OsrWindow& w, uint32_t x, uint32_t y) {
     bindings.fill(binder, w);
     binder.bind(cmd, push);
-    pipeline_.dispatch(cmd, x, y);
+    pipeline.dispatch(cmd, x, y);
   };
   if (domain_ == Domain::Pixels) {
     // Windows of whole kWindowAlignPixels blocks, halved until the clean maps they read fit

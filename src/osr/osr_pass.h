@@ -5,6 +5,7 @@
 #pragma once
 #include <vector>
 
+#include "bvh/traversal_pipeline.h"
 #include "osr/osr_buffers.h"
 #include "shaders/shared/osr.h"
 #include "vk/pipeline.h"
@@ -32,7 +33,7 @@ class OsrPass {
 
  private:
   Domain domain_;
-  vk::ComputePipeline pipeline_;
+  bvh::TraversalPipeline pipeline_;
   uint32_t pixelWindow_;  // most pixels of the per-pixel buffers one binding covers
   uint32_t mapWindow_;    // most clean maps one binding covers
 };

@@ -37,7 +37,8 @@ TracePass::TracePass(const vk::Context& ctx, Mode mode, uint32_t sceneFeatures,
       filmWindow_(render::windowPixels(ctx, sizeof(gpu::film::FilmPixel))) {}
 
 void TracePass::record(VkCommandBuffer cmd, const Args& a) const {
-  vk::Binder binder(pipeline_);
+  const vk::ComputePipeline& pipeline = pipeline_.forBvh(*a.bvh);
+  vk::Binder binder(pipeline);
   binder.set(g::kPtBindingFrame, *a.frame);
   a.bvh->bind(binder, g::kPtBvhBinding);
   a.scene->bind(binder, g::kPtSceneBinding);
@@ -52,7 +53,7 @@ void TracePass::record(VkCommandBuffer cmd, const Args& a) const {
       g::Push push{first, std::min(perDispatch, end - first), a.sampleIndex + done, samples};
       binder.set(g::kPtBindingFilm, a.film->window(push.pixelOffset, push.pixelCount));
       binder.bind(cmd, push);
-      pipeline_.dispatch(cmd, vk::groupCount(push.pixelCount, g::kPtWorkgroupSize));
+      pipeline.dispatch(cmd, vk::groupCount(push.pixelCount, g::kPtWorkgroupSize));
       vk::computeBarrier(cmd);
     }
     done += samples;

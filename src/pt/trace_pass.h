@@ -7,6 +7,7 @@
 // kMaxPixelsPerDispatch pixels, short enough for a desktop GPU's watchdog.
 #pragma once
 #include "bvh/bvh.h"
+#include "bvh/traversal_pipeline.h"
 #include "render/film.h"
 #include "scene_gpu/gpu_scene.h"
 #include "shaders/shared/pt.h"
@@ -49,7 +50,7 @@ class TracePass {
   void record(VkCommandBuffer cmd, const Args& args) const;
 
  private:
-  vk::ComputePipeline pipeline_;
+  bvh::TraversalPipeline pipeline_;
   uint32_t filmWindow_;  // most film pixels one binding covers (render::windowPixels)
 };
 

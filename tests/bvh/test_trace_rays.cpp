@@ -27,6 +27,27 @@ TEST(TraceRays, ClosestHitsMatchBruteForceOnCpuTrees) {
   }
 }
 
+// Traversal reads exact nodes or quantized ones (Bvh::quantized, chosen by the triangle count):
+// both formats, read either way, give the brute-force closest hits, at every scale of the test
+// meshes (1e-6 to 1e6) and on each one's tree.
+TEST(TraceRays, ExactAndQuantizedNodesMatchBruteForce) {
+  auto& ctx = test::context();
+  for (const auto& [name, mesh] : test::testMeshes()) {
+    bvh::Bvh tree = bvh::upload(ctx, bvh::buildCpu(mesh.vertices, mesh.triangles), mesh.vertices,
+                                mesh.triangles);
+    auto rays = test::randomRays(mesh, 20000, 13);
+    for (bool quantized : {false, true}) {
+      tree.quantized = quantized;
+      tree.makeTexelViews(ctx);
+      for (bvh::Access access : {bvh::Access::Storage, bvh::Access::TexelFetch}) {
+        auto hits = test::traceOnDevice(ctx, tree, rays, gpu::bvh_trace::kModeClosest, nullptr, access);
+        EXPECT_EQ(test::compareClosest(name, mesh, rays, hits), 0u)
+            << name << (quantized ? " quantized" : " exact") << (access == bvh::Access::Storage ? " storage" : " texels");
+      }
+    }
+  }
+}
+
 // Traversal reads the BVH through texel buffers or storage buffers (shared/bvh.h); both must
 // give the brute-force hits, and the same bits, for both queries and with alpha masks.
 TEST(TraceRays, StorageAndTexelFetchReadsAgree) {
