@@ -1,13 +1,20 @@
 #version 460
-// bvh_emit_nodes: the nodes of the traversal layout (shared/bvh.h) from the build nodes, exact
-// (BvhNode) and quantized (BvhTraversalNode, shared/bvh_quantize.h), and where each leaf's
-// triangles go. One invocation per interior build node; build node i becomes traversal node
-// positions[i] (bvh_order_level's depth-first order, root 0). Nodes that are collapsed, or lie
-// below a collapsed node, have no position: they allocate and store nothing. Each child that is a leaf or a
-// collapsed subtree becomes a leaf: the leaf entries of a, then b, are allocated with an atomic
-// counter (once per workgroup), and bvh_emit_leaves copies the triangles there
-// (bvhEmitSlot in shared/bvh_build.h: where they start, and how many are a's).
-// Inputs: build nodes, positions, info.leafCounter = 0. Outputs: nodes, traversal nodes, slots.
+// bvh_emit_nodes: the traversal nodes (shared/bvh.h), exact (BvhNode) and quantized
+// (BvhTraversalNode, shared/bvh_quantize.h), in depth-first order, and where each leaf's
+// triangles go. One indirect dispatch per depth (param), one invocation per traversal node of
+// that depth (the root alone at depth 0, position 0). A node at position p:
+//   - puts its child a at p + 1 and its child b at p + 1 + (a's traversal nodes, from
+//     bvh_order_count) where those children are traversal nodes, and appends them to the next
+//     depth's list (sizing that depth's dispatch);
+//   - turns each child that is a leaf or a collapsed subtree into a leaf: the entries of a, then
+//     b, are allocated from info.leafCounter, and bvh_emit_leaves copies the triangles there
+//     (slots[build node] = bvhEmitSlot(first entry, a's count));
+//   - stores both forms of itself at p.
+// A walk that descends finds the near child next to its parent, and every subtree is one run of
+// nodes. Allocations take one atomic per workgroup (subgroup totals meet in shared memory): one
+// counter that every subgroup hits moves its cache line between lavapipe's two threads.
+// Inputs: build nodes, subtreeNodes, positions[root] = 0, the schedule's depth 0,
+// info.leafCounter = 0. Outputs: nodes, traversal nodes, slots, positions.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
 #extension GL_KHR_shader_subgroup_ballot : require
@@ -17,7 +24,13 @@
 layout(local_size_x = kWorkgroupSize) in;
 layout(std430, binding = kEmitBindingInfo) buffer Info { BvhBuildInfo gInfo; };
 layout(std430, binding = kEmitBindingSlots) writeonly buffer Slots { uint gSlots[]; };
-layout(std430, binding = kEmitBindingPositions) readonly buffer Positions { uint gPositions[]; };
+layout(std430, binding = kEmitBindingPositions) buffer Positions { uint gPositions[]; };
+layout(std430, binding = kEmitBindingSubtreeNodes) readonly buffer SubtreeNodes { uint gSubtreeNodes[]; };
+layout(std430, binding = kEmitBindingSchedule) coherent buffer Schedule {
+  LevelList gLevels[kEmitMaxLevels];
+  DispatchArgs gArgs[kEmitMaxLevels];
+};
+layout(std430, binding = kEmitBindingLevelNodes) buffer LevelNodes { uint gLevelNodes[]; };
 #define OSR_BUILD_TEXEL_BINDING kEmitBindingTexels
 #include "lib/bvh_build_texels.glsl"
 
@@ -25,47 +38,45 @@ bool becomesLeaf(uint u, BvhBuildNode n) {
   return u >= interiorCount() || (n.flags & kFlagCollapsed) != 0u;
 }
 
-// Child reference for build node u: a traversal node's position, or a leaf of its triangles at
-// `slot`.
-uint childRef(uint u, BvhBuildNode n, uint slot) {
-  if (!becomesLeaf(u, n)) return gPositions[u];
+uint leafRef(BvhBuildNode n, uint slot) {
   return kBvhLeafFlag | (n.triangleCount << kBvhLeafCountShift) | slot;
 }
 
-// Leaf entries for `count` triangles: one atomic per workgroup (a single counter that every
-// subgroup hits moves its cache line between lavapipe's two threads on every atomic). Called in
-// uniform control flow by the whole workgroup.
-shared uint sSubgroupFirst[kWorkgroupSize];  // per subgroup: its first entry
-uint allocateLeafEntries(uint count) {
-  uint offset = subgroupExclusiveAdd(count);
-  uint total = subgroupAdd(count);
+// Per workgroup, one atomic on each counter: x leaf entries, y next-depth list entries. Called
+// in uniform control flow by the whole workgroup; returns this invocation's first of each.
+shared uvec2 sSubgroupFirst[kWorkgroupSize];  // per subgroup: its first entries
+shared uint sListEnd;                          // the workgroup's end in the next depth's list
+uvec2 allocate(uvec2 counts, uint nextDepth) {
+  uvec2 offset = subgroupExclusiveAdd(counts);
+  uvec2 total = subgroupAdd(counts);
   if (subgroupElect()) sSubgroupFirst[gl_SubgroupID] = total;
   barrier();
   if (gl_LocalInvocationIndex == 0u) {
-    uint sum = 0u;
+    uvec2 sum = uvec2(0u);
     for (uint s = 0u; s < gl_NumSubgroups; ++s) {
-      uint t = sSubgroupFirst[s];
+      uvec2 t = sSubgroupFirst[s];
       sSubgroupFirst[s] = sum;
       sum += t;
     }
-    uint base = atomicAdd(gInfo.leafCounter, sum);
+    uvec2 base = uvec2(sum.x == 0u ? 0u : atomicAdd(gInfo.leafCounter, sum.x),
+                       sum.y == 0u ? 0u : atomicAdd(gLevels[nextDepth].count, sum.y));
     for (uint s = 0u; s < gl_NumSubgroups; ++s) sSubgroupFirst[s] += base;
+    sListEnd = sum.y == 0u ? 0u : base.y + sum.y;
   }
   barrier();
   return sSubgroupFirst[gl_SubgroupID] + offset;
 }
 
 void main() {
-  uint i = bvhBuildItem();
   uint n = gPush.triangleCount;
   if (n == 1u) {  // no interior node: a root with one leaf and one empty child
-    if (i != 0u) return;
+    if (bvhBuildItem() != 0u) return;
     BvhBuildNode leaf = readNode(0u);  // leaf 0: there is no interior node
     gInfo.leafCounter = 1u;
     BvhNode root;
     root.aMin = leaf.lo;
     root.aMax = leaf.hi;
-    root.a = childRef(0u, leaf, 0u);
+    root.a = leafRef(leaf, 0u);
     root.bMin = vec3(1e30);
     root.bMax = vec3(-1e30);
     root.b = kBvhEmptyChild;
@@ -75,26 +86,53 @@ void main() {
     storeTraversalNode(0u, bvhQuantizeNode(root));
     return;
   }
-  // Past the last node: no leaf entries, no stores, but through the allocation's barriers.
-  bool inRange = i < n - 1u;
-  BuildLinks node = readLinks(min(i, n - 2u));
-  uint position = gPositions[min(i, n - 2u)];
-  bool live = inRange && position != kInvalidNode;
-  BvhBuildNode l = readNode(node.left), r = readNode(node.right);
-  uint countA = live && becomesLeaf(node.left, l) ? l.triangleCount : 0u;
-  uint countB = live && becomesLeaf(node.right, r) ? r.triangleCount : 0u;
-  uint slot = allocateLeafEntries(countA + countB);
-  if (!live) return;
+  uint depth = gPush.param;
+  LevelList level = gLevels[depth];
+  uint k = bvhBuildItem();
+  bool inLevel = k < level.count;
+  uint u = gLevelNodes[level.offset + min(k, level.count - 1u)];
+  BuildLinks links = readLinks(u);
+  BvhBuildNode l = readNode(links.left), r = readNode(links.right);
+  bool nodeA = inLevel && !becomesLeaf(links.left, l);
+  bool nodeB = inLevel && !becomesLeaf(links.right, r);
+  uint leavesA = inLevel && !nodeA ? l.triangleCount : 0u;
+  uint leavesB = inLevel && !nodeB ? r.triangleCount : 0u;
+  // A tree deeper than kBvhMaxDepth is rebuilt without restructuring (gpu_builder.cpp), so the
+  // depths past the last need no list.
+  bool listed = depth + 1u < kEmitMaxLevels;
+  uint next = min(depth + 1u, kEmitMaxLevels - 1u);
+  uvec2 at = allocate(uvec2(leavesA + leavesB, listed ? uint(nodeA) + uint(nodeB) : 0u), next);
+  if (listed) {
+    if (k == 0u) gLevels[next].offset = level.offset + level.count;
+    if (gl_LocalInvocationIndex == 0u && sListEnd != 0u) {  // rows of kMaxGroupsX (bvhBuildItem)
+      uint groups = (sListEnd + kWorkgroupSize - 1u) / kWorkgroupSize;
+      atomicMax(gArgs[next].x, min(groups, kMaxGroupsX));
+      atomicMax(gArgs[next].y, (groups + kMaxGroupsX - 1u) / kMaxGroupsX);
+    }
+  }
+  if (!inLevel) return;
+  uint position = gPositions[u];
+  uint positionA = position + 1u;
+  uint positionB = positionA + (nodeA ? gSubtreeNodes[links.left] : 0u);
+  uint nextOffset = level.offset + level.count;
+  if (nodeA) {
+    gPositions[links.left] = positionA;
+    if (listed) gLevelNodes[nextOffset + at.y] = links.left;
+  }
+  if (nodeB) {
+    gPositions[links.right] = positionB;
+    if (listed) gLevelNodes[nextOffset + at.y + uint(nodeA)] = links.right;
+  }
   BvhNode out_;
   out_.aMin = l.lo;
   out_.aMax = l.hi;
-  out_.a = childRef(node.left, l, slot);
+  out_.a = nodeA ? positionA : leafRef(l, at.x);
   out_.bMin = r.lo;
   out_.bMax = r.hi;
-  out_.b = childRef(node.right, r, slot + countA);
+  out_.b = nodeB ? positionB : leafRef(r, at.x + leavesA);
   out_._pad0 = 0u;
   out_._pad1 = 0u;
   storeNode(position, out_);
   storeTraversalNode(position, bvhQuantizeNode(out_));
-  gSlots[i] = bvhEmitSlot(slot, countA);
+  gSlots[u] = bvhEmitSlot(at.x, leavesA);
 }

@@ -9,10 +9,10 @@
 //   bvh_lbvh          hierarchy from the sorted codes (Karras 2012)
 //   bvh_refit         bounds, triangle counts, SAH costs and heights bottom-up (atomic counters)
 //   bvh_treelet_*     treelet restructuring (Karras & Aila 2013), level by level, several rounds
-//   bvh_order_count / bvh_order_level
-//                     depth-first positions of the traversal nodes
+//   bvh_subtree_count traversal nodes per subtree (atomic counters)
 //   bvh_emit_nodes    the nodes of the traversal layout of shared/bvh.h (subtrees collapsed into
-//                     leaves, exact and quantized), and where each leaf's triangles go
+//                     leaves, exact and quantized), depth by depth in depth-first order, and
+//                     where each leaf's triangles go
 //   bvh_emit_leaves   the leaf triangles, in place
 // Build nodes share one index space: interior nodes [0, N-1) (root 0), leaves [N-1, 2N-1) in
 // sorted order, in two arrays.
@@ -214,41 +214,39 @@ struct DispatchArgs {
   uint z;
 };
 
-// Depth-first order of the traversal nodes: a walk that descends to a child finds it in the next
-// node (or the same cache line), and every subtree is one contiguous run. Two passes:
-//   bvh_order_count  traversal nodes per subtree (0 for a leaf or a collapsed subtree),
-//                    bottom-up like bvh_refit (arrays interior, leaves; climb counters zeroed)
-//   bvh_order_level  one indirect dispatch per depth (param): each node of the depth places its
-//                    live children (a right after it, b after a's subtree) and appends them to
-//                    the next depth's list
-// positions[i] is interior build node i's traversal index, kInvalidNode where i is collapsed
-// or below a collapsed node (the build fills it so); bvh_emit_nodes stores node i there.
-// The schedule: LevelList[kOrderMaxLevels], then DispatchArgs[kOrderMaxLevels]; the host sets
-// depth 0 (the root) and y = z = 1 everywhere.
-#ifdef __cplusplus
-OSR_CONST(uint, kOrderMaxLevels, bvh::kBvhMaxDepth + 1u);
-#else
-OSR_CONST(uint, kOrderMaxLevels, kBvhMaxDepth + 1u);
-#endif
-OSR_CONST(uint, kOrderBindingSubtreeNodes, kClimbBindingCount);  // uint per interior node
-OSR_CONST(uint, kOrderBindingPositions, kClimbBindingCount + 1u);  // uint per interior node
-OSR_CONST(uint, kOrderBindingSchedule, kClimbBindingCount + 2u);
-OSR_CONST(uint, kOrderBindingLevelNodes, kClimbBindingCount + 3u);  // uint per interior node
-OSR_CONST(uint, kOrderBindingTexels, kClimbBindingCount + 4u);
-OSR_CONST(uint, kOrderBindingCount, kOrderBindingTexels + kBuildTexelBindingCount);
+// bvh_subtree_count: traversal nodes per subtree (0 for a leaf or a collapsed subtree),
+// bottom-up like bvh_refit; arrays interior, leaves (through texels), climb counters zeroed.
+OSR_CONST(uint, kSubtreeCountBindingNodes, kClimbBindingCount);  // uint per interior node (out)
+OSR_CONST(uint, kSubtreeCountBindingTexels, kClimbBindingCount + 1u);
+OSR_CONST(uint, kSubtreeCountBindingCount, kSubtreeCountBindingTexels + kBuildTexelBindingCount);
 
-// bvh_emit_nodes: arrays interior, leaves (texels), nodes (out); info, slots (out).
+// bvh_emit_nodes: arrays interior, leaves (texels), nodes, traversalNodes (out); info, slots,
+// positions (out), subtree node counts, the depth schedule and node lists. It runs once per
+// depth (param) with an indirect dispatch that the depth before sized, so the traversal nodes
+// come out in depth-first order: a walk that descends finds the near child next to its parent,
+// and every subtree is one contiguous run.
+// The schedule: LevelList[kEmitMaxLevels], then DispatchArgs[kEmitMaxLevels]; the host sets
+// depth 0 (the root) and y = z = 1 everywhere. positions[i]: interior build node i's traversal
+// index, written for the nodes that become traversal nodes (the host sets the root's, 0).
 // bvh_emit_leaves: arrays interior, leaves, prims (texels), leafTriangles (out); slots (through
 // the R32UI view where spec constant kEmitSpecSlotTexels is set, else the storage binding).
 // slots[i] (uint per interior node) tells where the triangles of interior node i's leaf-like
 // children go: bvhEmitSlot(first leaf entry of a's, entries of a's (0 when a is a node)); b's
-// follow a's. Unreachable nodes write garbage there, which no leaf reads.
+// follow a's. Nodes that do not become traversal nodes leave theirs unset; no leaf reads it.
+#ifdef __cplusplus
+OSR_CONST(uint, kEmitMaxLevels, bvh::kBvhMaxDepth + 1u);
+#else
+OSR_CONST(uint, kEmitMaxLevels, kBvhMaxDepth + 1u);
+#endif
 OSR_CONST(uint, kEmitBindingInfo, kBuildArrayBindingCount);
 OSR_CONST(uint, kEmitBindingSlots, kBuildArrayBindingCount + 1u);
 OSR_CONST(uint, kEmitBindingSlotTexels, kBuildArrayBindingCount + 2u);
 OSR_CONST(uint, kEmitBindingTexels, kBuildArrayBindingCount + 3u);
-OSR_CONST(uint, kEmitBindingPositions, kEmitBindingTexels + kBuildTexelBindingCount);  // bvh_order_level's
-OSR_CONST(uint, kEmitBindingCount, kEmitBindingPositions + 1u);
+OSR_CONST(uint, kEmitBindingPositions, kEmitBindingTexels + kBuildTexelBindingCount);  // uint per interior node
+OSR_CONST(uint, kEmitBindingSubtreeNodes, kEmitBindingPositions + 1u);  // bvh_subtree_count's
+OSR_CONST(uint, kEmitBindingSchedule, kEmitBindingPositions + 2u);
+OSR_CONST(uint, kEmitBindingLevelNodes, kEmitBindingPositions + 3u);  // uint per interior node
+OSR_CONST(uint, kEmitBindingCount, kEmitBindingPositions + 4u);
 OSR_CONST(uint, kEmitSpecSlotTexels, 5u);  // spec constant id: bool
 OSR_CONST(uint, kEmitSlotCountShift, 27u);  // above kBvhLeafFirstMask: first entries < 2^27
 OSR_BVH_FN uint bvhEmitSlot(uint first, uint countA) { return first | (countA << kEmitSlotCountShift); }

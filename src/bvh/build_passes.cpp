@@ -342,65 +342,21 @@ void TreeletPass::record(VkCommandBuffer cmd, const Args& a, vk::GpuTimer* timer
   }
 }
 
-namespace {
-std::vector<VkDescriptorType> orderTypes() { return texelTypes(bb::kOrderBindingCount, bb::kOrderBindingTexels); }
-}  // namespace
-
-OrderPass::OrderPass(const vk::Context& ctx, bool byAddress)
+SubtreeCountPass::SubtreeCountPass(const vk::Context& ctx, bool byAddress)
     : access_{&ctx, byAddress},
-      count_(ctx, shaders::Id::bvh_order_count, orderTypes(), sizeof(BuildPush),
-             texelSpec(ctx, byAddress, climbSpec(ctx, byAddress, 0))),
-      level_(ctx, shaders::Id::bvh_order_level, orderTypes(), sizeof(BuildPush), texelSpec(ctx, byAddress, arraySpec(byAddress))) {}
+      pipeline_(ctx, shaders::Id::bvh_subtree_count, texelTypes(bb::kSubtreeCountBindingCount, bb::kSubtreeCountBindingTexels),
+                sizeof(BuildPush), texelSpec(ctx, byAddress, climbSpec(ctx, byAddress, 0))) {}
 
-uint64_t OrderPass::scheduleBytes() {
-  return bb::kOrderMaxLevels * (sizeof(bb::LevelList) + sizeof(bb::DispatchArgs));
-}
-
-void OrderPass::record(VkCommandBuffer cmd, const Args& a, vk::GpuTimer* timer) const {
-  std::optional<vk::TimedScope> scope;
-  scope.emplace(timer, cmd, "bvh_order_count");
-  // Depth 0 is the root alone, at position 0; every other depth starts empty (x = 0 groups).
-  struct Schedule {
-    bb::LevelList levels[bb::kOrderMaxLevels];
-    bb::DispatchArgs args[bb::kOrderMaxLevels];
-  } initial{};
-  static_assert(sizeof(Schedule) == bb::kOrderMaxLevels * (sizeof(bb::LevelList) + sizeof(bb::DispatchArgs)));
-  for (bb::DispatchArgs& d : initial.args) d = {0, 1, 1};
-  initial.levels[0].count = 1;
-  initial.args[0].x = 1;
+void SubtreeCountPass::record(VkCommandBuffer cmd, const Args& a) const {
   vkCmdFillBuffer(cmd, a.counters.buffer->handle(), a.counters.offset, a.counters.bytes(), 0);
-  vkCmdFillBuffer(cmd, a.positions.buffer->handle(), a.positions.offset, a.positions.bytes(), bb::kInvalidNode);
   vk::transferBarrier(cmd);
-  vkCmdUpdateBuffer(cmd, a.schedule->handle(), 0, sizeof(initial), &initial);
-  vkCmdFillBuffer(cmd, a.positions.buffer->handle(), a.positions.offset, 4, 0);    // the root's position
-  vkCmdFillBuffer(cmd, a.levelNodes.buffer->handle(), a.levelNodes.offset, 4, 0);  // depth 0: the root
-  vk::transferBarrier(cmd);
-  BuildPush p{};
-  // Both pipelines bind the same buffers at the same slots.
-  auto binder = [&](const vk::ComputePipeline& pipeline) {
-    vk::Binder b(pipeline);
-    p = bindArrays(b, access_, *a.arrays, a.triangleCount, 0);
-    b.set(bb::kClimbBindingCounters, a.counters)
-        .set(bb::kOrderBindingSubtreeNodes, a.subtreeNodes)
-        .set(bb::kOrderBindingPositions, a.positions)
-        .set(bb::kOrderBindingSchedule, *a.schedule)
-        .set(bb::kOrderBindingLevelNodes, a.levelNodes);
-    bindTexels(b, bb::kOrderBindingTexels, *a.texels);
-    return b;
-  };
-  binder(count_).bind(cmd, p);
-  dispatchItems(count_, cmd, a.triangleCount);
+  vk::Binder binder(pipeline_);
+  BuildPush p = bindArrays(binder, access_, *a.arrays, a.triangleCount, 0);
+  binder.set(bb::kClimbBindingCounters, a.counters).set(bb::kSubtreeCountBindingNodes, a.subtreeNodes);
+  bindTexels(binder, bb::kSubtreeCountBindingTexels, *a.texels);
+  binder.bind(cmd, p);
+  dispatchItems(pipeline_, cmd, a.triangleCount);
   vk::computeBarrier(cmd);
-  scope.reset();
-  scope.emplace(timer, cmd, "bvh_order_level");
-  const vk::Binder level = binder(level_);
-  const uint64_t argsOffset = bb::kOrderMaxLevels * sizeof(bb::LevelList);
-  for (uint32_t depth = 0; depth + 1 < bb::kOrderMaxLevels; ++depth) {
-    p.param = depth;
-    level.bind(cmd, p);
-    level_.dispatchIndirect(cmd, *a.schedule, argsOffset + depth * sizeof(bb::DispatchArgs));
-    vk::computeBarrier(cmd);
-  }
 }
 
 namespace {
@@ -416,22 +372,56 @@ EmitPass::EmitPass(const vk::Context& ctx, bool byAddress)
       leaves_(ctx, shaders::Id::bvh_emit_leaves, emitTypes(), sizeof(BuildPush),
               wordTexelSpec(ctx, byAddress, bb::kEmitSpecSlotTexels)) {}
 
+uint64_t EmitPass::scheduleBytes() {
+  return bb::kEmitMaxLevels * (sizeof(bb::LevelList) + sizeof(bb::DispatchArgs));
+}
+
 void EmitPass::record(VkCommandBuffer cmd, const Args& a, vk::GpuTimer* timer) const {
+  const bool ordered = a.triangleCount > 1;  // one triangle: the root alone, no depths
+  if (ordered) {
+    // Depth 0 is the root alone, at position 0; every other depth starts empty (x = 0 groups).
+    struct Schedule {
+      bb::LevelList levels[bb::kEmitMaxLevels];
+      bb::DispatchArgs args[bb::kEmitMaxLevels];
+    } initial{};
+    static_assert(sizeof(Schedule) == bb::kEmitMaxLevels * (sizeof(bb::LevelList) + sizeof(bb::DispatchArgs)));
+    for (bb::DispatchArgs& d : initial.args) d = {0, 1, 1};
+    initial.levels[0].count = 1;
+    initial.args[0].x = 1;
+    vkCmdUpdateBuffer(cmd, a.schedule->handle(), 0, sizeof(initial), &initial);
+    vkCmdFillBuffer(cmd, a.positions.buffer->handle(), a.positions.offset, 4, 0);    // the root's position
+    vkCmdFillBuffer(cmd, a.levelNodes.buffer->handle(), a.levelNodes.offset, 4, 0);  // depth 0: the root
+    vk::transferBarrier(cmd);
+  }
   BuildPush p{};
   // The two pipelines bind the same buffers at the same slots.
   auto binder = [&](const vk::ComputePipeline& pipeline) {
     vk::Binder b(pipeline);
     p = bindArrays(b, access_, *a.arrays, a.triangleCount, 0);
     b.set(bb::kEmitBindingInfo, a.info).set(bb::kEmitBindingSlots, a.slots).setTexel(bb::kEmitBindingSlotTexels, a.slotTexels);
-    b.set(bb::kEmitBindingPositions, a.positions.buffer ? a.positions : a.slots);  // one triangle: unread
+    // One triangle: the order's buffers are unread, and the slots fill their slots.
+    b.set(bb::kEmitBindingPositions, ordered ? a.positions : a.slots)
+        .set(bb::kEmitBindingSubtreeNodes, ordered ? a.subtreeNodes : a.slots)
+        .set(bb::kEmitBindingSchedule, ordered ? vk::BufferRange(*a.schedule) : a.slots)
+        .set(bb::kEmitBindingLevelNodes, ordered ? a.levelNodes : a.slots);
     bindTexels(b, bb::kEmitBindingTexels, *a.texels);
     return b;
   };
   {
     vk::TimedScope scope(timer, cmd, "bvh_emit_nodes");
-    binder(nodes_).bind(cmd, p);
-    dispatchItems(nodes_, cmd, std::max<uint32_t>(a.triangleCount - 1, 1));
-    vk::computeBarrier(cmd);
+    const vk::Binder nodes = binder(nodes_);
+    if (!ordered) {
+      nodes.bind(cmd, p);
+      nodes_.dispatch(cmd, 1);
+      vk::computeBarrier(cmd);
+    }
+    const uint64_t argsOffset = bb::kEmitMaxLevels * sizeof(bb::LevelList);
+    for (uint32_t depth = 0; ordered && depth < bb::kEmitMaxLevels; ++depth) {
+      p.param = depth;
+      nodes.bind(cmd, p);
+      nodes_.dispatchIndirect(cmd, *a.schedule, argsOffset + depth * sizeof(bb::DispatchArgs));
+      vk::computeBarrier(cmd);
+    }
   }
   vk::TimedScope scope(timer, cmd, "bvh_emit_leaves");
   binder(leaves_).bind(cmd, p);

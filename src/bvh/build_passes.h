@@ -186,36 +186,32 @@ class TreeletPass {
   vk::ComputePipeline count_, plan_, scatter_, treelet_;
 };
 
-// bvh_order_count, then bvh_order_level once per depth (indirect): the depth-first position of
-// every traversal node (shared/bvh_build.h). Arrays: interior, leaves (through texels).
-class OrderPass {
+// bvh_subtree_count: traversal nodes per subtree, for the depth-first order of bvh_emit_nodes.
+// Arrays: interior, leaves (through texels).
+class SubtreeCountPass {
  public:
-  OrderPass(const vk::Context& ctx, bool byAddress);
-  static uint64_t scheduleBytes();
+  SubtreeCountPass(const vk::Context& ctx, bool byAddress);
   struct Args {
     const BuildArrayBuffers* arrays = nullptr;
     const BuildTexelViews* texels = nullptr;
     vk::BufferRange counters;      // scratch: uint per interior node (zeroed here)
-    vk::BufferRange subtreeNodes;  // scratch: uint per interior node
-    vk::BufferRange positions;     // out: uint per interior node
-    vk::BufferRange levelNodes;    // scratch: uint per interior node
-    const vk::Buffer* schedule = nullptr;  // scratch: scheduleBytes()
+    vk::BufferRange subtreeNodes;  // out: uint per interior node
     uint32_t triangleCount = 0;    // >= 2
   };
-  // `timer` (may be null) gets scopes "bvh_order_count" and "bvh_order_level" (all depths).
-  void record(VkCommandBuffer cmd, const Args& args, vk::GpuTimer* timer = nullptr) const;
+  void record(VkCommandBuffer cmd, const Args& args) const;
 
  private:
   ArrayAccess access_;
-  vk::ComputePipeline count_, level_;
+  vk::ComputePipeline pipeline_;
 };
 
-// bvh_emit_nodes, then bvh_emit_leaves: traversal nodes, then leaf triangles (info.leafCounter
-// must be 0). Arrays: interior, leaves, prims (in, through texels), nodes, traversalNodes,
-// leafTriangles (out).
+// bvh_emit_nodes once per depth (indirect), then bvh_emit_leaves: traversal nodes in depth-first
+// order, then leaf triangles (info.leafCounter must be 0). Arrays: interior, leaves, prims (in,
+// through texels), nodes, traversalNodes, leafTriangles (out).
 class EmitPass {
  public:
   EmitPass(const vk::Context& ctx, bool byAddress);
+  static uint64_t scheduleBytes();
   // Usage the slots buffer needs on top of storage use (its R32UI view, slotTexels).
   static constexpr VkBufferUsageFlags kSlotsUsage = VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT;
   struct Args {
@@ -224,10 +220,13 @@ class EmitPass {
     vk::BufferRange info;
     vk::BufferRange slots;                     // scratch: uint per interior node
     VkBufferView slotTexels = VK_NULL_HANDLE;  // R32UI view of slots (vk::BufferView::uintWords)
-    vk::BufferRange positions;                 // OrderPass's (unset for one triangle)
+    // Depth-first order (unread for one triangle): SubtreeCountPass's counts; scratch positions
+    // and node lists (uint per interior node) and the depth schedule (scheduleBytes()).
+    vk::BufferRange subtreeNodes, positions, levelNodes;
+    const vk::Buffer* schedule = nullptr;
     uint32_t triangleCount = 0;
   };
-  // `timer` (may be null) gets scopes "bvh_emit_nodes" and "bvh_emit_leaves".
+  // `timer` (may be null) gets scopes "bvh_emit_nodes" (all depths) and "bvh_emit_leaves".
   void record(VkCommandBuffer cmd, const Args& args, vk::GpuTimer* timer = nullptr) const;
 
  private:

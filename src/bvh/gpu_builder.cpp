@@ -33,11 +33,11 @@ struct GpuBuilder::Passes {
   LbvhPass lbvh;
   RefitPass refit;
   TreeletPass treelet;
-  OrderPass order;
+  SubtreeCountPass subtreeCount;
   EmitPass emit;
   Passes(const vk::Context& ctx, uint32_t treeletLeaves, bool byAddress)
       : bounds(ctx, byAddress), morton(ctx, byAddress), sort(ctx), lbvh(ctx, byAddress), refit(ctx, byAddress),
-        treelet(ctx, treeletLeaves, byAddress), order(ctx, byAddress), emit(ctx, byAddress) {}
+        treelet(ctx, treeletLeaves, byAddress), subtreeCount(ctx, byAddress), emit(ctx, byAddress) {}
 };
 
 namespace {
@@ -75,11 +75,11 @@ struct GpuBuilder::Scratch {
     partials = scratch(ctx, ExclusiveScan::partialsBytes(uint32_t(histBytes / 4)), "bvh scan partials");
     interior = scratch(ctx, interiorCount * nodeBytes, "bvh build interior", BuildTexelViews::kUsage);
     leaves = scratch(ctx, n * nodeBytes, "bvh build leaves", BuildTexelViews::kUsage);
-    // Climb counters of bvh_refit and bvh_order_count, then slots of the emit passes.
+    // Climb counters of bvh_refit and bvh_subtree_count, then slots of the emit passes.
     counters = scratch(ctx, 4ull * interiorCount, "bvh climb counters", EmitPass::kSlotsUsage);
-    // The treelet rounds' schedule, then the depth-first order's.
-    schedule = scratch(ctx, std::max(TreeletPass::scheduleBytes(), OrderPass::scheduleBytes()), "bvh level schedule");
-    // Node lists of the treelet rounds, then of the depth-first order.
+    // The treelet rounds' schedule, then the emit's (by depth).
+    schedule = scratch(ctx, std::max(TreeletPass::scheduleBytes(), EmitPass::scheduleBytes()), "bvh level schedule");
+    // Node lists of the treelet rounds, then of the emit's depths.
     nodeList = scratch(ctx, 4ull * interiorCount, "bvh node list");
     for (const vk::Buffer* b : {&prims, &info, &keys, &keysTmp, &values, &valuesTmp, &hist, &partials, &interior,
                                 &leaves, &counters, &schedule, &nodeList})
@@ -206,9 +206,17 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
     // The sort's temporary key and value arrays (uint per triangle) are free by now: they hold
     // the subtree node counts and positions of the depth-first order.
     const vk::BufferRange subtreeNodes(keysTmp, 0, 4ull * interiorCount), positions(valuesTmp, 0, 4ull * interiorCount);
-    if (n > 1)
-      passes.order.record(cmd, {&arrays, &texels, counters, subtreeNodes, positions, nodeList, &schedule, n}, &timer);
-    passes.emit.record(cmd, {&arrays, &texels, info, counters, sc.slotTexels.handle(), n > 1 ? positions : vk::BufferRange(), n}, &timer);
+    if (n > 1) {
+      vk::TimedScope scope(&timer, cmd, "bvh_subtree_count");
+      passes.subtreeCount.record(cmd, {&arrays, &texels, counters, subtreeNodes, n});
+    }
+    EmitPass::Args emit{&arrays, &texels, info, counters, sc.slotTexels.handle()};
+    emit.subtreeNodes = subtreeNodes;
+    emit.positions = positions;
+    emit.levelNodes = nodeList;
+    emit.schedule = &schedule;
+    emit.triangleCount = n;
+    passes.emit.record(cmd, emit, &timer);
   };
 
   uint32_t rounds = options.treeletRounds;

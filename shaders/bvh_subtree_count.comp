@@ -1,8 +1,8 @@
 #version 460
-// bvh_order_count: how many traversal nodes each subtree holds, bottom-up: 0 for a leaf or a
+// bvh_subtree_count: how many traversal nodes each subtree holds, bottom-up: 0 for a leaf or a
 // collapsed subtree, else 1 + its children's. One invocation per leaf climbs towards the root;
 // at each parent the first to arrive (atomic counter) stops and the second sums, as in
-// bvh_refit. Links are read through texels (the treelet passes wrote them in earlier
+// bvh_refit. bvh_emit_nodes places child b after child a's subtree with these counts. Links are read through texels (the treelet passes wrote them in earlier
 // dispatches), sibling counts from the coherent array this dispatch writes.
 // Inputs: final build topology and collapse flags; counters zeroed. Output: subtreeNodes.
 #extension GL_GOOGLE_include_directive : require
@@ -10,9 +10,9 @@
 
 layout(local_size_x = kWorkgroupSize) in;
 #include "lib/bvh_build_nodes.glsl"
-#define OSR_BUILD_TEXEL_BINDING kOrderBindingTexels
+#define OSR_BUILD_TEXEL_BINDING kSubtreeCountBindingTexels
 #include "lib/bvh_build_texels.glsl"
-layout(std430, binding = kOrderBindingSubtreeNodes) coherent buffer SubtreeNodes { uint gSubtreeNodes[]; };
+layout(std430, binding = kSubtreeCountBindingNodes) coherent buffer SubtreeNodes { uint gSubtreeNodes[]; };
 
 void main() {
   uint i = bvhBuildItem();
