@@ -20,6 +20,8 @@ MapTracer::MapTracer(const vk::Context& ctx, const scene::GpuScene& scene, const
       gbuffer_(ctx, shaders::Id::osr_gbuffer, Domain::Pixels, scene.features, scene.texelFetch),
       maps_(ctx, shaders::Id::osr_maps, Domain::MapTexels, scene.features, scene.texelFetch),
       bindings_{&buffers_, &film_, &bvh, &scene} {
+  gbuffer_.prepare(bvh);
+  maps_.prepare(bvh);
   auto frame = render::makeFrame(camera, width, height, seed);
   buffers_.frame.upload(&frame, sizeof frame);
   setView(0);

@@ -85,6 +85,8 @@ OsrIntegrator::OsrIntegrator(const vk::Context& ctx, const scene::GpuScene& scen
   const uint32_t chunk = settings.keepAllMaps ? maxMaps : settings.maxChunkMaps;
   buffers_ = std::make_unique<OsrBuffers>(ctx, width, height, maxMaps, chunk);
   bindings_ = OsrBindings{buffers_.get(), &film_, &bvh_, &scene_};
+  for (const OsrPass* p : {&gbuffer_, &direct_, &maps_, &normalize_, &denoise_, &project_, &composite_, &residual_, &resolve_})
+    p->prepare(bvh_);
 }
 
 OsrIntegrator::~OsrIntegrator() = default;

@@ -20,6 +20,9 @@ class OsrPass {
           bool sceneTexelFetch, std::vector<vk::SpecConstant> extraSpec = {});
 
   const char* name() const { return pipeline_.name(); }
+  // Makes the pipeline for `bvh`'s node format now (record would on first use, inside a render's
+  // timed work): integrators call it when they are made.
+  void prepare(const bvh::Bvh& bvh) const { pipeline_.forBvh(bvh); }
 
   // Records the pass over push.mapCount maps (map domains) or pixels [pixelBegin, pixelEnd)
   // (pixel domain, in dispatches of at most kMaxPixelsPerDispatch; pixelBegin a multiple of

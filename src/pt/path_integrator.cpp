@@ -23,7 +23,9 @@ PathIntegrator::PathIntegrator(const vk::Context& ctx, const scene::GpuScene& sc
       pixelFilter_(pixelFilter),
       film_(ctx, width, height),
       frame_(ctx, sizeof(gpu::camera::CameraFrame), vk::MemoryUse::DeviceLocal, "pt frame"),
-      pass_(ctx, mode, scene.features, scene.texelFetch) {}
+      pass_(ctx, mode, scene.features, scene.texelFetch) {
+  pass_.prepare(bvh);
+}
 
 void PathIntegrator::restart(const scene::Camera& camera, uint32_t seed) {
   const gpu::camera::CameraFrame f = render::makeFrame(camera, film_.width(), film_.height(), seed, pixelFilter_);

@@ -48,6 +48,9 @@ class TracePass {
   // Records samples [sampleIndex, sampleIndex + sampleCount) for the pixel range, in
   // dispatches of bounded size, with barriers.
   void record(VkCommandBuffer cmd, const Args& args) const;
+  // Makes the pipeline for `bvh`'s node format now (record would on first use, inside a render's
+  // timed work): the integrator calls it when it is made.
+  void prepare(const bvh::Bvh& bvh) const { pipeline_.forBvh(bvh); }
 
  private:
   bvh::TraversalPipeline pipeline_;
