@@ -2,8 +2,10 @@
 // by the CPU reference builder's upload (src/bvh/cpu_builder.cpp), read by
 // shaders/lib/bvh_traverse.glsl.
 //
-// A binary tree whose nodes store the bounds of both children (one 64-byte fetch decides which
-// children a ray enters). Node 0 is the root. A child reference is either the index of another
+// A binary tree whose nodes store the bounds of both children (one node fetch decides which
+// children a ray enters), in depth-first order (child a follows its parent, b follows a's
+// subtree), each node twice: exact (BvhNode) and quantized (BvhTraversalNode); traversal reads
+// one of the two (kBvhSpecQuantized). Node 0 is the root. A child reference is either the index of another
 // node or, with kBvhLeafFlag set, a leaf: `count` consecutive BvhLeafTriangle entries starting at
 // `first`. A leaf of count 0 is an empty child (its box is inverted so no ray enters it). When
 // both children are non-empty leaves, b's entries follow a's, so the leaves a ray enters at a node
