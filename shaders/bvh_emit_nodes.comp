@@ -4,13 +4,13 @@
 // triangles go. One indirect dispatch per depth (param), one invocation per traversal node of
 // that depth (the root alone at depth 0, position 0). A node at position p:
 //   - puts its child a at p + 1 and its child b at p + 1 + (a's traversal nodes, from
-//     bvh_order_count) where those children are traversal nodes, and appends them to the next
+//     bvh_subtree_count) where those children are traversal nodes, and appends them to the next
 //     depth's list (sizing that depth's dispatch);
 //   - turns each child that is a leaf or a collapsed subtree into a leaf: the entries of a, then
 //     b, are allocated from info.leafCounter, and bvh_emit_leaves copies the triangles there
 //     (slots[build node] = bvhEmitSlot(first entry, a's count));
 //   - stores both forms of itself at p.
-// A walk that descends finds the near child next to its parent, and every subtree is one run of
+// A walk that descends to child a finds it next to its parent, and every subtree is one run of
 // nodes. Allocations take one atomic per workgroup (subgroup totals meet in shared memory): one
 // counter that every subgroup hits moves its cache line between lavapipe's two threads.
 // Inputs: build nodes, subtreeNodes, positions[root] = 0, the schedule's depth 0,

@@ -223,7 +223,7 @@ OSR_CONST(uint, kSubtreeCountBindingCount, kSubtreeCountBindingTexels + kBuildTe
 // bvh_emit_nodes: arrays interior, leaves (texels), nodes, traversalNodes (out); info, slots,
 // positions (out), subtree node counts, the depth schedule and node lists. It runs once per
 // depth (param) with an indirect dispatch that the depth before sized, so the traversal nodes
-// come out in depth-first order: a walk that descends finds the near child next to its parent,
+// come out in depth-first order: a walk that descends to child a finds it next to its parent,
 // and every subtree is one contiguous run.
 // The schedule: LevelList[kEmitMaxLevels], then DispatchArgs[kEmitMaxLevels]; the host sets
 // depth 0 (the root) and y = z = 1 everywhere. positions[i]: interior build node i's traversal

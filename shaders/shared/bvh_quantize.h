@@ -71,7 +71,7 @@ OSR_QUANTIZE_FN uvec2 bvhQuantizeAxis(float aLo, float aHi, float bLo, float bHi
   float o = bvhOriginBelow(lo);
   OSR_PRECISE float d = hi - o;
   int e = bvhQuantizeExponent(d > 0.0f ? d : 0.0f);
-  float invScale = bvhPow2(-e);  // e <= 121 for finite floats, so -e is in range
+  float invScale = bvhPow2(-e);  // e <= 122 (an extent that overflows to inf), so -e is in range
   uint qa = hasA ? (bvhQuantizeDown(aLo, o, invScale) | (bvhQuantizeUp(aHi, o, invScale) << 8u)) : 0xffu;
   uint qb = hasB ? (bvhQuantizeDown(bLo, o, invScale) | (bvhQuantizeUp(bHi, o, invScale) << 8u)) : 0xffu;
   return uvec2(floatBitsToUint(o) | uint(e + 127), qa | (qb << 16u));

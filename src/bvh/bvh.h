@@ -18,8 +18,10 @@
 namespace osr::bvh {
 
 struct Bvh {
-  vk::Buffer nodes;     // BvhNode[nodeCount], root at 0: the exact tree (stats, checks, the host)
-  vk::Buffer traversalNodes;  // BvhTraversalNode[nodeCount]: the quantized copy traversal reads
+  // Room for nodeCount nodes, root at 0, depth-first: the device build writes only the first
+  // (traversal-node count) of them, and every reader walks from the root.
+  vk::Buffer nodes;     // BvhNode[nodeCount]: the exact tree (stats, checks, the host)
+  vk::Buffer traversalNodes;  // BvhTraversalNode[nodeCount]: the quantized copy
   vk::Buffer leafData;  // BvhLeafTriangle[triangleCount]: leaves' reordered vertex copies
   vk::BufferView nodeTexels;  // RGBA32UI views of the traversed nodes and leafData (texel-fetch traversal)
   vk::BufferView leafTexels;
