@@ -6,15 +6,19 @@
 //   - puts its child a at p + 1 and its child b at p + 1 + (a's traversal nodes, from
 //     bvh_subtree_count) where those children are traversal nodes, and appends them to the next
 //     depth's list (sizing that depth's dispatch);
-//   - turns each child that is a leaf or a collapsed subtree into a leaf: the entries of a, then
-//     b, are allocated from info.leafCounter, and bvh_emit_leaves copies the triangles there
-//     (slots[build node] = bvhEmitSlot(first entry, a's count));
+//   - turns each child that is a leaf or a collapsed subtree into a leaf. Leaf entries are in
+//     depth-first order too: a node's subtree's start at its leaf base (the root's 0), child a's
+//     there, child b's after a's triangles, so the triangles a walk tests lie near each other;
+//     bvh_emit_leaves copies them there (slots[build node] = bvhEmitSlot(a's first entry, a's
+//     count), or b's first entry and 0 where a is a node). info.leafCounter sums the leaf
+//     triangles, for the host's check;
 //   - stores both forms of itself at p.
 // A walk that descends to child a finds it next to its parent, and every subtree is one run of
-// nodes. Allocations take one atomic per workgroup (subgroup totals meet in shared memory): one
-// counter that every subgroup hits moves its cache line between lavapipe's two threads.
-// Inputs: build nodes, subtreeNodes, positions[root] = 0, the schedule's depth 0,
-// info.leafCounter = 0. Outputs: nodes, traversal nodes, slots, positions.
+// nodes. Appends and the leaf count take one atomic per workgroup (subgroup totals meet in
+// shared memory): one counter that every subgroup hits moves its cache line between lavapipe's
+// two threads.
+// Inputs: build nodes, subtreeNodes, positions[root] = leafBases[root] = 0, the schedule's depth
+// 0, info.leafCounter = 0. Outputs: nodes, traversal nodes, slots, positions, leafBases.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
 #extension GL_KHR_shader_subgroup_ballot : require
@@ -31,6 +35,7 @@ layout(std430, binding = kEmitBindingSchedule) coherent buffer Schedule {
   DispatchArgs gArgs[kEmitMaxLevels];
 };
 layout(std430, binding = kEmitBindingLevelNodes) buffer LevelNodes { uint gLevelNodes[]; };
+layout(std430, binding = kEmitBindingLeafBases) buffer LeafBases { uint gLeafBases[]; };
 #define OSR_BUILD_TEXEL_BINDING kEmitBindingTexels
 #include "lib/bvh_build_texels.glsl"
 
@@ -42,8 +47,9 @@ uint leafRef(BvhBuildNode n, uint slot) {
   return kBvhLeafFlag | (n.triangleCount << kBvhLeafCountShift) | slot;
 }
 
-// Per workgroup, one atomic on each counter: x leaf entries, y next-depth list entries. Called
-// in uniform control flow by the whole workgroup; returns this invocation's first of each.
+// Per workgroup, one atomic on each counter: x leaf triangles (only counted), y next-depth list
+// entries. Called in uniform control flow by the whole workgroup; returns this invocation's
+// first of each.
 shared uvec2 sSubgroupFirst[kWorkgroupSize];  // per subgroup: its first entries
 shared uint sListEnd;                          // the workgroup's end in the next depth's list
 uvec2 allocate(uvec2 counts, uint nextDepth) {
@@ -114,25 +120,29 @@ void main() {
   uint position = gPositions[u];
   uint positionA = position + 1u;
   uint positionB = positionA + (nodeA ? gSubtreeNodes[links.left] : 0u);
+  uint leafBaseA = gLeafBases[u];
+  uint leafBaseB = leafBaseA + l.triangleCount;
   uint nextOffset = level.offset + level.count;
   if (nodeA) {
     gPositions[links.left] = positionA;
+    gLeafBases[links.left] = leafBaseA;
     if (listed) gLevelNodes[nextOffset + at.y] = links.left;
   }
   if (nodeB) {
     gPositions[links.right] = positionB;
+    gLeafBases[links.right] = leafBaseB;
     if (listed) gLevelNodes[nextOffset + at.y + uint(nodeA)] = links.right;
   }
   BvhNode out_;
   out_.aMin = l.lo;
   out_.aMax = l.hi;
-  out_.a = nodeA ? positionA : leafRef(l, at.x);
+  out_.a = nodeA ? positionA : leafRef(l, leafBaseA);
   out_.bMin = r.lo;
   out_.bMax = r.hi;
-  out_.b = nodeB ? positionB : leafRef(r, at.x + leavesA);
+  out_.b = nodeB ? positionB : leafRef(r, leafBaseB);
   out_._pad0 = 0u;
   out_._pad1 = 0u;
   storeNode(position, out_);
   storeTraversalNode(position, bvhQuantizeNode(out_));
-  gSlots[u] = bvhEmitSlot(at.x, leavesA);
+  gSlots[u] = nodeA ? bvhEmitSlot(leafBaseB, 0u) : bvhEmitSlot(leafBaseA, leavesA);
 }

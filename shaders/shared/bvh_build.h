@@ -227,7 +227,9 @@ OSR_CONST(uint, kSubtreeCountBindingCount, kSubtreeCountBindingTexels + kBuildTe
 // and every subtree is one contiguous run.
 // The schedule: LevelList[kEmitMaxLevels], then DispatchArgs[kEmitMaxLevels]; the host sets
 // depth 0 (the root) and y = z = 1 everywhere. positions[i]: interior build node i's traversal
-// index, written for the nodes that become traversal nodes (the host sets the root's, 0).
+// index; leafBases[i]: the first leaf entry of its subtree, so that leaf entries too come in
+// depth-first order. Both are written for the nodes that become traversal nodes (the host sets
+// the root's: 0 and 0).
 // bvh_emit_leaves: arrays interior, leaves, prims (texels), leafTriangles (out); slots (through
 // the R32UI view where spec constant kEmitSpecSlotTexels is set, else the storage binding).
 // slots[i] (uint per interior node) tells where the triangles of interior node i's leaf-like
@@ -246,7 +248,8 @@ OSR_CONST(uint, kEmitBindingPositions, kEmitBindingTexels + kBuildTexelBindingCo
 OSR_CONST(uint, kEmitBindingSubtreeNodes, kEmitBindingPositions + 1u);  // bvh_subtree_count's
 OSR_CONST(uint, kEmitBindingSchedule, kEmitBindingPositions + 2u);
 OSR_CONST(uint, kEmitBindingLevelNodes, kEmitBindingPositions + 3u);  // uint per interior node
-OSR_CONST(uint, kEmitBindingCount, kEmitBindingPositions + 4u);
+OSR_CONST(uint, kEmitBindingLeafBases, kEmitBindingPositions + 4u);  // uint per interior node
+OSR_CONST(uint, kEmitBindingCount, kEmitBindingPositions + 5u);
 OSR_CONST(uint, kEmitSpecSlotTexels, 5u);  // spec constant id: bool
 OSR_CONST(uint, kEmitSlotCountShift, 27u);  // above kBvhLeafFirstMask: first entries < 2^27
 OSR_BVH_FN uint bvhEmitSlot(uint first, uint countA) { return first | (countA << kEmitSlotCountShift); }

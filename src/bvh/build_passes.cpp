@@ -391,6 +391,7 @@ void EmitPass::record(VkCommandBuffer cmd, const Args& a, vk::GpuTimer* timer) c
     vkCmdUpdateBuffer(cmd, a.schedule->handle(), 0, sizeof(initial), &initial);
     vkCmdFillBuffer(cmd, a.positions.buffer->handle(), a.positions.offset, 4, 0);    // the root's position
     vkCmdFillBuffer(cmd, a.levelNodes.buffer->handle(), a.levelNodes.offset, 4, 0);  // depth 0: the root
+    vkCmdFillBuffer(cmd, a.leafBases.buffer->handle(), a.leafBases.offset, 4, 0);    // the root's leaf base
     vk::transferBarrier(cmd);
   }
   BuildPush p{};
@@ -403,7 +404,8 @@ void EmitPass::record(VkCommandBuffer cmd, const Args& a, vk::GpuTimer* timer) c
     b.set(bb::kEmitBindingPositions, ordered ? a.positions : a.slots)
         .set(bb::kEmitBindingSubtreeNodes, ordered ? a.subtreeNodes : a.slots)
         .set(bb::kEmitBindingSchedule, ordered ? vk::BufferRange(*a.schedule) : a.slots)
-        .set(bb::kEmitBindingLevelNodes, ordered ? a.levelNodes : a.slots);
+        .set(bb::kEmitBindingLevelNodes, ordered ? a.levelNodes : a.slots)
+        .set(bb::kEmitBindingLeafBases, ordered ? a.leafBases : a.slots);
     bindTexels(b, bb::kEmitBindingTexels, *a.texels);
     return b;
   };

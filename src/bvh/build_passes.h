@@ -220,9 +220,9 @@ class EmitPass {
     vk::BufferRange info;
     vk::BufferRange slots;                     // scratch: uint per interior node
     VkBufferView slotTexels = VK_NULL_HANDLE;  // R32UI view of slots (vk::BufferView::uintWords)
-    // Depth-first order (unread for one triangle): SubtreeCountPass's counts; scratch positions
-    // and node lists (uint per interior node) and the depth schedule (scheduleBytes()).
-    vk::BufferRange subtreeNodes, positions, levelNodes;
+    // Depth-first order (unread for one triangle): SubtreeCountPass's counts; scratch positions,
+    // node lists and leaf bases (uint per interior node) and the depth schedule (scheduleBytes()).
+    vk::BufferRange subtreeNodes, positions, levelNodes, leafBases;
     const vk::Buffer* schedule = nullptr;
     uint32_t triangleCount = 0;
   };

@@ -203,8 +203,8 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
       // improve most in the first round, later rounds polish the upper tree at less cost.
       passes.treelet.record(cmd, {&arrays, &texels, counters, &schedule, nodeList, n, options.treeletMinTriangles << round}, &timer);
     }
-    // The sort's temporary key and value arrays (uint per triangle) are free by now: they hold
-    // the subtree node counts and positions of the depth-first order.
+    // The sort's key arrays and temporary value array (uint per triangle) are free by now: they
+    // hold the subtree node counts, positions and leaf bases of the depth-first order.
     const vk::BufferRange subtreeNodes(keysTmp, 0, 4ull * interiorCount), positions(valuesTmp, 0, 4ull * interiorCount);
     if (n > 1) {
       vk::TimedScope scope(&timer, cmd, "bvh_subtree_count");
@@ -214,6 +214,7 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
     emit.subtreeNodes = subtreeNodes;
     emit.positions = positions;
     emit.levelNodes = nodeList;
+    emit.leafBases = vk::BufferRange(keys, 0, 4ull * interiorCount);
     emit.schedule = &schedule;
     emit.triangleCount = n;
     passes.emit.record(cmd, emit, &timer);

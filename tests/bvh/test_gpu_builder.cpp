@@ -84,6 +84,29 @@ TEST_F(GpuBuilder, NodesAreDepthFirstAndQuantizedAsOnTheHost) {
   }
 }
 
+// Positions and leaf entries follow from the tree alone (depth-first), not from the order in
+// which atomics run: two builds of one mesh give the same bytes.
+TEST_F(GpuBuilder, TwoBuildsGiveTheSameBytes) {
+  const bvh::SyntheticMesh mesh = bvh::makeSphere({0, 0, 0}, 1.0f, 200, 50, 0.3f);
+  bvh::Bvh first = build(mesh), second = build(mesh);
+  ASSERT_EQ(first.nodeCount, second.nodeCount);
+  // The written nodes: [0, the number reachable from the root) in depth-first order.
+  const auto nodes = first.nodes.downloadVector<gpu::bvh::BvhNode>(first.nodeCount);
+  uint32_t live = 0;
+  for (std::vector<uint32_t> stack = {0}; !stack.empty() && live <= first.nodeCount; ++live) {
+    const gpu::bvh::BvhNode& n = nodes[stack.back()];
+    stack.pop_back();
+    for (uint32_t ref : {n.a, n.b})
+      if (!(ref & gpu::bvh::kBvhLeafFlag)) stack.push_back(ref);
+  }
+  ASSERT_LE(live, first.nodeCount);
+  auto bytes = [](const vk::Buffer& b, size_t size) { return b.downloadVector<uint8_t>(size); };
+  EXPECT_EQ(bytes(first.nodes, live * sizeof(gpu::bvh::BvhNode)), bytes(second.nodes, live * sizeof(gpu::bvh::BvhNode)));
+  EXPECT_EQ(bytes(first.traversalNodes, live * sizeof(gpu::bvh::BvhTraversalNode)),
+            bytes(second.traversalNodes, live * sizeof(gpu::bvh::BvhTraversalNode)));
+  EXPECT_EQ(bytes(first.leafData, first.leafData.size()), bytes(second.leafData, second.leafData.size()));
+}
+
 TEST_F(GpuBuilder, SahWithinTenPercentOfCpuBinnedSah) {
   auto meshes = test::testMeshes();
   meshes.push_back({"bumpy_sphere_80k", bvh::makeSphere({0, 0, 0}, 1.0f, 400, 100, 0.3f)});
