@@ -185,6 +185,7 @@ int runTrace(const std::vector<std::string>& argv) {
         JsonLine line;
         line.str("bench", "trace").str("scene", s.name).integer("triangles", n).str("device", ctx.caps().deviceName);
         line.str("rays", kind).integer("ray_count", count).integer("rays_per_lane", perLane);
+        line.str("nodes", tree.quantized ? "quantized" : "exact");  // the node form traversal read
         line.num("mrays_per_s", count / (best * 1e3));
         line.num("ms", best).num("cpu_time_ms", bestCpu).num("hit_fraction", double(hitCount) / count);
 #ifdef OSR_HAVE_EMBREE
