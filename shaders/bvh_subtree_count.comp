@@ -2,8 +2,9 @@
 // bvh_subtree_count: how many traversal nodes each subtree holds, bottom-up: 0 for a leaf or a
 // collapsed subtree, else 1 + its children's. One invocation per leaf climbs towards the root;
 // at each parent the first to arrive (atomic counter) stops and the second sums, as in
-// bvh_refit. bvh_emit_nodes places child b after child a's subtree with these counts. Links are read through texels (the treelet passes wrote them in earlier
-// dispatches), sibling counts from the coherent array this dispatch writes.
+// bvh_refit. bvh_emit_nodes places child b after child a's subtree with these counts. Links are
+// read through texels (the treelet passes wrote them in earlier dispatches), sibling counts from
+// the coherent array this dispatch writes.
 // Inputs: final build topology and collapse flags; counters zeroed. Output: subtreeNodes.
 #extension GL_GOOGLE_include_directive : require
 #include "shared/bvh_build.h"

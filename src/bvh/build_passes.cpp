@@ -122,6 +122,33 @@ void bindTexels(vk::Binder& binder, uint32_t texelBase, const BuildTexelViews& v
       .setTexel(texelBase + bb::kBuildTexelLeaves, views.leaves)
       .setTexel(texelBase + bb::kBuildTexelPrims, views.prims);
 }
+// A bottom-up climb (lib/bvh_build_nodes.glsl): zeroes the climb counters, binds the arrays,
+// texels and counters (beside the pass's own slots already in `binder`) and runs one invocation
+// per leaf.
+void recordClimb(VkCommandBuffer cmd, const vk::ComputePipeline& pipeline, vk::Binder& binder, const ArrayAccess& access,
+                 const BuildArrayBuffers& arrays, const BuildTexelViews& texels, uint32_t texelBase,
+                 const vk::BufferRange& counters, uint32_t triangleCount) {
+  vkCmdFillBuffer(cmd, counters.buffer->handle(), counters.offset, counters.bytes(), 0);
+  vk::transferBarrier(cmd);
+  BuildPush p = bindArrays(binder, access, arrays, triangleCount, 0);
+  bindTexels(binder, texelBase, texels);
+  binder.set(bb::kClimbBindingCounters, counters).bind(cmd, p);
+  dispatchItems(pipeline, cmd, triangleCount);
+  vk::computeBarrier(cmd);
+}
+// One indirect dispatch per level in [first, levels) of a schedule laid out as
+// LevelList[levels] then DispatchArgs[levels] (the treelet rounds' by height, the emit's by
+// depth), with push.param = the level, each followed by a barrier.
+void dispatchLevels(VkCommandBuffer cmd, const vk::ComputePipeline& pipeline, const vk::Binder& binder, BuildPush push,
+                    const vk::Buffer& schedule, uint32_t first, uint32_t levels) {
+  const uint64_t argsOffset = levels * sizeof(bb::LevelList);
+  for (uint32_t level = first; level < levels; ++level) {
+    push.param = level;
+    binder.bind(cmd, push);
+    pipeline.dispatchIndirect(cmd, schedule, argsOffset + level * sizeof(bb::DispatchArgs));
+    vk::computeBarrier(cmd);
+  }
+}
 }  // namespace
 
 bool BuildArrayBuffers::pastOneBinding(const vk::Context& ctx) const {
@@ -269,14 +296,8 @@ RefitPass::RefitPass(const vk::Context& ctx, bool byAddress)
                 texelSpec(ctx, byAddress, climbSpec(ctx, byAddress, 0))) {}
 
 void RefitPass::record(VkCommandBuffer cmd, const Args& a) const {
-  vkCmdFillBuffer(cmd, a.counters->handle(), 0, VK_WHOLE_SIZE, 0);
-  vk::transferBarrier(cmd);
   vk::Binder binder(pipeline_);
-  BuildPush p = bindArrays(binder, access_, *a.arrays, a.triangleCount, 0);
-  bindTexels(binder, bb::kRefitBindingTexels, *a.texels);
-  binder.set(bb::kClimbBindingCounters, *a.counters).bind(cmd, p);
-  dispatchItems(pipeline_, cmd, a.triangleCount);
-  vk::computeBarrier(cmd);
+  recordClimb(cmd, pipeline_, binder, access_, *a.arrays, *a.texels, bb::kRefitBindingTexels, *a.counters, a.triangleCount);
 }
 
 namespace {
@@ -331,15 +352,8 @@ void TreeletPass::record(VkCommandBuffer cmd, const Args& a, vk::GpuTimer* timer
   scope.reset();
   scope.emplace(timer, cmd, "bvh_treelet");
   // Height 0 holds no restructurable node (leaves and collapsed subtrees).
-  const uint64_t argsOffset = bb::kTreeletMaxLevels * sizeof(bb::LevelList);
   const vk::Binder treelet = binder(treelet_);
-  BuildPush levelPush = schedulePush;
-  for (uint32_t h = 1; h < bb::kTreeletMaxLevels; ++h) {
-    levelPush.param = h;
-    treelet.bind(cmd, levelPush);
-    treelet_.dispatchIndirect(cmd, *a.schedule, argsOffset + h * sizeof(bb::DispatchArgs));
-    vk::computeBarrier(cmd);
-  }
+  dispatchLevels(cmd, treelet_, treelet, schedulePush, *a.schedule, 1, bb::kTreeletMaxLevels);
 }
 
 SubtreeCountPass::SubtreeCountPass(const vk::Context& ctx, bool byAddress)
@@ -348,15 +362,10 @@ SubtreeCountPass::SubtreeCountPass(const vk::Context& ctx, bool byAddress)
                 sizeof(BuildPush), texelSpec(ctx, byAddress, climbSpec(ctx, byAddress, 0))) {}
 
 void SubtreeCountPass::record(VkCommandBuffer cmd, const Args& a) const {
-  vkCmdFillBuffer(cmd, a.counters.buffer->handle(), a.counters.offset, a.counters.bytes(), 0);
-  vk::transferBarrier(cmd);
   vk::Binder binder(pipeline_);
-  BuildPush p = bindArrays(binder, access_, *a.arrays, a.triangleCount, 0);
-  binder.set(bb::kClimbBindingCounters, a.counters).set(bb::kSubtreeCountBindingNodes, a.subtreeNodes);
-  bindTexels(binder, bb::kSubtreeCountBindingTexels, *a.texels);
-  binder.bind(cmd, p);
-  dispatchItems(pipeline_, cmd, a.triangleCount);
-  vk::computeBarrier(cmd);
+  binder.set(bb::kSubtreeCountBindingNodes, a.subtreeNodes);
+  recordClimb(cmd, pipeline_, binder, access_, *a.arrays, *a.texels, bb::kSubtreeCountBindingTexels, a.counters,
+              a.triangleCount);
 }
 
 namespace {
@@ -417,13 +426,7 @@ void EmitPass::record(VkCommandBuffer cmd, const Args& a, vk::GpuTimer* timer) c
       nodes_.dispatch(cmd, 1);
       vk::computeBarrier(cmd);
     }
-    const uint64_t argsOffset = bb::kEmitMaxLevels * sizeof(bb::LevelList);
-    for (uint32_t depth = 0; ordered && depth < bb::kEmitMaxLevels; ++depth) {
-      p.param = depth;
-      nodes.bind(cmd, p);
-      nodes_.dispatchIndirect(cmd, *a.schedule, argsOffset + depth * sizeof(bb::DispatchArgs));
-      vk::computeBarrier(cmd);
-    }
+    if (ordered) dispatchLevels(cmd, nodes_, nodes, p, *a.schedule, 0, bb::kEmitMaxLevels);
   }
   vk::TimedScope scope(timer, cmd, "bvh_emit_leaves");
   binder(leaves_).bind(cmd, p);

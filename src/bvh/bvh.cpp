@@ -19,7 +19,7 @@ static_assert(sizeof(gpu::bvh::BvhLeafTriangle) == gpu::bvh::kBvhLeafTriangleTex
 void Bvh::makeTexelViews(const vk::Context& ctx) {
   // Where a buffer is larger than a view can be, traversal reads the storage binding
   // (texelFetchCovers is false) and the view only fills its slot.
-  nodeTexels = vk::BufferView::uintTexels(ctx, quantized ? traversalNodes : nodes, "bvh node texels");
+  nodeTexels = vk::BufferView::uintTexels(ctx, traversedNodes(), "bvh node texels");
   leafTexels = vk::BufferView::uintTexels(ctx, leafData, "bvh leaf texels");
   storageRange = ctx.caps().maxStorageBufferRange;
 }
@@ -37,7 +37,7 @@ void Bvh::bind(vk::Binder& binder, uint32_t base) const {
   auto storage = [&](const vk::Buffer& b) {
     return vk::BufferRange(b, 0, std::min<VkDeviceSize>(b.size(), storageRange / kTexelBytes * kTexelBytes));
   };
-  binder.set(base + gpu::bvh::kBvhBindingNodes, storage(quantized ? traversalNodes : nodes))
+  binder.set(base + gpu::bvh::kBvhBindingNodes, storage(traversedNodes()))
       .set(base + gpu::bvh::kBvhBindingLeafTriangles, storage(leafData))
       .setTexel(base + gpu::bvh::kBvhBindingNodeTexels, nodeTexels.handle())
       .setTexel(base + gpu::bvh::kBvhBindingLeafTexels, leafTexels.handle());

@@ -30,6 +30,8 @@ struct Bvh {
   // Which node array traversal reads (quantizedTraversal): the texel view and storage slot of
   // the nodes show it, and traversing pipelines are specialised for it (TraversalPipeline).
   bool quantized = false;
+  // The node array traversal reads: traversalNodes where quantized, else nodes.
+  const vk::Buffer& traversedNodes() const { return quantized ? traversalNodes : nodes; }
 
   // Usage the builders give both buffers on top of storage use: traversal may read them as
   // uniform texel buffers (shaders/shared/bvh.h).

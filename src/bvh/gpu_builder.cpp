@@ -9,7 +9,6 @@
 #include "bvh/build_passes.h"
 #include "bvh/bvh.h"
 #include "bvh/gpu_builder.h"
-#include "bvh/node_quantize.h"
 #include "common/error.h"
 
 namespace osr::bvh {

@@ -31,12 +31,12 @@ TraceRaysPass::TraceRaysPass(const vk::Context& ctx, bool alphaTest, Access acce
               {traversalSpec(ctx, access), vk::specUint(tr::kSpecRayPool, 1)}),
       single_(ctx, alphaTest ? shaders::Id::bvh_trace_rays_alpha : shaders::Id::bvh_trace_rays,
               descriptorTypes(alphaTest), sizeof(tr::Push),
-              {traversalSpec(ctx, access), vk::specUint(tr::kSpecRayPool, 0)}) {}  // both made on first need
+              {traversalSpec(ctx, access), vk::specUint(tr::kSpecRayPool, 0)}) {}
 
 void TraceRaysPass::record(VkCommandBuffer cmd, const Args& args) const {
   if (args.rayCount == 0) return;
   // Bvh::bind cuts a storage slot at maxStorageBufferRange; only texel fetch reads past it.
-  if (storageAccess_ && std::max((args.bvh->quantized ? args.bvh->traversalNodes : args.bvh->nodes).size(), args.bvh->leafData.size()) > args.bvh->storageRange)
+  if (storageAccess_ && std::max(args.bvh->traversedNodes().size(), args.bvh->leafData.size()) > args.bvh->storageRange)
     throw DeviceError("bvh: a BVH of " + std::to_string(args.bvh->triangleCount) +
                       " triangles passes maxStorageBufferRange (" + std::to_string(args.bvh->storageRange >> 20) +
                       " MiB), which storage-buffer traversal cannot read; use texel fetch");

@@ -15,11 +15,17 @@
 
 using namespace osr;
 
+namespace {
+// The CPU builder's tree of `mesh`, uploaded.
+bvh::Bvh cpuTree(const bvh::SyntheticMesh& mesh) {
+  return bvh::upload(test::context(), bvh::buildCpu(mesh.vertices, mesh.triangles), mesh.vertices, mesh.triangles);
+}
+}  // namespace
+
 TEST(TraceRays, ClosestHitsMatchBruteForceOnCpuTrees) {
   auto& ctx = test::context();
   for (const auto& [name, mesh] : test::testMeshes()) {
-    bvh::Bvh tree = bvh::upload(ctx, bvh::buildCpu(mesh.vertices, mesh.triangles), mesh.vertices,
-                                mesh.triangles);
+    bvh::Bvh tree = cpuTree(mesh);
     uint32_t count = mesh.triangles.size() > 100 ? 100000 : 20000;
     auto rays = test::randomRays(mesh, count, 7);
     auto hits = test::traceOnDevice(ctx, tree, rays, gpu::bvh_trace::kModeClosest);
@@ -33,8 +39,7 @@ TEST(TraceRays, ClosestHitsMatchBruteForceOnCpuTrees) {
 TEST(TraceRays, ExactAndQuantizedNodesMatchBruteForce) {
   auto& ctx = test::context();
   for (const auto& [name, mesh] : test::testMeshes()) {
-    bvh::Bvh tree = bvh::upload(ctx, bvh::buildCpu(mesh.vertices, mesh.triangles), mesh.vertices,
-                                mesh.triangles);
+    bvh::Bvh tree = cpuTree(mesh);
     auto rays = test::randomRays(mesh, 20000, 13);
     for (bool quantized : {false, true}) {
       tree.quantized = quantized;
@@ -53,8 +58,7 @@ TEST(TraceRays, ExactAndQuantizedNodesMatchBruteForce) {
 TEST(TraceRays, StorageAndTexelFetchReadsAgree) {
   auto& ctx = test::context();
   for (const auto& [name, mesh] : test::testMeshes()) {
-    bvh::Bvh tree = bvh::upload(ctx, bvh::buildCpu(mesh.vertices, mesh.triangles), mesh.vertices,
-                                mesh.triangles);
+    bvh::Bvh tree = cpuTree(mesh);
     auto rays = test::randomRays(mesh, 20000, 11);
     std::vector<uint32_t> mask(mesh.triangles.size());
     for (size_t i = 0; i < mask.size(); ++i) mask[i] = uint32_t(i % 3);  // opaque, cut, half cut
@@ -83,8 +87,7 @@ TEST(TraceRays, StorageAndTexelFetchReadsAgree) {
 TEST(TraceRays, RayPoolsGiveTheBitsOfOneRayPerInvocation) {
   auto& ctx = test::context();
   for (const auto& [name, mesh] : test::testMeshes()) {
-    bvh::Bvh tree = bvh::upload(ctx, bvh::buildCpu(mesh.vertices, mesh.triangles), mesh.vertices,
-                                mesh.triangles);
+    bvh::Bvh tree = cpuTree(mesh);
     std::vector<uint32_t> mask(mesh.triangles.size());
     for (size_t i = 0; i < mask.size(); ++i) mask[i] = uint32_t(i % 3);  // opaque, cut, half cut
     for (uint32_t count : {5u, 20011u}) {
@@ -114,8 +117,7 @@ TEST(TraceRays, RayPoolsGiveTheBitsOfOneRayPerInvocation) {
 TEST(TraceRays, AnyHitAgreesWithClosestHit) {
   auto& ctx = test::context();
   for (const auto& [name, mesh] : test::testMeshes()) {
-    bvh::Bvh tree = bvh::upload(ctx, bvh::buildCpu(mesh.vertices, mesh.triangles), mesh.vertices,
-                                mesh.triangles);
+    bvh::Bvh tree = cpuTree(mesh);
     auto rays = test::randomRays(mesh, 20000, 8, /*randomTMax=*/true);
     auto closest = test::traceOnDevice(ctx, tree, rays, gpu::bvh_trace::kModeClosest);
     auto any = test::traceOnDevice(ctx, tree, rays, gpu::bvh_trace::kModeAny);
@@ -136,8 +138,7 @@ TEST(TraceRays, AlphaMaskedTrianglesAreSkipped) {
   auto& ctx = test::context();
   auto meshes = test::testMeshes();
   const auto& mesh = meshes[0].mesh;
-  bvh::Bvh tree = bvh::upload(ctx, bvh::buildCpu(mesh.vertices, mesh.triangles), mesh.vertices,
-                              mesh.triangles);
+  bvh::Bvh tree = cpuTree(mesh);
   std::mt19937 rng(3);
   std::vector<uint32_t> mask(mesh.triangles.size());
   for (auto& m : mask) m = rng() % 3;  // opaque, cut everywhere, cut near v0
