@@ -1,8 +1,8 @@
 // Body of bvh_trace_rays.comp and its alpha-tested test variant. Each subgroup traces a pool of
 // gPush.raysPerLane rays per invocation, a lane taking the pool's next ray when its ray is done
 // (osrBvhTracePool in lib/bvh_traverse.glsl); the pipeline without kRayPool traces one ray per
-// invocation with bvhClosestHit / bvhAnyHit, the way the renderers' kernels trace. The includer defines
-// OSR_BVH_BINDING and, for the variant, OSR_BVH_ALPHA_TEST.
+// invocation with bvhClosestHit / bvhAnyHit, the way the renderers' kernels trace. The includer
+// defines OSR_BVH_BINDING and, for the variant, OSR_BVH_ALPHA_TEST.
 #ifndef OSR_BVH_TRACE_RAYS_MAIN_GLSL
 #define OSR_BVH_TRACE_RAYS_MAIN_GLSL
 #extension GL_KHR_shader_subgroup_basic : require
