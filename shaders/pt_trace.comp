@@ -67,14 +67,15 @@ vec2 stratified2(CameraPath c, uint pair) {
   return sobolOwen2(c.sampleIndex, pcgHash(c.pixel ^ pcgHash(gFrame.seed + pair * 0x9e3779b9u)));
 }
 
-// The three numbers of the light sample (which = 0) or the BSDF sample (which = 1): stratified
-// over the pixel's samples at every surface, three dimension pairs per bounce (one holds both
-// choices, one each the light point and the BSDF direction), each pair scrambled
-// independently (padded 2-D sets, as Cycles pads its sequences).
-vec3 bounceRandom3(inout CameraPath c, uint which) {
+// The three numbers of the light sample and the three of the BSDF sample: stratified over the
+// pixel's samples at every surface, three dimension pairs per bounce (one holds both choices,
+// one each the light point and the BSDF direction), each pair scrambled independently (padded
+// 2-D sets, as Cycles pads its sequences).
+void bounceRandoms(CameraPath c, out vec3 uLight, out vec3 uBsdf) {
   uint base = 1u + 3u * c.path.bounce;
   vec2 choice = stratified2(c, base);
-  return vec3(which == 0u ? choice.x : choice.y, stratified2(c, base + 1u + which));
+  uLight = vec3(choice.x, stratified2(c, base + 1u));
+  uBsdf = vec3(choice.y, stratified2(c, base + 2u));
 }
 
 // Starts sample `sampleIndex` of `pixel`: its random stream and jittered camera ray.
@@ -96,8 +97,8 @@ CameraPath startPath(uint pixel, uint sampleIndex) {
 bool pathStep(inout CameraPath c) {
   uint bounce = c.path.bounce;
   // Random numbers in the order the bounce consumes them (light, BSDF, roulette).
-  vec3 uLight = bounceRandom3(c, 0u);
-  vec3 uBsdf = bounceRandom3(c, 1u);
+  vec3 uLight, uBsdf;
+  bounceRandoms(c, uLight, uBsdf);
   float uRoulette = bounce >= 3u ? rngNext(c.rng) : 0.0;
   BounceResult r;
   bool ended = pathBounce(c.path, uLight, uBsdf, uRoulette, r);
