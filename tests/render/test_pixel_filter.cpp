@@ -1,0 +1,58 @@
+// The pixel filter's importance sampling (shaders/shared/pixel_filter.h, the same text the
+// camera shaders compile) against the exact inverse of the Blackman-Harris window's CDF. The
+// sample distribution on the device is tested end to end by
+// PathIntegrator.PixelFilterIsCyclesBlackmanHarris (tests/pt/test_path_integrator.cpp).
+#include <gtest/gtest.h>
+
+#include <cmath>
+
+#include "shaders/shared/pixel_filter.h"
+
+using namespace osr::gpu::camera;
+
+namespace {
+
+// The window's CDF over t in [0, 1] (offset 2t - 1 pixels), in double precision.
+double windowCdf(double t) {
+  const double a0 = 0.35875, a1 = 0.48829, a2 = 0.14128, a3 = 0.01168, k = 2 * M_PI;
+  return (a0 * t - a1 / k * std::sin(k * t) + a2 / (2 * k) * std::sin(2 * k * t) -
+          a3 / (3 * k) * std::sin(3 * k * t)) / a0;
+}
+
+double exactInverse(double u) {
+  double lo = 0, hi = 1;
+  for (int i = 0; i < 100; ++i) {
+    double mid = 0.5 * (lo + hi);
+    (windowCdf(mid) > u ? hi : lo) = mid;
+  }
+  return 0.5 * (lo + hi);
+}
+
+}  // namespace
+
+// Each entry is the inverse at 0.5 (i / N)^3, to float precision.
+TEST(PixelFilter, TableHoldsTheInverseCdf) {
+  for (int i = 0; i <= kBlackmanHarrisSteps; ++i) {
+    double u = 0.5 * std::pow(double(i) / kBlackmanHarrisSteps, 3.0);
+    EXPECT_NEAR(kBlackmanHarrisInverse[i], exactInverse(u), 1e-7) << "entry " << i;
+  }
+}
+
+// Over a dense grid of u (both halves, the tails included), the offset's CDF is u to float
+// rounding, the offset lies in [-1, 1], and it increases with u.
+TEST(PixelFilter, OffsetsFollowTheWindow) {
+  const int n = 1 << 20;
+  double worst = 0, previous = -2;
+  for (int j = 0; j < n; ++j) {
+    float u = float(j) / float(n);
+    float offset = blackmanHarrisOffset(u);
+    ASSERT_GE(offset, -1.f) << "u " << u;
+    ASSERT_LE(offset, 1.f) << "u " << u;
+    ASSERT_GE(offset, previous) << "u " << u;
+    previous = offset;
+    worst = std::max(worst, std::abs(windowCdf(0.5 * (offset + 1.0)) - u));
+  }
+  EXPECT_LT(worst, 1e-6);
+  EXPECT_NEAR(blackmanHarrisOffset(0.5f), 0.f, 1e-6);
+  EXPECT_NEAR(blackmanHarrisOffset(0.f), -1.f, 1e-6);
+}
