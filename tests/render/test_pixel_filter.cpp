@@ -4,6 +4,7 @@
 // PathIntegrator.PixelFilterIsCyclesBlackmanHarris (tests/pt/test_path_integrator.cpp).
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "shaders/shared/pixel_filter.h"
@@ -30,19 +31,12 @@ double exactInverse(double u) {
 
 }  // namespace
 
-// Each entry is the inverse at 0.5 (i / N)^3, to float precision.
-TEST(PixelFilter, TableHoldsTheInverseCdf) {
-  for (int i = 0; i <= kBlackmanHarrisSteps; ++i) {
-    double u = 0.5 * std::pow(double(i) / kBlackmanHarrisSteps, 3.0);
-    EXPECT_NEAR(kBlackmanHarrisInverse[i], exactInverse(u), 1e-7) << "entry " << i;
-  }
-}
-
 // Over a dense grid of u (both halves, the tails included), the offset's CDF is u to float
-// rounding, the offset lies in [-1, 1], and it increases with u.
+// rounding, the offset lies in [-1, 1] within 1e-4 px of the exact inverse, and it increases
+// with u.
 TEST(PixelFilter, OffsetsFollowTheWindow) {
   const int n = 1 << 20;
-  double worst = 0, previous = -2;
+  double worst = 0, worstOffset = 0, previous = -2;
   for (int j = 0; j < n; ++j) {
     float u = float(j) / float(n);
     float offset = blackmanHarrisOffset(u);
@@ -51,8 +45,10 @@ TEST(PixelFilter, OffsetsFollowTheWindow) {
     ASSERT_GE(offset, previous) << "u " << u;
     previous = offset;
     worst = std::max(worst, std::abs(windowCdf(0.5 * (offset + 1.0)) - u));
+    if (j % 64 == 0) worstOffset = std::max(worstOffset, std::abs(offset - (2.0 * exactInverse(u) - 1.0)));
   }
   EXPECT_LT(worst, 1e-6);
+  EXPECT_LT(worstOffset, 1e-4);
   EXPECT_NEAR(blackmanHarrisOffset(0.5f), 0.f, 1e-6);
   EXPECT_NEAR(blackmanHarrisOffset(0.f), -1.f, 1e-6);
 }
