@@ -24,9 +24,10 @@
 namespace osr::gpu::camera {
 using glm::clamp;
 using glm::max;
-inline float sin(float x) { return std::sin(x); }
-inline float cos(float x) { return std::cos(x); }
-inline float pow(float x, float y) { return std::pow(x, y); }
+using glm::min;
+using std::cos;
+using std::pow;
+using std::sin;
 }  // namespace osr::gpu::camera
 #else
 #define OSR_FILTER_FN
@@ -42,14 +43,15 @@ OSR_FILTER_FN float blackmanHarrisOffset(float u) {
   float v = upper ? 1.0f - u : u;
   float s = pow(2.0f * v, 1.0f / 3.0f);
   float t = -0.00190343721f + s * (0.993100458f + s * (-1.42885724f + s * (1.43135521f + s * -0.497020118f)));
-  t = clamp(t, 0.0f, 0.5f);
+  float lo = max(t - 0.006f, 0.0f), hi = min(t + 0.006f, 0.5f);
+  t = clamp(t, lo, hi);
   for (int step = 0; step < 2; ++step) {
     float s1 = sin(k * t), c1 = cos(k * t);
     float s2 = 2.0f * s1 * c1, c2 = c1 * c1 - s1 * s1;
     float s3 = s2 * c1 + c2 * s1, c3 = c2 * c1 - s2 * s1;
     float cdf = (a0 * t - a1 / k * s1 + a2 / (2.0f * k) * s2 - a3 / (3.0f * k) * s3) / a0;
     float pdf = (a0 - a1 * c1 + a2 * c2 - a3 * c3) / a0;
-    t = clamp(t - (cdf - v) / max(pdf, 1e-6f), 0.0f, 0.5f);
+    t = clamp(t - (cdf - v) / max(pdf, 1e-6f), lo, hi);
   }
   t = upper ? 1.0f - t : t;
   return 2.0f * t - 1.0f;
