@@ -8,12 +8,14 @@
 //   C(t) = (a0 t - a1 / k sin(kt) + a2 / 2k sin(2kt) - a3 / 3k sin(3kt)) / a0,   k = 2 pi,
 // symmetric about t = 0.5. u in [0, 0.5] is inverted from a first guess, a polynomial in the
 // cube root of u (tools/fit_pixel_filter.py; the window's flat tails make the cube root nearly
-// linear in t), within 0.005 of the exact t, then two Newton steps with sin and cos of 2kt and 3kt
-// from those of kt. The sample's CDF is then u to float rounding (2.4e-7), for a power, two sines
-// and two cosines, where 10 bisection-guarded Newton steps over the whole window took 30 sines
-// and 30 cosines and missed by up to 0.18 in CDF for a few u in a million. (A table of the
-// inverse instead of the polynomial made pt_trace 20% slower on cornell: on lavapipe a constant
-// array read at a per-lane index is copied to scratch memory at every call.)
+// linear in t), within about 0.005 of the exact t, then two Newton steps with sin and cos of 2kt
+// and 3kt from those of kt, kept within 0.006 of the guess: at the window's edges the density is
+// 1.7e-4, where a device's sine (Vulkan allows an error of 2^-11) could otherwise throw a step
+// far off. On the host the sample's CDF is then u to float rounding (2.4e-7), for a power, two
+// sines and two cosines, where 10 bisection-guarded Newton steps over the whole window took 30
+// sines and 30 cosines and missed by up to 0.18 in CDF for a few u in a million. (A table of
+// the inverse instead of the polynomial made pt_trace a quarter to a third slower on cornell: on
+// lavapipe a constant array read at a per-lane index is copied to scratch memory.)
 #ifndef OSR_SHARED_PIXEL_FILTER_H
 #define OSR_SHARED_PIXEL_FILTER_H
 #include "shared/types.h"

@@ -11,6 +11,7 @@
 
 #include "image/image_io.h"
 #include "bvh/bvh.h"
+#include "common/pixel_filter_cdf.h"
 #include "common/vk_test.h"
 #include "pt/gltf_writer.h"
 #include "pt/path_integrator.h"
@@ -396,16 +397,9 @@ TEST(PathIntegrator, PixelFilterIsCyclesBlackmanHarris) {
   s.spp = 256;
   render::FilmLayers film = pt::render(ctx, gs, tree, cam, s);
   const double e = 0.5 * size * (1.0 - cx / (dist * std::tan(0.5 * yfov)));
-  // Blackman-Harris over t in [0, 1] (offset 2t - 1 pixels), integrated.
-  auto cdf = [](double offset) {
-    const double a0 = 0.35875, a1 = 0.48829, a2 = 0.14128, a3 = 0.01168, k = 2 * M_PI;
-    double t = std::clamp(0.5 * (offset + 1.0), 0.0, 1.0);
-    return (a0 * t - a1 / k * std::sin(k * t) + a2 / (2 * k) * std::sin(2 * k * t) -
-            a3 / (3 * k) * std::sin(3 * k * t)) / a0;
-  };
   int partial = 0;
   for (uint32_t px = 0; px < size; ++px) {
-    double expect = cdf(e - px - 0.5);
+    double expect = test::blackmanHarrisCdf(e - px - 0.5);
     partial += expect > 0.001 && expect < 0.999;
     for (uint32_t py = 0; py < size; ++py)
       // 256 samples stratified in x (Sobol): coverage within about 1/256.

@@ -7,24 +7,19 @@
 #include <algorithm>
 #include <cmath>
 
+#include "common/pixel_filter_cdf.h"
 #include "shaders/shared/pixel_filter.h"
 
 using namespace osr::gpu::camera;
 
 namespace {
 
-// The window's CDF over t in [0, 1] (offset 2t - 1 pixels), in double precision.
-double windowCdf(double t) {
-  const double a0 = 0.35875, a1 = 0.48829, a2 = 0.14128, a3 = 0.01168, k = 2 * M_PI;
-  return (a0 * t - a1 / k * std::sin(k * t) + a2 / (2 * k) * std::sin(2 * k * t) -
-          a3 / (3 * k) * std::sin(3 * k * t)) / a0;
-}
-
-double exactInverse(double u) {
-  double lo = 0, hi = 1;
+// The offset whose CDF is u, by bisection in double precision.
+double exactOffset(double u) {
+  double lo = -1, hi = 1;
   for (int i = 0; i < 100; ++i) {
     double mid = 0.5 * (lo + hi);
-    (windowCdf(mid) > u ? hi : lo) = mid;
+    (osr::test::blackmanHarrisCdf(mid) > u ? hi : lo) = mid;
   }
   return 0.5 * (lo + hi);
 }
@@ -44,8 +39,8 @@ TEST(PixelFilter, OffsetsFollowTheWindow) {
     ASSERT_LE(offset, 1.f) << "u " << u;
     ASSERT_GE(offset, previous) << "u " << u;
     previous = offset;
-    worst = std::max(worst, std::abs(windowCdf(0.5 * (offset + 1.0)) - u));
-    if (j % 64 == 0) worstOffset = std::max(worstOffset, std::abs(offset - (2.0 * exactInverse(u) - 1.0)));
+    worst = std::max(worst, std::abs(osr::test::blackmanHarrisCdf(offset) - u));
+    if (j % 64 == 0) worstOffset = std::max(worstOffset, std::abs(offset - exactOffset(u)));
   }
   EXPECT_LT(worst, 1e-6);
   EXPECT_LT(worstOffset, 1e-4);
