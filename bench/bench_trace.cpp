@@ -129,7 +129,8 @@ int runTrace(const std::vector<std::string>& argv) {
     vk::Buffer triangles(ctx, m.triangles.size() * sizeof(gpu::scene::Triangle), vk::MemoryUse::DeviceLocal, "bench triangles");
     vertices.uploadVector(m.vertices);
     triangles.uploadVector(m.triangles);
-    bvh::Bvh tree = builder.build(vertices, triangles, n);
+    // Both node forms: the reference hits come from the host tracer, which reads the exact nodes.
+    bvh::Bvh tree = builder.build(vertices, triangles, n, nullptr, bvh::NodeForms::Both);
     bvh::HostBvh host = bvh::download(tree);
     auto leaves = tree.leafData.downloadVector<gpu::bvh::BvhLeafTriangle>(tree.triangleCount);
     bvh::HostTracer twin(host, leaves);

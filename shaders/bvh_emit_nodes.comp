@@ -18,7 +18,8 @@
 // shared memory): one counter that every subgroup hits moves its cache line between lavapipe's
 // two threads.
 // Inputs: build nodes, subtreeNodes, positions[root] = leafBases[root] = 0, the schedule's depth
-// 0, info.leafCounter = 0. Outputs: nodes, traversal nodes, slots, positions, leafBases.
+// 0, info.leafCounter = 0; param2: which forms to write (kEmitExactNodes, kEmitQuantizedNodes).
+// Outputs: nodes, traversal nodes (as param2 says), slots, positions, leafBases.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
 #extension GL_KHR_shader_subgroup_ballot : require
@@ -88,8 +89,8 @@ void main() {
     root.b = kBvhEmptyChild;
     root._pad0 = 0u;
     root._pad1 = 0u;
-    storeNode(0u, root);
-    storeTraversalNode(0u, bvhQuantizeNode(root));
+    if ((gPush.param2 & kEmitExactNodes) != 0u) storeNode(0u, root);
+    if ((gPush.param2 & kEmitQuantizedNodes) != 0u) storeTraversalNode(0u, bvhQuantizeNode(root));
     return;
   }
   uint depth = gPush.param;
@@ -142,7 +143,8 @@ void main() {
   out_.b = nodeB ? positionB : leafRef(r, leafBaseB);
   out_._pad0 = 0u;
   out_._pad1 = 0u;
-  storeNode(position, out_);
-  storeTraversalNode(position, bvhQuantizeNode(out_));
+  // The form traversal does not read is written only on request (uniform branches).
+  if ((gPush.param2 & kEmitExactNodes) != 0u) storeNode(position, out_);
+  if ((gPush.param2 & kEmitQuantizedNodes) != 0u) storeTraversalNode(position, bvhQuantizeNode(out_));
   gSlots[u] = nodeA ? bvhEmitSlot(leafBaseB, 0u) : bvhEmitSlot(leafBaseA, leavesA);
 }

@@ -251,6 +251,9 @@ OSR_CONST(uint, kEmitBindingLevelNodes, kEmitBindingPositions + 3u);  // uint pe
 OSR_CONST(uint, kEmitBindingLeafBases, kEmitBindingPositions + 4u);  // uint per interior node
 OSR_CONST(uint, kEmitBindingCount, kEmitBindingPositions + 5u);
 OSR_CONST(uint, kEmitSpecSlotTexels, 5u);  // spec constant id: bool
+// param2 of bvh_emit_nodes: which node arrays to write (bvh::NodeForms, src/bvh/gpu_builder.h).
+OSR_CONST(uint, kEmitExactNodes, 1u);
+OSR_CONST(uint, kEmitQuantizedNodes, 2u);
 OSR_CONST(uint, kEmitSlotCountShift, 27u);  // above kBvhLeafFirstMask: first entries < 2^27
 OSR_BVH_FN uint bvhEmitSlot(uint first, uint countA) { return first | (countA << kEmitSlotCountShift); }
 

@@ -408,6 +408,7 @@ void EmitPass::record(VkCommandBuffer cmd, const Args& a, vk::GpuTimer* timer) c
   auto binder = [&](const vk::ComputePipeline& pipeline) {
     vk::Binder b(pipeline);
     p = bindArrays(b, access_, *a.arrays, a.triangleCount, 0);
+    p.param2 = (a.exactNodes ? bb::kEmitExactNodes : 0u) | (a.quantizedNodes ? bb::kEmitQuantizedNodes : 0u);
     b.set(bb::kEmitBindingInfo, a.info).set(bb::kEmitBindingSlots, a.slots).setTexel(bb::kEmitBindingSlotTexels, a.slotTexels);
     // One triangle: the order's buffers are unread, and the slots fill their slots.
     b.set(bb::kEmitBindingPositions, ordered ? a.positions : a.slots)

@@ -225,6 +225,7 @@ class EmitPass {
     vk::BufferRange subtreeNodes, positions, levelNodes, leafBases;
     const vk::Buffer* schedule = nullptr;
     uint32_t triangleCount = 0;
+    bool exactNodes = true, quantizedNodes = true;  // which node arrays to write (Bvh::has*Nodes)
   };
   // `timer` (may be null) gets scopes "bvh_emit_nodes" (all depths) and "bvh_emit_leaves".
   void record(VkCommandBuffer cmd, const Args& args, vk::GpuTimer* timer = nullptr) const;

@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <chrono>
+#include <stdexcept>
+#include <string>
 
 #include "bvh/cpu_builder.h"
 #include "bvh/tree_stats.h"
@@ -17,6 +19,9 @@ static_assert(sizeof(gpu::bvh::BvhTraversalNode) == gpu::bvh::kBvhTraversalNodeT
 static_assert(sizeof(gpu::bvh::BvhLeafTriangle) == gpu::bvh::kBvhLeafTriangleTexels * kTexelBytes);
 
 void Bvh::makeTexelViews(const vk::Context& ctx) {
+  if (quantized ? !hasQuantizedNodes : !hasExactNodes)
+    throw std::logic_error(std::string("bvh: the ") + (quantized ? "quantized" : "exact") +
+                " nodes traversal would read were not built (bvh::NodeForms::Both)");
   // Where a buffer is larger than a view can be, traversal reads the storage binding
   // (texelFetchCovers is false) and the view only fills its slot.
   nodeTexels = vk::BufferView::uintTexels(ctx, traversedNodes(), "bvh node texels");

@@ -30,6 +30,10 @@ struct Bvh {
   // Which node array traversal reads (quantizedTraversal): the texel view and storage slot of
   // the nodes show it, and traversing pipelines are specialised for it (TraversalPipeline).
   bool quantized = false;
+  // Which node arrays hold the tree (NodeForms, bvh/gpu_builder.h): the other is one node of
+  // memory, unwritten. download() needs the exact nodes, makeTexelViews the traversed form.
+  bool hasExactNodes = true;
+  bool hasQuantizedNodes = true;
   // The node array traversal reads: traversalNodes where quantized, else nodes.
   const vk::Buffer& traversedNodes() const { return quantized ? traversalNodes : nodes; }
 

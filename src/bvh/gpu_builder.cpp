@@ -100,8 +100,8 @@ Bvh buildGpu(const vk::Context& ctx, const vk::Buffer& vertices, const vk::Buffe
 }
 
 Bvh buildGpu(const vk::Context& ctx, const vk::Buffer& vertices, const vk::Buffer& triangles,
-             uint32_t triangleCount, const GpuBuildOptions& options, BuildStats* stats) {
-  return GpuBuilder(ctx, options).build(vertices, triangles, triangleCount, stats);
+             uint32_t triangleCount, const GpuBuildOptions& options, BuildStats* stats, NodeForms forms) {
+  return GpuBuilder(ctx, options).build(vertices, triangles, triangleCount, stats, forms);
 }
 
 GpuBuilder::GpuBuilder(const vk::Context& ctx, const GpuBuildOptions& options)
@@ -110,7 +110,7 @@ GpuBuilder::GpuBuilder(const vk::Context& ctx, const GpuBuildOptions& options)
 GpuBuilder::~GpuBuilder() = default;
 
 Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
-                      uint32_t triangleCount, BuildStats* stats) const {
+                      uint32_t triangleCount, BuildStats* stats, NodeForms forms) const {
   const vk::Context& ctx = ctx_;
   const GpuBuildOptions& options = options_;
   const uint32_t n = triangleCount;
@@ -138,10 +138,14 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
   Bvh bvh;
   bvh.nodeCount = interiorCount;
   bvh.triangleCount = n;
-  bvh.nodes = vk::Buffer(ctx, uint64_t(interiorCount) * sizeof(gpu::bvh::BvhNode), vk::MemoryUse::DeviceLocal, "bvh nodes", Bvh::kExtraUsage);
-  bvh.traversalNodes = vk::Buffer(ctx, uint64_t(interiorCount) * sizeof(gpu::bvh::BvhTraversalNode), vk::MemoryUse::DeviceLocal, "bvh traversal nodes", Bvh::kExtraUsage);
-  bvh.leafData = vk::Buffer(ctx, uint64_t(n) * sizeof(gpu::bvh::BvhLeafTriangle), vk::MemoryUse::DeviceLocal, "bvh leaf triangles", Bvh::kExtraUsage);
   bvh.quantized = quantizedTraversal(bvh.triangleCount);
+  bvh.hasExactNodes = forms == NodeForms::Both || !bvh.quantized;
+  bvh.hasQuantizedNodes = forms == NodeForms::Both || bvh.quantized;
+  // An unwritten form keeps one node of memory: its binding must still be valid.
+  const uint32_t exactNodes = bvh.hasExactNodes ? interiorCount : 1, quantizedNodes = bvh.hasQuantizedNodes ? interiorCount : 1;
+  bvh.nodes = vk::Buffer(ctx, uint64_t(exactNodes) * sizeof(gpu::bvh::BvhNode), vk::MemoryUse::DeviceLocal, "bvh nodes", Bvh::kExtraUsage);
+  bvh.traversalNodes = vk::Buffer(ctx, uint64_t(quantizedNodes) * sizeof(gpu::bvh::BvhTraversalNode), vk::MemoryUse::DeviceLocal, "bvh traversal nodes", Bvh::kExtraUsage);
+  bvh.leafData = vk::Buffer(ctx, uint64_t(n) * sizeof(gpu::bvh::BvhLeafTriangle), vk::MemoryUse::DeviceLocal, "bvh leaf triangles", Bvh::kExtraUsage);
   bvh.makeTexelViews(ctx);
 
   BuildTexelViews texels;
@@ -216,6 +220,8 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
     emit.leafBases = vk::BufferRange(keys, 0, 4ull * interiorCount);
     emit.schedule = &schedule;
     emit.triangleCount = n;
+    emit.exactNodes = bvh.hasExactNodes;
+    emit.quantizedNodes = bvh.hasQuantizedNodes;
     passes.emit.record(cmd, emit, &timer);
   };
 

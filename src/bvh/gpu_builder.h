@@ -23,8 +23,17 @@ struct GpuBuildOptions {
   uint32_t treeletLeaves = 6;
 };
 
+// Which node arrays a build writes. Traversed: only the one traversal reads
+// (quantizedTraversal); the other keeps one node of memory, unwritten, so a quantized scene's
+// BVH takes 80 bytes per triangle instead of 144, and writing the unread 64-byte exact nodes was
+// about a third of bvh_emit_nodes on the 1M-triangle mesh (docs/bvh.md). Both: also the other,
+// for bvh::download (statistics, invariant checks, the host tracer read the exact nodes) and for
+// tests that compare the forms.
+enum class NodeForms { Traversed, Both };
+
 Bvh buildGpu(const vk::Context& ctx, const vk::Buffer& vertices, const vk::Buffer& triangles,
-             uint32_t triangleCount, const GpuBuildOptions& options, BuildStats* stats = nullptr);
+             uint32_t triangleCount, const GpuBuildOptions& options, BuildStats* stats = nullptr,
+             NodeForms forms = NodeForms::Traversed);
 
 // Keeps the build's pipelines between builds (creating them compiles every pass, which on
 // lavapipe costs far more than building a small scene), and its scratch buffers, sized for the
@@ -37,7 +46,7 @@ class GpuBuilder {
   GpuBuilder(const GpuBuilder&) = delete;
   GpuBuilder& operator=(const GpuBuilder&) = delete;
   Bvh build(const vk::Buffer& vertices, const vk::Buffer& triangles, uint32_t triangleCount,
-            BuildStats* stats = nullptr) const;
+            BuildStats* stats = nullptr, NodeForms forms = NodeForms::Traversed) const;
 
  private:
   struct Passes;

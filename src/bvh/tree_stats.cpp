@@ -1,6 +1,7 @@
 #include "bvh/tree_stats.h"
 
 #include <cstring>
+#include <stdexcept>
 #include <utility>
 
 #include "bvh/aabb.h"
@@ -127,6 +128,8 @@ std::string checkInvariants(const HostBvh& tree, std::span<const gpu::scene::Ver
 }
 
 HostBvh download(const Bvh& bvh) {
+  if (!bvh.hasExactNodes)
+    throw std::logic_error("bvh::download: the build kept no exact nodes (bvh::NodeForms::Both)");
   HostBvh tree;
   tree.nodes = bvh.nodes.downloadVector<BvhNode>(bvh.nodeCount);
   auto leaves = bvh.leafData.downloadVector<gpu::bvh::BvhLeafTriangle>(bvh.triangleCount);

@@ -4,6 +4,8 @@
 // and a clear refusal past the device limit.
 #include <gtest/gtest.h>
 
+#include <stdexcept>
+
 #include "bvh/cpu_builder.h"
 #include "bvh/gpu_builder.h"
 #include "bvh/node_quantize.h"
@@ -34,11 +36,13 @@ struct DeviceMesh {
 class GpuBuilder : public ::testing::Test {
  protected:
   static void TearDownTestSuite() { builder_.reset(); }
-  static bvh::Bvh build(const bvh::SyntheticMesh& m, bvh::BuildStats* stats = nullptr) {
+  // Both node forms by default: the checks read the exact nodes and compare the quantized ones.
+  static bvh::Bvh build(const bvh::SyntheticMesh& m, bvh::BuildStats* stats = nullptr,
+                        bvh::NodeForms forms = bvh::NodeForms::Both) {
     auto& ctx = test::context();
     if (!builder_) builder_ = std::make_unique<bvh::GpuBuilder>(ctx);
     DeviceMesh dm(ctx, m);
-    return builder_->build(dm.vertices, dm.triangles, uint32_t(m.triangles.size()), stats);
+    return builder_->build(dm.vertices, dm.triangles, uint32_t(m.triangles.size()), stats, forms);
   }
   static std::unique_ptr<bvh::GpuBuilder> builder_;
 };
@@ -84,27 +88,64 @@ TEST_F(GpuBuilder, NodesAreDepthFirstAndQuantizedAsOnTheHost) {
   }
 }
 
+namespace {
+
+// The written nodes of a tree with exact nodes: [0, the number reachable from the root), in
+// depth-first order; past nodeCount where the links loop.
+uint32_t liveNodes(const bvh::Bvh& tree) {
+  const auto nodes = tree.nodes.downloadVector<gpu::bvh::BvhNode>(tree.nodeCount);
+  uint32_t live = 0;
+  for (std::vector<uint32_t> stack = {0}; !stack.empty() && live <= tree.nodeCount; ++live) {
+    const gpu::bvh::BvhNode& n = nodes[stack.back()];
+    stack.pop_back();
+    for (uint32_t ref : {n.a, n.b})
+      if (!(ref & gpu::bvh::kBvhLeafFlag)) stack.push_back(ref);
+  }
+  return live;
+}
+
+std::vector<uint8_t> bytes(const vk::Buffer& b, size_t size) { return b.downloadVector<uint8_t>(size); }
+
+}  // namespace
+
 // Positions and leaf entries follow from the tree alone (depth-first), not from the order in
 // which atomics run: two builds of one mesh give the same bytes.
 TEST_F(GpuBuilder, TwoBuildsGiveTheSameBytes) {
   const bvh::SyntheticMesh mesh = bvh::makeSphere({0, 0, 0}, 1.0f, 200, 50, 0.3f);
   bvh::Bvh first = build(mesh), second = build(mesh);
   ASSERT_EQ(first.nodeCount, second.nodeCount);
-  // The written nodes: [0, the number reachable from the root) in depth-first order.
-  const auto nodes = first.nodes.downloadVector<gpu::bvh::BvhNode>(first.nodeCount);
-  uint32_t live = 0;
-  for (std::vector<uint32_t> stack = {0}; !stack.empty() && live <= first.nodeCount; ++live) {
-    const gpu::bvh::BvhNode& n = nodes[stack.back()];
-    stack.pop_back();
-    for (uint32_t ref : {n.a, n.b})
-      if (!(ref & gpu::bvh::kBvhLeafFlag)) stack.push_back(ref);
-  }
+  const uint32_t live = liveNodes(first);
   ASSERT_LE(live, first.nodeCount);
-  auto bytes = [](const vk::Buffer& b, size_t size) { return b.downloadVector<uint8_t>(size); };
   EXPECT_EQ(bytes(first.nodes, live * sizeof(gpu::bvh::BvhNode)), bytes(second.nodes, live * sizeof(gpu::bvh::BvhNode)));
   EXPECT_EQ(bytes(first.traversalNodes, live * sizeof(gpu::bvh::BvhTraversalNode)),
             bytes(second.traversalNodes, live * sizeof(gpu::bvh::BvhTraversalNode)));
   EXPECT_EQ(bytes(first.leafData, first.leafData.size()), bytes(second.leafData, second.leafData.size()));
+}
+
+// The renderer's build writes only the form traversal reads, the same bytes as the build of
+// both forms: the quantized nodes of a mesh past kQuantizedTraversalFromTriangles, the exact
+// ones of a smaller mesh. The other array is one node, and download refuses it.
+TEST_F(GpuBuilder, RendererBuildWritesOnlyTheTraversedForm) {
+  const bvh::SyntheticMesh large = bvh::makeSphere({0, 0, 0}, 1.0f, 200, 50, 0.3f);  // 20K triangles
+  const bvh::SyntheticMesh small = bvh::makeSphere({0, 0, 0}, 1.0f, 40, 20, 0.3f);
+  ASSERT_TRUE(bvh::quantizedTraversal(uint32_t(large.triangles.size())));
+  ASSERT_FALSE(bvh::quantizedTraversal(uint32_t(small.triangles.size())));
+  for (const bvh::SyntheticMesh* mesh : {&large, &small}) {
+    bvh::Bvh both = build(*mesh), traversed = build(*mesh, nullptr, bvh::NodeForms::Traversed);
+    ASSERT_EQ(traversed.quantized, both.quantized);
+    const uint32_t live = liveNodes(both);
+    ASSERT_LE(live, both.nodeCount);
+    const size_t nodeBytes = traversed.quantized ? sizeof(gpu::bvh::BvhTraversalNode) : sizeof(gpu::bvh::BvhNode);
+    EXPECT_EQ(bytes(traversed.traversedNodes(), live * nodeBytes), bytes(both.traversedNodes(), live * nodeBytes));
+    EXPECT_EQ(bytes(traversed.leafData, traversed.leafData.size()), bytes(both.leafData, both.leafData.size()));
+    const vk::Buffer& other = traversed.quantized ? traversed.nodes : traversed.traversalNodes;
+    EXPECT_EQ(other.size(), traversed.quantized ? sizeof(gpu::bvh::BvhNode) : sizeof(gpu::bvh::BvhTraversalNode));
+    EXPECT_EQ(traversed.hasExactNodes, !traversed.quantized);
+    EXPECT_EQ(traversed.hasQuantizedNodes, traversed.quantized);
+    if (traversed.quantized) {
+      EXPECT_THROW(bvh::download(traversed), std::logic_error);
+    }
+  }
 }
 
 TEST_F(GpuBuilder, SahWithinTenPercentOfCpuBinnedSah) {
@@ -126,7 +167,8 @@ TEST_F(GpuBuilder, TreeletRestructuringLowersSah) {
   plain.treeletRounds = 0;
   DeviceMesh dm(test::context(), mesh);
   double lbvh = bvh::sahCost(bvh::download(
-      bvh::buildGpu(test::context(), dm.vertices, dm.triangles, uint32_t(mesh.triangles.size()), plain)));
+      bvh::buildGpu(test::context(), dm.vertices, dm.triangles, uint32_t(mesh.triangles.size()), plain, nullptr,
+                    bvh::NodeForms::Both)));
   bvh::HostBvh restructured = bvh::download(build(mesh));
   EXPECT_EQ(bvh::checkInvariants(restructured, mesh.vertices, mesh.triangles), "");
   EXPECT_LT(bvh::sahCost(restructured), 0.95 * lbvh);
