@@ -30,7 +30,8 @@ int runBvh(const std::vector<std::string>& argv) {
   bool cpuReference = !args.flag("--no-cpu-reference");
   int repeat = int(args.integer("--repeat", 1, 100).value_or(3));
   bvh::GpuBuildOptions options;
-  options.treeletRounds = uint32_t(args.integer("--treelet-rounds", 0, 8).value_or(options.treeletRounds));
+  // Unset: bvh::treeletRoundsFor's choice per scene (what the renderer builds).
+  if (auto rounds = args.integer("--treelet-rounds", 0, 8)) options.treeletRounds = uint32_t(*rounds);
   options.treeletLeaves = uint32_t(
       args.integer("--treelet-leaves", 3, gpu::bvh_build::kTreeletMaxLeaves).value_or(options.treeletLeaves));
   options.treeletMinTriangles =
@@ -89,7 +90,7 @@ int runBvh(const std::vector<std::string>& argv) {
     line.num("build_ms", best.totalMs).num("mtris_per_s", n / (best.totalMs * 1e3)).num("first_build_ms", firstBuildMs);
     line.num("sah_gpu", sahGpu);
     if (cpuReference) line.num("sah_cpu", sahCpu).num("sah_ratio", sahGpu / sahCpu);
-    line.integer("treelet_rounds", options.treeletRounds).integer("treelet_leaves", options.treeletLeaves);
+    line.integer("treelet_rounds", best.treeletRounds).integer("treelet_leaves", options.treeletLeaves);
     line.integer("treelet_min_triangles", options.treeletMinTriangles);
     line.integer("depth", bvh::depth(gpuTree)).num("wall_ms", bestWall).num("cpu_time_ms", bestCpu);
     if (cpuReference) line.num("cpu_build_ms", cpuMs);

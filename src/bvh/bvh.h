@@ -75,6 +75,7 @@ struct BuildStats {
   double sahCost = 0;                // under kSahNodeCost / kSahTriangleCost
   uint32_t depth = 0;                // nodes on the longest root-to-leaf path
   uint64_t scratchBytes = 0;         // GPU build: temporary buffers, freed when it returns
+  uint32_t treeletRounds = 0;        // GPU build: treelet restructuring rounds run
 };
 
 // Builds on the device by compute passes from the scene's Vertex and Triangle buffers (world

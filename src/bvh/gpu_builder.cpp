@@ -225,7 +225,7 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
     passes.emit.record(cmd, emit, &timer);
   };
 
-  uint32_t rounds = options.treeletRounds;
+  uint32_t rounds = treeletRoundsFor(options, n);
   bb::BvhBuildNode root{};
   bb::BvhBuildInfo done{};
   for (;;) {
@@ -239,7 +239,10 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
     if (height <= gpu::bvh::kBvhMaxDepth || rounds == 0) {
       if (height > gpu::bvh::kBvhMaxDepth)
         throw DeviceError("bvh: tree depth " + std::to_string(height) + " exceeds kBvhMaxDepth");
-      if (stats) stats->depth = height;
+      if (stats) {
+        stats->depth = height;
+        stats->treeletRounds = rounds;
+      }
       break;
     }
     rounds = 0;

@@ -8,11 +8,20 @@
 
 namespace osr::bvh {
 
+// GpuBuildOptions::treeletRounds' default: two rounds for a scene traversed with exact nodes
+// (under kQuantizedTraversalFromTriangles; it builds in a few milliseconds), one above. Measured
+// on lavapipe (docs/bvh.md): the second round lowers SAH/CPU-SAH from 0.987 to 0.928 on room
+// and from 0.990 to 0.928 on cornell, and one-ray incoherent traversal gains 6-7% there (more
+// rounds: no further gain). On the 100K and 1.05M-triangle spheres it lowers SAH by 1.3% and
+// 1.0% for 16% and 13% more build time, with no measurable traversal gain.
+inline constexpr uint32_t kTreeletRoundsAuto = ~0u;
+
 struct GpuBuildOptions {
-  // 0: plain LBVH. One round keeps most of the quality: on the 1.05M-triangle bench mesh
-  // SAH/CPU-SAH is 1.047 with one round vs 1.033 with three, for less than half of the build
-  // time on lavapipe.
-  uint32_t treeletRounds = 1;
+  // 0: plain LBVH; kTreeletRoundsAuto: treeletRoundsFor's choice. One round keeps most of the
+  // quality on large meshes: on the 1.05M-triangle bench mesh SAH/CPU-SAH is 1.047 with one
+  // round vs 1.033 with three (7-leaf treelets), for less than half of the build time on
+  // lavapipe.
+  uint32_t treeletRounds = kTreeletRoundsAuto;
   // Round r restructures the nodes with at least treeletMinTriangles << r triangles. Measured on
   // the 1.05M-triangle bench mesh (lavapipe): 14 halves the restructuring time (577 -> ~250 ms)
   // but SAH/CPU-SAH rises from 1.047 to 1.066 and a small mesh gains under 5% over the plain
@@ -22,6 +31,13 @@ struct GpuBuildOptions {
   // restructuring time (444 -> 275 ms), SAH/CPU-SAH 1.056 instead of 1.047.
   uint32_t treeletLeaves = 6;
 };
+
+// The treelet rounds a build of `triangleCount` triangles runs with `options` (before the
+// fallback to none for a tree past kBvhMaxDepth).
+inline uint32_t treeletRoundsFor(const GpuBuildOptions& options, uint32_t triangleCount) {
+  if (options.treeletRounds != kTreeletRoundsAuto) return options.treeletRounds;
+  return quantizedTraversal(triangleCount) ? 1u : 2u;
+}
 
 // Which node arrays a build writes. Traversed: only the one traversal reads
 // (quantizedTraversal); the other keeps one node of memory, unwritten, so a quantized scene's

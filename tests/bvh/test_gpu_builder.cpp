@@ -164,7 +164,7 @@ TEST_F(GpuBuilder, TreeletRestructuringLowersSah) {
   bvh::SyntheticMesh mesh = bvh::makeSphere({0, 0, 0}, 1.0f, 100, 50, 0.3f);
   mesh.append(bvh::makeSoup(2000, 9, {0, 0, 0}, 1.5f, 0.1f));
   bvh::GpuBuildOptions plain;
-  plain.treeletRounds = 0;
+  plain.treeletRounds = 0;  // explicit: overrides the default's choice by size
   DeviceMesh dm(test::context(), mesh);
   double lbvh = bvh::sahCost(bvh::download(
       bvh::buildGpu(test::context(), dm.vertices, dm.triangles, uint32_t(mesh.triangles.size()), plain, nullptr,
@@ -172,6 +172,30 @@ TEST_F(GpuBuilder, TreeletRestructuringLowersSah) {
   bvh::HostBvh restructured = bvh::download(build(mesh));
   EXPECT_EQ(bvh::checkInvariants(restructured, mesh.vertices, mesh.triangles), "");
   EXPECT_LT(bvh::sahCost(restructured), 0.95 * lbvh);
+}
+
+// The default rounds (bvh::treeletRoundsFor): two for a scene traversed with exact nodes, one for
+// a quantized one; the second round lowers the reference scenes' SAH below one round's by at
+// least 3% (measured 6-7%) and the tree stays valid.
+TEST_F(GpuBuilder, DefaultRoundsFollowTheSceneSize) {
+  const bvh::SyntheticMesh large = bvh::makeSphere({0, 0, 0}, 1.0f, 200, 50, 0.3f);  // 20K triangles
+  bvh::BuildStats stats;
+  build(large, &stats);
+  EXPECT_EQ(stats.treeletRounds, 1u);
+  bvh::GpuBuildOptions one;
+  one.treeletRounds = 1;
+  for (const char* file : {"cornell/cornell.gltf", "room/room.gltf"}) {
+    scene::Scene sc = scene::loadScene(test::referencePath(file));
+    bvh::SyntheticMesh mesh{sc.vertices, sc.triangles};
+    bvh::HostBvh host = bvh::download(build(mesh, &stats));
+    EXPECT_EQ(stats.treeletRounds, 2u) << file;
+    EXPECT_EQ(bvh::checkInvariants(host, mesh.vertices, mesh.triangles), "") << file;
+    DeviceMesh dm(test::context(), mesh);
+    const double oneRound = bvh::sahCost(bvh::download(bvh::buildGpu(
+        test::context(), dm.vertices, dm.triangles, uint32_t(mesh.triangles.size()), one, nullptr, bvh::NodeForms::Both)));
+    EXPECT_LT(bvh::sahCost(host), 0.97 * oneRound) << file;
+    std::printf("%s: SAH two rounds %.3f, one round %.3f\n", file, bvh::sahCost(host), oneRound);
+  }
 }
 
 TEST_F(GpuBuilder, ClosestHitsMatchBruteForce) {
