@@ -1,8 +1,8 @@
 #version 460
-// bvh_emit_nodes: the traversal nodes (shared/bvh.h), exact (BvhNode) and quantized
-// (BvhTraversalNode, shared/bvh_quantize.h), in depth-first order, and where each leaf's
-// triangles go. One indirect dispatch per depth (param), one invocation per traversal node of
-// that depth (the root alone at depth 0, position 0). A node at position p:
+// bvh_emit_nodes: the traversal nodes (shared/bvh.h), exact (BvhNode) and/or quantized
+// (BvhTraversalNode, shared/bvh_quantize.h) as param2 asks, in depth-first order, and where
+// each leaf's triangles go. One indirect dispatch per depth (param), one invocation per
+// traversal node of that depth (the root alone at depth 0, position 0). A node at position p:
 //   - puts its child a at p + 1 and its child b at p + 1 + (a's traversal nodes, from
 //     bvh_subtree_count) where those children are traversal nodes, and appends them to the next
 //     depth's list (sizing that depth's dispatch);
@@ -12,7 +12,7 @@
 //     bvh_emit_leaves copies them there (slots[build node] = bvhEmitSlot(a's first entry, a's
 //     count), or b's first entry and 0 where a is a node). info.leafCounter sums the leaf
 //     triangles, for the host's check;
-//   - stores both forms of itself at p.
+//   - stores the forms of itself that param2 asks for at p.
 // A walk that descends to child a finds it next to its parent, and every subtree is one run of
 // nodes. Appends and the leaf count take one atomic per workgroup (subgroup totals meet in
 // shared memory): one counter that every subgroup hits moves its cache line between lavapipe's

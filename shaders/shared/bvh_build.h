@@ -91,9 +91,10 @@ struct BuildArrays {
   uvec2 prims;          // BvhLeafTriangle[triangleCount]: vertex copies in scene order
   uvec2 interior;       // BvhBuildNode[triangleCount - 1]
   uvec2 leaves;         // BvhBuildNode[triangleCount], sorted order
-  uvec2 nodes;          // out of bvh_emit_nodes: BvhNode[triangleCount - 1]
+  uvec2 nodes;          // out of bvh_emit_nodes: BvhNode[triangleCount - 1] (or 1, unwritten)
   uvec2 leafTriangles;  // out of bvh_emit_leaves: BvhLeafTriangle[triangleCount]
-  uvec2 traversalNodes; // out of bvh_emit_nodes: BvhTraversalNode[triangleCount - 1]
+  uvec2 traversalNodes; // out of bvh_emit_nodes: BvhTraversalNode[triangleCount - 1] (or 1,
+                        // unwritten)
 };
 
 // Generic push block of the build passes.

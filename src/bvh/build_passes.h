@@ -23,9 +23,9 @@ struct BuildArrayBuffers {
   vk::BufferRange prims;          // BvhLeafTriangle[triangleCount]
   vk::BufferRange interior;       // BvhBuildNode[triangleCount - 1]
   vk::BufferRange leaves;         // BvhBuildNode[triangleCount]
-  vk::BufferRange nodes;          // BvhNode[triangleCount - 1]
+  vk::BufferRange nodes;          // BvhNode[triangleCount - 1] (or 1 where not written)
   vk::BufferRange leafTriangles;  // BvhLeafTriangle[triangleCount]
-  vk::BufferRange traversalNodes; // BvhTraversalNode[triangleCount - 1]
+  vk::BufferRange traversalNodes; // BvhTraversalNode[triangleCount - 1] (or 1 where not written)
   // Whether some array is past what one binding holds (passes must then be byAddress).
   bool pastOneBinding(const vk::Context& ctx) const;
 };

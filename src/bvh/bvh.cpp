@@ -19,7 +19,7 @@ static_assert(sizeof(gpu::bvh::BvhTraversalNode) == gpu::bvh::kBvhTraversalNodeT
 static_assert(sizeof(gpu::bvh::BvhLeafTriangle) == gpu::bvh::kBvhLeafTriangleTexels * kTexelBytes);
 
 void Bvh::makeTexelViews(const vk::Context& ctx) {
-  if (quantized ? !hasQuantizedNodes : !hasExactNodes)
+  if (!hasTraversedNodes())
     throw std::logic_error(std::string("bvh: the ") + (quantized ? "quantized" : "exact") +
                 " nodes traversal would read were not built (bvh::NodeForms::Both)");
   // Where a buffer is larger than a view can be, traversal reads the storage binding

@@ -19,7 +19,8 @@ namespace osr::bvh {
 
 struct Bvh {
   // Room for nodeCount nodes, root at 0, depth-first: the device build writes only the first
-  // (traversal-node count) of them, and every reader walks from the root.
+  // (traversal-node count) of them, and every reader walks from the root. An array the build
+  // did not write (has*Nodes false) holds one node.
   vk::Buffer nodes;     // BvhNode[nodeCount]: the exact tree (stats, checks, the host)
   vk::Buffer traversalNodes;  // BvhTraversalNode[nodeCount]: the quantized copy
   vk::Buffer leafData;  // BvhLeafTriangle[triangleCount]: leaves' reordered vertex copies
@@ -36,12 +37,14 @@ struct Bvh {
   bool hasQuantizedNodes = true;
   // The node array traversal reads: traversalNodes where quantized, else nodes.
   const vk::Buffer& traversedNodes() const { return quantized ? traversalNodes : nodes; }
+  bool hasTraversedNodes() const { return quantized ? hasQuantizedNodes : hasExactNodes; }
 
   // Usage the builders give both buffers on top of storage use: traversal may read them as
   // uniform texel buffers (shaders/shared/bvh.h).
   static constexpr VkBufferUsageFlags kExtraUsage = VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT;
   // Creates nodeTexels / leafTexels once nodes, traversalNodes and leafData exist and
-  // `quantized` is set (both builders call it; tests may switch the format and call it again).
+  // `quantized` is set (both builders call it; tests may switch the format of a tree that has
+  // both forms and call it again).
   void makeTexelViews(const vk::Context& ctx);
 
   // Descriptor types by slot (element kBvhBinding*): a traversing pass places them at its
@@ -81,7 +84,8 @@ struct BuildStats {
 // Builds on the device by compute passes from the scene's Vertex and Triangle buffers (world
 // space positions; vertex indices in range, as the scene loader guarantees). triangleCount >= 1.
 // Throws DeviceError when the scene exceeds triangleLimit(ctx), naming the limit and the size. Compiles the build's pipelines on each call: to build repeatedly, keep a
-// GpuBuilder (bvh/gpu_builder.h), which also takes options (treelet rounds and size).
+// GpuBuilder (bvh/gpu_builder.h), which also takes options (treelet rounds and size). Writes
+// only the node form traversal reads: bvh::download needs NodeForms::Both (gpu_builder.h).
 Bvh buildGpu(const vk::Context& ctx, const vk::Buffer& vertices, const vk::Buffer& triangles,
              uint32_t triangleCount, BuildStats* stats = nullptr);
 

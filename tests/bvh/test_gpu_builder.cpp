@@ -144,7 +144,11 @@ TEST_F(GpuBuilder, RendererBuildWritesOnlyTheTraversedForm) {
     EXPECT_EQ(traversed.hasQuantizedNodes, traversed.quantized);
     if (traversed.quantized) {
       EXPECT_THROW(bvh::download(traversed), std::logic_error);
+    } else {
+      EXPECT_NO_THROW(bvh::download(traversed));
     }
+    traversed.quantized = !traversed.quantized;  // the form that was not built
+    EXPECT_THROW(traversed.makeTexelViews(test::context()), std::logic_error);
   }
 }
 
