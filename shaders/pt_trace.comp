@@ -2,8 +2,8 @@
 // pt_trace: one sample per pixel for a range of pixels, added to the film's running sums.
 // Inputs: Frame (camera, size, seed), the BVH, the scene; push: pixel range and sample index.
 // Output: FilmPixel sums (shared/pt.h). A megakernel: each invocation follows its path to the
-// end: on lavapipe, barriers between wavefront stages are expected to cost more than the
-// divergence they remove (src/pt/trace_pass.h has the reasoning; not measured).
+// end: on lavapipe a wavefront variant measured slower (src/pt/trace_pass.h,
+// docs/pathtracer.md).
 //
 // Path integrator (kIntegratorPath): camera rays drawn from the pixel filter (lib/camera.glsl:
 // Cycles' Blackman-Harris, 2 px wide), then lib/path.glsl's bounce (next-event estimation with MIS, Russian roulette)

@@ -1,10 +1,12 @@
 // pt_trace.comp as a pass: one sample for a range of pixels, added to the film.
 //
 // Megakernel, not wavefront: on lavapipe (2 CPU threads, SIMD width 8) a wavefront split pays
-// a barrier and a full write/read of the path state per bounce, while the divergence it
-// removes costs little. This is the brief's first guess; a wavefront variant has not been
-// built to measure against (a GPU may prefer it). Dispatches are one sample over at most
-// kMaxPixelsPerDispatch pixels, short enough for a desktop GPU's watchdog.
+// a dispatch and a full write/read of the path state per bounce, while the megakernel's path
+// regeneration already keeps its lanes busy. Measured with a wavefront prototype whose bounces
+// traced with the batch tracer's ray pools: 25-30% slower per bounce on room before its tail
+// (docs/pathtracer.md, "A wavefront variant"). A GPU may prefer it; not measured there.
+// Dispatches are one sample over at most kMaxPixelsPerDispatch pixels, short enough for a
+// desktop GPU's watchdog.
 #pragma once
 #include "bvh/bvh.h"
 #include "bvh/traversal_pipeline.h"
