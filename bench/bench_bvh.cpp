@@ -12,6 +12,7 @@
 #include "bench/json.h"
 #include "bvh/cpu_builder.h"
 #include "bvh/gpu_builder.h"
+#include "common/error.h"
 #include "bvh/tree_stats.h"
 #include "vk/buffer.h"
 
@@ -36,6 +37,11 @@ int runBvh(const std::vector<std::string>& argv) {
       args.integer("--treelet-leaves", 3, gpu::bvh_build::kTreeletMaxLeaves).value_or(options.treeletLeaves));
   options.treeletMinTriangles =
       uint32_t(args.integer("--treelet-min-triangles", 3, 1 << 20).value_or(options.treeletMinTriangles));
+  if (auto h = args.value("--hierarchy")) {
+    if (*h == "lbvh") options.hierarchy = bvh::Hierarchy::Lbvh;
+    else if (*h == "ploc") options.hierarchy = bvh::Hierarchy::Ploc;
+    else if (*h != "auto") throw InputError("osr-bench bvh: --hierarchy takes auto, lbvh or ploc, not '" + *h + "'");
+  }
   args.finish();
   vk::Context ctx;
   bvh::GpuBuilder builder(ctx, options);
@@ -91,7 +97,7 @@ int runBvh(const std::vector<std::string>& argv) {
     line.num("sah_gpu", sahGpu);
     if (cpuReference) line.num("sah_cpu", sahCpu).num("sah_ratio", sahGpu / sahCpu);
     line.integer("treelet_rounds", best.treeletRounds).integer("treelet_leaves", options.treeletLeaves);
-    line.integer("treelet_min_triangles", options.treeletMinTriangles);
+    line.integer("treelet_min_triangles", options.treeletMinTriangles).integer("ploc_iterations", best.plocIterations);
     line.integer("depth", bvh::depth(gpuTree)).num("wall_ms", bestWall).num("cpu_time_ms", bestCpu);
     if (cpuReference) line.num("cpu_build_ms", cpuMs);
     // Memory per triangle. Device: the scene's vertex and triangle buffers, the BVH the renderer

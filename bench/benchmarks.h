@@ -23,7 +23,8 @@ int runPathtrace(const std::vector<std::string>& args);  // path tracer spp/s, M
 inline constexpr char kBvhSummary[] = "GPU BVH build time and quality against CPU SAH and Embree";
 inline constexpr char kBvhUsage[] =
     "osr-bench bvh [--scene NAME | --triangles N] [--repeat N] [--treelet-rounds N]\n"
-    "              [--treelet-leaves N] [--treelet-min-triangles N] [--no-cpu-reference]\n"
+    "              [--treelet-leaves N] [--treelet-min-triangles N] [--hierarchy auto|lbvh|ploc]\n"
+    "              [--no-cpu-reference]\n"
     "  --scene NAME               generated_1m, cornell or room (default: all)\n"
     "  --triangles N              instead, a displaced sphere of at least N triangles, 1 to the\n"
     "                             device's limit (scale: memory per triangle)\n"
@@ -32,7 +33,9 @@ inline constexpr char kBvhUsage[] =
     "  --treelet-rounds N         treelet optimization rounds, 0 to 8 (default: 2 under 16,384\n"
     "                             triangles, else 1, as the renderer builds)\n"
     "  --treelet-leaves N         leaves per treelet, 3 to the build's maximum\n"
-    "  --treelet-min-triangles N  smallest subtree a treelet round visits, 3 to 1048576";
+    "  --treelet-min-triangles N  smallest subtree a treelet round visits, 3 to 1048576\n"
+    "  --hierarchy H        lbvh (then treelets) or ploc; auto: ploc for scenes of 16,384\n"
+    "                       triangles or more that fit one storage binding";
 int runBvh(const std::vector<std::string>& args);   // GPU BVH build vs CPU SAH and Embree
 inline constexpr char kTraceSummary[] = "rays/s of BVH traversal against Embree";
 inline constexpr char kTraceUsage[] =

@@ -37,18 +37,7 @@ int delta(int j) {
 
 void initSortedLeaf(uint i) {
   uint tri = gValues[i];
-  BvhLeafTriangle p = readPrim(tri);  // scattered: through texels
-  BvhBuildNode n;
-  n.lo = min(min(p.v0.xyz, p.v1.xyz), p.v2.xyz);
-  n.hi = max(max(p.v0.xyz, p.v1.xyz), p.v2.xyz);
-  vec3 d = n.hi - n.lo;
-  n.cost = kSahTriangleCost * 2.0 * (d.x * d.y + d.y * d.z + d.z * d.x);
-  n.triangleCount = 1u;
-  n.left = tri;
-  n.right = kInvalidNode;
-  n.parent = kInvalidNode;  // not stored: the parent's invocation writes it
-  n.flags = 0u;
-  initLeaf(i, n);
+  initLeaf(i, sortedLeafNode(readPrim(tri), tri));  // readPrim scattered: through texels
 }
 
 void main() {

@@ -122,6 +122,21 @@ void setChildren(uint i, uint left, uint right) {
     gInterior[i].right = right;
   }
 }
+// The build node of a leaf over triangle `tri` (vertex copy p): its box, SAH cost and count;
+// parent kInvalidNode until its parent is made.
+BvhBuildNode sortedLeafNode(BvhLeafTriangle p, uint tri) {
+  BvhBuildNode n;
+  n.lo = min(min(p.v0.xyz, p.v1.xyz), p.v2.xyz);
+  n.hi = max(max(p.v0.xyz, p.v1.xyz), p.v2.xyz);
+  vec3 d = n.hi - n.lo;
+  n.cost = kSahTriangleCost * 2.0 * (d.x * d.y + d.y * d.z + d.z * d.x);
+  n.triangleCount = 1u;
+  n.left = tri;
+  n.right = kInvalidNode;
+  n.parent = kInvalidNode;
+  n.flags = 0u;
+  return n;
+}
 // Every field of leaf i but parent, which the lbvh invocation of its parent writes.
 void initLeaf(uint i, BvhBuildNode n) {
   if (kBuildByAddress) {

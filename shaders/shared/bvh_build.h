@@ -6,7 +6,8 @@
 //   bvh_morton        30-bit Morton code of each centroid in the centroid bounds
 //   bvh_radix_histogram / bvh_scan_reduce / bvh_scan_top / bvh_scan_apply / bvh_radix_scatter
 //                     stable LSD radix sort of (code, triangle), 8 bits per round
-//   bvh_lbvh          hierarchy from the sorted codes (Karras 2012)
+//   bvh_lbvh          hierarchy from the sorted codes (Karras 2012); bvh_ploc_* instead for
+//                     large scenes (see PLOC below), which also does the next three passes' work
 //   bvh_refit         bounds, triangle counts, SAH costs and heights bottom-up (atomic counters)
 //   bvh_treelet_*     treelet restructuring (Karras & Aila 2013), level by level, several rounds
 //   bvh_subtree_count traversal nodes per subtree (atomic counters)
@@ -220,6 +221,75 @@ struct DispatchArgs {
 OSR_CONST(uint, kSubtreeCountBindingNodes, kClimbBindingCount);  // uint per interior node (out)
 OSR_CONST(uint, kSubtreeCountBindingTexels, kClimbBindingCount + 1u);
 OSR_CONST(uint, kSubtreeCountBindingCount, kSubtreeCountBindingTexels + kBuildTexelBindingCount);
+
+// PLOC (Meister and Bittner 2018, "Parallel Locally-Ordered Clustering for Bounding Volume
+// Hierarchy Construction"): the builder for scenes traversed with quantized nodes, in place of
+// bvh_lbvh + bvh_refit + the treelet rounds + bvh_subtree_count. Clusters start as the sorted
+// triangles; each iteration every cluster finds the cluster within kPlocRadius places (in Morton
+// order) whose union with it has the least surface area, mutual nearest pairs merge into a new
+// interior node, and the survivors are compacted in order. A merge knows both children, so it
+// writes the node's bounds, SAH cost, collapse decision, heights and traversal-node count at
+// once: no bottom-up climb follows.
+//   bvh_ploc_init     leaves (as bvh_lbvh's) and the first clusters
+//   bvh_ploc_nearest  each cluster's nearest neighbour (ties: the lower index, so a mutual pair
+//                     always exists and every iteration merges)
+//   bvh_ploc_count    per-subgroup counts of the clusters that survive the merge, and of the
+//                     mutual pairs
+//   bvh_ploc_plan     one workgroup: scans both counts; the next iteration's cluster count,
+//                     this one's pair count, and indirect dispatch arguments
+//   bvh_ploc_compact  survivors (a pair's lower cluster now holding the pair's parent) to the
+//                     other cluster array, in order; the pairs to the pair list
+//   bvh_ploc_merge    one invocation per pair (every lane busy: a quarter of the clusters
+//                     merge in an iteration): the interior node and its children's parent
+// Iterations alternate two cluster arrays and two halves of PlocState (param = parity); an
+// iteration whose count is 1 dispatches no group, so the host records a fixed number of them.
+// A cluster is its box quantized to 21 bits per plane (lo rounded down, hi up; 126 bits in one
+// 16-byte texel) in a frame around the scene's centroid bounds with one scale for all axes, so
+// that areas compare as in world space, and its build node, in a second array. The
+// nearest-neighbour search reads one texel per neighbour and compaction moves five words; a
+// merge reads its children's exact fields from the build nodes. 16 bits per plane made the
+// bench mesh's tree trace 7-15% slower (ties and coarse distances); 21 measured as fast as
+// float boxes. Per interior node, beside subtreeNodes: firstLeaf, the lowest sorted index of
+// its leaves.
+// Interior indices as Karras's LBVH numbers them, so that a node lies near its leaves: a node
+// takes the first leaf of whichever child has the later one, minus 1. Every leaf but leaf 0 is
+// that for exactly one node (follow the subtrees whose first leaf it is up to the largest: that
+// subtree's parent), so the indices are 0 to N-2, each once, and depend only on the tree. The
+// root then swaps places with the node at 0, where the emit passes and the host expect it.
+OSR_CONST(uint, kPlocRadius, 4u);
+OSR_CONST(uint, kPlocQuantizeMax, 0x1fffffu);  // 21 bits
+OSR_CONST(uint, kPlocBindingClusters, kBuildArrayBindingCount);             // this iteration's (read
+                                                                            // through the view)
+OSR_CONST(uint, kPlocBindingClusterTexels, kBuildArrayBindingCount + 1u);   // RGBA32UI view of them
+OSR_CONST(uint, kPlocBindingNextClusters, kBuildArrayBindingCount + 2u);    // compaction target
+OSR_CONST(uint, kPlocBindingNearest, kBuildArrayBindingCount + 3u);         // uint per cluster
+OSR_CONST(uint, kPlocBindingPartials, kBuildArrayBindingCount + 4u);        // uint per subgroup
+OSR_CONST(uint, kPlocBindingState, kBuildArrayBindingCount + 5u);           // PlocState
+OSR_CONST(uint, kPlocBindingSubtreeNodes, kBuildArrayBindingCount + 6u);    // uint per interior node
+OSR_CONST(uint, kPlocBindingValues, kBuildArrayBindingCount + 7u);          // sorted triangles
+OSR_CONST(uint, kPlocBindingNearestTexels, kBuildArrayBindingCount + 8u);   // R32UI view of nearest
+OSR_CONST(uint, kPlocBindingFirstLeaf, kBuildArrayBindingCount + 9u);       // uint per interior node
+OSR_CONST(uint, kPlocBindingSubtreeNodeTexels, kBuildArrayBindingCount + 10u);  // R32UI views of
+OSR_CONST(uint, kPlocBindingFirstLeafTexels, kBuildArrayBindingCount + 11u);    // those two
+OSR_CONST(uint, kPlocBindingInfo, kBuildArrayBindingCount + 12u);           // centroid bounds
+OSR_CONST(uint, kPlocBindingPairs, kBuildArrayBindingCount + 13u);          // uvec4 per pair
+OSR_CONST(uint, kPlocBindingClusterNodeTexels, kBuildArrayBindingCount + 14u);  // R32UI: this
+OSR_CONST(uint, kPlocBindingNextClusterNodes, kBuildArrayBindingCount + 15u);   // iteration's, next
+OSR_CONST(uint, kPlocBindingTexels, kBuildArrayBindingCount + 16u);         // build texels
+OSR_CONST(uint, kPlocBindingCount, kPlocBindingTexels + kBuildTexelBindingCount);
+// Partials (uint each): per subgroup of an iteration's dispatch, its surviving clusters from 0,
+// its pairs from triangleCount + kWorkgroupSize (a dispatch has at most that many subgroups).
+struct PlocState {
+  uint count[2];     // clusters at the start of an iteration of parity 0 / 1
+  uint iterations;   // iterations that had more than one cluster
+  uint pairs;        // mutual pairs of the current iteration (bvh_ploc_plan)
+  DispatchArgs args[2];  // per-cluster dispatch of an iteration of parity 0 / 1
+  DispatchArgs pairArgs; // per-pair dispatch of the current iteration
+  uint _pad0;
+  uint _pad1;
+  uint _pad2;
+  vec4 frame;        // cluster quantization: q = (p - frame.xyz) * frame.w (bvh_ploc_init)
+};
 
 // bvh_emit_nodes: arrays interior, leaves (texels), nodes, traversalNodes (out); info, slots,
 // positions (out), subtree node counts, the depth schedule and node lists. It runs once per

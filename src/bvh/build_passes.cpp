@@ -1,6 +1,7 @@
 #include "bvh/build_passes.h"
 
 #include <algorithm>
+#include <cstdlib>
 #include <array>
 #include <cstddef>
 #include <optional>
@@ -366,6 +367,98 @@ void SubtreeCountPass::record(VkCommandBuffer cmd, const Args& a) const {
   binder.set(bb::kSubtreeCountBindingNodes, a.subtreeNodes);
   recordClimb(cmd, pipeline_, binder, access_, *a.arrays, *a.texels, bb::kSubtreeCountBindingTexels, a.counters,
               a.triangleCount);
+}
+
+namespace {
+std::vector<VkDescriptorType> plocTypes() {
+  std::vector<VkDescriptorType> t = wordTexelTypes(bb::kPlocBindingCount, bb::kPlocBindingTexels, bb::kPlocBindingClusterTexels);
+  for (uint32_t slot : {bb::kPlocBindingNearestTexels, bb::kPlocBindingSubtreeNodeTexels, bb::kPlocBindingFirstLeafTexels,
+                        bb::kPlocBindingClusterNodeTexels})
+    t[slot] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+  return t;
+}
+std::vector<vk::SpecConstant> plocSpec(const vk::Context& ctx) { return texelSpec(ctx, false, arraySpec(false)); }
+}  // namespace
+
+PlocPass::PlocPass(const vk::Context& ctx)
+    : access_{&ctx, false},
+      init_(ctx, shaders::Id::bvh_ploc_init, plocTypes(), sizeof(BuildPush), plocSpec(ctx)),
+      nearest_(ctx, shaders::Id::bvh_ploc_nearest, plocTypes(), sizeof(BuildPush), plocSpec(ctx)),
+      count_(ctx, shaders::Id::bvh_ploc_count, plocTypes(), sizeof(BuildPush), plocSpec(ctx)),
+      plan_(ctx, shaders::Id::bvh_ploc_plan, plocTypes(), sizeof(BuildPush), plocSpec(ctx)),
+      compact_(ctx, shaders::Id::bvh_ploc_compact, plocTypes(), sizeof(BuildPush), plocSpec(ctx)),
+      merge_(ctx, shaders::Id::bvh_ploc_merge, plocTypes(), sizeof(BuildPush), plocSpec(ctx)) {}
+
+uint64_t PlocPass::scratchBytes(uint32_t triangleCount) {
+  return uint64_t(triangleCount) * (2 * 20 + 4 + 8 + 8) + 8 * bb::kWorkgroupSize;
+}
+
+// Binds a PLOC pass: `in` as this iteration's clusters, `out` as the next.
+vk::Binder PlocPass::binder(const vk::ComputePipeline& pipeline, const Args& a, uint32_t in, uint32_t out,
+                            uint32_t parity, BuildPush& push) const {
+  vk::Binder b(pipeline);
+  push = bindArrays(b, access_, *a.arrays, a.triangleCount, parity);
+  b.set(bb::kPlocBindingClusters, *a.clusters[in])
+      .setTexel(bb::kPlocBindingClusterTexels, a.clusterTexels[in])
+      .set(bb::kPlocBindingNextClusters, *a.clusters[out])
+      .setTexel(bb::kPlocBindingClusterNodeTexels, a.clusterNodeTexels[in])
+      .set(bb::kPlocBindingNextClusterNodes, *a.clusterNodes[out])
+      .set(bb::kPlocBindingNearest, a.nearest)
+      .setTexel(bb::kPlocBindingNearestTexels, a.nearestTexels)
+      .set(bb::kPlocBindingPartials, a.partials)
+      .set(bb::kPlocBindingState, *a.state)
+      .set(bb::kPlocBindingSubtreeNodes, a.subtreeNodes)
+      .set(bb::kPlocBindingFirstLeaf, a.firstLeaf)
+      .setTexel(bb::kPlocBindingSubtreeNodeTexels, a.subtreeNodeTexels)
+      .setTexel(bb::kPlocBindingFirstLeafTexels, a.firstLeafTexels)
+      .set(bb::kPlocBindingInfo, a.info)
+      .set(bb::kPlocBindingValues, a.values)
+      .set(bb::kPlocBindingPairs, a.pairs);
+  bindTexels(b, bb::kPlocBindingTexels, *a.texels);
+  return b;
+}
+
+void PlocPass::record(VkCommandBuffer cmd, const Args& a, uint32_t iterations, vk::GpuTimer* timer) const {
+  if (a.triangleCount < 2 || groups(a.triangleCount) > bb::kMaxGroupsX)
+    throw DeviceError("bvh: PLOC builds 2 to " + std::to_string(uint64_t(bb::kMaxGroupsX) * bb::kWorkgroupSize) +
+                      " triangles, not " + std::to_string(a.triangleCount));
+  bb::PlocState initial{};
+  initial.count[0] = a.triangleCount;
+  initial.args[0] = {groups(a.triangleCount), 1, 1};
+  initial.args[1] = {0, 1, 1};
+  vkCmdUpdateBuffer(cmd, a.state->handle(), 0, sizeof(initial), &initial);
+  vk::transferBarrier(cmd);
+  {
+    vk::TimedScope scope(timer, cmd, "bvh_ploc_init");
+    BuildPush p{};
+    binder(init_, a, 1, 0, 0, p).bind(cmd, p);  // writes the first clusters, bound as the next
+    dispatchItems(init_, cmd, a.triangleCount);
+    vk::computeBarrier(cmd);
+  }
+  continueIterations(cmd, a, 0, iterations, timer);
+}
+
+void PlocPass::continueIterations(VkCommandBuffer cmd, const Args& a, uint32_t done, uint32_t iterations,
+                                  vk::GpuTimer* timer) const {
+  const bool perPass = getenv("OSR_PLOC_SCOPES") != nullptr;  // DEBUG
+  vk::TimedScope scope(perPass ? nullptr : timer, cmd, "bvh_ploc");
+  const uint64_t argsOffset = offsetof(bb::PlocState, args);
+  for (uint32_t k = done; k < done + iterations; ++k) {
+    const uint32_t parity = k & 1u;  // reads clusters[parity], compacts into the other
+    const uint64_t args = argsOffset + parity * sizeof(bb::DispatchArgs);
+    for (const vk::ComputePipeline* pipeline : {&nearest_, &count_, &plan_, &compact_, &merge_}) {
+      BuildPush p{};
+      vk::TimedScope inner(perPass ? timer : nullptr, cmd, pipeline == &nearest_ ? "ploc_nearest" : pipeline == &count_ ? "ploc_count" : pipeline == &plan_ ? "ploc_plan" : pipeline == &merge_ ? "ploc_merge" : "ploc_compact");
+      binder(*pipeline, a, parity, parity ^ 1u, parity, p).bind(cmd, p);
+      if (pipeline == &plan_)
+        plan_.dispatch(cmd, 1);
+      else if (pipeline == &merge_)
+        merge_.dispatchIndirect(cmd, *a.state, offsetof(bb::PlocState, pairArgs));
+      else
+        pipeline->dispatchIndirect(cmd, *a.state, args);
+      vk::computeBarrier(cmd);
+    }
+  }
 }
 
 namespace {

@@ -9,6 +9,7 @@
 
 #include "shaders/shared/bvh_build.h"
 #include "shaders/shared/scene.h"
+#include "vk/binder.h"
 #include "vk/buffer.h"
 #include "vk/pipeline.h"
 #include "vk/timer.h"
@@ -184,6 +185,54 @@ class TreeletPass {
  private:
   ArrayAccess access_;
   vk::ComputePipeline count_, plan_, scatter_, treelet_;
+};
+
+// PLOC (shared/bvh_build.h): bvh_ploc_init, then `iterations` rounds of bvh_ploc_nearest,
+// _count, _plan, _compact and _merge, which leave the tree in interior/leaves and the traversal-node
+// counts in subtreeNodes, as LbvhPass + RefitPass + TreeletPass + SubtreeCountPass would.
+// Iterations after the last merge dispatch no group; state.count[iterations % 2] == 1 says the
+// tree is complete (record more iterations, continueIterations, if not). Arrays: prims (in,
+// through texels), interior, leaves (out); reached through bindings only (scenes within
+// maxStorageBufferRange).
+class PlocPass {
+ public:
+  explicit PlocPass(const vk::Context& ctx);
+  // Its scratch: clusters (two arrays), nearest, partials, pairs.
+  static uint64_t scratchBytes(uint32_t triangleCount);
+  static constexpr VkBufferUsageFlags kClusterUsage = VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT;
+  static constexpr VkBufferUsageFlags kStateUsage =
+      VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
+  struct Args {
+    const BuildArrayBuffers* arrays = nullptr;
+    const BuildTexelViews* texels = nullptr;
+    vk::BufferRange values;                       // sorted triangle indices
+    const vk::Buffer* clusters[2] = {};           // boxes: 16 bytes per triangle, with kClusterUsage
+    VkBufferView clusterTexels[2] = {};           // RGBA32UI views of them
+    const vk::Buffer* clusterNodes[2] = {};       // uint per triangle, with kClusterUsage
+    VkBufferView clusterNodeTexels[2] = {};       // R32UI views of them
+    vk::BufferRange nearest;                      // uint per triangle (kClusterUsage)
+    vk::BufferRange partials;                     // 2 * (triangleCount + kWorkgroupSize) uints
+    vk::BufferRange pairs;                        // uvec4 per 2 triangles
+    VkBufferView nearestTexels = VK_NULL_HANDLE;  // R32UI view of nearest
+    const vk::Buffer* state = nullptr;            // PlocState, with kStateUsage
+    vk::BufferRange subtreeNodes;                 // out: uint per interior node
+    vk::BufferRange firstLeaf;                    // scratch: uint per interior node
+    VkBufferView subtreeNodeTexels = VK_NULL_HANDLE, firstLeafTexels = VK_NULL_HANDLE;  // R32UI views
+    vk::BufferRange info;                         // BvhBuildInfo: the centroid bounds
+    uint32_t triangleCount = 0;                   // >= 2, <= kWorkgroupSize * kMaxGroupsX
+  };
+  // bvh_ploc_init and the first `iterations` iterations; `timer` (may be null) gets scopes
+  // "bvh_ploc_init" and "bvh_ploc".
+  void record(VkCommandBuffer cmd, const Args& args, uint32_t iterations, vk::GpuTimer* timer = nullptr) const;
+  // `iterations` more, after `done` recorded so far.
+  void continueIterations(VkCommandBuffer cmd, const Args& args, uint32_t done, uint32_t iterations,
+                          vk::GpuTimer* timer = nullptr) const;
+
+ private:
+  vk::Binder binder(const vk::ComputePipeline& pipeline, const Args& a, uint32_t in, uint32_t out, uint32_t parity,
+                    gpu::bvh_build::BuildPush& push) const;
+  ArrayAccess access_;
+  vk::ComputePipeline init_, nearest_, count_, plan_, compact_, merge_;
 };
 
 // bvh_subtree_count: traversal nodes per subtree, for the depth-first order of bvh_emit_nodes.

@@ -2,6 +2,9 @@
 // passes). One command buffer, timed per pass; a readback of one node afterwards gives the SAH
 // cost and depth, and checks that every triangle was placed.
 #include <algorithm>
+#include <cstdio>
+#include <map>
+#include <cstdlib>
 #include <cstring>
 #include <memory>
 #include <string>
@@ -25,6 +28,10 @@ uint32_t ordered(float f) {
 
 }  // namespace
 
+namespace {
+vk::Buffer scratch(const vk::Context& ctx, uint64_t bytes, const char* name, VkBufferUsageFlags extraUsage = 0);
+}  // namespace
+
 struct GpuBuilder::Passes {
   BoundsPass bounds;
   MortonPass morton;
@@ -34,14 +41,37 @@ struct GpuBuilder::Passes {
   TreeletPass treelet;
   SubtreeCountPass subtreeCount;
   EmitPass emit;
+  std::unique_ptr<PlocPass> ploc;  // bindings only (plocFor); made on the first PLOC build
   Passes(const vk::Context& ctx, uint32_t treeletLeaves, bool byAddress)
       : bounds(ctx, byAddress), morton(ctx, byAddress), sort(ctx), lbvh(ctx, byAddress), refit(ctx, byAddress),
         treelet(ctx, treeletLeaves, byAddress), subtreeCount(ctx, byAddress), emit(ctx, byAddress) {}
 };
 
+// PLOC's scratch (PlocPass::Args) for up to `capacity` triangles, kept like Scratch.
+struct GpuBuilder::PlocScratch {
+  uint32_t capacity;
+  vk::Buffer clusters[2], clusterNodes[2], nearest, partials, pairs, state;
+  vk::BufferView clusterTexels[2], clusterNodeTexels[2], nearestTexels;
+  uint64_t bytes = 0;
+  PlocScratch(const vk::Context& ctx, uint32_t n) : capacity(n) {
+    for (int k = 0; k < 2; ++k) {
+      clusters[k] = scratch(ctx, 16ull * n, "bvh ploc clusters", PlocPass::kClusterUsage);
+      clusterTexels[k] = vk::BufferView::uintTexels(ctx, clusters[k], "bvh ploc cluster texels");
+      clusterNodes[k] = scratch(ctx, 4ull * n, "bvh ploc cluster nodes", PlocPass::kClusterUsage);
+      clusterNodeTexels[k] = vk::BufferView::uintWords(ctx, clusterNodes[k], "bvh ploc cluster node texels");
+    }
+    nearest = scratch(ctx, 4ull * n, "bvh ploc nearest", PlocPass::kClusterUsage);
+    nearestTexels = vk::BufferView::uintWords(ctx, nearest, "bvh ploc nearest texels");
+    partials = scratch(ctx, 8ull * (n + bb::kWorkgroupSize), "bvh ploc partials");
+    pairs = scratch(ctx, 16ull * (n / 2 + 1), "bvh ploc pairs");
+    state = scratch(ctx, sizeof(bb::PlocState), "bvh ploc state", PlocPass::kStateUsage);
+    for (const vk::Buffer* b : {&clusters[0], &clusters[1], &clusterNodes[0], &clusterNodes[1], &nearest, &partials, &pairs, &state}) bytes += b->size();
+  }
+};
+
 namespace {
 
-vk::Buffer scratch(const vk::Context& ctx, uint64_t bytes, const char* name, VkBufferUsageFlags extraUsage = 0) {
+vk::Buffer scratch(const vk::Context& ctx, uint64_t bytes, const char* name, VkBufferUsageFlags extraUsage) {
   return vk::Buffer(ctx, std::max<uint64_t>(bytes, 16), vk::MemoryUse::DeviceLocal, name, extraUsage);
 }
 
@@ -171,13 +201,44 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
   if (byAddress && !addressPasses_) addressPasses_ = std::make_unique<Passes>(ctx, options.treeletLeaves, true);
   Passes& passes = byAddress ? *addressPasses_ : *passes_;
 
-  vk::GpuTimer timer(ctx, 256);
+  vk::GpuTimer timer(ctx, 1024);
   bb::BvhBuildInfo initial{};
   const float kBig = 3.0e38f;
   initial.centroidMin = glm::uvec4(ordered(kBig), ordered(kBig), ordered(kBig), 0);
   initial.centroidMax = glm::uvec4(ordered(-kBig), ordered(-kBig), ordered(-kBig), 0);
 
-  auto record = [&](VkCommandBuffer cmd, uint32_t treeletRounds) {
+  bool usePloc = plocFor(options, n, !byAddress);
+  auto plocArgs = [&]() {
+    if (!passes.ploc) passes.ploc = std::make_unique<PlocPass>(ctx);
+    if (!plocScratch_ || plocScratch_->capacity < n) {
+      plocScratch_.reset();
+      plocScratch_ = std::make_unique<PlocScratch>(ctx, n);
+    }
+    const PlocScratch& ps = *plocScratch_;
+    PlocPass::Args a;
+    a.arrays = &arrays;
+    a.texels = &texels;
+    a.values = vk::BufferRange(values, 0, 4ull * n);
+    for (int k = 0; k < 2; ++k) {
+      a.clusters[k] = &ps.clusters[k];
+      a.clusterTexels[k] = ps.clusterTexels[k].handle();
+      a.clusterNodes[k] = &ps.clusterNodes[k];
+      a.clusterNodeTexels[k] = ps.clusterNodeTexels[k].handle();
+    }
+    a.nearest = vk::BufferRange(ps.nearest, 0, 4ull * n);
+    a.partials = ps.partials;
+    a.pairs = ps.pairs;
+    a.nearestTexels = ps.nearestTexels.handle();
+    a.state = &ps.state;
+    a.triangleCount = n;
+    return a;
+  };
+
+  // The sort's key arrays and temporary value array (uint per triangle) are free once the
+  // hierarchy is made: they hold the subtree node counts, positions and leaf bases of the
+  // depth-first order.
+  const vk::BufferRange subtreeNodes(keysTmp, 0, 4ull * interiorCount), positions(valuesTmp, 0, 4ull * interiorCount);
+  auto record = [&](VkCommandBuffer cmd, uint32_t treeletRounds, uint32_t plocIterations) {
     timer.reset(cmd);
     vkCmdUpdateBuffer(cmd, info.handle(), 0, sizeof(initial), &initial);
     vk::transferBarrier(cmd);
@@ -193,26 +254,34 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
                        {keys, values, keysTmp, valuesTmp, hist, partials, n, sc.keyTexels.handle(),
                         sc.valueTexels.handle(), sc.keyTmpTexels.handle(), sc.valueTmpTexels.handle()},
                        &timer);
-    {
-      vk::TimedScope scope(&timer, cmd, "bvh_lbvh");
-      passes.lbvh.record(cmd, {&arrays, &texels, keys, values, sc.keyTexels.handle(), n});
+    if (usePloc) {
+      PlocPass::Args a = plocArgs();
+      a.subtreeNodes = subtreeNodes;
+      a.firstLeaf = positions;  // free until the emit
+      a.subtreeNodeTexels = sc.keyTmpTexels.handle();
+      a.firstLeafTexels = sc.valueTmpTexels.handle();
+      a.info = info;
+      passes.ploc->record(cmd, a, plocIterations, &timer);
+    } else {
+      {
+        vk::TimedScope scope(&timer, cmd, "bvh_lbvh");
+        passes.lbvh.record(cmd, {&arrays, &texels, keys, values, sc.keyTexels.handle(), n});
+      }
+      if (n > 1) {
+        vk::TimedScope scope(&timer, cmd, "bvh_refit");
+        passes.refit.record(cmd, {&arrays, &texels, &counters, n});
+      }
+      for (uint32_t round = 0; round < treeletRounds && n > 2; ++round) {
+        // Karras & Aila grow the smallest restructured subtree each round: the bottom levels
+        // improve most in the first round, later rounds polish the upper tree at less cost.
+        passes.treelet.record(cmd, {&arrays, &texels, counters, &schedule, nodeList, n, options.treeletMinTriangles << round}, &timer);
+      }
+      if (n > 1) {
+        vk::TimedScope scope(&timer, cmd, "bvh_subtree_count");
+        passes.subtreeCount.record(cmd, {&arrays, &texels, counters, subtreeNodes, n});
+      }
     }
-    if (n > 1) {
-      vk::TimedScope scope(&timer, cmd, "bvh_refit");
-      passes.refit.record(cmd, {&arrays, &texels, &counters, n});
-    }
-    for (uint32_t round = 0; round < treeletRounds && n > 2; ++round) {
-      // Karras & Aila grow the smallest restructured subtree each round: the bottom levels
-      // improve most in the first round, later rounds polish the upper tree at less cost.
-      passes.treelet.record(cmd, {&arrays, &texels, counters, &schedule, nodeList, n, options.treeletMinTriangles << round}, &timer);
-    }
-    // The sort's key arrays and temporary value array (uint per triangle) are free by now: they
-    // hold the subtree node counts, positions and leaf bases of the depth-first order.
-    const vk::BufferRange subtreeNodes(keysTmp, 0, 4ull * interiorCount), positions(valuesTmp, 0, 4ull * interiorCount);
-    if (n > 1) {
-      vk::TimedScope scope(&timer, cmd, "bvh_subtree_count");
-      passes.subtreeCount.record(cmd, {&arrays, &texels, counters, subtreeNodes, n});
-    }
+    if (getenv("OSR_PLOC_ITERS")) return;
     EmitPass::Args emit{&arrays, &texels, info, counters, sc.slotTexels.handle()};
     emit.subtreeNodes = subtreeNodes;
     emit.positions = positions;
@@ -226,26 +295,70 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
   };
 
   uint32_t rounds = treeletRoundsFor(options, n);
+  // PLOC iterations recorded: those past the last merge dispatch nothing. The 1.05M-triangle
+  // bench mesh needs 88; a tree left unfinished is rebuilt with twice as many.
+  uint32_t plocIterations = getenv("OSR_PLOC_ITERS") ? atoi(getenv("OSR_PLOC_ITERS")) : getenv("OSR_PLOC_REC") ? atoi(getenv("OSR_PLOC_REC")) : 128;
   bb::BvhBuildNode root{};
   bb::BvhBuildInfo done{};
+  bb::PlocState plocState{};
   for (;;) {
-    ctx.submitAndWait([&](VkCommandBuffer cmd) { record(cmd, rounds); });
+    ctx.submitAndWait([&](VkCommandBuffer cmd) { record(cmd, rounds, plocIterations); });
+    if (usePloc) {
+      plocState = plocScratch_->state.downloadVector<bb::PlocState>(1)[0];
+      if (plocState.count[plocIterations % 2] != 1 && !getenv("OSR_PLOC_ITERS")) {
+        if (plocIterations >= 4 * n) throw DeviceError("bvh: PLOC left " + std::to_string(plocState.count[plocIterations % 2]) + " clusters");
+        plocIterations *= 2;
+        continue;
+      }
+    }
+    if (getenv("OSR_PLOC_DEBUG")) {
+      auto in = interior.downloadVector<bb::BvhBuildNode>(interiorCount);
+      auto lv = leaves.downloadVector<bb::BvhBuildNode>(n);
+      auto at = [&](uint32_t u) -> bb::BvhBuildNode& { return u < interiorCount ? in[u] : lv[u - interiorCount]; };
+      int bad = 0;
+      for (uint32_t u = 0; u < interiorCount; ++u) {
+        auto& x = in[u];
+        if (at(x.left).parent != u || at(x.right).parent != u || at(x.left).triangleCount + at(x.right).triangleCount != x.triangleCount) {
+          if (bad++ < 5) fprintf(stderr, "node %u: left %u (parent %u) right %u (parent %u) count %u\n", u, x.left, at(x.left).parent, x.right, at(x.right).parent, x.triangleCount);
+        }
+      }
+      {
+        auto& ps = *plocScratch_;
+        uint32_t m = plocState.count[plocIterations % 2];
+        auto cl = ps.clusters[plocIterations % 2].downloadVector<bb::BvhBuildNode>(m);
+        uint64_t sum = 0;
+        for (auto& c : cl) sum += c.triangleCount;
+        auto pt = ps.partials.downloadVector<uint32_t>(n / 8 + 8);
+        for (uint32_t g : {0u, 1u, 2u, 60000u, 65534u, 65535u, 65536u, 65537u, 70000u, 75271u, 75272u}) fprintf(stderr, "partial %u = %u\n", g, pt[g]);
+        fprintf(stderr, "after %u: %u clusters holding %llu triangles\n", plocIterations, m, (unsigned long long)sum);
+        if (getenv("OSR_PLOC_ITERS")) {
+          std::map<std::string, double> t;
+          for (const auto& q : timer.results()) t[q.name] += q.ms;
+          for (auto& [k, v] : t) fprintf(stderr, "%s %.1f  ", k.c_str(), v);
+          fprintf(stderr, "\n");
+          throw DeviceError("debug stop");
+        }
+      }
+      fprintf(stderr, "root count %u of %u, bad %d, height %u state count %u %u iterations %u\n", in[0].triangleCount, n, bad, (in[0].flags >> bb::kTraversalHeightShift) & bb::kHeightMask, plocState.count[0], plocState.count[1], plocState.iterations);
+    }
     root = n > 1 ? interior.downloadVector<bb::BvhBuildNode>(1)[0] : leaves.downloadVector<bb::BvhBuildNode>(1)[0];
     done = info.downloadVector<bb::BvhBuildInfo>(1)[0];
     uint32_t height = n > 1 ? (root.flags >> bb::kTraversalHeightShift) & bb::kHeightMask : 1;
     // The LBVH alone has at most 30 + ceil(log2 N) + 1 <= 58 levels (N <= 2^27, the leaf
-    // index field); restructuring can deepen it, so a tree past the traversal bound is rebuilt
-    // without that step.
-    if (height <= gpu::bvh::kBvhMaxDepth || rounds == 0) {
+    // index field); restructuring or PLOC can deepen it, so a tree past the traversal bound is
+    // rebuilt as a plain LBVH.
+    if (height <= gpu::bvh::kBvhMaxDepth || (rounds == 0 && !usePloc)) {
       if (height > gpu::bvh::kBvhMaxDepth)
         throw DeviceError("bvh: tree depth " + std::to_string(height) + " exceeds kBvhMaxDepth");
       if (stats) {
         stats->depth = height;
-        stats->treeletRounds = rounds;
+        stats->treeletRounds = usePloc ? 0 : rounds;
+        stats->plocIterations = usePloc ? plocState.iterations : 0;
       }
       break;
     }
     rounds = 0;
+    usePloc = false;
   }
   if (done.leafCounter != n)
     throw DeviceError("bvh: GPU build placed " + std::to_string(done.leafCounter) + " of " +
@@ -268,7 +381,7 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
     // One triangle: the root node over a single leaf (root.cost is that leaf's).
     double cost = n > 1 ? root.cost : gpu::bvh::kSahNodeCost * area + root.cost;
     stats->sahCost = area > 0 ? cost / area : 0.0;
-    stats->scratchBytes = scratchBytes;
+    stats->scratchBytes = scratchBytes + (usePloc ? plocScratch_->bytes : 0);
   }
   return bvh;
 }

@@ -2,6 +2,8 @@
 #pragma once
 #include <cstdint>
 #include <memory>
+#include <cstdlib>
+#include <string>
 
 #include "bvh/bvh.h"
 #include "shaders/shared/bvh_build.h"
@@ -16,7 +18,13 @@ namespace osr::bvh {
 // 1.0% for 16% and 13% more build time, with no measurable traversal gain.
 inline constexpr uint32_t kTreeletRoundsAuto = ~0u;
 
+// How the hierarchy is made from the sorted triangles. Lbvh: Karras 2012, then treelet
+// restructuring (the options below). Ploc: PLOC (shared/bvh_build.h), which needs no
+// restructuring; for scenes whose arrays fit one storage binding. Auto: plocFor's choice.
+enum class Hierarchy { Auto, Lbvh, Ploc };
+
 struct GpuBuildOptions {
+  Hierarchy hierarchy = Hierarchy::Auto;
   // 0: plain LBVH; kTreeletRoundsAuto: treeletRoundsFor's choice. One round keeps most of the
   // quality on large meshes: on the 1.05M-triangle bench mesh SAH/CPU-SAH is 1.047 with one
   // round vs 1.033 with three (7-leaf treelets), for less than half of the build time on
@@ -37,6 +45,16 @@ struct GpuBuildOptions {
 inline uint32_t treeletRoundsFor(const GpuBuildOptions& options, uint32_t triangleCount) {
   if (options.treeletRounds != kTreeletRoundsAuto) return options.treeletRounds;
   return quantizedTraversal(triangleCount) ? 1u : 2u;
+}
+
+// Whether a build of `triangleCount` triangles with `options` makes its hierarchy by PLOC (when
+// `fitsOneBinding`: no build array past maxStorageBufferRange). Auto: for scenes traversed with
+// quantized nodes (see docs/bvh.md, "Sixth session", for the measurement behind it).
+inline bool plocFor(const GpuBuildOptions& options, uint32_t triangleCount, bool fitsOneBinding) {
+  if (triangleCount < 2 || !fitsOneBinding) return false;
+  if (options.hierarchy != Hierarchy::Auto) return options.hierarchy == Hierarchy::Ploc;
+  if (const char* e = getenv("OSR_HIER")) return std::string(e) == "ploc";
+  return quantizedTraversal(triangleCount);
 }
 
 // Which node arrays a build writes. Traversed: only the one traversal reads
@@ -72,6 +90,8 @@ class GpuBuilder {
   std::unique_ptr<Passes> passes_;                 // arrays in storage bindings
   mutable std::unique_ptr<Passes> addressPasses_;  // arrays by device address (scenes past one binding)
   mutable std::unique_ptr<Scratch> scratch_;
+  struct PlocScratch;
+  mutable std::unique_ptr<PlocScratch> plocScratch_;  // made on the first PLOC build
 };
 
 }  // namespace osr::bvh

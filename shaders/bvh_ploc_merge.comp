@@ -1,0 +1,54 @@
+#version 460
+// bvh_ploc_merge: one invocation per mutual pair of this iteration (bvh_ploc_compact's list):
+// their parent, an interior node with everything bvh_refit and bvh_subtree_count would give it
+// (refitNode from the children's build nodes), both children's parent, and the parent's
+// traversal nodes and first leaf. The root (this iteration had two clusters) takes index 0 and
+// first moves the node there to the root's own index. Inputs: pairs, build nodes, subtreeNodes,
+// firstLeaf (texels; nodes of earlier iterations). Outputs: interior nodes, parents,
+// subtreeNodes, firstLeaf.
+#extension GL_GOOGLE_include_directive : require
+#include "lib/bvh_build_arrays.glsl"
+
+layout(local_size_x = kWorkgroupSize) in;
+#include "lib/bvh_ploc.glsl"
+#define OSR_BUILD_TEXEL_BINDING kPlocBindingTexels
+#include "lib/bvh_build_texels.glsl"
+
+// Points whatever referred to interior node 0 at `to` instead: its children's parent, its
+// parent's child (unless its parent is still to be made: the root), subtreeNodes; and moves it.
+void moveNodeZero(uint to) {
+  BvhBuildNode w = loadInterior(0u);
+  storeInterior(to, w);
+  gSubtreeNodes[to] = gSubtreeNodes[0];
+  setParent(w.left, to);
+  setParent(w.right, to);
+  if (w.parent != kInvalidNode) {
+    BvhBuildNode q = loadInterior(w.parent);
+    setChildren(w.parent, q.left == 0u ? to : q.left, q.right == 0u ? to : q.right);
+  }
+}
+
+void main() {
+  uint k = bvhBuildItem();
+  if (k >= gState.pairs) return;
+  uvec4 pair = gPairs[k];
+  uint left = pair.x, right = pair.y, p = pair.z;
+  bool isRoot = plocClusterCount() == 2u;
+  if (isRoot && p != 0u) {
+    moveNodeZero(p);
+    left = left == 0u ? p : left;
+    right = right == 0u ? p : right;
+    p = 0u;
+  }
+  BvhBuildNode node;
+  node.left = left;
+  node.right = right;
+  node.parent = kInvalidNode;  // until its own parent is made
+  node = refitNode(node, readNode(pair.x), readNode(pair.y), isRoot);
+  storeInterior(p, node);
+  setParent(left, p);
+  setParent(right, p);
+  bool collapsed = (node.flags & kFlagCollapsed) != 0u;
+  gSubtreeNodes[p] = collapsed ? 0u : 1u + plocSubtreeNodes(pair.x) + plocSubtreeNodes(pair.y);
+  gFirstLeaf[p] = pair.w;
+}

@@ -1,0 +1,47 @@
+#version 460
+// bvh_ploc_nearest: for each cluster, the cluster within kPlocRadius places whose union with it
+// has the least surface area (in the clusters' quantized frame). Pairs are ordered by that area,
+// then by a hash of the pair, then by the lower index: one strict order of pairs that both
+// clusters of a pair see, so the least pair is always mutual and every iteration merges. The
+// hash matters: quantized areas tie often (congruent triangles of a tessellation), and ties
+// broken by index alone merge one pair per run of equals per iteration (the 1M-triangle bench
+// mesh then took 122 iterations, and its tree exceeded kBvhMaxDepth). A fixed trip count, lanes
+// past the ends masked: every lane runs the same steps. Input: clusters (texels). Output:
+// nearest.
+#extension GL_GOOGLE_include_directive : require
+#include "lib/bvh_build_arrays.glsl"
+
+layout(local_size_x = kWorkgroupSize) in;
+#include "lib/bvh_ploc.glsl"
+
+// A hash of the unordered pair {i, j} (a 32-bit integer mix).
+uint pairHash(uint i, uint j) {
+  uint h = min(i, j) * 0x9e3779b1u ^ max(i, j) * 0x85ebca77u;
+  h ^= h >> 15u;
+  h *= 0x2c1b3c6du;
+  h ^= h >> 12u;
+  return h;
+}
+
+void main() {
+  uint count = plocClusterCount();
+  uint i = bvhBuildItem();
+  if (i >= count) return;
+  PlocCluster self = plocClusterBox(i);
+  float best = uintBitsToFloat(0x7f800000u);  // +inf: any neighbour beats it
+  uint bestHash = 0u;
+  uint nearest = i;
+  for (uint k = 0u; k <= 2u * kPlocRadius; ++k) {
+    uint j = i + k - kPlocRadius;  // wraps below 0: then past count
+    bool valid = j < count && j != i;
+    float a = plocUnionArea(self, plocClusterBox(valid ? j : i));
+    // Ties: the nearer in Morton order, then the hash.
+    uint h = (min(k, 2u * kPlocRadius - k) << 24u) | (pairHash(i, j) >> 8u);
+    if (valid && (a < best || (a == best && h < bestHash))) {
+      best = a;
+      bestHash = h;
+      nearest = j;
+    }
+  }
+  gNearest[i] = nearest;
+}
