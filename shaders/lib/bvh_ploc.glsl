@@ -8,8 +8,6 @@
 
 layout(binding = kPlocBindingClusterTexels) uniform usamplerBuffer gClusterTexels;
 layout(std430, binding = kPlocBindingNextClusters) writeonly buffer NextClusters { uvec4 gNextClusters[]; };
-layout(binding = kPlocBindingClusterNodeTexels) uniform usamplerBuffer gClusterNodeTexels;
-layout(std430, binding = kPlocBindingNextClusterNodes) writeonly buffer NextClusterNodes { uint gNextClusterNodes[]; };
 layout(std430, binding = kPlocBindingNearest) buffer Nearest { uint gNearest[]; };
 layout(binding = kPlocBindingNearestTexels) uniform usamplerBuffer gNearestTexels;
 layout(std430, binding = kPlocBindingPartials) buffer Partials { uint gPartials[]; };
@@ -27,39 +25,22 @@ uint plocPairPartials() { return gPush.triangleCount + kWorkgroupSize; }
 // Clusters at the start of this iteration (push param: its parity).
 uint plocClusterCount() { return gState.count[gPush.param]; }
 
-// A cluster: its box, quantized to 21 bits per plane in the frame of state.frame (lo rounded
-// down, hi up; packed in one texel of the cluster array), and its build node (the node array).
+// A cluster: its box and its build node, in two texels: (lo, node), (hi, unused).
 struct PlocCluster {
-  uvec3 lo;
-  uvec3 hi;
+  vec3 lo;
+  vec3 hi;
   uint node;
 };
 
-PlocCluster plocQuantize(vec3 lo, vec3 hi, vec4 frame, uint node) {
-  const float kTop = float(kPlocQuantizeMax);
-  uvec3 l = uvec3(clamp(floor((lo - frame.xyz) * frame.w), 0.0, kTop));  // NaN: 0
-  uvec3 h = uvec3(clamp(ceil((hi - frame.xyz) * frame.w), 0.0, kTop));
-  return PlocCluster(l, h, node);
-}
-
-// Cluster i's box (through the texel view: a gather on lavapipe; the neighbours a lane reads
-// lie next to each other in memory): 6 x 21 bits, lo.xyz then hi.xyz, from the low bits up.
-PlocCluster plocClusterBox(uint i) {
-  uvec4 w = texelFetch(gClusterTexels, int(i));
-  const uint m = kPlocQuantizeMax;
-  uvec3 lo = uvec3(w.x & m, (w.x >> 21u) | ((w.y & 0x3ffu) << 11u), (w.y >> 10u) & m);
-  uvec3 hi = uvec3((w.y >> 31u) | ((w.z & 0xfffffu) << 1u), (w.z >> 20u) | ((w.w & 0x1ffu) << 12u), (w.w >> 9u) & m);
-  return PlocCluster(lo, hi, 0u);
-}
+// Cluster i (through the texel view: a gather on lavapipe; the neighbours a lane reads lie next
+// to each other in memory).
 PlocCluster plocCluster(uint i) {
-  PlocCluster c = plocClusterBox(i);
-  c.node = texelFetch(gClusterNodeTexels, int(i)).x;
-  return c;
+  uvec4 a = texelFetch(gClusterTexels, int(2u * i)), b = texelFetch(gClusterTexels, int(2u * i + 1u));
+  return PlocCluster(uintBitsToFloat(a.xyz), uintBitsToFloat(b.xyz), a.w);
 }
 void plocStoreCluster(uint i, PlocCluster c) {
-  gNextClusters[i] = uvec4(c.lo.x | (c.lo.y << 21u), (c.lo.y >> 11u) | (c.lo.z << 10u) | (c.hi.x << 31u),
-                           (c.hi.x >> 1u) | (c.hi.y << 20u), (c.hi.y >> 12u) | (c.hi.z << 9u));
-  gNextClusterNodes[i] = c.node;
+  gNextClusters[2u * i] = uvec4(floatBitsToUint(c.lo), c.node);
+  gNextClusters[2u * i + 1u] = uvec4(floatBitsToUint(c.hi), 0u);
 }
 
 // The cluster of the union of two clusters' boxes, holding `node`.
@@ -67,10 +48,12 @@ PlocCluster plocUnion(PlocCluster a, PlocCluster b, uint node) {
   return PlocCluster(min(a.lo, b.lo), max(a.hi, b.hi), node);
 }
 
-// Half the surface area of the union of two clusters' boxes, in frame units.
+// Half the surface area of the union of two clusters' boxes; past 3e38 (NaN, infinite
+// coordinates) 3e38.
 float plocUnionArea(PlocCluster a, PlocCluster b) {
-  vec3 d = vec3(max(a.hi, b.hi) - min(a.lo, b.lo));
-  return d.x * d.y + d.y * d.z + d.z * d.x;
+  vec3 d = max(a.hi, b.hi) - min(a.lo, b.lo);
+  float area = d.x * d.y + d.y * d.z + d.z * d.x;
+  return area < 3.0e38 ? area : 3.0e38;
 }
 
 // Cluster i's nearest neighbour (bvh_ploc_nearest's, read by later dispatches: a gather).

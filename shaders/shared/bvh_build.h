@@ -243,21 +243,18 @@ OSR_CONST(uint, kSubtreeCountBindingCount, kSubtreeCountBindingTexels + kBuildTe
 //                     merge in an iteration): the interior node and its children's parent
 // Iterations alternate two cluster arrays and two halves of PlocState (param = parity); an
 // iteration whose count is 1 dispatches no group, so the host records a fixed number of them.
-// A cluster is its box quantized to 21 bits per plane (lo rounded down, hi up; 126 bits in one
-// 16-byte texel) in a frame around the scene's centroid bounds with one scale for all axes, so
-// that areas compare as in world space, and its build node, in a second array. The
-// nearest-neighbour search reads one texel per neighbour and compaction moves five words; a
-// merge reads its children's exact fields from the build nodes. 16 bits per plane made the
-// bench mesh's tree trace 7-15% slower (ties and coarse distances); 21 measured as fast as
-// float boxes. Per interior node, beside subtreeNodes: firstLeaf, the lowest sorted index of
-// its leaves.
+// A cluster is its box and its build node (two texels). The nearest-neighbour search reads
+// clusters in Morton order, a neighbour's two texels each; compaction moves them; a merge reads
+// its children's other fields from the build nodes. Boxes quantized to 16 or 21 bits per plane
+// (one texel with the node elsewhere) built 10 ms faster on the 1M-triangle bench mesh, but its
+// tree traced coherent rays 5-10% slower. Per interior node, beside subtreeNodes: firstLeaf, the
+// lowest sorted index of its leaves.
 // Interior indices as Karras's LBVH numbers them, so that a node lies near its leaves: a node
 // takes the first leaf of whichever child has the later one, minus 1. Every leaf but leaf 0 is
 // that for exactly one node (follow the subtrees whose first leaf it is up to the largest: that
 // subtree's parent), so the indices are 0 to N-2, each once, and depend only on the tree. The
 // root then swaps places with the node at 0, where the emit passes and the host expect it.
 OSR_CONST(uint, kPlocRadius, 4u);
-OSR_CONST(uint, kPlocQuantizeMax, 0x1fffffu);  // 21 bits
 OSR_CONST(uint, kPlocBindingClusters, kBuildArrayBindingCount);             // this iteration's (read
                                                                             // through the view)
 OSR_CONST(uint, kPlocBindingClusterTexels, kBuildArrayBindingCount + 1u);   // RGBA32UI view of them
@@ -271,11 +268,8 @@ OSR_CONST(uint, kPlocBindingNearestTexels, kBuildArrayBindingCount + 8u);   // R
 OSR_CONST(uint, kPlocBindingFirstLeaf, kBuildArrayBindingCount + 9u);       // uint per interior node
 OSR_CONST(uint, kPlocBindingSubtreeNodeTexels, kBuildArrayBindingCount + 10u);  // R32UI views of
 OSR_CONST(uint, kPlocBindingFirstLeafTexels, kBuildArrayBindingCount + 11u);    // those two
-OSR_CONST(uint, kPlocBindingInfo, kBuildArrayBindingCount + 12u);           // centroid bounds
-OSR_CONST(uint, kPlocBindingPairs, kBuildArrayBindingCount + 13u);          // uvec4 per pair
-OSR_CONST(uint, kPlocBindingClusterNodeTexels, kBuildArrayBindingCount + 14u);  // R32UI: this
-OSR_CONST(uint, kPlocBindingNextClusterNodes, kBuildArrayBindingCount + 15u);   // iteration's, next
-OSR_CONST(uint, kPlocBindingTexels, kBuildArrayBindingCount + 16u);         // build texels
+OSR_CONST(uint, kPlocBindingPairs, kBuildArrayBindingCount + 12u);          // uvec4 per pair
+OSR_CONST(uint, kPlocBindingTexels, kBuildArrayBindingCount + 13u);         // build texels
 OSR_CONST(uint, kPlocBindingCount, kPlocBindingTexels + kBuildTexelBindingCount);
 // Partials (uint each): per subgroup of an iteration's dispatch, its surviving clusters from 0,
 // its pairs from triangleCount + kWorkgroupSize (a dispatch has at most that many subgroups).
@@ -288,7 +282,6 @@ struct PlocState {
   uint _pad0;
   uint _pad1;
   uint _pad2;
-  vec4 frame;        // cluster quantization: q = (p - frame.xyz) * frame.w (bvh_ploc_init)
 };
 
 // bvh_emit_nodes: arrays interior, leaves (texels), nodes, traversalNodes (out); info, slots,

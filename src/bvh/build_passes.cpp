@@ -1,7 +1,6 @@
 #include "bvh/build_passes.h"
 
 #include <algorithm>
-#include <cstdlib>
 #include <array>
 #include <cstddef>
 #include <optional>
@@ -372,8 +371,7 @@ void SubtreeCountPass::record(VkCommandBuffer cmd, const Args& a) const {
 namespace {
 std::vector<VkDescriptorType> plocTypes() {
   std::vector<VkDescriptorType> t = wordTexelTypes(bb::kPlocBindingCount, bb::kPlocBindingTexels, bb::kPlocBindingClusterTexels);
-  for (uint32_t slot : {bb::kPlocBindingNearestTexels, bb::kPlocBindingSubtreeNodeTexels, bb::kPlocBindingFirstLeafTexels,
-                        bb::kPlocBindingClusterNodeTexels})
+  for (uint32_t slot : {bb::kPlocBindingNearestTexels, bb::kPlocBindingSubtreeNodeTexels, bb::kPlocBindingFirstLeafTexels})
     t[slot] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
   return t;
 }
@@ -390,7 +388,7 @@ PlocPass::PlocPass(const vk::Context& ctx)
       merge_(ctx, shaders::Id::bvh_ploc_merge, plocTypes(), sizeof(BuildPush), plocSpec(ctx)) {}
 
 uint64_t PlocPass::scratchBytes(uint32_t triangleCount) {
-  return uint64_t(triangleCount) * (2 * 20 + 4 + 8 + 8) + 8 * bb::kWorkgroupSize;
+  return uint64_t(triangleCount) * (2 * 32 + 4 + 8 + 8) + 8 * bb::kWorkgroupSize;
 }
 
 // Binds a PLOC pass: `in` as this iteration's clusters, `out` as the next.
@@ -401,8 +399,6 @@ vk::Binder PlocPass::binder(const vk::ComputePipeline& pipeline, const Args& a, 
   b.set(bb::kPlocBindingClusters, *a.clusters[in])
       .setTexel(bb::kPlocBindingClusterTexels, a.clusterTexels[in])
       .set(bb::kPlocBindingNextClusters, *a.clusters[out])
-      .setTexel(bb::kPlocBindingClusterNodeTexels, a.clusterNodeTexels[in])
-      .set(bb::kPlocBindingNextClusterNodes, *a.clusterNodes[out])
       .set(bb::kPlocBindingNearest, a.nearest)
       .setTexel(bb::kPlocBindingNearestTexels, a.nearestTexels)
       .set(bb::kPlocBindingPartials, a.partials)
@@ -411,7 +407,6 @@ vk::Binder PlocPass::binder(const vk::ComputePipeline& pipeline, const Args& a, 
       .set(bb::kPlocBindingFirstLeaf, a.firstLeaf)
       .setTexel(bb::kPlocBindingSubtreeNodeTexels, a.subtreeNodeTexels)
       .setTexel(bb::kPlocBindingFirstLeafTexels, a.firstLeafTexels)
-      .set(bb::kPlocBindingInfo, a.info)
       .set(bb::kPlocBindingValues, a.values)
       .set(bb::kPlocBindingPairs, a.pairs);
   bindTexels(b, bb::kPlocBindingTexels, *a.texels);
@@ -440,15 +435,13 @@ void PlocPass::record(VkCommandBuffer cmd, const Args& a, uint32_t iterations, v
 
 void PlocPass::continueIterations(VkCommandBuffer cmd, const Args& a, uint32_t done, uint32_t iterations,
                                   vk::GpuTimer* timer) const {
-  const bool perPass = getenv("OSR_PLOC_SCOPES") != nullptr;  // DEBUG
-  vk::TimedScope scope(perPass ? nullptr : timer, cmd, "bvh_ploc");
+  vk::TimedScope scope(timer, cmd, "bvh_ploc");
   const uint64_t argsOffset = offsetof(bb::PlocState, args);
   for (uint32_t k = done; k < done + iterations; ++k) {
     const uint32_t parity = k & 1u;  // reads clusters[parity], compacts into the other
     const uint64_t args = argsOffset + parity * sizeof(bb::DispatchArgs);
     for (const vk::ComputePipeline* pipeline : {&nearest_, &count_, &plan_, &compact_, &merge_}) {
       BuildPush p{};
-      vk::TimedScope inner(perPass ? timer : nullptr, cmd, pipeline == &nearest_ ? "ploc_nearest" : pipeline == &count_ ? "ploc_count" : pipeline == &plan_ ? "ploc_plan" : pipeline == &merge_ ? "ploc_merge" : "ploc_compact");
       binder(*pipeline, a, parity, parity ^ 1u, parity, p).bind(cmd, p);
       if (pipeline == &plan_)
         plan_.dispatch(cmd, 1);

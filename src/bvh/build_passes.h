@@ -206,10 +206,8 @@ class PlocPass {
     const BuildArrayBuffers* arrays = nullptr;
     const BuildTexelViews* texels = nullptr;
     vk::BufferRange values;                       // sorted triangle indices
-    const vk::Buffer* clusters[2] = {};           // boxes: 16 bytes per triangle, with kClusterUsage
+    const vk::Buffer* clusters[2] = {};           // 32 bytes per triangle, with kClusterUsage
     VkBufferView clusterTexels[2] = {};           // RGBA32UI views of them
-    const vk::Buffer* clusterNodes[2] = {};       // uint per triangle, with kClusterUsage
-    VkBufferView clusterNodeTexels[2] = {};       // R32UI views of them
     vk::BufferRange nearest;                      // uint per triangle (kClusterUsage)
     vk::BufferRange partials;                     // 2 * (triangleCount + kWorkgroupSize) uints
     vk::BufferRange pairs;                        // uvec4 per 2 triangles
@@ -218,7 +216,6 @@ class PlocPass {
     vk::BufferRange subtreeNodes;                 // out: uint per interior node
     vk::BufferRange firstLeaf;                    // scratch: uint per interior node
     VkBufferView subtreeNodeTexels = VK_NULL_HANDLE, firstLeafTexels = VK_NULL_HANDLE;  // R32UI views
-    vk::BufferRange info;                         // BvhBuildInfo: the centroid bounds
     uint32_t triangleCount = 0;                   // >= 2, <= kWorkgroupSize * kMaxGroupsX
   };
   // bvh_ploc_init and the first `iterations` iterations; `timer` (may be null) gets scopes

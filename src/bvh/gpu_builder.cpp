@@ -2,9 +2,6 @@
 // passes). One command buffer, timed per pass; a readback of one node afterwards gives the SAH
 // cost and depth, and checks that every triangle was placed.
 #include <algorithm>
-#include <cstdio>
-#include <map>
-#include <cstdlib>
 #include <cstring>
 #include <memory>
 #include <string>
@@ -50,22 +47,20 @@ struct GpuBuilder::Passes {
 // PLOC's scratch (PlocPass::Args) for up to `capacity` triangles, kept like Scratch.
 struct GpuBuilder::PlocScratch {
   uint32_t capacity;
-  vk::Buffer clusters[2], clusterNodes[2], nearest, partials, pairs, state;
-  vk::BufferView clusterTexels[2], clusterNodeTexels[2], nearestTexels;
+  vk::Buffer clusters[2], nearest, partials, pairs, state;
+  vk::BufferView clusterTexels[2], nearestTexels;
   uint64_t bytes = 0;
   PlocScratch(const vk::Context& ctx, uint32_t n) : capacity(n) {
     for (int k = 0; k < 2; ++k) {
-      clusters[k] = scratch(ctx, 16ull * n, "bvh ploc clusters", PlocPass::kClusterUsage);
+      clusters[k] = scratch(ctx, 32ull * n, "bvh ploc clusters", PlocPass::kClusterUsage);
       clusterTexels[k] = vk::BufferView::uintTexels(ctx, clusters[k], "bvh ploc cluster texels");
-      clusterNodes[k] = scratch(ctx, 4ull * n, "bvh ploc cluster nodes", PlocPass::kClusterUsage);
-      clusterNodeTexels[k] = vk::BufferView::uintWords(ctx, clusterNodes[k], "bvh ploc cluster node texels");
     }
     nearest = scratch(ctx, 4ull * n, "bvh ploc nearest", PlocPass::kClusterUsage);
     nearestTexels = vk::BufferView::uintWords(ctx, nearest, "bvh ploc nearest texels");
     partials = scratch(ctx, 8ull * (n + bb::kWorkgroupSize), "bvh ploc partials");
     pairs = scratch(ctx, 16ull * (n / 2 + 1), "bvh ploc pairs");
     state = scratch(ctx, sizeof(bb::PlocState), "bvh ploc state", PlocPass::kStateUsage);
-    for (const vk::Buffer* b : {&clusters[0], &clusters[1], &clusterNodes[0], &clusterNodes[1], &nearest, &partials, &pairs, &state}) bytes += b->size();
+    for (const vk::Buffer* b : {&clusters[0], &clusters[1], &nearest, &partials, &pairs, &state}) bytes += b->size();
   }
 };
 
@@ -201,7 +196,7 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
   if (byAddress && !addressPasses_) addressPasses_ = std::make_unique<Passes>(ctx, options.treeletLeaves, true);
   Passes& passes = byAddress ? *addressPasses_ : *passes_;
 
-  vk::GpuTimer timer(ctx, 1024);
+  vk::GpuTimer timer(ctx, 256);
   bb::BvhBuildInfo initial{};
   const float kBig = 3.0e38f;
   initial.centroidMin = glm::uvec4(ordered(kBig), ordered(kBig), ordered(kBig), 0);
@@ -222,8 +217,6 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
     for (int k = 0; k < 2; ++k) {
       a.clusters[k] = &ps.clusters[k];
       a.clusterTexels[k] = ps.clusterTexels[k].handle();
-      a.clusterNodes[k] = &ps.clusterNodes[k];
-      a.clusterNodeTexels[k] = ps.clusterNodeTexels[k].handle();
     }
     a.nearest = vk::BufferRange(ps.nearest, 0, 4ull * n);
     a.partials = ps.partials;
@@ -260,8 +253,14 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
       a.firstLeaf = positions;  // free until the emit
       a.subtreeNodeTexels = sc.keyTmpTexels.handle();
       a.firstLeafTexels = sc.valueTmpTexels.handle();
-      a.info = info;
       passes.ploc->record(cmd, a, plocIterations, &timer);
+      if (options.plocTreeletMinTriangles != 0 && n > 2) {
+        // One treelet round over the upper tree, where PLOC's greedy merges are weakest; it
+        // changes topology, so the traversal-node counts are counted again.
+        passes.treelet.record(cmd, {&arrays, &texels, counters, &schedule, nodeList, n, options.plocTreeletMinTriangles}, &timer);
+        vk::TimedScope scope(&timer, cmd, "bvh_subtree_count");
+        passes.subtreeCount.record(cmd, {&arrays, &texels, counters, subtreeNodes, n});
+      }
     } else {
       {
         vk::TimedScope scope(&timer, cmd, "bvh_lbvh");
@@ -281,7 +280,6 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
         passes.subtreeCount.record(cmd, {&arrays, &texels, counters, subtreeNodes, n});
       }
     }
-    if (getenv("OSR_PLOC_ITERS")) return;
     EmitPass::Args emit{&arrays, &texels, info, counters, sc.slotTexels.handle()};
     emit.subtreeNodes = subtreeNodes;
     emit.positions = positions;
@@ -297,7 +295,7 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
   uint32_t rounds = treeletRoundsFor(options, n);
   // PLOC iterations recorded: those past the last merge dispatch nothing. The 1.05M-triangle
   // bench mesh needs 88; a tree left unfinished is rebuilt with twice as many.
-  uint32_t plocIterations = getenv("OSR_PLOC_ITERS") ? atoi(getenv("OSR_PLOC_ITERS")) : getenv("OSR_PLOC_REC") ? atoi(getenv("OSR_PLOC_REC")) : 128;
+  uint32_t plocIterations = 128;
   bb::BvhBuildNode root{};
   bb::BvhBuildInfo done{};
   bb::PlocState plocState{};
@@ -305,41 +303,11 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
     ctx.submitAndWait([&](VkCommandBuffer cmd) { record(cmd, rounds, plocIterations); });
     if (usePloc) {
       plocState = plocScratch_->state.downloadVector<bb::PlocState>(1)[0];
-      if (plocState.count[plocIterations % 2] != 1 && !getenv("OSR_PLOC_ITERS")) {
+      if (plocState.count[plocIterations % 2] != 1) {
         if (plocIterations >= 4 * n) throw DeviceError("bvh: PLOC left " + std::to_string(plocState.count[plocIterations % 2]) + " clusters");
         plocIterations *= 2;
         continue;
       }
-    }
-    if (getenv("OSR_PLOC_DEBUG")) {
-      auto in = interior.downloadVector<bb::BvhBuildNode>(interiorCount);
-      auto lv = leaves.downloadVector<bb::BvhBuildNode>(n);
-      auto at = [&](uint32_t u) -> bb::BvhBuildNode& { return u < interiorCount ? in[u] : lv[u - interiorCount]; };
-      int bad = 0;
-      for (uint32_t u = 0; u < interiorCount; ++u) {
-        auto& x = in[u];
-        if (at(x.left).parent != u || at(x.right).parent != u || at(x.left).triangleCount + at(x.right).triangleCount != x.triangleCount) {
-          if (bad++ < 5) fprintf(stderr, "node %u: left %u (parent %u) right %u (parent %u) count %u\n", u, x.left, at(x.left).parent, x.right, at(x.right).parent, x.triangleCount);
-        }
-      }
-      {
-        auto& ps = *plocScratch_;
-        uint32_t m = plocState.count[plocIterations % 2];
-        auto cl = ps.clusters[plocIterations % 2].downloadVector<bb::BvhBuildNode>(m);
-        uint64_t sum = 0;
-        for (auto& c : cl) sum += c.triangleCount;
-        auto pt = ps.partials.downloadVector<uint32_t>(n / 8 + 8);
-        for (uint32_t g : {0u, 1u, 2u, 60000u, 65534u, 65535u, 65536u, 65537u, 70000u, 75271u, 75272u}) fprintf(stderr, "partial %u = %u\n", g, pt[g]);
-        fprintf(stderr, "after %u: %u clusters holding %llu triangles\n", plocIterations, m, (unsigned long long)sum);
-        if (getenv("OSR_PLOC_ITERS")) {
-          std::map<std::string, double> t;
-          for (const auto& q : timer.results()) t[q.name] += q.ms;
-          for (auto& [k, v] : t) fprintf(stderr, "%s %.1f  ", k.c_str(), v);
-          fprintf(stderr, "\n");
-          throw DeviceError("debug stop");
-        }
-      }
-      fprintf(stderr, "root count %u of %u, bad %d, height %u state count %u %u iterations %u\n", in[0].triangleCount, n, bad, (in[0].flags >> bb::kTraversalHeightShift) & bb::kHeightMask, plocState.count[0], plocState.count[1], plocState.iterations);
     }
     root = n > 1 ? interior.downloadVector<bb::BvhBuildNode>(1)[0] : leaves.downloadVector<bb::BvhBuildNode>(1)[0];
     done = info.downloadVector<bb::BvhBuildInfo>(1)[0];
@@ -352,7 +320,7 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
         throw DeviceError("bvh: tree depth " + std::to_string(height) + " exceeds kBvhMaxDepth");
       if (stats) {
         stats->depth = height;
-        stats->treeletRounds = usePloc ? 0 : rounds;
+        stats->treeletRounds = usePloc ? (options.plocTreeletMinTriangles != 0 && n > 2 ? 1 : 0) : rounds;
         stats->plocIterations = usePloc ? plocState.iterations : 0;
       }
       break;

@@ -2,8 +2,6 @@
 #pragma once
 #include <cstdint>
 #include <memory>
-#include <cstdlib>
-#include <string>
 
 #include "bvh/bvh.h"
 #include "shaders/shared/bvh_build.h"
@@ -19,8 +17,9 @@ namespace osr::bvh {
 inline constexpr uint32_t kTreeletRoundsAuto = ~0u;
 
 // How the hierarchy is made from the sorted triangles. Lbvh: Karras 2012, then treelet
-// restructuring (the options below). Ploc: PLOC (shared/bvh_build.h), which needs no
-// restructuring; for scenes whose arrays fit one storage binding. Auto: plocFor's choice.
+// restructuring (the options below). Ploc: PLOC (shared/bvh_build.h), then one treelet round
+// over the upper tree (plocTreeletMinTriangles); for scenes whose arrays fit one storage
+// binding. Auto: plocFor's choice.
 enum class Hierarchy { Auto, Lbvh, Ploc };
 
 struct GpuBuildOptions {
@@ -38,6 +37,12 @@ struct GpuBuildOptions {
   // 3..7. 6 rather than 7 (measured on the 1.05M-triangle bench mesh, lavapipe): a third less
   // restructuring time (444 -> 275 ms), SAH/CPU-SAH 1.056 instead of 1.047.
   uint32_t treeletLeaves = 6;
+  // After PLOC, one treelet round over the nodes of at least this many triangles (0: none).
+  // PLOC's tree alone traced coherent rays 5-10% slower than the LBVH + treelets tree on the
+  // 1.05M-triangle bench mesh at about the same SAH; restructuring its upper nodes (SAH/CPU-SAH
+  // 1.073 -> 1.066, about 25 ms with the recount of traversal nodes) closes that
+  // (docs/bvh.md, "Sixth session").
+  uint32_t plocTreeletMinTriangles = 512;
 };
 
 // The treelet rounds a build of `triangleCount` triangles runs with `options` (before the
@@ -53,7 +58,6 @@ inline uint32_t treeletRoundsFor(const GpuBuildOptions& options, uint32_t triang
 inline bool plocFor(const GpuBuildOptions& options, uint32_t triangleCount, bool fitsOneBinding) {
   if (triangleCount < 2 || !fitsOneBinding) return false;
   if (options.hierarchy != Hierarchy::Auto) return options.hierarchy == Hierarchy::Ploc;
-  if (const char* e = getenv("OSR_HIER")) return std::string(e) == "ploc";
   return quantizedTraversal(triangleCount);
 }
 
