@@ -42,7 +42,12 @@ void main() {
   uint next = gPush.param ^ 1u;
   if (merged) gState.iterations += 1u;
   gState.count[next] = survivors;
-  gState.args[next] = DispatchArgs(survivors > 1u ? (survivors + kWorkgroupSize - 1u) / kWorkgroupSize : 0u, 1u, 1u);
+  DispatchArgs args = DispatchArgs(survivors > 1u ? (survivors + kWorkgroupSize - 1u) / kWorkgroupSize : 0u, 1u, 1u);
+  if (next == 0u) {
+    gState.args0 = args;
+  } else {
+    gState.args1 = args;
+  }
   gState.pairs = sum.y;
   gState.pairArgs = DispatchArgs((sum.y + kWorkgroupSize - 1u) / kWorkgroupSize, 1u, 1u);
 }

@@ -274,10 +274,11 @@ OSR_CONST(uint, kPlocBindingCount, kPlocBindingTexels + kBuildTexelBindingCount)
 // Partials (uint each): per subgroup of an iteration's dispatch, its surviving clusters from 0,
 // its pairs from triangleCount + kWorkgroupSize (a dispatch has at most that many subgroups).
 struct PlocState {
-  uint count[2];     // clusters at the start of an iteration of parity 0 / 1
+  uvec2 count;       // clusters at the start of an iteration of parity 0 / 1
   uint iterations;   // iterations that had more than one cluster
   uint pairs;        // mutual pairs of the current iteration (bvh_ploc_plan)
-  DispatchArgs args[2];  // per-cluster dispatch of an iteration of parity 0 / 1
+  DispatchArgs args0;    // per-cluster dispatch of an iteration of parity 0, then of parity 1
+  DispatchArgs args1;    // (adjacent: the host offsets by parity)
   DispatchArgs pairArgs; // per-pair dispatch of the current iteration
   uint _pad0;
   uint _pad1;

@@ -418,9 +418,9 @@ void PlocPass::record(VkCommandBuffer cmd, const Args& a, uint32_t iterations, v
     throw DeviceError("bvh: PLOC builds 2 to " + std::to_string(uint64_t(bb::kMaxGroupsX) * bb::kWorkgroupSize) +
                       " triangles, not " + std::to_string(a.triangleCount));
   bb::PlocState initial{};
-  initial.count[0] = a.triangleCount;
-  initial.args[0] = {groups(a.triangleCount), 1, 1};
-  initial.args[1] = {0, 1, 1};
+  initial.count = {a.triangleCount, 0};
+  initial.args0 = {groups(a.triangleCount), 1, 1};
+  initial.args1 = {0, 1, 1};
   vkCmdUpdateBuffer(cmd, a.state->handle(), 0, sizeof(initial), &initial);
   vk::transferBarrier(cmd);
   {
@@ -436,7 +436,8 @@ void PlocPass::record(VkCommandBuffer cmd, const Args& a, uint32_t iterations, v
 void PlocPass::continueIterations(VkCommandBuffer cmd, const Args& a, uint32_t done, uint32_t iterations,
                                   vk::GpuTimer* timer) const {
   vk::TimedScope scope(timer, cmd, "bvh_ploc");
-  const uint64_t argsOffset = offsetof(bb::PlocState, args);
+  static_assert(offsetof(bb::PlocState, args1) == offsetof(bb::PlocState, args0) + sizeof(bb::DispatchArgs));
+  const uint64_t argsOffset = offsetof(bb::PlocState, args0);
   for (uint32_t k = done; k < done + iterations; ++k) {
     const uint32_t parity = k & 1u;  // reads clusters[parity], compacts into the other
     const uint64_t args = argsOffset + parity * sizeof(bb::DispatchArgs);

@@ -1,7 +1,7 @@
-// buildGpu end to end: structural invariants of the downloaded tree on every test mesh,
-// SAH within 1.1x of the CPU binned-SAH tree, treelet restructuring lowering the LBVH's SAH,
-// reported statistics matching the downloaded tree, closest hits equal to the brute-force loop,
-// and a clear refusal past the device limit.
+// buildGpu end to end (LBVH + treelets, and PLOC): structural invariants of the downloaded tree
+// on every test mesh, SAH within 1.1x of the CPU binned-SAH tree, treelet restructuring lowering
+// the LBVH's SAH, reported statistics matching the downloaded tree, closest hits equal to the
+// brute-force loop, and a clear refusal past the device limit.
 #include <gtest/gtest.h>
 
 #include <stdexcept>
@@ -249,4 +249,53 @@ TEST_F(GpuBuilder, ReferenceScenes) {
     std::printf("%s: %zu triangles, SAH gpu %.3f cpu %.3f\n", file, mesh.triangles.size(),
                 bvh::sahCost(host), cpuSah);
   }
+}
+
+// PLOC (shared/bvh_build.h), forced on every test mesh (the default takes it from
+// kQuantizedTraversalFromTriangles triangles): a valid tree whose statistics match the download,
+// SAH within 1.1x of the CPU binned-SAH tree, and the closest hits of the brute-force loop. The
+// meshes include degenerate triangles, huge and tiny coordinates and three triangles (the root's
+// merge then also moves the node at index 0).
+TEST_F(GpuBuilder, PlocTreesAreValidAndTraceExactly) {
+  auto& ctx = test::context();
+  bvh::GpuBuildOptions options;
+  options.hierarchy = bvh::Hierarchy::Ploc;
+  const bvh::GpuBuilder ploc(ctx, options);
+  auto meshes = test::testMeshes();
+  meshes.push_back({"two_triangles", bvh::makeSoup(2, 7, {0, 0, 0}, 1.0f, 0.5f)});
+  for (const auto& [name, mesh] : meshes) {
+    const uint32_t n = uint32_t(mesh.triangles.size());
+    DeviceMesh dm(ctx, mesh);
+    bvh::BuildStats stats;
+    bvh::Bvh tree = ploc.build(dm.vertices, dm.triangles, n, &stats, bvh::NodeForms::Both);
+    bvh::HostBvh host = bvh::download(tree);
+    EXPECT_EQ(bvh::checkInvariants(host, mesh.vertices, mesh.triangles), "") << name;
+    EXPECT_EQ(stats.depth, bvh::depth(host)) << name;
+    EXPECT_NEAR(stats.sahCost, bvh::sahCost(host), 1e-3 * bvh::sahCost(host)) << name;
+    // Every iteration merges at least one pair: n - 1 merges take at most n - 1 iterations.
+    if (n > 1) {
+      EXPECT_GT(stats.plocIterations, 0u) << name;
+      EXPECT_LE(stats.plocIterations, n - 1) << name;
+    }
+    if (n >= 100) {
+      double cpuSah = bvh::sahCost(bvh::buildCpu(mesh.vertices, mesh.triangles));
+      EXPECT_LE(bvh::sahCost(host), 1.1 * cpuSah) << name;
+      std::printf("%s: PLOC SAH %.3f, CPU %.3f, %u iterations\n", name.c_str(), bvh::sahCost(host), cpuSah,
+                  stats.plocIterations);
+    }
+    auto rays = test::randomRays(mesh, n > 100 ? 100000 : 20000, 23);
+    auto hits = test::traceOnDevice(ctx, tree, rays, gpu::bvh_trace::kModeClosest);
+    EXPECT_EQ(test::compareClosest(name, mesh, rays, hits), 0u) << name;
+  }
+}
+
+// The default builds scenes traversed with quantized nodes by PLOC, smaller ones by LBVH and
+// treelets.
+TEST_F(GpuBuilder, DefaultHierarchyFollowsTheSceneSize) {
+  bvh::BuildStats stats;
+  build(bvh::makeSphere({0, 0, 0}, 1.0f, 200, 50, 0.3f), &stats);  // 20K triangles
+  EXPECT_GT(stats.plocIterations, 0u);
+  build(bvh::makeSphere({0, 0, 0}, 1.0f, 40, 20, 0.3f), &stats);
+  EXPECT_EQ(stats.plocIterations, 0u);
+  EXPECT_EQ(stats.treeletRounds, 2u);
 }

@@ -64,6 +64,7 @@ template <> struct Std430<glm::vec4[9]> : Std430Is<144, 16> {};
 template <> struct Std430<gpu::nn::View> : Std430Is<sizeof(gpu::nn::View), 4> {};
 template <> struct Std430<gpu::bsdf::BsdfParams> : Std430Is<sizeof(gpu::bsdf::BsdfParams), 16> {};
 template <> struct Std430<gpu::bvh_build::BuildArrays> : Std430Is<sizeof(gpu::bvh_build::BuildArrays), 8> {};
+template <> struct Std430<gpu::bvh_build::DispatchArgs> : Std430Is<sizeof(gpu::bvh_build::DispatchArgs), 4> {};
 
 struct Member {
   std::string name;
@@ -113,6 +114,8 @@ const std::vector<Layout>& layouts() {
       STRUCT(bvh_build, BuildPush, F(triangleCount), F(param), F(param2), F(_pad0), F(arrays)),
       STRUCT(bvh_build, LevelList, F(count), F(offset), F(_pad0), F(_pad1)),
       STRUCT(bvh_build, DispatchArgs, F(x), F(y), F(z)),
+      STRUCT(bvh_build, PlocState, F(count), F(iterations), F(pairs), F(args0), F(args1), F(pairArgs), F(_pad0),
+             F(_pad1), F(_pad2)),
       STRUCT(bvh_trace, TraceRay, F(origin), F(tMin), F(dir), F(tMax)),
       STRUCT(bvh_trace, TraceHit, F(t), F(triangle), F(barycentrics)),
       STRUCT(bvh_trace, Push, F(rayCount), F(mode), F(raysPerLane), F(_pad0)),
