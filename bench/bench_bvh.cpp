@@ -12,7 +12,6 @@
 #include "bench/json.h"
 #include "bvh/cpu_builder.h"
 #include "bvh/gpu_builder.h"
-#include "common/error.h"
 #include "bvh/tree_stats.h"
 #include "vk/buffer.h"
 
@@ -37,11 +36,7 @@ int runBvh(const std::vector<std::string>& argv) {
       args.integer("--treelet-leaves", 3, gpu::bvh_build::kTreeletMaxLeaves).value_or(options.treeletLeaves));
   options.treeletMinTriangles =
       uint32_t(args.integer("--treelet-min-triangles", 3, 1 << 20).value_or(options.treeletMinTriangles));
-  if (auto h = args.value("--hierarchy")) {
-    if (*h == "lbvh") options.hierarchy = bvh::Hierarchy::Lbvh;
-    else if (*h == "ploc") options.hierarchy = bvh::Hierarchy::Ploc;
-    else if (*h != "auto") throw InputError("osr-bench bvh: --hierarchy takes auto, lbvh or ploc, not '" + *h + "'");
-  }
+  options.hierarchy = hierarchyOption(args, "bvh");
   args.finish();
   vk::Context ctx;
   bvh::GpuBuilder builder(ctx, options);

@@ -110,6 +110,8 @@ int runTrace(const std::vector<std::string>& argv) {
   // Default: the pools the pass uses, and one ray per invocation beside them.
   std::vector<uint32_t> raysPerLane = {1u, bvh::TraceRaysPass::Args().raysPerLane};
   if (auto v = args.integerList("--rays-per-lane", 1, 64)) raysPerLane.assign(v->begin(), v->end());
+  bvh::GpuBuildOptions buildOptions;
+  buildOptions.hierarchy = hierarchyOption(args, "trace");
   args.finish();
   bvh::Access access = bvh::Access::Auto;
   if (accessName == "storage")
@@ -119,7 +121,7 @@ int runTrace(const std::vector<std::string>& argv) {
   else if (accessName != "auto")
     throw InputError("trace: --bvh-access must be auto, storage or texel");
   vk::Context ctx;
-  bvh::GpuBuilder builder(ctx);
+  bvh::GpuBuilder builder(ctx, buildOptions);
   bvh::TraceRaysPass pass(ctx, false, access);
   vk::GpuTimer timer(ctx);
   for (const BvhBenchScene& s : bvhBenchScenes(only, triangles)) {

@@ -34,13 +34,15 @@ inline constexpr char kBvhUsage[] =
     "                             triangles, else 1, as the renderer builds)\n"
     "  --treelet-leaves N         leaves per treelet, 3 to the build's maximum\n"
     "  --treelet-min-triangles N  smallest subtree a treelet round visits, 3 to 1048576\n"
-    "  --hierarchy H        lbvh (then treelets) or ploc; auto: ploc for scenes of 16,384\n"
-    "                       triangles or more that fit one storage binding";
+    "  --hierarchy H              lbvh (then treelets) or ploc (then a treelet round over the\n"
+    "                             upper tree); auto: ploc from 16,384 triangles where the\n"
+    "                             build's arrays fit one storage binding, as the renderer builds";
 int runBvh(const std::vector<std::string>& args);   // GPU BVH build vs CPU SAH and Embree
 inline constexpr char kTraceSummary[] = "rays/s of BVH traversal against Embree";
 inline constexpr char kTraceUsage[] =
     "osr-bench trace [--scene NAME | --triangles N] [--side N] [--repeat N]\n"
     "                [--bvh-access auto|storage|texel] [--rays-per-lane N,...]\n"
+    "                [--hierarchy auto|lbvh|ploc]\n"
     "  --scene NAME       generated_1m, cornell or room (default: all)\n"
     "  --triangles N      instead, a displaced sphere of at least N triangles\n"
     "  --side N           rays = N x N, 16 to 2048 (default 1024)\n"
@@ -49,7 +51,8 @@ inline constexpr char kTraceUsage[] =
     "                     device's choice (default auto)\n"
     "  --rays-per-lane N,...  rays each invocation takes in turn from its subgroup's pool, 1 to\n"
     "                     64, one line each (default 1,16); 1 traces one ray per invocation, as\n"
-    "                     the renderers' kernels do";
+    "                     the renderers' kernels do\n"
+    "  --hierarchy H      how the BVH is built (osr-bench bvh --help; default auto)";
 int runTrace(const std::vector<std::string>& args); // rays/s of bvh_trace_rays vs Embree
 inline constexpr char kUnetSummary[] = "U-Net maps/s against PyTorch on the same cores";
 inline constexpr char kUnetUsage[] =

@@ -53,6 +53,14 @@ std::vector<BvhBenchScene> bvhBenchScenes(const std::string& only, uint32_t tria
   return out;
 }
 
+bvh::Hierarchy hierarchyOption(app::Args& args, const std::string& bench) {
+  const std::string h = args.value("--hierarchy").value_or("auto");
+  if (h == "auto") return bvh::Hierarchy::Auto;
+  if (h == "lbvh") return bvh::Hierarchy::Lbvh;
+  if (h == "ploc") return bvh::Hierarchy::Ploc;
+  throw InputError(bench + ": --hierarchy takes auto, lbvh or ploc, not '" + h + "'");
+}
+
 uint64_t peakRssBytes() {
   rusage usage{};
   getrusage(RUSAGE_SELF, &usage);

@@ -6,6 +6,8 @@
 
 #include <glm/glm.hpp>
 
+#include "app/args.h"
+#include "bvh/gpu_builder.h"
 #include "bvh/synthetic_mesh.h"
 #include "scene/scene.h"
 
@@ -22,6 +24,10 @@ struct BvhBenchScene {
 // instead gives one scene, "sphere_<N>": a displaced sphere of at least that many triangles
 // (for scale: memory per triangle, scenes past one binding).
 std::vector<BvhBenchScene> bvhBenchScenes(const std::string& only, uint32_t triangles = 0);
+
+// The value of --hierarchy (auto, lbvh or ploc; absent: auto), or InputError naming the
+// benchmark.
+bvh::Hierarchy hierarchyOption(app::Args& args, const std::string& bench);
 
 // Peak resident memory of the process so far, in bytes (on lavapipe it includes device memory).
 uint64_t peakRssBytes();

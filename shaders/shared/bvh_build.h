@@ -224,15 +224,16 @@ OSR_CONST(uint, kSubtreeCountBindingCount, kSubtreeCountBindingTexels + kBuildTe
 
 // PLOC (Meister and Bittner 2018, "Parallel Locally-Ordered Clustering for Bounding Volume
 // Hierarchy Construction"): the builder for scenes traversed with quantized nodes, in place of
-// bvh_lbvh + bvh_refit + the treelet rounds + bvh_subtree_count. Clusters start as the sorted
-// triangles; each iteration every cluster finds the cluster within kPlocRadius places (in Morton
-// order) whose union with it has the least surface area, mutual nearest pairs merge into a new
-// interior node, and the survivors are compacted in order. A merge knows both children, so it
-// writes the node's bounds, SAH cost, collapse decision, heights and traversal-node count at
-// once: no bottom-up climb follows.
+// bvh_lbvh + bvh_refit + a full treelet round (src/bvh/gpu_builder.h, Hierarchy). Clusters
+// start as the sorted triangles; each iteration every cluster finds the cluster within
+// kPlocRadius places (in Morton order) whose union with it has the least surface area, mutual
+// nearest pairs merge into a new interior node, and the survivors are compacted in order. A
+// merge knows both children, so it writes the node's bounds, SAH cost, collapse decision,
+// heights and traversal-node count at once, with no bottom-up climb. (The builder then runs one
+// treelet round over the upper tree and counts the traversal nodes again.)
 //   bvh_ploc_init     leaves (as bvh_lbvh's) and the first clusters
-//   bvh_ploc_nearest  each cluster's nearest neighbour (ties: the lower index, so a mutual pair
-//                     always exists and every iteration merges)
+//   bvh_ploc_nearest  each cluster's nearest neighbour (one strict order of pairs, so a mutual
+//                     pair always exists and every iteration merges)
 //   bvh_ploc_count    per-subgroup counts of the clusters that survive the merge, and of the
 //                     mutual pairs
 //   bvh_ploc_plan     one workgroup: scans both counts; the next iteration's cluster count,

@@ -25,10 +25,6 @@ uint32_t ordered(float f) {
 
 }  // namespace
 
-namespace {
-vk::Buffer scratch(const vk::Context& ctx, uint64_t bytes, const char* name, VkBufferUsageFlags extraUsage = 0);
-}  // namespace
-
 struct GpuBuilder::Passes {
   BoundsPass bounds;
   MortonPass morton;
@@ -44,29 +40,9 @@ struct GpuBuilder::Passes {
         treelet(ctx, treeletLeaves, byAddress), subtreeCount(ctx, byAddress), emit(ctx, byAddress) {}
 };
 
-// PLOC's scratch (PlocPass::Args) for up to `capacity` triangles, kept like Scratch.
-struct GpuBuilder::PlocScratch {
-  uint32_t capacity;
-  vk::Buffer clusters[2], nearest, partials, pairs, state;
-  vk::BufferView clusterTexels[2], nearestTexels;
-  uint64_t bytes = 0;
-  PlocScratch(const vk::Context& ctx, uint32_t n) : capacity(n) {
-    for (int k = 0; k < 2; ++k) {
-      clusters[k] = scratch(ctx, 32ull * n, "bvh ploc clusters", PlocPass::kClusterUsage);
-      clusterTexels[k] = vk::BufferView::uintTexels(ctx, clusters[k], "bvh ploc cluster texels");
-    }
-    nearest = scratch(ctx, 4ull * n, "bvh ploc nearest", PlocPass::kClusterUsage);
-    nearestTexels = vk::BufferView::uintWords(ctx, nearest, "bvh ploc nearest texels");
-    partials = scratch(ctx, 8ull * (n + bb::kWorkgroupSize), "bvh ploc partials");
-    pairs = scratch(ctx, 16ull * (n / 2 + 1), "bvh ploc pairs");
-    state = scratch(ctx, sizeof(bb::PlocState), "bvh ploc state", PlocPass::kStateUsage);
-    for (const vk::Buffer* b : {&clusters[0], &clusters[1], &nearest, &partials, &pairs, &state}) bytes += b->size();
-  }
-};
-
 namespace {
 
-vk::Buffer scratch(const vk::Context& ctx, uint64_t bytes, const char* name, VkBufferUsageFlags extraUsage) {
+vk::Buffer scratch(const vk::Context& ctx, uint64_t bytes, const char* name, VkBufferUsageFlags extraUsage = 0) {
   return vk::Buffer(ctx, std::max<uint64_t>(bytes, 16), vk::MemoryUse::DeviceLocal, name, extraUsage);
 }
 
@@ -116,6 +92,26 @@ struct GpuBuilder::Scratch {
     leafTexels = vk::BufferView::uintTexels(ctx, leaves, "bvh leaf texels");
     primTexels = vk::BufferView::uintTexels(ctx, prims, "bvh prim texels");
     slotTexels = vk::BufferView::uintWords(ctx, counters, "bvh emit slot texels");
+  }
+};
+
+// PLOC's scratch (PlocPass::Args) for up to `capacity` triangles, kept like Scratch.
+struct GpuBuilder::PlocScratch {
+  uint32_t capacity;
+  vk::Buffer clusters[2], nearest, partials, pairs, state;
+  vk::BufferView clusterTexels[2], nearestTexels;
+  uint64_t bytes = 0;
+  PlocScratch(const vk::Context& ctx, uint32_t n) : capacity(n) {
+    for (int k = 0; k < 2; ++k) {
+      clusters[k] = scratch(ctx, 32ull * n, "bvh ploc clusters", PlocPass::kClusterUsage);
+      clusterTexels[k] = vk::BufferView::uintTexels(ctx, clusters[k], "bvh ploc cluster texels");
+    }
+    nearest = scratch(ctx, 4ull * n, "bvh ploc nearest", PlocPass::kClusterUsage);
+    nearestTexels = vk::BufferView::uintWords(ctx, nearest, "bvh ploc nearest texels");
+    partials = scratch(ctx, 8ull * (n + bb::kWorkgroupSize), "bvh ploc partials");
+    pairs = scratch(ctx, 16ull * (n / 2 + 1), "bvh ploc pairs");
+    state = scratch(ctx, sizeof(bb::PlocState), "bvh ploc state", PlocPass::kStateUsage);
+    for (const vk::Buffer* b : {&clusters[0], &clusters[1], &nearest, &partials, &pairs, &state}) bytes += b->size();
   }
 };
 
@@ -294,8 +290,9 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
 
   uint32_t rounds = treeletRoundsFor(options, n);
   // PLOC iterations recorded: those past the last merge dispatch nothing. The 1.05M-triangle
-  // bench mesh needs 88; a tree left unfinished is rebuilt with twice as many.
-  uint32_t plocIterations = 128;
+  // bench mesh needs 85; a tree left unfinished is rebuilt with twice as many (every iteration
+  // merges, so n - 1 always suffice).
+  uint32_t plocIterations = std::min<uint32_t>(128, n);
   bb::BvhBuildNode root{};
   bb::BvhBuildInfo done{};
   bb::PlocState plocState{};
@@ -304,8 +301,10 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
     if (usePloc) {
       plocState = plocScratch_->state.downloadVector<bb::PlocState>(1)[0];
       if (plocState.count[plocIterations % 2] != 1) {
-        if (plocIterations >= 4 * n) throw DeviceError("bvh: PLOC left " + std::to_string(plocState.count[plocIterations % 2]) + " clusters");
-        plocIterations *= 2;
+        if (plocIterations >= n)
+          throw DeviceError("bvh: PLOC left " + std::to_string(plocState.count[plocIterations % 2]) + " clusters after " +
+                            std::to_string(plocIterations) + " iterations");
+        plocIterations = std::min(2 * plocIterations, n);
         continue;
       }
     }
