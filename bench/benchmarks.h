@@ -35,7 +35,7 @@ inline constexpr char kBvhUsage[] =
     "  --treelet-leaves N         leaves per treelet, 3 to the build's maximum\n"
     "  --treelet-min-triangles N  smallest subtree a treelet round visits, 3 to 1048576\n"
     "  --hierarchy H              lbvh (then treelets) or ploc (then a treelet round over the\n"
-    "                             upper tree); auto: ploc from 16,384 triangles where the\n"
+    "                             upper tree); auto: ploc from 500,000 triangles where the\n"
     "                             build's arrays fit one storage binding, as the renderer builds";
 int runBvh(const std::vector<std::string>& args);   // GPU BVH build vs CPU SAH and Embree
 inline constexpr char kTraceSummary[] = "rays/s of BVH traversal against Embree";

@@ -53,12 +53,16 @@ inline uint32_t treeletRoundsFor(const GpuBuildOptions& options, uint32_t triang
 }
 
 // Whether a build of `triangleCount` triangles with `options` makes its hierarchy by PLOC (when
-// `fitsOneBinding`: no build array past maxStorageBufferRange). Auto: for scenes traversed with
-// quantized nodes (see docs/bvh.md, "Sixth session", for the measurement behind it).
+// `fitsOneBinding`: no build array past maxStorageBufferRange). Auto: from kPlocFromTriangles.
+// Measured on lavapipe (osr-bench bvh --hierarchy, alternating runs; docs/bvh.md, "Sixth
+// session"): PLOC built the 1.05M-triangle bench mesh 12% faster than LBVH + treelets (402-435
+// against 472-480 ms), a 500K sphere 3% faster, 250K within noise and 100K 5% slower (its ~60
+// iterations cost a fixed number of dispatches); the trees trace alike.
+inline constexpr uint32_t kPlocFromTriangles = 500000;
 inline bool plocFor(const GpuBuildOptions& options, uint32_t triangleCount, bool fitsOneBinding) {
   if (triangleCount < 2 || !fitsOneBinding) return false;
   if (options.hierarchy != Hierarchy::Auto) return options.hierarchy == Hierarchy::Ploc;
-  return quantizedTraversal(triangleCount);
+  return triangleCount >= kPlocFromTriangles;
 }
 
 // Which node arrays a build writes. Traversed: only the one traversal reads

@@ -252,8 +252,9 @@ TEST_F(GpuBuilder, ReferenceScenes) {
 }
 
 // PLOC (shared/bvh_build.h), forced on every test mesh (the default takes it from
-// kQuantizedTraversalFromTriangles triangles): a valid tree whose statistics match the download,
-// SAH within 1.1x of the CPU binned-SAH tree, and the closest hits of the brute-force loop. The
+// kPlocFromTriangles triangles): a valid tree whose statistics match the download, SAH within
+// 1.1x of the CPU binned-SAH tree, the closest hits of the brute-force loop, and the same bytes
+// from two builds. The
 // meshes include degenerate triangles, huge and tiny coordinates and three triangles (the root's
 // merge then also moves the node at index 0).
 TEST_F(GpuBuilder, PlocTreesAreValidAndTraceExactly) {
@@ -286,16 +287,28 @@ TEST_F(GpuBuilder, PlocTreesAreValidAndTraceExactly) {
     auto rays = test::randomRays(mesh, n > 100 ? 100000 : 20000, 23);
     auto hits = test::traceOnDevice(ctx, tree, rays, gpu::bvh_trace::kModeClosest);
     EXPECT_EQ(test::compareClosest(name, mesh, rays, hits), 0u) << name;
+    // Node indices follow from the tree, not from the order in which invocations ran.
+    bvh::Bvh again = ploc.build(dm.vertices, dm.triangles, n, nullptr, bvh::NodeForms::Both);
+    const uint32_t live = liveNodes(tree);
+    EXPECT_EQ(bytes(tree.nodes, live * sizeof(gpu::bvh::BvhNode)), bytes(again.nodes, live * sizeof(gpu::bvh::BvhNode)))
+        << name;
+    EXPECT_EQ(bytes(tree.leafData, tree.leafData.size()), bytes(again.leafData, again.leafData.size())) << name;
   }
 }
 
-// The default builds scenes traversed with quantized nodes by PLOC, smaller ones by LBVH and
-// treelets.
+// The default builds scenes of kPlocFromTriangles or more by PLOC where they fit one binding,
+// smaller ones by LBVH and treelets (asked of plocFor: a build that large takes seconds here).
 TEST_F(GpuBuilder, DefaultHierarchyFollowsTheSceneSize) {
+  const bvh::GpuBuildOptions automatic;
+  EXPECT_TRUE(bvh::plocFor(automatic, bvh::kPlocFromTriangles, true));
+  EXPECT_FALSE(bvh::plocFor(automatic, bvh::kPlocFromTriangles, false));  // by address: LBVH
+  EXPECT_FALSE(bvh::plocFor(automatic, bvh::kPlocFromTriangles - 1, true));
+  bvh::GpuBuildOptions forced;
+  forced.hierarchy = bvh::Hierarchy::Ploc;
+  EXPECT_TRUE(bvh::plocFor(forced, 2, true));
+  EXPECT_FALSE(bvh::plocFor(forced, 1, true));  // one triangle: no interior node to merge
   bvh::BuildStats stats;
   build(bvh::makeSphere({0, 0, 0}, 1.0f, 200, 50, 0.3f), &stats);  // 20K triangles
-  EXPECT_GT(stats.plocIterations, 0u);
-  build(bvh::makeSphere({0, 0, 0}, 1.0f, 40, 20, 0.3f), &stats);
   EXPECT_EQ(stats.plocIterations, 0u);
-  EXPECT_EQ(stats.treeletRounds, 2u);
+  EXPECT_EQ(stats.treeletRounds, 1u);
 }
