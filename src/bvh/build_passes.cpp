@@ -387,10 +387,6 @@ PlocPass::PlocPass(const vk::Context& ctx)
       compact_(ctx, shaders::Id::bvh_ploc_compact, plocTypes(), sizeof(BuildPush), plocSpec(ctx)),
       merge_(ctx, shaders::Id::bvh_ploc_merge, plocTypes(), sizeof(BuildPush), plocSpec(ctx)) {}
 
-uint64_t PlocPass::scratchBytes(uint32_t triangleCount) {
-  return uint64_t(triangleCount) * (2 * 32 + 4 + 8 + 8) + 8 * bb::kWorkgroupSize;
-}
-
 // Binds a PLOC pass: `in` as this iteration's clusters, `out` as the next.
 vk::Binder PlocPass::binder(const vk::ComputePipeline& pipeline, const Args& a, uint32_t in, uint32_t out,
                             uint32_t parity, BuildPush& push) const {
@@ -430,15 +426,14 @@ void PlocPass::record(VkCommandBuffer cmd, const Args& a, uint32_t iterations, v
     dispatchItems(init_, cmd, a.triangleCount);
     vk::computeBarrier(cmd);
   }
-  continueIterations(cmd, a, 0, iterations, timer);
+  recordIterations(cmd, a, iterations, timer);
 }
 
-void PlocPass::continueIterations(VkCommandBuffer cmd, const Args& a, uint32_t done, uint32_t iterations,
-                                  vk::GpuTimer* timer) const {
+void PlocPass::recordIterations(VkCommandBuffer cmd, const Args& a, uint32_t iterations, vk::GpuTimer* timer) const {
   vk::TimedScope scope(timer, cmd, "bvh_ploc");
   static_assert(offsetof(bb::PlocState, args1) == offsetof(bb::PlocState, args0) + sizeof(bb::DispatchArgs));
   const uint64_t argsOffset = offsetof(bb::PlocState, args0);
-  for (uint32_t k = done; k < done + iterations; ++k) {
+  for (uint32_t k = 0; k < iterations; ++k) {
     const uint32_t parity = k & 1u;  // reads clusters[parity], compacts into the other
     const uint64_t args = argsOffset + parity * sizeof(bb::DispatchArgs);
     for (const vk::ComputePipeline* pipeline : {&nearest_, &count_, &plan_, &compact_, &merge_}) {

@@ -191,14 +191,11 @@ class TreeletPass {
 // _count, _plan, _compact and _merge, which leave the tree in interior/leaves and the traversal-node
 // counts in subtreeNodes, as LbvhPass + RefitPass + TreeletPass + SubtreeCountPass would.
 // Iterations after the last merge dispatch no group; state.count[iterations % 2] == 1 says the
-// tree is complete (record more iterations, continueIterations, if not). Arrays: prims (in,
-// through texels), interior, leaves (out); reached through bindings only (scenes within
-// maxStorageBufferRange).
+// tree is complete (else record again with more). Arrays: prims (in, through texels), interior,
+// leaves (out); reached through bindings only (scenes within maxStorageBufferRange).
 class PlocPass {
  public:
   explicit PlocPass(const vk::Context& ctx);
-  // Its scratch: clusters (two arrays), nearest, partials, pairs.
-  static uint64_t scratchBytes(uint32_t triangleCount);
   static constexpr VkBufferUsageFlags kClusterUsage = VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT;
   static constexpr VkBufferUsageFlags kStateUsage =
       VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT;
@@ -221,11 +218,9 @@ class PlocPass {
   // bvh_ploc_init and the first `iterations` iterations; `timer` (may be null) gets scopes
   // "bvh_ploc_init" and "bvh_ploc".
   void record(VkCommandBuffer cmd, const Args& args, uint32_t iterations, vk::GpuTimer* timer = nullptr) const;
-  // `iterations` more, after `done` recorded so far.
-  void continueIterations(VkCommandBuffer cmd, const Args& args, uint32_t done, uint32_t iterations,
-                          vk::GpuTimer* timer = nullptr) const;
 
  private:
+  void recordIterations(VkCommandBuffer cmd, const Args& args, uint32_t iterations, vk::GpuTimer* timer) const;
   vk::Binder binder(const vk::ComputePipeline& pipeline, const Args& a, uint32_t in, uint32_t out, uint32_t parity,
                     gpu::bvh_build::BuildPush& push) const;
   ArrayAccess access_;
