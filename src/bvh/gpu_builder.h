@@ -38,9 +38,9 @@ struct GpuBuildOptions {
   // restructuring time (444 -> 275 ms), SAH/CPU-SAH 1.056 instead of 1.047.
   uint32_t treeletLeaves = 6;
   // After PLOC, one treelet round over the nodes of at least this many triangles (0: none).
-  // PLOC's tree alone traced coherent rays 5-10% slower than the LBVH + treelets tree on the
+  // PLOC's tree alone traced coherent rays 8% slower than the LBVH + treelets tree on the
   // 1.05M-triangle bench mesh at about the same SAH; restructuring its upper nodes (SAH/CPU-SAH
-  // 1.073 -> 1.066, about 25 ms with the recount of traversal nodes) closes that
+  // 1.073 -> 1.066, about 28 ms with the recount of traversal nodes) closes that
   // (docs/bvh.md, "Sixth session").
   uint32_t plocTreeletMinTriangles = 512;
 };
@@ -56,8 +56,8 @@ inline uint32_t treeletRoundsFor(const GpuBuildOptions& options, uint32_t triang
 // `fitsOneBinding`: no build array past maxStorageBufferRange). Auto: from kPlocFromTriangles.
 // Measured on lavapipe (osr-bench bvh --hierarchy, alternating runs; docs/bvh.md, "Sixth
 // session"): PLOC built the 1.05M-triangle bench mesh 12% faster than LBVH + treelets (402-435
-// against 472-480 ms), a 500K sphere 3% faster, 250K within noise and 100K 5% slower (its ~60
-// iterations cost a fixed number of dispatches); the trees trace alike.
+// against 472-480 ms), a 500K sphere 3% faster, 250K within noise and 100K 5% slower; the
+// trees trace alike.
 inline constexpr uint32_t kPlocFromTriangles = 500000;
 inline bool plocFor(const GpuBuildOptions& options, uint32_t triangleCount, bool fitsOneBinding) {
   if (triangleCount < 2 || !fitsOneBinding) return false;
