@@ -1,11 +1,10 @@
 #version 460
 // bvh_ploc_merge: one invocation per mutual pair of this iteration (bvh_ploc_compact's list):
-// their parent, an interior node with everything bvh_refit and bvh_subtree_count would give it
-// (refitNode from the children's build nodes), both children's parent, and the parent's
-// traversal nodes and first leaf. The root (this iteration had two clusters) takes index 0 and
-// first moves the node there to the root's own index. Inputs: pairs, build nodes, subtreeNodes,
-// firstLeaf (texels; nodes of earlier iterations). Outputs: interior nodes, parents,
-// subtreeNodes, firstLeaf.
+// their parent, an interior node with everything bvh_refit would give it (refitNode from the
+// children's build nodes), both children's parent, and the parent's first leaf. The root (this
+// iteration had two clusters) takes index 0 and first moves the node there to the root's own
+// index. Inputs: pairs, build nodes (texels; nodes of earlier iterations). Outputs: interior
+// nodes, parents, firstLeaf.
 #extension GL_GOOGLE_include_directive : require
 #include "lib/bvh_build_arrays.glsl"
 
@@ -15,11 +14,10 @@ layout(local_size_x = kWorkgroupSize) in;
 #include "lib/bvh_build_texels.glsl"
 
 // Points whatever referred to interior node 0 at `to` instead: its children's parent, its
-// parent's child (unless its parent is still to be made: the root), subtreeNodes; and moves it.
+// parent's child (unless its parent is still to be made: the root); and moves it.
 void moveNodeZero(uint to) {
   BvhBuildNode w = loadInterior(0u);
   storeInterior(to, w);
-  gSubtreeNodes[to] = gSubtreeNodes[0];
   setParent(w.left, to);
   setParent(w.right, to);
   if (w.parent != kInvalidNode) {
@@ -48,7 +46,5 @@ void main() {
   storeInterior(p, node);
   setParent(left, p);
   setParent(right, p);
-  bool collapsed = (node.flags & kFlagCollapsed) != 0u;
-  gSubtreeNodes[p] = collapsed ? 0u : 1u + plocSubtreeNodes(pair.x) + plocSubtreeNodes(pair.y);
   gFirstLeaf[p] = pair.w;
 }

@@ -12,9 +12,7 @@ layout(std430, binding = kPlocBindingNearest) buffer Nearest { uint gNearest[]; 
 layout(binding = kPlocBindingNearestTexels) uniform usamplerBuffer gNearestTexels;
 layout(std430, binding = kPlocBindingPartials) buffer Partials { uint gPartials[]; };
 layout(std430, binding = kPlocBindingState) buffer State { PlocState gState; };
-layout(std430, binding = kPlocBindingSubtreeNodes) buffer SubtreeNodes { uint gSubtreeNodes[]; };
 layout(std430, binding = kPlocBindingFirstLeaf) buffer FirstLeaf { uint gFirstLeaf[]; };
-layout(binding = kPlocBindingSubtreeNodeTexels) uniform usamplerBuffer gSubtreeNodeTexels;
 layout(binding = kPlocBindingFirstLeafTexels) uniform usamplerBuffer gFirstLeafTexels;
 // A mutual pair: (lower cluster's node, upper cluster's node, the parent's index, its first leaf).
 layout(std430, binding = kPlocBindingPairs) buffer Pairs { uvec4 gPairs[]; };
@@ -78,16 +76,10 @@ uint plocSubgroupIndex() {
   return (gl_WorkGroupID.x * kWorkgroupSize) / gl_SubgroupSize + gl_SubgroupID;
 }
 
-// What a merge needs of a cluster's build node beyond its BvhBuildNode: its traversal nodes
-// (0 for a leaf) and first leaf.
-uint plocSubtreeNodes(uint node) {
-  uint ic = interiorCount();
-  uint count = texelFetch(gSubtreeNodeTexels, int(min(node, ic - 1u))).x;  // read by every lane
-  return node < ic ? count : 0u;
-}
+// The first leaf (lowest sorted index) below a cluster's build node.
 uint plocFirstLeaf(uint node) {
   uint ic = interiorCount();
-  uint first = texelFetch(gFirstLeafTexels, int(min(node, ic - 1u))).x;
+  uint first = texelFetch(gFirstLeafTexels, int(min(node, ic - 1u))).x;  // read by every lane
   return node < ic ? first : node - ic;
 }
 

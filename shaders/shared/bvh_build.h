@@ -7,7 +7,7 @@
 //   bvh_radix_histogram / bvh_scan_reduce / bvh_scan_top / bvh_scan_apply / bvh_radix_scatter
 //                     stable LSD radix sort of (code, triangle), 8 bits per round
 //   bvh_lbvh          hierarchy from the sorted codes (Karras 2012); bvh_ploc_* instead for
-//                     large scenes (see PLOC below), which also does the next three passes' work
+//                     large scenes (see PLOC below), which also do the refit's work
 //   bvh_refit         bounds, triangle counts, SAH costs and heights bottom-up (atomic counters)
 //   bvh_treelet_*     treelet restructuring (Karras & Aila 2013), level by level, several rounds
 //   bvh_subtree_count traversal nodes per subtree (atomic counters)
@@ -223,14 +223,14 @@ OSR_CONST(uint, kSubtreeCountBindingTexels, kClimbBindingCount + 1u);
 OSR_CONST(uint, kSubtreeCountBindingCount, kSubtreeCountBindingTexels + kBuildTexelBindingCount);
 
 // PLOC (Meister and Bittner 2018, "Parallel Locally-Ordered Clustering for Bounding Volume
-// Hierarchy Construction"): the builder for scenes traversed with quantized nodes, in place of
-// bvh_lbvh + bvh_refit + a full treelet round (src/bvh/gpu_builder.h, Hierarchy). Clusters
-// start as the sorted triangles; each iteration every cluster finds the cluster within
-// kPlocRadius places (in Morton order) whose union with it has the least surface area, mutual
-// nearest pairs merge into a new interior node, and the survivors are compacted in order. A
-// merge knows both children, so it writes the node's bounds, SAH cost, collapse decision,
-// heights and traversal-node count at once, with no bottom-up climb. (The builder then runs one
-// treelet round over the upper tree and counts the traversal nodes again.)
+// Hierarchy Construction"): the builder for large scenes, in place of bvh_lbvh + bvh_refit + a
+// full treelet round (src/bvh/gpu_builder.h, Hierarchy). Clusters start as the sorted
+// triangles; each iteration every cluster finds the cluster within kPlocRadius places (in
+// Morton order) whose union with it has the least surface area, mutual nearest pairs merge into
+// a new interior node, and the survivors are compacted in order. A merge knows both children,
+// so it writes the node's bounds, SAH cost, collapse decision and heights at once, with no
+// bottom-up climb. (The builder then runs one treelet round over the upper tree, and
+// bvh_subtree_count as after LBVH.)
 //   bvh_ploc_init     leaves (as bvh_lbvh's) and the first clusters
 //   bvh_ploc_nearest  each cluster's nearest neighbour (one strict order of pairs, so a mutual
 //                     pair always exists and every iteration merges)
@@ -248,29 +248,26 @@ OSR_CONST(uint, kSubtreeCountBindingCount, kSubtreeCountBindingTexels + kBuildTe
 // clusters in Morton order, a neighbour's two texels each; compaction moves them; a merge reads
 // its children's other fields from the build nodes. Boxes quantized to 16 or 21 bits per plane
 // (one texel with the node elsewhere) built 10 ms faster on the 1M-triangle bench mesh, but its
-// tree traced coherent rays 5-10% slower. Per interior node, beside subtreeNodes: firstLeaf, the
-// lowest sorted index of its leaves.
+// tree traced coherent rays 5-10% slower. Per interior node: firstLeaf, the lowest sorted index
+// of its leaves.
 // Interior indices as Karras's LBVH numbers them, so that a node lies near its leaves: a node
 // takes the first leaf of whichever child has the later one, minus 1. Every leaf but leaf 0 is
 // that for exactly one node (follow the subtrees whose first leaf it is up to the largest: that
 // subtree's parent), so the indices are 0 to N-2, each once, and depend only on the tree. The
 // root then swaps places with the node at 0, where the emit passes and the host expect it.
 OSR_CONST(uint, kPlocRadius, 4u);
-OSR_CONST(uint, kPlocBindingClusters, kBuildArrayBindingCount);             // this iteration's (read
-                                                                            // through the view)
-OSR_CONST(uint, kPlocBindingClusterTexels, kBuildArrayBindingCount + 1u);   // RGBA32UI view of them
-OSR_CONST(uint, kPlocBindingNextClusters, kBuildArrayBindingCount + 2u);    // compaction target
-OSR_CONST(uint, kPlocBindingNearest, kBuildArrayBindingCount + 3u);         // uint per cluster
+OSR_CONST(uint, kPlocBindingClusterTexels, kBuildArrayBindingCount);       // this iteration's
+                                                                            // clusters (RGBA32UI)
+OSR_CONST(uint, kPlocBindingNextClusters, kBuildArrayBindingCount + 1u);    // compaction target
+OSR_CONST(uint, kPlocBindingNearest, kBuildArrayBindingCount + 2u);         // uint per cluster
+OSR_CONST(uint, kPlocBindingNearestTexels, kBuildArrayBindingCount + 3u);   // R32UI view of it
 OSR_CONST(uint, kPlocBindingPartials, kBuildArrayBindingCount + 4u);        // uint per subgroup
 OSR_CONST(uint, kPlocBindingState, kBuildArrayBindingCount + 5u);           // PlocState
-OSR_CONST(uint, kPlocBindingSubtreeNodes, kBuildArrayBindingCount + 6u);    // uint per interior node
-OSR_CONST(uint, kPlocBindingValues, kBuildArrayBindingCount + 7u);          // sorted triangles
-OSR_CONST(uint, kPlocBindingNearestTexels, kBuildArrayBindingCount + 8u);   // R32UI view of nearest
-OSR_CONST(uint, kPlocBindingFirstLeaf, kBuildArrayBindingCount + 9u);       // uint per interior node
-OSR_CONST(uint, kPlocBindingSubtreeNodeTexels, kBuildArrayBindingCount + 10u);  // R32UI views of
-OSR_CONST(uint, kPlocBindingFirstLeafTexels, kBuildArrayBindingCount + 11u);    // those two
-OSR_CONST(uint, kPlocBindingPairs, kBuildArrayBindingCount + 12u);          // uvec4 per pair
-OSR_CONST(uint, kPlocBindingTexels, kBuildArrayBindingCount + 13u);         // build texels
+OSR_CONST(uint, kPlocBindingValues, kBuildArrayBindingCount + 6u);          // sorted triangles
+OSR_CONST(uint, kPlocBindingFirstLeaf, kBuildArrayBindingCount + 7u);       // uint per interior node
+OSR_CONST(uint, kPlocBindingFirstLeafTexels, kBuildArrayBindingCount + 8u); // R32UI view of it
+OSR_CONST(uint, kPlocBindingPairs, kBuildArrayBindingCount + 9u);           // uvec4 per pair
+OSR_CONST(uint, kPlocBindingTexels, kBuildArrayBindingCount + 10u);         // build texels
 OSR_CONST(uint, kPlocBindingCount, kPlocBindingTexels + kBuildTexelBindingCount);
 // Partials (uint each): per subgroup of an iteration's dispatch, its surviving clusters from 0,
 // its pairs from triangleCount + kWorkgroupSize (a dispatch has at most that many subgroups).

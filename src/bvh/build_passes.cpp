@@ -371,7 +371,7 @@ void SubtreeCountPass::record(VkCommandBuffer cmd, const Args& a) const {
 namespace {
 std::vector<VkDescriptorType> plocTypes() {
   std::vector<VkDescriptorType> t = wordTexelTypes(bb::kPlocBindingCount, bb::kPlocBindingTexels, bb::kPlocBindingClusterTexels);
-  for (uint32_t slot : {bb::kPlocBindingNearestTexels, bb::kPlocBindingSubtreeNodeTexels, bb::kPlocBindingFirstLeafTexels})
+  for (uint32_t slot : {bb::kPlocBindingNearestTexels, bb::kPlocBindingFirstLeafTexels})
     t[slot] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
   return t;
 }
@@ -392,16 +392,13 @@ vk::Binder PlocPass::binder(const vk::ComputePipeline& pipeline, const Args& a, 
                             uint32_t parity, BuildPush& push) const {
   vk::Binder b(pipeline);
   push = bindArrays(b, access_, *a.arrays, a.triangleCount, parity);
-  b.set(bb::kPlocBindingClusters, *a.clusters[in])
-      .setTexel(bb::kPlocBindingClusterTexels, a.clusterTexels[in])
+  b.setTexel(bb::kPlocBindingClusterTexels, a.clusterTexels[in])
       .set(bb::kPlocBindingNextClusters, *a.clusters[out])
       .set(bb::kPlocBindingNearest, a.nearest)
       .setTexel(bb::kPlocBindingNearestTexels, a.nearestTexels)
       .set(bb::kPlocBindingPartials, a.partials)
       .set(bb::kPlocBindingState, *a.state)
-      .set(bb::kPlocBindingSubtreeNodes, a.subtreeNodes)
       .set(bb::kPlocBindingFirstLeaf, a.firstLeaf)
-      .setTexel(bb::kPlocBindingSubtreeNodeTexels, a.subtreeNodeTexels)
       .setTexel(bb::kPlocBindingFirstLeafTexels, a.firstLeafTexels)
       .set(bb::kPlocBindingValues, a.values)
       .set(bb::kPlocBindingPairs, a.pairs);

@@ -188,8 +188,8 @@ class TreeletPass {
 };
 
 // PLOC (shared/bvh_build.h): bvh_ploc_init, then `iterations` rounds of bvh_ploc_nearest,
-// _count, _plan, _compact and _merge, which leave the tree in interior/leaves and the traversal-node
-// counts in subtreeNodes, as LbvhPass + RefitPass + TreeletPass + SubtreeCountPass would.
+// _count, _plan, _compact and _merge, which leave the tree in interior/leaves as LbvhPass +
+// RefitPass (+ TreeletPass) would.
 // Iterations after the last merge dispatch no group; state.count[iterations % 2] == 1 says the
 // tree is complete (else record again with more). Arrays: prims (in, through texels), interior,
 // leaves (out); reached through bindings only (scenes within maxStorageBufferRange).
@@ -204,15 +204,14 @@ class PlocPass {
     const BuildTexelViews* texels = nullptr;
     vk::BufferRange values;                       // sorted triangle indices
     const vk::Buffer* clusters[2] = {};           // 32 bytes per triangle, with kClusterUsage
-    VkBufferView clusterTexels[2] = {};           // RGBA32UI views of them
+    VkBufferView clusterTexels[2] = {};           // RGBA32UI views of them (how they are read)
     vk::BufferRange nearest;                      // uint per triangle (kClusterUsage)
     vk::BufferRange partials;                     // 2 * (triangleCount + kWorkgroupSize) uints
     vk::BufferRange pairs;                        // uvec4 per 2 triangles
     VkBufferView nearestTexels = VK_NULL_HANDLE;  // R32UI view of nearest
     const vk::Buffer* state = nullptr;            // PlocState, with kStateUsage
-    vk::BufferRange subtreeNodes;                 // out: uint per interior node
     vk::BufferRange firstLeaf;                    // scratch: uint per interior node
-    VkBufferView subtreeNodeTexels = VK_NULL_HANDLE, firstLeafTexels = VK_NULL_HANDLE;  // R32UI views
+    VkBufferView firstLeafTexels = VK_NULL_HANDLE;  // R32UI view of it
     uint32_t triangleCount = 0;                   // >= 2, <= kWorkgroupSize * kMaxGroupsX
   };
   // bvh_ploc_init and the first `iterations` iterations; `timer` (may be null) gets scopes

@@ -199,6 +199,7 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
   initial.centroidMax = glm::uvec4(ordered(-kBig), ordered(-kBig), ordered(-kBig), 0);
 
   bool usePloc = plocFor(options, n, !byAddress);
+  const bool plocTreelets = options.plocTreeletMinTriangles != 0 && n > 2;
   auto plocArgs = [&]() {
     if (!passes.ploc) passes.ploc = std::make_unique<PlocPass>(ctx);
     if (!plocScratch_ || plocScratch_->capacity < n) {
@@ -245,18 +246,12 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
                        &timer);
     if (usePloc) {
       PlocPass::Args a = plocArgs();
-      a.subtreeNodes = subtreeNodes;
       a.firstLeaf = positions;  // free until the emit
-      a.subtreeNodeTexels = sc.keyTmpTexels.handle();
       a.firstLeafTexels = sc.valueTmpTexels.handle();
       passes.ploc->record(cmd, a, plocIterations, &timer);
-      if (options.plocTreeletMinTriangles != 0 && n > 2) {
-        // One treelet round over the upper tree, where PLOC's greedy merges are weakest; it
-        // changes topology, so the traversal-node counts are counted again.
+      // One treelet round over the upper tree, where PLOC's greedy merges are weakest.
+      if (plocTreelets)
         passes.treelet.record(cmd, {&arrays, &texels, counters, &schedule, nodeList, n, options.plocTreeletMinTriangles}, &timer);
-        vk::TimedScope scope(&timer, cmd, "bvh_subtree_count");
-        passes.subtreeCount.record(cmd, {&arrays, &texels, counters, subtreeNodes, n});
-      }
     } else {
       {
         vk::TimedScope scope(&timer, cmd, "bvh_lbvh");
@@ -271,10 +266,10 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
         // improve most in the first round, later rounds polish the upper tree at less cost.
         passes.treelet.record(cmd, {&arrays, &texels, counters, &schedule, nodeList, n, options.treeletMinTriangles << round}, &timer);
       }
-      if (n > 1) {
-        vk::TimedScope scope(&timer, cmd, "bvh_subtree_count");
-        passes.subtreeCount.record(cmd, {&arrays, &texels, counters, subtreeNodes, n});
-      }
+    }
+    if (n > 1) {
+      vk::TimedScope scope(&timer, cmd, "bvh_subtree_count");
+      passes.subtreeCount.record(cmd, {&arrays, &texels, counters, subtreeNodes, n});
     }
     EmitPass::Args emit{&arrays, &texels, info, counters, sc.slotTexels.handle()};
     emit.subtreeNodes = subtreeNodes;
@@ -322,7 +317,7 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
         throw DeviceError("bvh: tree depth " + std::to_string(height) + " exceeds kBvhMaxDepth");
       if (stats) {
         stats->depth = height;
-        stats->treeletRounds = usePloc ? (options.plocTreeletMinTriangles != 0 && n > 2 ? 1 : 0) : rounds;
+        stats->treeletRounds = usePloc ? (plocTreelets ? 1 : 0) : rounds;
         stats->plocIterations = usePloc ? plocState.iterations : 0;
       }
       break;

@@ -40,7 +40,7 @@ struct GpuBuildOptions {
   // After PLOC, one treelet round over the nodes of at least this many triangles (0: none).
   // PLOC's tree alone traced coherent rays 8% slower than the LBVH + treelets tree on the
   // 1.05M-triangle bench mesh at about the same SAH; restructuring its upper nodes (SAH/CPU-SAH
-  // 1.073 -> 1.066, about 28 ms with the recount of traversal nodes) closes that
+  // 1.073 -> 1.066, about 10 ms) closes that
   // (docs/bvh.md, "Sixth session").
   uint32_t plocTreeletMinTriangles = 512;
 };
