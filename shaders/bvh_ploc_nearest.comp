@@ -36,7 +36,7 @@ void main() {
     bool valid = j < count && j != i;
     float a = plocUnionArea(self, plocCluster(valid ? j : i));
     // Ties: the nearer in Morton order, then the hash.
-    uint h = (min(k, 2u * kPlocRadius - k) << 24u) | (pairHash(i, j) >> 8u);
+    uint h = (uint(abs(int(k) - int(kPlocRadius))) << 24u) | (pairHash(i, j) >> 8u);
     if (valid && (a < best || (a == best && h < bestHash))) {
       best = a;
       bestHash = h;

@@ -285,7 +285,7 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
 
   uint32_t rounds = treeletRoundsFor(options, n);
   // PLOC iterations recorded: those past the last merge still cost their dispatches. Spheres of
-  // 100K, 250K, 500K and 1.05M triangles needed 59, 64, 71 and 85, the test meshes of 2,000 at
+  // 100K, 250K, 500K and 1.05M triangles needed 59, 64, 71 and 82-85, the test meshes of 2,000 at
   // most 32; a tree left unfinished is rebuilt with twice as many (every iteration merges, so
   // n - 1 always suffice).
   uint32_t log2n = 0;
