@@ -55,11 +55,12 @@ int runBvh(const std::vector<std::string>& argv) {
     // nodes.
     bvh::BuildStats stats;
     uint64_t bvhBytes = 0;
+    const auto firstStart = std::chrono::steady_clock::now();
     {
       bvh::Bvh tree = builder.build(vertices, triangles, n, &stats);
       bvhBytes = tree.nodes.size() + tree.traversalNodes.size() + tree.leafData.size();
     }
-    const double firstBuildMs = stats.totalMs;
+    const double firstBuildMs = stats.totalMs, firstBuildWallMs = msSince(firstStart);
     bvh::BuildStats best;
     best.totalMs = std::numeric_limits<double>::infinity();
     double bestWall = best.totalMs, bestCpu = best.totalMs;
@@ -88,7 +89,7 @@ int runBvh(const std::vector<std::string>& argv) {
 
     JsonLine line;
     line.str("bench", "bvh").str("scene", s.name).integer("triangles", n).str("device", ctx.caps().deviceName);
-    line.num("build_ms", best.totalMs).num("mtris_per_s", n / (best.totalMs * 1e3)).num("first_build_ms", firstBuildMs);
+    line.num("build_ms", best.totalMs).num("mtris_per_s", n / (best.totalMs * 1e3)).num("first_build_ms", firstBuildMs).num("first_build_wall_ms", firstBuildWallMs);
     line.num("sah_gpu", sahGpu);
     if (cpuReference) line.num("sah_cpu", sahCpu).num("sah_ratio", sahGpu / sahCpu);
     line.integer("treelet_rounds", best.treeletRounds).integer("treelet_leaves", options.treeletLeaves);
@@ -118,7 +119,10 @@ int runBvh(const std::vector<std::string>& argv) {
       auto b = peer.buildBinaryBvh();
       if (b.ms < binary.ms) binary = b;
     }
-    line.num("build_ratio_vs_embree", best.totalMs / embreeMs).num("cpu_time_ratio_vs_embree", bestCpu / embreeCpu);
+    // Wall time against Embree's (rtcCommitScene, its allocations included): ours includes what
+    // the build does on the host around its GPU passes (allocating and populating the BVH's
+    // arrays), which build_ms, from GPU timestamps, leaves out.
+    line.num("build_ratio_vs_embree", bestWall / embreeMs).num("cpu_time_ratio_vs_embree", bestCpu / embreeCpu);
     line.print();
     JsonLine peerLine;
     peerLine.str("bench", "bvh")

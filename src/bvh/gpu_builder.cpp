@@ -168,6 +168,12 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
   bvh.traversalNodes = vk::Buffer(ctx, uint64_t(quantizedNodes) * sizeof(gpu::bvh::BvhTraversalNode), vk::MemoryUse::DeviceLocal, "bvh traversal nodes", Bvh::kExtraUsage);
   bvh.leafData = vk::Buffer(ctx, uint64_t(n) * sizeof(gpu::bvh::BvhLeafTriangle), vk::MemoryUse::DeviceLocal, "bvh leaf triangles", Bvh::kExtraUsage);
   bvh.makeTexelViews(ctx);
+  // bvh_emit_leaves writes every leaf entry, scattered, from both of lavapipe's threads: its
+  // first-touch faults made the pass take 27 to 68 ms on the 1M-triangle bench mesh (bimodal),
+  // against 23-27 ms after the kernel has populated the memory here (docs/bvh.md, "Seventh
+  // session"). The node arrays are written in order and only in part: populating them gained
+  // nothing, nor did populating the scratch buffers of a first build (which costs more).
+  bvh.leafData.prefault(bvh.leafData.size());
 
   BuildTexelViews texels;
   texels.interior = sc.interiorTexels.handle();

@@ -90,6 +90,18 @@ Buffer::Buffer(const Context& ctx, VkDeviceSize size, MemoryUse use, std::string
   if (ctx.caps().isCpu() && mapped_) adviseHugePages(mapped_, req.size);
 }
 
+void Buffer::prefault(VkDeviceSize bytes) const {
+#if defined(__linux__) && defined(MADV_POPULATE_WRITE)
+  if (!ctx_->caps().isCpu() || !mapped_ || bytes == 0) return;
+  constexpr uintptr_t kPage = 4096;
+  uintptr_t begin = reinterpret_cast<uintptr_t>(mapped_) & ~(kPage - 1);
+  uintptr_t end = reinterpret_cast<uintptr_t>(mapped_) + std::min(bytes, size_);
+  madvise(reinterpret_cast<void*>(begin), end - begin, MADV_POPULATE_WRITE);  // advice only
+#else
+  (void)bytes;
+#endif
+}
+
 Buffer::~Buffer() { release(); }
 
 Buffer::Buffer(Buffer&& o) noexcept { *this = std::move(o); }

@@ -38,6 +38,10 @@ class Buffer {
   // Mapped pointer, or nullptr when the memory is not host-visible.
   void* mapped() const { return mapped_; }
 
+  // On a CPU device, makes [0, bytes) resident now (MADV_POPULATE_WRITE), so that the kernels
+  // that first write it do not stall on page faults; elsewhere nothing.
+  void prefault(VkDeviceSize bytes) const;
+
   // Copies host data into [offset, offset + bytes); waits for completion.
   void upload(const void* data, VkDeviceSize bytes, VkDeviceSize offset = 0);
   // Copies [offset, offset + bytes) to host memory; waits for completion.
