@@ -3,7 +3,7 @@
 // in the same order (Morton order keeps neighbours near), and the mutual pairs to the pair list.
 // The lower cluster of a pair becomes the cluster of the pair's parent (the union of their
 // boxes), whose index follows from the leaves below it (shared/bvh_build.h): no counter is
-// taken. Inputs: clusters, nearest, firstLeaf (texels), partials (scanned by bvh_ploc_plan).
+// taken. Inputs: clusters, nearest (texels), partials (scanned by bvh_ploc_plan).
 // Outputs: next clusters, pairs.
 #extension GL_GOOGLE_include_directive : require
 #include "lib/bvh_build_arrays.glsl"
@@ -22,9 +22,8 @@ void main() {
   uint at = gPartials[s] + subgroupBallotExclusiveBitCount(survivorBallot);
   uint pairAt = gPartials[plocPairPartials() + s] + subgroupBallotExclusiveBitCount(pairBallot);
   PlocCluster a = plocCluster(min(i, count - 1u)), b = plocCluster(j);
-  uint firstA = plocFirstLeaf(a.node), firstB = plocFirstLeaf(b.node);
+  uint node = max(a.firstLeaf, b.firstLeaf) - 1u;  // the pair's parent (shared/bvh_build.h)
   // The root (the last pair) goes to index 0; bvh_ploc_merge moves the node that was there.
-  uint p = count == 2u ? 0u : max(firstA, firstB) - 1u;
-  if (survives) plocStoreCluster(at, merges ? plocUnion(a, b, p) : a);
-  if (merges) gPairs[pairAt] = uvec4(a.node, b.node, max(firstA, firstB) - 1u, min(firstA, firstB));
+  if (survives) plocStoreCluster(at, merges ? plocUnion(a, b, count == 2u ? 0u : node) : a);
+  if (merges) gPairs[pairAt] = uvec4(a.node, b.node, node, 0u);
 }

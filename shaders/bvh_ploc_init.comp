@@ -18,5 +18,5 @@ void main() {
   uint tri = gValues[i];
   BvhBuildNode leaf = sortedLeafNode(readPrim(tri), tri);
   initLeaf(i, leaf);
-  plocStoreCluster(i, PlocCluster(leaf.lo, leaf.hi, interiorCount() + i));
+  plocStoreCluster(i, PlocCluster(leaf.lo, leaf.hi, interiorCount() + i, i));
 }

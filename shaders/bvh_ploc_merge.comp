@@ -1,10 +1,9 @@
 #version 460
 // bvh_ploc_merge: one invocation per mutual pair of this iteration (bvh_ploc_compact's list):
 // their parent, an interior node with everything bvh_refit would give it (refitNode from the
-// children's build nodes), both children's parent, and the parent's first leaf. The root (this
-// iteration had two clusters) takes index 0 and first moves the node there to the root's own
-// index. Inputs: pairs, build nodes (texels; nodes of earlier iterations). Outputs: interior
-// nodes, parents, firstLeaf.
+// children's build nodes) and both children's parent. The root (this iteration had two clusters)
+// takes index 0 and first moves the node there to the root's own index. Inputs: pairs, build
+// nodes (texels; nodes of earlier iterations). Outputs: interior nodes, parents.
 #extension GL_GOOGLE_include_directive : require
 #include "lib/bvh_build_arrays.glsl"
 
@@ -46,5 +45,4 @@ void main() {
   storeInterior(p, node);
   setParent(left, p);
   setParent(right, p);
-  gFirstLeaf[p] = pair.w;
 }

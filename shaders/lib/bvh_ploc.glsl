@@ -12,9 +12,7 @@ layout(std430, binding = kPlocBindingNearest) buffer Nearest { uint gNearest[]; 
 layout(binding = kPlocBindingNearestTexels) uniform usamplerBuffer gNearestTexels;
 layout(std430, binding = kPlocBindingPartials) buffer Partials { uint gPartials[]; };
 layout(std430, binding = kPlocBindingState) buffer State { PlocState gState; };
-layout(std430, binding = kPlocBindingFirstLeaf) buffer FirstLeaf { uint gFirstLeaf[]; };
-layout(binding = kPlocBindingFirstLeafTexels) uniform usamplerBuffer gFirstLeafTexels;
-// A mutual pair: (lower cluster's node, upper cluster's node, the parent's index, its first leaf).
+// A mutual pair: (lower cluster's node, upper cluster's node, the parent's index, unused).
 layout(std430, binding = kPlocBindingPairs) buffer Pairs { uvec4 gPairs[]; };
 
 // Where the per-subgroup pair counts start in partials.
@@ -23,27 +21,29 @@ uint plocPairPartials() { return gPush.triangleCount + kWorkgroupSize; }
 // Clusters at the start of this iteration (push param: its parity).
 uint plocClusterCount() { return gState.count[gPush.param]; }
 
-// A cluster: its box and its build node, in two texels: (lo, node), (hi, unused).
+// A cluster: its box, its build node and its first leaf (lowest sorted index below it), in two
+// texels: (lo, node), (hi, firstLeaf).
 struct PlocCluster {
   vec3 lo;
   vec3 hi;
   uint node;
+  uint firstLeaf;
 };
 
 // Cluster i (through the texel view: a gather on lavapipe; the neighbours a lane reads lie next
 // to each other in memory).
 PlocCluster plocCluster(uint i) {
   uvec4 a = texelFetch(gClusterTexels, int(2u * i)), b = texelFetch(gClusterTexels, int(2u * i + 1u));
-  return PlocCluster(uintBitsToFloat(a.xyz), uintBitsToFloat(b.xyz), a.w);
+  return PlocCluster(uintBitsToFloat(a.xyz), uintBitsToFloat(b.xyz), a.w, b.w);
 }
 void plocStoreCluster(uint i, PlocCluster c) {
   gNextClusters[2u * i] = uvec4(floatBitsToUint(c.lo), c.node);
-  gNextClusters[2u * i + 1u] = uvec4(floatBitsToUint(c.hi), 0u);
+  gNextClusters[2u * i + 1u] = uvec4(floatBitsToUint(c.hi), c.firstLeaf);
 }
 
-// The cluster of the union of two clusters' boxes, holding `node`.
+// The cluster of the union of two clusters, holding `node`.
 PlocCluster plocUnion(PlocCluster a, PlocCluster b, uint node) {
-  return PlocCluster(min(a.lo, b.lo), max(a.hi, b.hi), node);
+  return PlocCluster(min(a.lo, b.lo), max(a.hi, b.hi), node, min(a.firstLeaf, b.firstLeaf));
 }
 
 // Half the surface area of the union of two clusters' boxes; past 3e38 (NaN, infinite
@@ -74,13 +74,6 @@ bool plocSurvives(uint i, uint count, out bool merges, out uint partner) {
 // subgroup's lanes are consecutive invocations; the dispatch is one row (bvh_ploc_plan).
 uint plocSubgroupIndex() {
   return (gl_WorkGroupID.x * kWorkgroupSize) / gl_SubgroupSize + gl_SubgroupID;
-}
-
-// The first leaf (lowest sorted index) below a cluster's build node.
-uint plocFirstLeaf(uint node) {
-  uint ic = interiorCount();
-  uint first = texelFetch(gFirstLeafTexels, int(min(node, ic - 1u))).x;  // read by every lane
-  return node < ic ? first : node - ic;
 }
 
 #endif

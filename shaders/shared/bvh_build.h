@@ -244,18 +244,23 @@ OSR_CONST(uint, kSubtreeCountBindingCount, kSubtreeCountBindingTexels + kBuildTe
 //                     merge in an iteration): the interior node and its children's parent
 // Iterations alternate two cluster arrays and two halves of PlocState (param = parity); an
 // iteration whose count is 1 dispatches no group, so the host records a fixed number of them.
-// A cluster is its box and its build node (two texels). The nearest-neighbour search reads
-// clusters in Morton order, a neighbour's two texels each; compaction moves them; a merge reads
-// its children's other fields from the build nodes. Boxes quantized to 16 or 21 bits per plane
-// (one texel with the node elsewhere) built 10 ms faster on the 1M-triangle bench mesh, but its
-// tree traced coherent rays 5-10% slower. Per interior node: firstLeaf, the lowest sorted index
-// of its leaves.
+// A cluster is its box, its build node and its first leaf (the lowest sorted index of its
+// leaves), in two texels. The nearest-neighbour search reads clusters in Morton order, a
+// neighbour's two texels each; compaction moves them; a merge reads its children's other fields
+// from the build nodes. Boxes quantized to 16 or 21 bits per plane (one texel with the node
+// elsewhere) built 10 ms faster on the 1M-triangle bench mesh, but its tree traced coherent rays
+// 5-10% slower.
 // Interior indices as Karras's LBVH numbers them, so that a node lies near its leaves: a node
 // takes the first leaf of whichever child has the later one, minus 1. Every leaf but leaf 0 is
 // that for exactly one node (follow the subtrees whose first leaf it is up to the largest: that
 // subtree's parent), so the indices are 0 to N-2, each once, and depend only on the tree. The
 // root then swaps places with the node at 0, where the emit passes and the host expect it.
-OSR_CONST(uint, kPlocRadius, 4u);
+// The search radius. On the 1M-triangle bench mesh (osr-bench bvh and trace, alternating runs;
+// docs/bvh.md, "Seventh session"): radius 3 gives SAH/CPU-SAH 1.063 against 1.066 for 4, about
+// 10 ms less PLOC time and the same traversal speed; 2 gives 1.070 and traced 5-10% slower; 1
+// gives 1.091, PLOC 45 ms faster, diffuse rays 1-3% slower. Radius 1 for the first 4 to 16
+// iterations only: 1.088-1.094 (the bottom levels decide most of the cost).
+OSR_CONST(uint, kPlocRadius, 3u);
 OSR_CONST(uint, kPlocBindingClusterTexels, kBuildArrayBindingCount);       // this iteration's
                                                                             // clusters (RGBA32UI)
 OSR_CONST(uint, kPlocBindingNextClusters, kBuildArrayBindingCount + 1u);    // compaction target
@@ -264,10 +269,8 @@ OSR_CONST(uint, kPlocBindingNearestTexels, kBuildArrayBindingCount + 3u);   // R
 OSR_CONST(uint, kPlocBindingPartials, kBuildArrayBindingCount + 4u);        // uint per subgroup
 OSR_CONST(uint, kPlocBindingState, kBuildArrayBindingCount + 5u);           // PlocState
 OSR_CONST(uint, kPlocBindingValues, kBuildArrayBindingCount + 6u);          // sorted triangles
-OSR_CONST(uint, kPlocBindingFirstLeaf, kBuildArrayBindingCount + 7u);       // uint per interior node
-OSR_CONST(uint, kPlocBindingFirstLeafTexels, kBuildArrayBindingCount + 8u); // R32UI view of it
-OSR_CONST(uint, kPlocBindingPairs, kBuildArrayBindingCount + 9u);           // uvec4 per pair
-OSR_CONST(uint, kPlocBindingTexels, kBuildArrayBindingCount + 10u);         // build texels
+OSR_CONST(uint, kPlocBindingPairs, kBuildArrayBindingCount + 7u);           // uvec4 per pair
+OSR_CONST(uint, kPlocBindingTexels, kBuildArrayBindingCount + 8u);          // build texels
 OSR_CONST(uint, kPlocBindingCount, kPlocBindingTexels + kBuildTexelBindingCount);
 // Partials (uint each): per subgroup of an iteration's dispatch, its surviving clusters from 0,
 // its pairs from triangleCount + kWorkgroupSize (a dispatch has at most that many subgroups).

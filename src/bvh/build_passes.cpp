@@ -371,8 +371,7 @@ void SubtreeCountPass::record(VkCommandBuffer cmd, const Args& a) const {
 namespace {
 std::vector<VkDescriptorType> plocTypes() {
   std::vector<VkDescriptorType> t = wordTexelTypes(bb::kPlocBindingCount, bb::kPlocBindingTexels, bb::kPlocBindingClusterTexels);
-  for (uint32_t slot : {bb::kPlocBindingNearestTexels, bb::kPlocBindingFirstLeafTexels})
-    t[slot] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+  t[bb::kPlocBindingNearestTexels] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
   return t;
 }
 std::vector<vk::SpecConstant> plocSpec(const vk::Context& ctx) { return texelSpec(ctx, false, arraySpec(false)); }
@@ -398,8 +397,6 @@ vk::Binder PlocPass::binder(const vk::ComputePipeline& pipeline, const Args& a, 
       .setTexel(bb::kPlocBindingNearestTexels, a.nearestTexels)
       .set(bb::kPlocBindingPartials, a.partials)
       .set(bb::kPlocBindingState, *a.state)
-      .set(bb::kPlocBindingFirstLeaf, a.firstLeaf)
-      .setTexel(bb::kPlocBindingFirstLeafTexels, a.firstLeafTexels)
       .set(bb::kPlocBindingValues, a.values)
       .set(bb::kPlocBindingPairs, a.pairs);
   bindTexels(b, bb::kPlocBindingTexels, *a.texels);

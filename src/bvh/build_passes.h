@@ -210,8 +210,6 @@ class PlocPass {
     vk::BufferRange pairs;                        // uvec4 per 2 triangles
     VkBufferView nearestTexels = VK_NULL_HANDLE;  // R32UI view of nearest
     const vk::Buffer* state = nullptr;            // PlocState, with kStateUsage
-    vk::BufferRange firstLeaf;                    // scratch: uint per interior node
-    VkBufferView firstLeafTexels = VK_NULL_HANDLE;  // R32UI view of it
     uint32_t triangleCount = 0;                   // >= 2, <= kWorkgroupSize * kMaxGroupsX
   };
   // bvh_ploc_init and the first `iterations` iterations; `timer` (may be null) gets scopes

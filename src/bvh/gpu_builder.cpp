@@ -251,9 +251,7 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
                         sc.valueTexels.handle(), sc.keyTmpTexels.handle(), sc.valueTmpTexels.handle()},
                        &timer);
     if (usePloc) {
-      PlocPass::Args a = plocArgs();
-      a.firstLeaf = positions;  // free until the emit
-      a.firstLeafTexels = sc.valueTmpTexels.handle();
+      const PlocPass::Args a = plocArgs();  // makes the pass on first need: before passes.ploc is read
       passes.ploc->record(cmd, a, plocIterations, &timer);
       // One treelet round over the upper tree, where PLOC's greedy merges are weakest.
       if (plocTreelets)
