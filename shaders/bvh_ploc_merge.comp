@@ -1,9 +1,10 @@
 #version 460
 // bvh_ploc_merge: one invocation per mutual pair of this iteration (bvh_ploc_compact's list):
 // their parent, an interior node with everything bvh_refit would give it (refitNode from the
-// children's build nodes) and both children's parent. The root (this iteration had two clusters)
-// takes index 0 and first moves the node there to the root's own index. Inputs: pairs, build
-// nodes (texels; nodes of earlier iterations). Outputs: interior nodes, parents.
+// children's build nodes), both children's parent and its subtree's traversal nodes. The root
+// (this iteration had two clusters) takes index 0 and first moves the node there to the root's
+// own index. Inputs: pairs, build nodes and counts (texels; nodes of earlier iterations).
+// Outputs: interior nodes, parents, subtree node counts.
 #extension GL_GOOGLE_include_directive : require
 #include "lib/bvh_build_arrays.glsl"
 
@@ -11,12 +12,15 @@ layout(local_size_x = kWorkgroupSize) in;
 #include "lib/bvh_ploc.glsl"
 #define OSR_BUILD_TEXEL_BINDING kPlocBindingTexels
 #include "lib/bvh_build_texels.glsl"
+#define OSR_SUBTREE_NODES_BINDING kPlocBindingSubtreeNodes
+#include "lib/bvh_subtree_nodes.glsl"
 
 // Points whatever referred to interior node 0 at `to` instead: its children's parent, its
 // parent's child (unless its parent is still to be made: the root); and moves it.
 void moveNodeZero(uint to) {
   BvhBuildNode w = loadInterior(0u);
   storeInterior(to, w);
+  gSubtreeNodes[to] = gSubtreeNodes[0];
   setParent(w.left, to);
   setParent(w.right, to);
   if (w.parent != kInvalidNode) {
@@ -42,7 +46,10 @@ void main() {
   node.right = right;
   node.parent = kInvalidNode;  // until its own parent is made
   node = refitNode(node, readNode(pair.x), readNode(pair.y), isRoot);
+  // Before the root's stores below overwrite index 0, which pair.x or pair.y may be.
+  uint below = subtreeNodesOf(pair.x) + subtreeNodesOf(pair.y);
   storeInterior(p, node);
   setParent(left, p);
   setParent(right, p);
+  gSubtreeNodes[p] = subtreeNodesFrom(node.flags, below);
 }

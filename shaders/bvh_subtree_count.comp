@@ -28,7 +28,7 @@ void main() {
     BuildLinks links = readLinks(p);
     uint sibling = links.left == u ? links.right : links.left;
     uint siblingCount = sibling < interiorCount() ? gSubtreeNodes[sibling] : 0u;
-    count = (links.flags & kFlagCollapsed) != 0u ? 0u : 1u + count + siblingCount;
+    count = subtreeNodesFrom(links.flags, count + siblingCount);
     gSubtreeNodes[p] = count;
     u = p;
     p = links.parent;

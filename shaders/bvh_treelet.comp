@@ -7,6 +7,8 @@
 // dynamic programming over all leaf subsets the topology of least SAH cost (leaf collapse
 // included, as in the paper), and rewrites the treelet's interior nodes if that is cheaper.
 // Nodes of one height own disjoint subtrees, so no two invocations touch the same node.
+// With param2 = kTreeletCountNodes it also keeps each node's subtree node count (after PLOC,
+// whose merges counted them; shared/bvh_build.h): the refitted root's and the rewritten nodes'.
 #extension GL_GOOGLE_include_directive : require
 #include "shared/bvh_build.h"
 
@@ -17,6 +19,11 @@ layout(constant_id = kTreeletSpecLeaves) const uint kTreeletLeaves = kTreeletMax
 // earlier dispatch (the subtrees below this height), but for the treelet root, which this
 // invocation refits and keeps in registers.
 #include "lib/bvh_treelet_schedule.glsl"
+#define OSR_SUBTREE_NODES_BINDING kTreeletBindingSubtreeNodes
+#include "lib/bvh_subtree_nodes.glsl"
+
+// Whether this round keeps the subtree node counts (uniform: a push constant).
+bool countsNodes() { return (gPush.param2 & kTreeletCountNodes) != 0u; }
 
 const uint kSubsets = 1u << kTreeletMaxLeaves;
 
@@ -32,6 +39,7 @@ struct Slot {
   uint flags;
   uint left;  // children, where node is interior
   uint right;
+  uint subtreeNodes;  // where countsNodes()
 };
 
 Slot makeSlot(uint u, BvhBuildNode n) {
@@ -44,6 +52,7 @@ Slot makeSlot(uint u, BvhBuildNode n) {
   s.flags = n.flags;
   s.left = n.left;
   s.right = n.right;
+  s.subtreeNodes = countsNodes() ? subtreeNodesOf(u) : 0u;
   return s;
 }
 Slot readSlot(uint u) { return makeSlot(u, readNode(u)); }
@@ -167,6 +176,7 @@ void restructure(uint root, BvhBuildNode rn, BvhBuildNode l, BvhBuildNode r) {
   // Write each interior node once, bottom-up (children were assigned after their parents):
   // bounds, count and cost from the subset, heights from the children.
   uint flagsOf[kTreeletMaxLeaves - 1u];
+  uint subtreeNodesOfInterior[kTreeletMaxLeaves - 1u];
   for (int k = int(ni) - 1; k >= 0; --k) {
     uint s = subsetOf[k];
     BvhBuildNode n;
@@ -180,11 +190,12 @@ void restructure(uint root, BvhBuildNode rn, BvhBuildNode l, BvhBuildNode r) {
         n.triangleCount += gSlots[j].triangles;
       }
     n.cost = gCost[s];
-    uint height = 0u, traversalHeight = 0u;
+    uint height = 0u, traversalHeight = 0u, below = 0u;
     uint ids[2];
     for (int c = 0; c < 2; ++c) {
       uint child = childOf[k][c];
       uint childFlags = child < kTreeletMaxLeaves ? gSlots[child].flags : flagsOf[child - kTreeletMaxLeaves];
+      below += child < kTreeletMaxLeaves ? gSlots[child].subtreeNodes : subtreeNodesOfInterior[child - kTreeletMaxLeaves];
       ids[c] = child < kTreeletMaxLeaves ? gSlots[child].node : interior[child - kTreeletMaxLeaves];
       height = max(height, childFlags & kHeightMask);
       traversalHeight = max(traversalHeight, (childFlags >> kTraversalHeightShift) & kHeightMask);
@@ -196,7 +207,9 @@ void restructure(uint root, BvhBuildNode rn, BvhBuildNode l, BvhBuildNode r) {
     n.right = ids[1];
     n.parent = parentOf[k];
     flagsOf[k] = n.flags;
+    subtreeNodesOfInterior[k] = subtreeNodesFrom(n.flags, below);
     storeInterior(interior[k], n);
+    if (countsNodes()) gSubtreeNodes[interior[k]] = subtreeNodesOfInterior[k];
   }
 }
 
@@ -209,5 +222,6 @@ void main() {
   BvhBuildNode l = readNode(n.left), r = readNode(n.right);
   n = refitNode(n, l, r, node == 0u);
   storeInterior(node, n);
+  if (countsNodes()) gSubtreeNodes[node] = subtreeNodesFrom(n.flags, subtreeNodesOf(n.left) + subtreeNodesOf(n.right));
   restructure(node, n, l, r);
 }

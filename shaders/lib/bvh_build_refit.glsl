@@ -16,6 +16,10 @@ uint traversalHeightOf(BvhBuildNode n) { return (n.flags >> kTraversalHeightShif
 // Interior node n from its children: bounds, triangle count, SAH cost, collapse decision
 // (a subtree of at most kBvhMaxLeafTriangles becomes one leaf when that is not more costly;
 // never the root, which traversal needs as a node) and heights.
+// Traversal nodes in the subtree of a node with these flags whose children's subtrees hold
+// `below` (bvh_subtree_count's count): none where it collapses into a leaf.
+uint subtreeNodesFrom(uint flags, uint below) { return (flags & kFlagCollapsed) != 0u ? 0u : 1u + below; }
+
 BvhBuildNode refitNode(BvhBuildNode n, BvhBuildNode l, BvhBuildNode r, bool isRoot) {
   n.lo = min(l.lo, r.lo);
   n.hi = max(l.hi, r.hi);

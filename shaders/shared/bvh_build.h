@@ -201,7 +201,11 @@ OSR_CONST(uint, kTreeletBanks, 16u);
 // h at [b * kTreeletMaxLevels + h] a uvec2: the count, and the cursor (next free list entry).
 OSR_CONST(uint, kTreeletBindingSchedule, kBuildArrayBindingCount + 1u);
 OSR_CONST(uint, kTreeletBindingNodeList, kBuildArrayBindingCount + 2u);  // uint per interior node
-OSR_CONST(uint, kTreeletBindingTexels, kBuildArrayBindingCount + 3u);  // bvh_treelet's texel reads
+// Subtree node counts (bvh_subtree_count's; then its R32UI view), kept up to date where param2 has
+// kTreeletCountNodes (after PLOC, whose merges counted them).
+OSR_CONST(uint, kTreeletBindingSubtreeNodes, kBuildArrayBindingCount + 3u);
+OSR_CONST(uint, kTreeletBindingTexels, kBuildArrayBindingCount + 5u);  // bvh_treelet's texel reads
+OSR_CONST(uint, kTreeletCountNodes, 1u);
 OSR_CONST(uint, kTreeletBindingCount, kTreeletBindingTexels + kBuildTexelBindingCount);
 // One level (height or depth) of a level-synchronous pass: its nodes in the node list.
 struct LevelList {
@@ -228,9 +232,9 @@ OSR_CONST(uint, kSubtreeCountBindingCount, kSubtreeCountBindingTexels + kBuildTe
 // triangles; each iteration every cluster finds the cluster within kPlocRadius places (in
 // Morton order) whose union with it has the least surface area, mutual nearest pairs merge into
 // a new interior node, and the survivors are compacted in order. A merge knows both children,
-// so it writes the node's bounds, SAH cost, collapse decision and heights at once, with no
-// bottom-up climb. (The builder then runs one treelet round over the upper tree, and
-// bvh_subtree_count as after LBVH.)
+// so it writes the node's bounds, SAH cost, collapse decision, heights and traversal-node count
+// at once, with no bottom-up climb. (The builder then runs one treelet round over the upper tree,
+// which keeps the counts, so no bvh_subtree_count.)
 //   bvh_ploc_init     leaves (as bvh_lbvh's) and the first clusters
 //   bvh_ploc_nearest  each cluster's nearest neighbour (one strict order of pairs, so a mutual
 //                     pair always exists and every iteration merges)
@@ -241,7 +245,8 @@ OSR_CONST(uint, kSubtreeCountBindingCount, kSubtreeCountBindingTexels + kBuildTe
 //   bvh_ploc_compact  survivors (a pair's lower cluster now holding the pair's parent) to the
 //                     other cluster array, in order; the pairs to the pair list
 //   bvh_ploc_merge    one invocation per pair (every lane busy: a quarter of the clusters
-//                     merge in an iteration): the interior node and its children's parent
+//                     merge in an iteration): the interior node, its children's parent and
+//                     its subtree's traversal nodes
 // Iterations alternate two cluster arrays and two halves of PlocState (param = parity); an
 // iteration whose count is 1 dispatches no group, so the host records a fixed number of them.
 // A cluster is its box, its build node and its first leaf (the lowest sorted index of its
@@ -270,7 +275,9 @@ OSR_CONST(uint, kPlocBindingPartials, kBuildArrayBindingCount + 4u);        // u
 OSR_CONST(uint, kPlocBindingState, kBuildArrayBindingCount + 5u);           // PlocState
 OSR_CONST(uint, kPlocBindingValues, kBuildArrayBindingCount + 6u);          // sorted triangles
 OSR_CONST(uint, kPlocBindingPairs, kBuildArrayBindingCount + 7u);           // uvec4 per pair
-OSR_CONST(uint, kPlocBindingTexels, kBuildArrayBindingCount + 8u);          // build texels
+OSR_CONST(uint, kPlocBindingSubtreeNodes, kBuildArrayBindingCount + 8u);    // uint per interior
+                                                                            // node, then its view
+OSR_CONST(uint, kPlocBindingTexels, kBuildArrayBindingCount + 10u);         // build texels
 OSR_CONST(uint, kPlocBindingCount, kPlocBindingTexels + kBuildTexelBindingCount);
 // Partials (uint each): per subgroup of an iteration's dispatch, its surviving clusters from 0,
 // its pairs from triangleCount + kWorkgroupSize (a dispatch has at most that many subgroups).

@@ -301,7 +301,9 @@ void RefitPass::record(VkCommandBuffer cmd, const Args& a) const {
 }
 
 namespace {
-std::vector<VkDescriptorType> treeletTypes() { return texelTypes(bb::kTreeletBindingCount, bb::kTreeletBindingTexels); }
+std::vector<VkDescriptorType> treeletTypes() {
+  return wordTexelTypes(bb::kTreeletBindingCount, bb::kTreeletBindingTexels, bb::kTreeletBindingSubtreeNodes + 1);
+}
 }  // namespace
 
 TreeletPass::TreeletPass(const vk::Context& ctx, uint32_t treeletLeaves, bool byAddress)
@@ -336,7 +338,9 @@ void TreeletPass::record(VkCommandBuffer cmd, const Args& a, vk::GpuTimer* timer
     schedulePush = bindArrays(b, access_, *a.arrays, a.triangleCount, a.minTriangles);
     b.set(bb::kClimbBindingCounters, a.counters)
         .set(bb::kTreeletBindingSchedule, *a.schedule)
-        .set(bb::kTreeletBindingNodeList, a.nodeList);
+        .set(bb::kTreeletBindingNodeList, a.nodeList)
+        .set(bb::kTreeletBindingSubtreeNodes, a.subtreeNodes)
+        .setTexel(bb::kTreeletBindingSubtreeNodes + 1, a.subtreeNodeTexels);
     bindTexels(b, bb::kTreeletBindingTexels, *a.texels);
     return b;
   };
@@ -353,7 +357,9 @@ void TreeletPass::record(VkCommandBuffer cmd, const Args& a, vk::GpuTimer* timer
   scope.emplace(timer, cmd, "bvh_treelet");
   // Height 0 holds no restructurable node (leaves and collapsed subtrees).
   const vk::Binder treelet = binder(treelet_);
-  dispatchLevels(cmd, treelet_, treelet, schedulePush, *a.schedule, 1, bb::kTreeletMaxLevels);
+  BuildPush treeletPush = schedulePush;
+  treeletPush.param2 = a.countNodes ? bb::kTreeletCountNodes : 0u;
+  dispatchLevels(cmd, treelet_, treelet, treeletPush, *a.schedule, 1, bb::kTreeletMaxLevels);
 }
 
 SubtreeCountPass::SubtreeCountPass(const vk::Context& ctx, bool byAddress)
@@ -371,7 +377,8 @@ void SubtreeCountPass::record(VkCommandBuffer cmd, const Args& a) const {
 namespace {
 std::vector<VkDescriptorType> plocTypes() {
   std::vector<VkDescriptorType> t = wordTexelTypes(bb::kPlocBindingCount, bb::kPlocBindingTexels, bb::kPlocBindingClusterTexels);
-  t[bb::kPlocBindingNearestTexels] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+  for (uint32_t slot : {bb::kPlocBindingNearestTexels, bb::kPlocBindingSubtreeNodes + 1})
+    t[slot] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
   return t;
 }
 std::vector<vk::SpecConstant> plocSpec(const vk::Context& ctx) { return texelSpec(ctx, false, arraySpec(false)); }
@@ -398,7 +405,9 @@ vk::Binder PlocPass::binder(const vk::ComputePipeline& pipeline, const Args& a, 
       .set(bb::kPlocBindingPartials, a.partials)
       .set(bb::kPlocBindingState, *a.state)
       .set(bb::kPlocBindingValues, a.values)
-      .set(bb::kPlocBindingPairs, a.pairs);
+      .set(bb::kPlocBindingPairs, a.pairs)
+      .set(bb::kPlocBindingSubtreeNodes, a.subtreeNodes)
+      .setTexel(bb::kPlocBindingSubtreeNodes + 1, a.subtreeNodeTexels);
   bindTexels(b, bb::kPlocBindingTexels, *a.texels);
   return b;
 }

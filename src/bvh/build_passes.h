@@ -177,6 +177,11 @@ class TreeletPass {
     vk::BufferRange nodeList;              // uint per interior node
     uint32_t triangleCount = 0;
     uint32_t minTriangles = 0;             // smallest subtree restructured
+    // SubtreeCountPass's counts (uint per interior node) and their R32UI view: kept up to date
+    // where countNodes (they are complete before the round: after PlocPass), else unread.
+    vk::BufferRange subtreeNodes;
+    VkBufferView subtreeNodeTexels = VK_NULL_HANDLE;
+    bool countNodes = false;
   };
   // `timer` (may be null) gets scopes "bvh_treelet_schedule" (count, plan, scatter) and
   // "bvh_treelet" (the per-height dispatches).
@@ -209,6 +214,8 @@ class PlocPass {
     vk::BufferRange partials;                     // 2 * (triangleCount + kWorkgroupSize) uints
     vk::BufferRange pairs;                        // uvec4 per 2 triangles
     VkBufferView nearestTexels = VK_NULL_HANDLE;  // R32UI view of nearest
+    vk::BufferRange subtreeNodes;                 // out: SubtreeCountPass's counts
+    VkBufferView subtreeNodeTexels = VK_NULL_HANDLE;  // R32UI view of them
     const vk::Buffer* state = nullptr;            // PlocState, with kStateUsage
     uint32_t triangleCount = 0;                   // >= 2, <= kWorkgroupSize * kMaxGroupsX
   };

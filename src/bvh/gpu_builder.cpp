@@ -204,6 +204,10 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
   initial.centroidMin = glm::uvec4(ordered(kBig), ordered(kBig), ordered(kBig), 0);
   initial.centroidMax = glm::uvec4(ordered(-kBig), ordered(-kBig), ordered(-kBig), 0);
 
+  // The sort's temporary arrays (uint per triangle) are free once it is done: they hold the
+  // subtree node counts (from PLOC on) and positions; its keys hold the leaf bases of the
+  // depth-first order after the hierarchy is made.
+  const vk::BufferRange subtreeNodes(keysTmp, 0, 4ull * interiorCount), positions(valuesTmp, 0, 4ull * interiorCount);
   bool usePloc = plocFor(options, n, !byAddress);
   const bool plocTreelets = options.plocTreeletMinTriangles != 0 && n > 2;
   auto plocArgs = [&]() {
@@ -225,15 +229,22 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
     a.partials = ps.partials;
     a.pairs = ps.pairs;
     a.nearestTexels = ps.nearestTexels.handle();
+    a.subtreeNodes = subtreeNodes;
+    a.subtreeNodeTexels = sc.keyTmpTexels.handle();
     a.state = &ps.state;
     a.triangleCount = n;
     return a;
   };
 
-  // The sort's key arrays and temporary value array (uint per triangle) are free once the
-  // hierarchy is made: they hold the subtree node counts, positions and leaf bases of the
-  // depth-first order.
-  const vk::BufferRange subtreeNodes(keysTmp, 0, 4ull * interiorCount), positions(valuesTmp, 0, 4ull * interiorCount);
+  // A treelet round over the nodes of at least minTriangles triangles; after PLOC it keeps the
+  // subtree node counts that PLOC's merges made, so no bvh_subtree_count.
+  auto treeletArgs = [&](uint32_t minTriangles) {
+    TreeletPass::Args a{&arrays, &texels, counters, &schedule, nodeList, n, minTriangles};
+    a.subtreeNodes = subtreeNodes;
+    a.subtreeNodeTexels = sc.keyTmpTexels.handle();
+    a.countNodes = usePloc;
+    return a;
+  };
   auto record = [&](VkCommandBuffer cmd, uint32_t treeletRounds, uint32_t plocIterations) {
     timer.reset(cmd);
     vkCmdUpdateBuffer(cmd, info.handle(), 0, sizeof(initial), &initial);
@@ -255,7 +266,7 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
       passes.ploc->record(cmd, a, plocIterations, &timer);
       // One treelet round over the upper tree, where PLOC's greedy merges are weakest.
       if (plocTreelets)
-        passes.treelet.record(cmd, {&arrays, &texels, counters, &schedule, nodeList, n, options.plocTreeletMinTriangles}, &timer);
+        passes.treelet.record(cmd, treeletArgs(options.plocTreeletMinTriangles), &timer);
     } else {
       {
         vk::TimedScope scope(&timer, cmd, "bvh_lbvh");
@@ -268,10 +279,10 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
       for (uint32_t round = 0; round < treeletRounds && n > 2; ++round) {
         // Karras & Aila grow the smallest restructured subtree each round: the bottom levels
         // improve most in the first round, later rounds polish the upper tree at less cost.
-        passes.treelet.record(cmd, {&arrays, &texels, counters, &schedule, nodeList, n, options.treeletMinTriangles << round}, &timer);
+        passes.treelet.record(cmd, treeletArgs(options.treeletMinTriangles << round), &timer);
       }
     }
-    if (n > 1) {
+    if (n > 1 && !usePloc) {
       vk::TimedScope scope(&timer, cmd, "bvh_subtree_count");
       passes.subtreeCount.record(cmd, {&arrays, &texels, counters, subtreeNodes, n});
     }

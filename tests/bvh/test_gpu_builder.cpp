@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <memory>
 #include <stdexcept>
 
 #include "bvh/cpu_builder.h"
@@ -264,6 +265,15 @@ TEST_F(GpuBuilder, PlocTreesAreValidAndTraceExactly) {
   bvh::GpuBuildOptions options;
   options.hierarchy = bvh::Hierarchy::Ploc;
   const bvh::GpuBuilder ploc(ctx, options);
+  // The depth-first layout takes its subtree node counts from PLOC's merges, kept by the treelet
+  // round that follows (no bvh_subtree_count): also right without that round, and with one that
+  // restructures every node (so that every count is rewritten).
+  std::vector<std::pair<uint32_t, std::unique_ptr<bvh::GpuBuilder>>> others;
+  for (uint32_t minTriangles : {0u, 7u}) {
+    bvh::GpuBuildOptions other = options;
+    other.plocTreeletMinTriangles = minTriangles;
+    others.emplace_back(minTriangles, std::make_unique<bvh::GpuBuilder>(ctx, other));
+  }
   auto meshes = test::testMeshes();
   meshes.push_back({"two_triangles", bvh::makeSoup(2, 7, {0, 0, 0}, 1.0f, 0.5f)});
   for (const auto& [name, mesh] : meshes) {
@@ -295,6 +305,14 @@ TEST_F(GpuBuilder, PlocTreesAreValidAndTraceExactly) {
     EXPECT_EQ(bytes(tree.nodes, live * sizeof(gpu::bvh::BvhNode)), bytes(again.nodes, live * sizeof(gpu::bvh::BvhNode)))
         << name;
     EXPECT_EQ(bytes(tree.leafData, tree.leafData.size()), bytes(again.leafData, again.leafData.size())) << name;
+    for (const auto& [minTriangles, builder] : others) {
+      bvh::Bvh t = builder->build(dm.vertices, dm.triangles, n, nullptr, bvh::NodeForms::Both);
+      const std::string what = name + ", treelets from " + std::to_string(minTriangles);
+      EXPECT_EQ(bvh::checkInvariants(bvh::download(t), mesh.vertices, mesh.triangles), "") << what;
+      const decltype(rays) some(rays.begin(), rays.begin() + std::min<size_t>(rays.size(), 20000));
+      EXPECT_EQ(test::compareClosest(what, mesh, some, test::traceOnDevice(ctx, t, some, gpu::bvh_trace::kModeClosest)), 0u)
+          << what;
+    }
   }
 }
 
