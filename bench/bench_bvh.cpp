@@ -43,8 +43,11 @@ int runBvh(const std::vector<std::string>& argv) {
   for (const BvhBenchScene& s : bvhBenchScenes(only, triangles)) {
     const auto& m = s.mesh;
     const uint32_t n = uint32_t(m.triangles.size());
-    vk::Buffer vertices(ctx, m.vertices.size() * sizeof(gpu::scene::Vertex), vk::MemoryUse::DeviceLocal, "bench vertices");
-    vk::Buffer triangles(ctx, m.triangles.size() * sizeof(gpu::scene::Triangle), vk::MemoryUse::DeviceLocal, "bench triangles");
+    // With texel usage, as gpu::GpuScene makes them (bvh_bounds then reads them through views).
+    vk::Buffer vertices(ctx, m.vertices.size() * sizeof(gpu::scene::Vertex), vk::MemoryUse::DeviceLocal, "bench vertices",
+                        VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT);
+    vk::Buffer triangles(ctx, m.triangles.size() * sizeof(gpu::scene::Triangle), vk::MemoryUse::DeviceLocal,
+                         "bench triangles", VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT);
     vertices.uploadVector(m.vertices);
     triangles.uploadVector(m.triangles);
 

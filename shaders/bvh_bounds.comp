@@ -2,7 +2,8 @@
 // bvh_bounds: for each triangle, a copy of its world-space vertices (BvhLeafTriangle, scene
 // index in v0.w) and the scene's centroid bounds: subgroup min/max, then one atomic per
 // subgroup and axis where that grows the box, on order-preserving uints (bvhOrderedFromBits).
-// Inputs: scene triangles and vertices (lib/bvh_build_arrays.glsl). Outputs: prims,
+// Inputs: scene triangles and vertices (lib/bvh_build_arrays.glsl, or texel views of them:
+// param2 = kBoundsSceneTexels, shared/bvh_build.h). Outputs: prims,
 // info.centroidMin/Max, which the caller has set to the empty box. Precondition: vertex indices
 // in range.
 #extension GL_GOOGLE_include_directive : require
@@ -11,6 +12,24 @@
 
 layout(local_size_x = kWorkgroupSize) in;
 layout(std430, binding = kBoundsBindingInfo) buffer Info { BvhBuildInfo gInfo; };
+layout(binding = kBoundsBindingTriangleTexels) uniform usamplerBuffer gTriangleTexels;
+layout(binding = kBoundsBindingVertexTexels) uniform usamplerBuffer gVertexTexels;
+
+// Triangle i's vertex positions, from the scene's texel views or its storage arrays (a uniform
+// choice: param2 comes from the push constants).
+void loadCorners(uint i, out vec3 p0, out vec3 p1, out vec3 p2) {
+  if (gPush.param2 == kBoundsSceneTexels) {
+    uvec4 t = texelFetch(gTriangleTexels, int(i));
+    p0 = uintBitsToFloat(texelFetch(gVertexTexels, int(2u * t.x)).xyz);
+    p1 = uintBitsToFloat(texelFetch(gVertexTexels, int(2u * t.y)).xyz);
+    p2 = uintBitsToFloat(texelFetch(gVertexTexels, int(2u * t.z)).xyz);
+    return;
+  }
+  Triangle t = loadTriangle(i);
+  p0 = loadPosition(t.v0);
+  p1 = loadPosition(t.v1);
+  p2 = loadPosition(t.v2);
+}
 
 
 void main() {
@@ -18,8 +37,8 @@ void main() {
   bool inRange = i < gPush.triangleCount;
   vec3 cmin = vec3(3.0e38), cmax = vec3(-3.0e38);
   if (inRange) {
-    Triangle t = loadTriangle(i);
-    vec3 p0 = loadPosition(t.v0), p1 = loadPosition(t.v1), p2 = loadPosition(t.v2);
+    vec3 p0, p1, p2;
+    loadCorners(i, p0, p1, p2);
     storePrim(i, BvhLeafTriangle(vec4(p0, uintBitsToFloat(i)), vec4(p1, 0.0), vec4(p2, 0.0)));
     vec3 c = 0.5 * (min(min(p0, p1), p2) + max(max(p0, p1), p2));
     cmin = c;

@@ -121,7 +121,13 @@ OSR_CONST(uint, kBuildNodeTexels, 3u);  // 16-byte texels per BvhBuildNode
 
 // bvh_bounds: arrays triangles, vertices (in), prims (out).
 OSR_CONST(uint, kBoundsBindingInfo, kBuildArrayBindingCount);
-OSR_CONST(uint, kBoundsBindingCount, kBuildArrayBindingCount + 1u);
+// RGBA32UI views of the scene's triangles and vertices (a Triangle is one texel, a Vertex two),
+// read where param2 is kBoundsSceneTexels: on lavapipe four gathers per triangle, where the
+// storage loads are twelve loops over the lanes.
+OSR_CONST(uint, kBoundsBindingTriangleTexels, kBuildArrayBindingCount + 1u);
+OSR_CONST(uint, kBoundsBindingVertexTexels, kBuildArrayBindingCount + 2u);
+OSR_CONST(uint, kBoundsBindingCount, kBuildArrayBindingCount + 3u);
+OSR_CONST(uint, kBoundsSceneTexels, 1u);
 
 // bvh_morton: arrays prims (through texels).
 OSR_CONST(uint, kMortonBindingInfo, kBuildArrayBindingCount);

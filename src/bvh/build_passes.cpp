@@ -157,14 +157,27 @@ bool BuildArrayBuffers::pastOneBinding(const vk::Context& ctx) const {
   return false;
 }
 
+namespace {
+std::vector<VkDescriptorType> boundsTypes() {
+  std::vector<VkDescriptorType> t(bb::kBoundsBindingCount, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
+  t[bb::kBoundsBindingTriangleTexels] = t[bb::kBoundsBindingVertexTexels] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+  return t;
+}
+}  // namespace
+
 BoundsPass::BoundsPass(const vk::Context& ctx, bool byAddress)
     : access_{&ctx, byAddress},
-      pipeline_(ctx, shaders::Id::bvh_bounds, bb::kBoundsBindingCount, sizeof(BuildPush), arraySpec(byAddress)) {}
+      pipeline_(ctx, shaders::Id::bvh_bounds, boundsTypes(), sizeof(BuildPush), arraySpec(byAddress)) {}
 
 void BoundsPass::record(VkCommandBuffer cmd, const Args& a) const {
   vk::Binder binder(pipeline_);
   BuildPush p = bindArrays(binder, access_, *a.arrays, a.triangleCount, 0);
-  binder.set(bb::kBoundsBindingInfo, a.info).bind(cmd, p);
+  const bool sceneTexels = a.triangleTexels && a.vertexTexels;
+  p.param2 = sceneTexels ? bb::kBoundsSceneTexels : 0u;
+  binder.set(bb::kBoundsBindingInfo, a.info)
+      .setTexel(bb::kBoundsBindingTriangleTexels, sceneTexels ? a.triangleTexels : a.unusedTexels)
+      .setTexel(bb::kBoundsBindingVertexTexels, sceneTexels ? a.vertexTexels : a.unusedTexels)
+      .bind(cmd, p);
   dispatchItems(pipeline_, cmd, a.triangleCount);
   vk::computeBarrier(cmd);
 }

@@ -56,6 +56,10 @@ class BoundsPass {
     const BuildArrayBuffers* arrays = nullptr;
     vk::BufferRange info;  // in/out: BvhBuildInfo
     uint32_t triangleCount = 0;
+    // RGBA32UI views of the scene's triangles and vertices (vk::BufferView::uintTexels) that
+    // reach every triangle and vertex, or null: then the pass reads the storage arrays.
+    VkBufferView triangleTexels = VK_NULL_HANDLE, vertexTexels = VK_NULL_HANDLE;
+    VkBufferView unusedTexels = VK_NULL_HANDLE;  // any valid view, bound in their place when null
   };
   void record(VkCommandBuffer cmd, const Args& args) const;
 

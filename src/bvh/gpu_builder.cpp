@@ -179,6 +179,17 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
   texels.interior = sc.interiorTexels.handle();
   texels.leaves = sc.leafTexels.handle();
   texels.prims = sc.primTexels.handle();
+  // The scene's triangles and vertices through texel views where their buffers allow them
+  // (gpu::GpuScene's do) and the views reach their ends: bvh_bounds then gathers instead of
+  // looping over the lanes per load.
+  vk::BufferView triangleTexels, vertexTexels;
+  constexpr VkBufferUsageFlags kTexelUsage = VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT;
+  if ((triangles.usage() & kTexelUsage) && (vertices.usage() & kTexelUsage)) {
+    bool coversT = false, coversV = false;
+    triangleTexels = vk::BufferView::uintTexels(ctx, triangles, "bvh scene triangle texels", &coversT);
+    vertexTexels = vk::BufferView::uintTexels(ctx, vertices, "bvh scene vertex texels", &coversV);
+    if (!coversT || !coversV) triangleTexels = vk::BufferView(), vertexTexels = vk::BufferView();
+  }
   BuildArrayBuffers arrays;
   arrays.triangles = vk::BufferRange(triangles, 0, uint64_t(n) * sizeof(gpu::scene::Triangle));
   arrays.vertices = vertices;
@@ -251,7 +262,7 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
     vk::transferBarrier(cmd);
     {
       vk::TimedScope scope(&timer, cmd, "bvh_bounds");
-      passes.bounds.record(cmd, {&arrays, info, n});
+      passes.bounds.record(cmd, {&arrays, info, n, triangleTexels.handle(), vertexTexels.handle(), texels.prims});
     }
     {
       vk::TimedScope scope(&timer, cmd, "bvh_morton");

@@ -49,6 +49,7 @@ Buffer::Buffer(const Context& ctx, VkDeviceSize size, MemoryUse use, std::string
   info.usage = VK_BUFFER_USAGE_STORAGE_BUFFER_BIT | VK_BUFFER_USAGE_TRANSFER_SRC_BIT |
                VK_BUFFER_USAGE_TRANSFER_DST_BIT | VK_BUFFER_USAGE_INDIRECT_BUFFER_BIT | extraUsage;
   if (ctx.caps().bufferDeviceAddress) info.usage |= VK_BUFFER_USAGE_SHADER_DEVICE_ADDRESS_BIT;
+  usage_ = info.usage;
   info.sharingMode = VK_SHARING_MODE_EXCLUSIVE;
   check(vkCreateBuffer(ctx.device(), &info, nullptr, &buffer_), ("vkCreateBuffer " + name_).c_str());
   ctx.setName(VK_OBJECT_TYPE_BUFFER, reinterpret_cast<uint64_t>(buffer_), name_);
@@ -115,6 +116,7 @@ Buffer& Buffer::operator=(Buffer&& o) noexcept {
     size_ = o.size_;
     mapped_ = o.mapped_;
     coherent_ = o.coherent_;
+    usage_ = o.usage_;
     name_ = std::move(o.name_);
     o.buffer_ = VK_NULL_HANDLE;
     o.memory_ = VK_NULL_HANDLE;

@@ -32,6 +32,8 @@ class Buffer {
   VkBuffer handle() const { return buffer_; }
   VkDeviceSize size() const { return size_; }
   const std::string& name() const { return name_; }
+  // The usage it was made with (storage, transfer, indirect, and the extra usage asked for).
+  VkBufferUsageFlags usage() const { return usage_; }
   bool valid() const { return buffer_ != VK_NULL_HANDLE; }
   // Its address for GL_EXT_buffer_reference (caps().bufferDeviceAddress must be true).
   VkDeviceAddress deviceAddress() const;
@@ -66,6 +68,7 @@ class Buffer {
   VkDeviceSize size_ = 0;
   void* mapped_ = nullptr;
   bool coherent_ = true;
+  VkBufferUsageFlags usage_ = 0;
   std::string name_;
 };
 

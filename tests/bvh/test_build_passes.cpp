@@ -39,15 +39,19 @@ TEST(BuildPasses, OrderedFloatEncodingOrdersLikeFloats) {
   }
 }
 
-// Both ways of reaching the large arrays: bindings, and device addresses (scenes past one binding).
+// Both ways of reaching the large arrays: bindings, and device addresses (scenes past one binding);
+// and both ways bvh_bounds reads the scene: its storage arrays, and texel views of them.
 TEST(BuildPasses, BoundsAndMortonMatchTheCpuTwin) {
   auto& ctx = test::context();
   for (bool byAddress : {false, true})
+  for (bool sceneTexels : {false, true})
   for (uint32_t count : {1u, 63u, 1000u, 5001u}) {
-    SCOPED_TRACE(byAddress ? "by address" : "bindings");
+    SCOPED_TRACE(std::string(byAddress ? "by address" : "bindings") + (sceneTexels ? ", scene texels" : ""));
     bvh::SyntheticMesh m = bvh::makeSoup(count, count, {3, -2, 1}, 5.0f, 0.5f, 7);
-    vk::Buffer verts = deviceBuffer(ctx, m.vertices.size() * 32, "verts");
-    vk::Buffer tris = deviceBuffer(ctx, m.triangles.size() * 16, "tris");
+    vk::Buffer verts(ctx, m.vertices.size() * 32, vk::MemoryUse::DeviceLocal, "verts", VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT);
+    vk::Buffer tris(ctx, m.triangles.size() * 16, vk::MemoryUse::DeviceLocal, "tris", VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT);
+    vk::BufferView vertTexels = vk::BufferView::uintTexels(ctx, verts, "vert texels");
+    vk::BufferView triTexels = vk::BufferView::uintTexels(ctx, tris, "tri texels");
     verts.uploadVector(m.vertices);
     tris.uploadVector(m.triangles);
     vk::Buffer prims(ctx, count * 48ull, vk::MemoryUse::DeviceLocal, "prims", bvh::BuildTexelViews::kUsage);
@@ -75,7 +79,10 @@ TEST(BuildPasses, BoundsAndMortonMatchTheCpuTwin) {
     bvh::BoundsPass bounds(ctx, byAddress);
     bvh::MortonPass morton(ctx, byAddress);
     ctx.submitAndWait([&](VkCommandBuffer cmd) {
-      bounds.record(cmd, {&arrays, info, count});
+      bvh::BoundsPass::Args boundsArgs{&arrays, info, count};
+      boundsArgs.unusedTexels = primTexels.handle();
+      if (sceneTexels) boundsArgs.triangleTexels = triTexels.handle(), boundsArgs.vertexTexels = vertTexels.handle();
+      bounds.record(cmd, boundsArgs);
       morton.record(cmd, {&arrays, &texels, info, keys, values, count});
     });
     // CPU twin.
