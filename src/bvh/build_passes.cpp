@@ -85,6 +85,12 @@ BuildPush bindArrays(vk::Binder& binder, const ArrayAccess& access, const BuildA
   }
   return p;
 }
+// Storage-buffer slots but for uniform texel buffers at `texelSlots`.
+std::vector<VkDescriptorType> storageAndTexelTypes(uint32_t bindingCount, std::initializer_list<uint32_t> texelSlots) {
+  std::vector<VkDescriptorType> t(bindingCount, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
+  for (uint32_t slot : texelSlots) t[slot] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
+  return t;
+}
 // Storage-buffer slots but for the kBuildTexelBindingCount texel slots from `texelBase`.
 std::vector<VkDescriptorType> texelTypes(uint32_t bindingCount, uint32_t texelBase) {
   std::vector<VkDescriptorType> t(bindingCount, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
@@ -157,17 +163,11 @@ bool BuildArrayBuffers::pastOneBinding(const vk::Context& ctx) const {
   return false;
 }
 
-namespace {
-std::vector<VkDescriptorType> boundsTypes() {
-  std::vector<VkDescriptorType> t(bb::kBoundsBindingCount, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
-  t[bb::kBoundsBindingTriangleTexels] = t[bb::kBoundsBindingVertexTexels] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
-  return t;
-}
-}  // namespace
-
 BoundsPass::BoundsPass(const vk::Context& ctx, bool byAddress)
     : access_{&ctx, byAddress},
-      pipeline_(ctx, shaders::Id::bvh_bounds, boundsTypes(), sizeof(BuildPush), arraySpec(byAddress)) {}
+      pipeline_(ctx, shaders::Id::bvh_bounds,
+                storageAndTexelTypes(bb::kBoundsBindingCount, {bb::kBoundsBindingTriangleTexels, bb::kBoundsBindingVertexTexels}),
+                sizeof(BuildPush), arraySpec(byAddress)) {}
 
 void BoundsPass::record(VkCommandBuffer cmd, const Args& a) const {
   vk::Binder binder(pipeline_);
@@ -227,9 +227,7 @@ void ExclusiveScan::record(VkCommandBuffer cmd, const Args& a) const {
 
 namespace {
 std::vector<VkDescriptorType> radixTypes() {
-  std::vector<VkDescriptorType> t(bb::kRadixBindingCount, VK_DESCRIPTOR_TYPE_STORAGE_BUFFER);
-  t[bb::kRadixBindingKeyTexelsIn] = t[bb::kRadixBindingValueTexelsIn] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
-  return t;
+  return storageAndTexelTypes(bb::kRadixBindingCount, {bb::kRadixBindingKeyTexelsIn, bb::kRadixBindingValueTexelsIn});
 }
 std::vector<vk::SpecConstant> radixSpec(const vk::Context& ctx) {
   return {vk::specUint(bb::kRadixSpecTexels, wordTexelsCoverBindings(ctx) ? 1u : 0u)};

@@ -17,8 +17,8 @@ using namespace osr;
 namespace bb = gpu::bvh_build;
 
 namespace {
-vk::Buffer deviceBuffer(const vk::Context& ctx, uint64_t bytes, const char* name) {
-  return vk::Buffer(ctx, std::max<uint64_t>(bytes, 16), vk::MemoryUse::DeviceLocal, name);
+vk::Buffer deviceBuffer(const vk::Context& ctx, uint64_t bytes, const char* name, VkBufferUsageFlags extraUsage = 0) {
+  return vk::Buffer(ctx, std::max<uint64_t>(bytes, 16), vk::MemoryUse::DeviceLocal, name, extraUsage);
 }
 float decode(uint32_t o) {
   uint32_t bits = bb::bvhBitsFromOrdered(o);
@@ -48,8 +48,8 @@ TEST(BuildPasses, BoundsAndMortonMatchTheCpuTwin) {
   for (uint32_t count : {1u, 63u, 1000u, 5001u}) {
     SCOPED_TRACE(std::string(byAddress ? "by address" : "bindings") + (sceneTexels ? ", scene texels" : ""));
     bvh::SyntheticMesh m = bvh::makeSoup(count, count, {3, -2, 1}, 5.0f, 0.5f, 7);
-    vk::Buffer verts(ctx, m.vertices.size() * 32, vk::MemoryUse::DeviceLocal, "verts", VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT);
-    vk::Buffer tris(ctx, m.triangles.size() * 16, vk::MemoryUse::DeviceLocal, "tris", VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT);
+    vk::Buffer verts = deviceBuffer(ctx, m.vertices.size() * 32, "verts", VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT);
+    vk::Buffer tris = deviceBuffer(ctx, m.triangles.size() * 16, "tris", VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT);
     vk::BufferView vertTexels = vk::BufferView::uintTexels(ctx, verts, "vert texels");
     vk::BufferView triTexels = vk::BufferView::uintTexels(ctx, tris, "tri texels");
     verts.uploadVector(m.vertices);
