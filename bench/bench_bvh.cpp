@@ -36,7 +36,7 @@ int runBvh(const std::vector<std::string>& argv) {
       args.integer("--treelet-leaves", 3, gpu::bvh_build::kTreeletMaxLeaves).value_or(options.treeletLeaves));
   options.treeletMinTriangles =
       uint32_t(args.integer("--treelet-min-triangles", 3, 1 << 20).value_or(options.treeletMinTriangles));
-  options.hierarchy = hierarchyOption(args, "bvh");
+  hierarchyOptions(args, "bvh", options);
   args.finish();
   vk::Context ctx;
   bvh::GpuBuilder builder(ctx, options);
@@ -97,6 +97,7 @@ int runBvh(const std::vector<std::string>& argv) {
     if (cpuReference) line.num("sah_cpu", sahCpu).num("sah_ratio", sahGpu / sahCpu);
     line.integer("treelet_rounds", best.treeletRounds).integer("treelet_leaves", options.treeletLeaves);
     line.integer("treelet_min_triangles", options.treeletMinTriangles).integer("ploc_iterations", best.plocIterations);
+    line.integer("ploc_local_rounds", best.plocLocalRounds);
     line.integer("depth", bvh::depth(gpuTree)).num("wall_ms", bestWall).num("cpu_time_ms", bestCpu);
     if (cpuReference) line.num("cpu_build_ms", cpuMs);
     // Memory per triangle. Device: the scene's vertex and triangle buffers, the BVH the renderer

@@ -111,7 +111,7 @@ int runTrace(const std::vector<std::string>& argv) {
   std::vector<uint32_t> raysPerLane = {1u, bvh::TraceRaysPass::Args().raysPerLane};
   if (auto v = args.integerList("--rays-per-lane", 1, 64)) raysPerLane.assign(v->begin(), v->end());
   bvh::GpuBuildOptions buildOptions;
-  buildOptions.hierarchy = hierarchyOption(args, "trace");
+  hierarchyOptions(args, "trace", buildOptions);
   args.finish();
   bvh::Access access = bvh::Access::Auto;
   if (accessName == "storage")

@@ -53,12 +53,17 @@ std::vector<BvhBenchScene> bvhBenchScenes(const std::string& only, uint32_t tria
   return out;
 }
 
-bvh::Hierarchy hierarchyOption(app::Args& args, const std::string& bench) {
+void hierarchyOptions(app::Args& args, const std::string& bench, bvh::GpuBuildOptions& options) {
+  if (auto rounds = args.integer("--ploc-local-rounds", 0, 4)) options.plocLocalRounds = uint32_t(*rounds);
   const std::string h = args.value("--hierarchy").value_or("auto");
-  if (h == "auto") return bvh::Hierarchy::Auto;
-  if (h == "lbvh") return bvh::Hierarchy::Lbvh;
-  if (h == "ploc") return bvh::Hierarchy::Ploc;
-  throw InputError(bench + ": --hierarchy takes auto, lbvh or ploc, not '" + h + "'");
+  if (h == "auto")
+    options.hierarchy = bvh::Hierarchy::Auto;
+  else if (h == "lbvh")
+    options.hierarchy = bvh::Hierarchy::Lbvh;
+  else if (h == "ploc")
+    options.hierarchy = bvh::Hierarchy::Ploc;
+  else
+    throw InputError(bench + ": --hierarchy takes auto, lbvh or ploc, not '" + h + "'");
 }
 
 uint64_t peakRssBytes() {

@@ -25,9 +25,10 @@ struct BvhBenchScene {
 // (for scale: memory per triangle, scenes past one binding).
 std::vector<BvhBenchScene> bvhBenchScenes(const std::string& only, uint32_t triangles = 0);
 
-// The value of --hierarchy (auto, lbvh or ploc; absent: auto), or InputError naming the
-// benchmark.
-bvh::Hierarchy hierarchyOption(app::Args& args, const std::string& bench);
+// The options of how the hierarchy is made, into `options`: --hierarchy (auto, lbvh or ploc;
+// absent: auto) and --ploc-local-rounds (0 to 4; absent: the builder's default); InputError
+// naming the benchmark.
+void hierarchyOptions(app::Args& args, const std::string& bench, bvh::GpuBuildOptions& options);
 
 // Peak resident memory of the process so far, in bytes (on lavapipe it includes device memory).
 uint64_t peakRssBytes();

@@ -14,15 +14,6 @@
 layout(local_size_x = kWorkgroupSize) in;
 #include "lib/bvh_ploc.glsl"
 
-// A hash of the unordered pair {i, j} (a 32-bit integer mix).
-uint pairHash(uint i, uint j) {
-  uint h = min(i, j) * 0x9e3779b1u ^ max(i, j) * 0x85ebca77u;
-  h ^= h >> 15u;
-  h *= 0x2c1b3c6du;
-  h ^= h >> 12u;
-  return h;
-}
-
 void main() {
   uint count = plocClusterCount();
   uint i = bvhBuildItem();
@@ -35,8 +26,7 @@ void main() {
     uint j = i + k - kPlocRadius;  // wraps below 0: then past count
     bool valid = j < count && j != i;
     float a = plocUnionArea(self, plocCluster(valid ? j : i));
-    // Ties: the nearer in Morton order, then the hash.
-    uint h = (uint(abs(int(k) - int(kPlocRadius))) << 24u) | (pairHash(i, j) >> 8u);
+    uint h = plocTieKey(uint(abs(int(k) - int(kPlocRadius))), i, j);
     if (valid && (a < best || (a == best && h < bestHash))) {
       best = a;
       bestHash = h;

@@ -54,6 +54,18 @@ float plocUnionArea(PlocCluster a, PlocCluster b) {
   return area < 3.0e38 ? area : 3.0e38;
 }
 
+// A hash of the unordered pair {i, j} (a 32-bit integer mix).
+uint pairHash(uint i, uint j) {
+  uint h = min(i, j) * 0x9e3779b1u ^ max(i, j) * 0x85ebca77u;
+  h ^= h >> 15u;
+  h *= 0x2c1b3c6du;
+  h ^= h >> 12u;
+  return h;
+}
+// What orders two pairs of equal union area (bvh_ploc_nearest): the nearer in Morton order
+// (`distance` places apart), then the hash of the pair. Both clusters of a pair compute it alike.
+uint plocTieKey(uint distance, uint i, uint j) { return (distance << 24u) | (pairHash(i, j) >> 8u); }
+
 // Cluster i's nearest neighbour (bvh_ploc_nearest's, read by later dispatches: a gather).
 uint plocNearest(uint i) { return texelFetch(gNearestTexels, int(i)).x; }
 

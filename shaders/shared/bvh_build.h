@@ -285,6 +285,15 @@ OSR_CONST(uint, kPlocBindingSubtreeNodes, kBuildArrayBindingCount + 8u);    // u
                                                                             // node, then its view
 OSR_CONST(uint, kPlocBindingTexels, kBuildArrayBindingCount + 10u);         // build texels
 OSR_CONST(uint, kPlocBindingCount, kPlocBindingTexels + kBuildTexelBindingCount);
+// bvh_ploc_local (before the global iterations, rounds chosen by the builder): PLOC within
+// chunks of kPlocLocalChunk clusters in Morton order, in registers, down to plocLocalKeep of a
+// chunk's m clusters (half, rounded up; one or two keep theirs, so two clusters are left for
+// the global iterations' root at least); plocLocalCount(count) clusters are left in all.
+OSR_CONST(uint, kPlocLocalChunk, 8u);
+OSR_BVH_FN uint plocLocalKeep(uint m) { return m <= 2u ? m : (m + 1u) / 2u; }
+OSR_BVH_FN uint plocLocalCount(uint count) {
+  return count / kPlocLocalChunk * (kPlocLocalChunk / 2u) + plocLocalKeep(count % kPlocLocalChunk);
+}
 // Partials (uint each): per subgroup of an iteration's dispatch, its surviving clusters from 0,
 // its pairs from triangleCount + kWorkgroupSize (a dispatch has at most that many subgroups).
 struct PlocState {

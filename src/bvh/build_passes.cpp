@@ -402,7 +402,10 @@ PlocPass::PlocPass(const vk::Context& ctx)
       count_(ctx, shaders::Id::bvh_ploc_count, plocTypes(), sizeof(BuildPush), plocSpec(ctx)),
       plan_(ctx, shaders::Id::bvh_ploc_plan, plocTypes(), sizeof(BuildPush), plocSpec(ctx)),
       compact_(ctx, shaders::Id::bvh_ploc_compact, plocTypes(), sizeof(BuildPush), plocSpec(ctx)),
-      merge_(ctx, shaders::Id::bvh_ploc_merge, plocTypes(), sizeof(BuildPush), plocSpec(ctx)) {}
+      merge_(ctx, shaders::Id::bvh_ploc_merge, plocTypes(), sizeof(BuildPush), plocSpec(ctx)) {
+  if (ctx.caps().subgroupShuffle && ctx.caps().subgroupSize % bb::kPlocLocalChunk == 0)
+    local_.emplace(ctx, shaders::Id::bvh_ploc_local, plocTypes(), sizeof(BuildPush), plocSpec(ctx));
+}
 
 // Binds a PLOC pass: `in` as this iteration's clusters, `out` as the next.
 vk::Binder PlocPass::binder(const vk::ComputePipeline& pipeline, const Args& a, uint32_t in, uint32_t out,
@@ -440,7 +443,21 @@ void PlocPass::record(VkCommandBuffer cmd, const Args& a, uint32_t iterations, v
     dispatchItems(init_, cmd, a.triangleCount);
     vk::computeBarrier(cmd);
   }
+  recordLocal(cmd, a, timer);
   recordIterations(cmd, a, iterations, timer);
+}
+
+void PlocPass::recordLocal(VkCommandBuffer cmd, const Args& a, vk::GpuTimer* timer) const {
+  if (a.localRounds == 0) return;
+  if (!local_) throw DeviceError("bvh: PLOC's local merges need subgroup shuffles and subgroups of a multiple of 8");
+  vk::TimedScope scope(timer, cmd, "bvh_ploc_local");
+  for (uint32_t k = 0; k < a.localRounds; ++k) {
+    const uint32_t parity = k & 1u;
+    BuildPush p{};
+    binder(*local_, a, parity, parity ^ 1u, parity, p).bind(cmd, p);
+    local_->dispatchIndirect(cmd, *a.state, offsetof(bb::PlocState, args0) + parity * sizeof(bb::DispatchArgs));
+    vk::computeBarrier(cmd);
+  }
 }
 
 void PlocPass::recordIterations(VkCommandBuffer cmd, const Args& a, uint32_t iterations, vk::GpuTimer* timer) const {
@@ -448,7 +465,7 @@ void PlocPass::recordIterations(VkCommandBuffer cmd, const Args& a, uint32_t ite
   static_assert(offsetof(bb::PlocState, args1) == offsetof(bb::PlocState, args0) + sizeof(bb::DispatchArgs));
   const uint64_t argsOffset = offsetof(bb::PlocState, args0);
   for (uint32_t k = 0; k < iterations; ++k) {
-    const uint32_t parity = k & 1u;  // reads clusters[parity], compacts into the other
+    const uint32_t parity = (a.localRounds + k) & 1u;  // reads clusters[parity], compacts into the other
     const uint64_t args = argsOffset + parity * sizeof(bb::DispatchArgs);
     for (const vk::ComputePipeline* pipeline : {&nearest_, &count_, &plan_, &compact_, &merge_}) {
       BuildPush p{};

@@ -7,6 +7,8 @@
 #pragma once
 #include <vulkan/vulkan.h>
 
+#include <optional>
+
 #include "shaders/shared/bvh_build.h"
 #include "shaders/shared/scene.h"
 #include "vk/binder.h"
@@ -222,17 +224,25 @@ class PlocPass {
     VkBufferView subtreeNodeTexels = VK_NULL_HANDLE;  // R32UI view of them
     const vk::Buffer* state = nullptr;            // PlocState, with kStateUsage
     uint32_t triangleCount = 0;                   // >= 2, <= kWorkgroupSize * kMaxGroupsX
+    uint32_t localRounds = 0;                     // bvh_ploc_local rounds (0 where !localMerges())
   };
-  // bvh_ploc_init and the first `iterations` iterations; `timer` (may be null) gets scopes
-  // "bvh_ploc_init" and "bvh_ploc".
+  // Whether bvh_ploc_local runs here: subgroup shuffles, and chunks that subgroups hold whole.
+  bool localMerges() const { return local_.has_value(); }
+  // bvh_ploc_init, `localRounds` rounds of bvh_ploc_local and the first `iterations` global
+  // iterations; `timer` (may be null) gets scopes "bvh_ploc_init", "bvh_ploc_local" and
+  // "bvh_ploc".
   void record(VkCommandBuffer cmd, const Args& args, uint32_t iterations, vk::GpuTimer* timer = nullptr) const;
+  // The parity of PlocState.count that holds the clusters left after record().
+  static uint32_t finalParity(const Args& args, uint32_t iterations) { return (args.localRounds + iterations) & 1u; }
 
  private:
   void recordIterations(VkCommandBuffer cmd, const Args& args, uint32_t iterations, vk::GpuTimer* timer) const;
+  void recordLocal(VkCommandBuffer cmd, const Args& args, vk::GpuTimer* timer) const;
   vk::Binder binder(const vk::ComputePipeline& pipeline, const Args& a, uint32_t in, uint32_t out, uint32_t parity,
                     gpu::bvh_build::BuildPush& push) const;
   ArrayAccess access_;
   vk::ComputePipeline init_, nearest_, count_, plan_, compact_, merge_;
+  std::optional<vk::ComputePipeline> local_;
 };
 
 // bvh_subtree_count: traversal nodes per subtree, for the depth-first order of bvh_emit_nodes.

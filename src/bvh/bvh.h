@@ -80,6 +80,7 @@ struct BuildStats {
   uint64_t scratchBytes = 0;         // GPU build: temporary buffers, freed when it returns
   uint32_t treeletRounds = 0;        // GPU build: treelet restructuring rounds run
   uint32_t plocIterations = 0;       // GPU build: PLOC iterations that merged (0: LBVH built it)
+  uint32_t plocLocalRounds = 0;      // GPU build: bvh_ploc_local rounds before them
 };
 
 // Builds on the device by compute passes from the scene's Vertex and Triangle buffers (world

@@ -244,6 +244,7 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
     a.subtreeNodeTexels = sc.keyTmpTexels.handle();
     a.state = &ps.state;
     a.triangleCount = n;
+    a.localRounds = passes.ploc->localMerges() ? options.plocLocalRounds : 0;
     return a;
   };
 
@@ -324,9 +325,10 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
     ctx.submitAndWait([&](VkCommandBuffer cmd) { record(cmd, rounds, plocIterations); });
     if (usePloc) {
       plocState = plocScratch_->state.downloadVector<bb::PlocState>(1)[0];
-      if (plocState.count[plocIterations % 2] != 1) {
+      const uint32_t left = plocState.count[PlocPass::finalParity(plocArgs(), plocIterations)];
+      if (left != 1) {
         if (plocIterations >= n)
-          throw DeviceError("bvh: PLOC left " + std::to_string(plocState.count[plocIterations % 2]) + " clusters after " +
+          throw DeviceError("bvh: PLOC left " + std::to_string(left) + " clusters after " +
                             std::to_string(plocIterations) + " iterations");
         plocIterations = std::min(2 * plocIterations, n);
         continue;
@@ -345,6 +347,7 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
         stats->depth = height;
         stats->treeletRounds = usePloc ? (plocTreelets ? 1 : 0) : rounds;
         stats->plocIterations = usePloc ? plocState.iterations : 0;
+        stats->plocLocalRounds = usePloc ? plocArgs().localRounds : 0;
       }
       break;
     }

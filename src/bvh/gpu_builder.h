@@ -43,6 +43,14 @@ struct GpuBuildOptions {
   // 1.073 -> 1.066, about 10 ms) closes that
   // (docs/bvh.md, "Sixth session").
   uint32_t plocTreeletMinTriangles = 512;
+  // Rounds of bvh_ploc_local before PLOC's global iterations, each halving the clusters by
+  // merges within chunks of 8 in Morton order, in registers (where the device has subgroup
+  // shuffles). None by default: on lavapipe one round built the 1M-triangle bench mesh 15-20 ms
+  // faster (PLOC 157 -> 38 + 105 ms) but its tree (SAH/CPU-SAH 1.063 -> 1.076) traced primary
+  // rays 5-8% and diffuse rays 3-4% slower, and a render traces far more rays than it builds
+  // (docs/bvh.md, "Eighth session"). On GPUs, where shuffles are cheap, it may pay: measure with
+  // osr-bench bvh and trace --ploc-local-rounds.
+  uint32_t plocLocalRounds = 0;
 };
 
 // The treelet rounds a build of `triangleCount` triangles runs with `options` (before the

@@ -267,12 +267,23 @@ TEST_F(GpuBuilder, PlocTreesAreValidAndTraceExactly) {
   const bvh::GpuBuilder ploc(ctx, options);
   // The depth-first layout takes its subtree node counts from PLOC's merges, kept by the treelet
   // round that follows (no bvh_subtree_count): also right without that round, and with one that
-  // restructures every node (so that every count is rewritten).
-  std::vector<std::pair<uint32_t, std::unique_ptr<bvh::GpuBuilder>>> others;
+  // restructures every node (so that every count is rewritten). And with bvh_ploc_local's
+  // merges within chunks (two rounds: the second merges nodes the first made), where the device
+  // has subgroup shuffles.
+  struct Other {
+    std::string what;
+    std::unique_ptr<bvh::GpuBuilder> builder;
+  };
+  std::vector<Other> others;
   for (uint32_t minTriangles : {0u, 7u}) {
     bvh::GpuBuildOptions other = options;
     other.plocTreeletMinTriangles = minTriangles;
-    others.emplace_back(minTriangles, std::make_unique<bvh::GpuBuilder>(ctx, other));
+    others.push_back({"treelets from " + std::to_string(minTriangles), std::make_unique<bvh::GpuBuilder>(ctx, other)});
+  }
+  if (ctx.caps().subgroupShuffle && ctx.caps().subgroupSize % gpu::bvh_build::kPlocLocalChunk == 0) {
+    bvh::GpuBuildOptions other = options;
+    other.plocLocalRounds = 2;
+    others.push_back({"two local rounds", std::make_unique<bvh::GpuBuilder>(ctx, other)});
   }
   auto meshes = test::testMeshes();
   meshes.push_back({"two_triangles", bvh::makeSoup(2, 7, {0, 0, 0}, 1.0f, 0.5f)});
@@ -305,9 +316,9 @@ TEST_F(GpuBuilder, PlocTreesAreValidAndTraceExactly) {
     EXPECT_EQ(bytes(tree.nodes, live * sizeof(gpu::bvh::BvhNode)), bytes(again.nodes, live * sizeof(gpu::bvh::BvhNode)))
         << name;
     EXPECT_EQ(bytes(tree.leafData, tree.leafData.size()), bytes(again.leafData, again.leafData.size())) << name;
-    for (const auto& [minTriangles, builder] : others) {
+    for (const auto& [how, builder] : others) {
       bvh::Bvh t = builder->build(dm.vertices, dm.triangles, n, nullptr, bvh::NodeForms::Both);
-      const std::string what = name + ", treelets from " + std::to_string(minTriangles);
+      const std::string what = name + ", " + how;
       EXPECT_EQ(bvh::checkInvariants(bvh::download(t), mesh.vertices, mesh.triangles), "") << what;
       const decltype(rays) some(rays.begin(), rays.begin() + std::min<size_t>(rays.size(), 20000));
       EXPECT_EQ(test::compareClosest(what, mesh, some, test::traceOnDevice(ctx, t, some, gpu::bvh_trace::kModeClosest)), 0u)
