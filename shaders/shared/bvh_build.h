@@ -242,6 +242,9 @@ OSR_CONST(uint, kSubtreeCountBindingCount, kSubtreeCountBindingTexels + kBuildTe
 // at once, with no bottom-up climb. (The builder then runs one treelet round over the upper tree,
 // which keeps the counts, so no bvh_subtree_count.)
 //   bvh_ploc_init     leaves (as bvh_lbvh's) and the first clusters
+//   bvh_ploc_local    optional (GpuBuildOptions::plocLocalRounds, off by default): merges
+//                     within chunks of 8 clusters in registers, halving them, before the
+//                     iterations below
 //   bvh_ploc_nearest  each cluster's nearest neighbour (one strict order of pairs, so a mutual
 //                     pair always exists and every iteration merges)
 //   bvh_ploc_count    per-subgroup counts of the clusters that survive the merge, and of the

@@ -198,10 +198,10 @@ class TreeletPass {
   vk::ComputePipeline count_, plan_, scatter_, treelet_;
 };
 
-// PLOC (shared/bvh_build.h): bvh_ploc_init, then `iterations` rounds of bvh_ploc_nearest,
-// _count, _plan, _compact and _merge, which leave the tree in interior/leaves as LbvhPass +
-// RefitPass (+ TreeletPass) would.
-// Iterations after the last merge dispatch no group; state.count[iterations % 2] == 1 says the
+// PLOC (shared/bvh_build.h): bvh_ploc_init, Args::localRounds rounds of bvh_ploc_local, then
+// `iterations` rounds of bvh_ploc_nearest, _count, _plan, _compact and _merge, which leave the
+// tree in interior/leaves as LbvhPass + RefitPass (+ TreeletPass) would.
+// Iterations after the last merge dispatch no group; state.count[finalParity] == 1 says the
 // tree is complete (else record again with more). Arrays: prims (in, through texels), interior,
 // leaves (out); reached through bindings only (scenes within maxStorageBufferRange).
 class PlocPass {
