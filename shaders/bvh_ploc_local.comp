@@ -3,10 +3,12 @@
 // chunks of kPlocLocalChunk in Morton order; each chunk's lanes (a subgroup of 8 on lavapipe, a
 // part of a larger subgroup elsewhere) run PLOC's step among themselves: each finds its nearest
 // neighbour within kPlocRadius places (subgroup shuffles instead of cluster reads), mutual pairs
-// merge as bvh_ploc_merge merges them, and the survivors close up (shuffles instead of a scan
-// and a compaction pass). The step repeats until a chunk of m clusters holds plocLocalKeep(m);
-// where all mutual pairs would leave fewer, only the pair of least area merges. Chunk k's
-// clusters then go to the next cluster array at k * kPlocLocalChunk / 2, in order.
+// merge as bvh_ploc_merge merges them (the lower lane holds the parent, the upper one becomes a
+// hole: the search skips holes, so it reaches fewer clusters as a chunk merges). The step
+// repeats until a chunk of m clusters holds plocLocalKeep(m); where all mutual pairs would leave
+// fewer, only the pair of least area merges (area, then lane: not plocTieKey's order, which
+// only has to be one strict order). The survivors then go to the next cluster array at
+// k * kPlocLocalChunk / 2 + their rank in chunk k (a ballot: no scan, no compaction pass).
 // Why: the global iterations pay five dispatches and a compaction through memory for every
 // cluster while the first quarter of the clusters merge; here the bottom of the tree is made
 // from one read and one write per cluster. What it gives up: pairs across a chunk's edges wait
@@ -112,7 +114,10 @@ void main() {
         nearest = j;
       }
     }
-    bool mutual = live && nearest != r && subgroupShuffle(nearest, base + nearest) == r;
+    // Shuffles outside any condition: in `a && shuffle(...)` the shuffle would run only on the
+    // lanes where a holds, and read undefined values from the others.
+    uint partnerNearest = subgroupShuffle(nearest, base + nearest);
+    bool mutual = live && nearest != r && partnerNearest == r;
     bool lower = mutual && nearest > r;
     uint lowerBits = chunkBits(subgroupBallot(lower), base);
     // Where every mutual pair would leave fewer than keep: only the least (area, then lane).
@@ -127,17 +132,20 @@ void main() {
     }
     bool merges = lower && alive > keep && (!limit || r == leastLane);
     LocalCluster partner = shuffleCluster(x, base + nearest);
-    bool partnerMerges = mutual && nearest < r && subgroupShuffle(uint(merges), base + nearest) != 0u;
-    if (merges) {  // the pair's parent, as bvh_ploc_compact numbers it and bvh_ploc_merge makes it
-      uint p = max(x.c.firstLeaf, partner.c.firstLeaf) - 1u;
+    bool partnerChoseToMerge = subgroupShuffle(merges, base + nearest);
+    bool partnerMerges = mutual && nearest < r && partnerChoseToMerge;
+    // The pair's parent, as bvh_ploc_compact numbers it. Each lane sets its own node's parent: a
+    // node made here was stored by this lane, and two invocations' stores to one word would be
+    // unordered.
+    uint p = max(x.c.firstLeaf, partner.c.firstLeaf) - 1u;
+    if (merges || partnerMerges) setParent(x.c.node, p);
+    if (merges) {  // the parent, as bvh_ploc_merge makes it
       BvhBuildNode node;
       node.left = x.c.node;
       node.right = partner.c.node;
       node.parent = kInvalidNode;  // until its own parent is made
       node = refitNode(node, buildNodeOf(x), buildNodeOf(partner), false);
       storeInterior(p, node);
-      setParent(x.c.node, p);
-      setParent(partner.c.node, p);
       uint below = subtreeNodesFrom(node.flags, x.subtreeNodes + partner.subtreeNodes);
       gSubtreeNodes[p] = below;
       x = LocalCluster(plocUnion(x.c, partner.c, p), node.cost, node.triangleCount, node.flags, below);

@@ -3,8 +3,9 @@
 // their parent, an interior node with everything bvh_refit would give it (refitNode from the
 // children's build nodes), both children's parent and its subtree's traversal nodes. The root
 // (this iteration had two clusters) takes index 0 and first moves the node there to the root's
-// own index. Inputs: pairs, build nodes and counts (texels; nodes of earlier iterations).
-// Outputs: interior nodes, parents, subtree node counts.
+// own index (a node that bvh_ploc_local made, too). Inputs: pairs, build nodes and counts
+// (texels; nodes of earlier iterations or of bvh_ploc_local). Outputs: interior nodes, parents,
+// subtree node counts.
 #extension GL_GOOGLE_include_directive : require
 #include "lib/bvh_build_arrays.glsl"
 

@@ -403,8 +403,12 @@ PlocPass::PlocPass(const vk::Context& ctx)
       plan_(ctx, shaders::Id::bvh_ploc_plan, plocTypes(), sizeof(BuildPush), plocSpec(ctx)),
       compact_(ctx, shaders::Id::bvh_ploc_compact, plocTypes(), sizeof(BuildPush), plocSpec(ctx)),
       merge_(ctx, shaders::Id::bvh_ploc_merge, plocTypes(), sizeof(BuildPush), plocSpec(ctx)) {
-  if (ctx.caps().subgroupShuffle && ctx.caps().subgroupSize % bb::kPlocLocalChunk == 0)
+  if (localMergesSupported(ctx))
     local_.emplace(ctx, shaders::Id::bvh_ploc_local, plocTypes(), sizeof(BuildPush), plocSpec(ctx));
+}
+
+bool PlocPass::localMergesSupported(const vk::Context& ctx) {
+  return ctx.caps().subgroupShuffle && ctx.caps().subgroupSize % bb::kPlocLocalChunk == 0;
 }
 
 // Binds a PLOC pass: `in` as this iteration's clusters, `out` as the next.
@@ -449,7 +453,9 @@ void PlocPass::record(VkCommandBuffer cmd, const Args& a, uint32_t iterations, v
 
 void PlocPass::recordLocal(VkCommandBuffer cmd, const Args& a, vk::GpuTimer* timer) const {
   if (a.localRounds == 0) return;
-  if (!local_) throw DeviceError("bvh: PLOC's local merges need subgroup shuffles and subgroups of a multiple of 8");
+  if (!local_)
+    throw DeviceError("bvh: PLOC's local merges need subgroup shuffles, votes and ballots in subgroups of a multiple of " +
+                      std::to_string(bb::kPlocLocalChunk));
   vk::TimedScope scope(timer, cmd, "bvh_ploc_local");
   for (uint32_t k = 0; k < a.localRounds; ++k) {
     const uint32_t parity = k & 1u;

@@ -226,14 +226,16 @@ class PlocPass {
     uint32_t triangleCount = 0;                   // >= 2, <= kWorkgroupSize * kMaxGroupsX
     uint32_t localRounds = 0;                     // bvh_ploc_local rounds (0 where !localMerges())
   };
-  // Whether bvh_ploc_local runs here: subgroup shuffles, and chunks that subgroups hold whole.
+  // Whether bvh_ploc_local can run on `ctx`'s device: subgroup shuffles, and chunks that
+  // subgroups hold whole.
+  static bool localMergesSupported(const vk::Context& ctx);
   bool localMerges() const { return local_.has_value(); }
   // bvh_ploc_init, `localRounds` rounds of bvh_ploc_local and the first `iterations` global
   // iterations; `timer` (may be null) gets scopes "bvh_ploc_init", "bvh_ploc_local" and
   // "bvh_ploc".
   void record(VkCommandBuffer cmd, const Args& args, uint32_t iterations, vk::GpuTimer* timer = nullptr) const;
   // The parity of PlocState.count that holds the clusters left after record().
-  static uint32_t finalParity(const Args& args, uint32_t iterations) { return (args.localRounds + iterations) & 1u; }
+  static uint32_t finalParity(uint32_t localRounds, uint32_t iterations) { return (localRounds + iterations) & 1u; }
 
  private:
   void recordIterations(VkCommandBuffer cmd, const Args& args, uint32_t iterations, vk::GpuTimer* timer) const;

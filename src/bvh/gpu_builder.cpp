@@ -220,6 +220,7 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
   // depth-first order after the hierarchy is made.
   const vk::BufferRange subtreeNodes(keysTmp, 0, 4ull * interiorCount), positions(valuesTmp, 0, 4ull * interiorCount);
   bool usePloc = plocFor(options, n, !byAddress);
+  const uint32_t plocLocalRounds = PlocPass::localMergesSupported(ctx) ? options.plocLocalRounds : 0;
   const bool plocTreelets = options.plocTreeletMinTriangles != 0 && n > 2;
   auto plocArgs = [&]() {
     if (!passes.ploc) passes.ploc = std::make_unique<PlocPass>(ctx);
@@ -244,7 +245,7 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
     a.subtreeNodeTexels = sc.keyTmpTexels.handle();
     a.state = &ps.state;
     a.triangleCount = n;
-    a.localRounds = passes.ploc->localMerges() ? options.plocLocalRounds : 0;
+    a.localRounds = plocLocalRounds;
     return a;
   };
 
@@ -325,7 +326,7 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
     ctx.submitAndWait([&](VkCommandBuffer cmd) { record(cmd, rounds, plocIterations); });
     if (usePloc) {
       plocState = plocScratch_->state.downloadVector<bb::PlocState>(1)[0];
-      const uint32_t left = plocState.count[PlocPass::finalParity(plocArgs(), plocIterations)];
+      const uint32_t left = plocState.count[PlocPass::finalParity(plocLocalRounds, plocIterations)];
       if (left != 1) {
         if (plocIterations >= n)
           throw DeviceError("bvh: PLOC left " + std::to_string(left) + " clusters after " +
@@ -347,7 +348,7 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
         stats->depth = height;
         stats->treeletRounds = usePloc ? (plocTreelets ? 1 : 0) : rounds;
         stats->plocIterations = usePloc ? plocState.iterations : 0;
-        stats->plocLocalRounds = usePloc ? plocArgs().localRounds : 0;
+        stats->plocLocalRounds = usePloc ? plocLocalRounds : 0;
       }
       break;
     }

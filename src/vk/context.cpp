@@ -358,7 +358,8 @@ void Context::createDevice(bool swapchain, uint64_t testMaxAllocationBytes) {
   caps_.deviceName = props2.properties.deviceName;
   caps_.deviceType = props2.properties.deviceType;
   caps_.subgroupSize = subgroup.subgroupSize;
-  const VkSubgroupFeatureFlags shuffles = VK_SUBGROUP_FEATURE_SHUFFLE_BIT | VK_SUBGROUP_FEATURE_SHUFFLE_RELATIVE_BIT;
+  const VkSubgroupFeatureFlags shuffles = VK_SUBGROUP_FEATURE_SHUFFLE_BIT | VK_SUBGROUP_FEATURE_SHUFFLE_RELATIVE_BIT |
+                                          VK_SUBGROUP_FEATURE_VOTE_BIT | VK_SUBGROUP_FEATURE_BALLOT_BIT;
   caps_.subgroupShuffle = (subgroup.supportedStages & VK_SHADER_STAGE_COMPUTE_BIT) != 0 &&
                           (subgroup.supportedOperations & shuffles) == shuffles;
   caps_.maxStorageBufferRange = limits.maxStorageBufferRange;

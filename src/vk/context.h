@@ -41,7 +41,8 @@ struct Capabilities {
   std::string deviceName;
   VkPhysicalDeviceType deviceType = VK_PHYSICAL_DEVICE_TYPE_OTHER;
   uint32_t subgroupSize = 1;
-  // Compute shaders may use subgroupShuffle* (GL_KHR_shader_subgroup_shuffle and _relative).
+  // Compute shaders may use subgroupShuffle* (GL_KHR_shader_subgroup_shuffle and _relative),
+  // with votes and ballots.
   bool subgroupShuffle = false;
   uint64_t maxStorageBufferRange = 0;
   uint64_t maxMemoryAllocationSize = 0;  // largest single allocation (Vulkan 1.1)

@@ -8,6 +8,7 @@
 #include <memory>
 #include <stdexcept>
 
+#include "bvh/build_passes.h"
 #include "bvh/cpu_builder.h"
 #include "bvh/gpu_builder.h"
 #include "bvh/host_trace.h"
@@ -273,6 +274,7 @@ TEST_F(GpuBuilder, PlocTreesAreValidAndTraceExactly) {
   struct Other {
     std::string what;
     std::unique_ptr<bvh::GpuBuilder> builder;
+    uint32_t localRounds = 0;  // bvh_ploc_local rounds it must have run
   };
   std::vector<Other> others;
   for (uint32_t minTriangles : {0u, 7u}) {
@@ -280,10 +282,10 @@ TEST_F(GpuBuilder, PlocTreesAreValidAndTraceExactly) {
     other.plocTreeletMinTriangles = minTriangles;
     others.push_back({"treelets from " + std::to_string(minTriangles), std::make_unique<bvh::GpuBuilder>(ctx, other)});
   }
-  if (ctx.caps().subgroupShuffle && ctx.caps().subgroupSize % gpu::bvh_build::kPlocLocalChunk == 0) {
+  if (bvh::PlocPass::localMergesSupported(ctx)) {
     bvh::GpuBuildOptions other = options;
     other.plocLocalRounds = 2;
-    others.push_back({"two local rounds", std::make_unique<bvh::GpuBuilder>(ctx, other)});
+    others.push_back({"two local rounds", std::make_unique<bvh::GpuBuilder>(ctx, other), 2});
   }
   auto meshes = test::testMeshes();
   meshes.push_back({"two_triangles", bvh::makeSoup(2, 7, {0, 0, 0}, 1.0f, 0.5f)});
@@ -316,10 +318,20 @@ TEST_F(GpuBuilder, PlocTreesAreValidAndTraceExactly) {
     EXPECT_EQ(bytes(tree.nodes, live * sizeof(gpu::bvh::BvhNode)), bytes(again.nodes, live * sizeof(gpu::bvh::BvhNode)))
         << name;
     EXPECT_EQ(bytes(tree.leafData, tree.leafData.size()), bytes(again.leafData, again.leafData.size())) << name;
-    for (const auto& [how, builder] : others) {
-      bvh::Bvh t = builder->build(dm.vertices, dm.triangles, n, nullptr, bvh::NodeForms::Both);
+    for (const auto& [how, builder, localRounds] : others) {
+      bvh::BuildStats otherStats;
+      bvh::Bvh t = builder->build(dm.vertices, dm.triangles, n, &otherStats, bvh::NodeForms::Both);
       const std::string what = name + ", " + how;
       EXPECT_EQ(bvh::checkInvariants(bvh::download(t), mesh.vertices, mesh.triangles), "") << what;
+      if (localRounds != 0 && n > 1) {  // the rounds ran (PLOC needs two triangles), and their node
+        // indices follow from the tree too
+        EXPECT_EQ(otherStats.plocLocalRounds, localRounds) << what;
+        bvh::Bvh u = builder->build(dm.vertices, dm.triangles, n, nullptr, bvh::NodeForms::Both);
+        const uint32_t liveT = liveNodes(t);
+        EXPECT_EQ(bytes(t.nodes, liveT * sizeof(gpu::bvh::BvhNode)), bytes(u.nodes, liveT * sizeof(gpu::bvh::BvhNode)))
+            << what;
+        EXPECT_EQ(bytes(t.leafData, t.leafData.size()), bytes(u.leafData, u.leafData.size())) << what;
+      }
       const decltype(rays) some(rays.begin(), rays.begin() + std::min<size_t>(rays.size(), 20000));
       EXPECT_EQ(test::compareClosest(what, mesh, some, test::traceOnDevice(ctx, t, some, gpu::bvh_trace::kModeClosest)), 0u)
           << what;
