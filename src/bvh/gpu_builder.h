@@ -47,7 +47,7 @@ struct GpuBuildOptions {
   // merges within chunks of 8 in Morton order, in registers (where the device has subgroup
   // shuffles). None by default: on lavapipe one round built the 1M-triangle bench mesh 15-20 ms
   // faster (PLOC 157 -> 38 + 105 ms) but its tree (SAH/CPU-SAH 1.063 -> 1.076) traced primary
-  // rays 5-8% and diffuse rays 3-4% slower, and a render traces far more rays than it builds
+  // rays about 9% and diffuse rays 1-12% slower, and a render traces far more rays than it builds
   // (docs/bvh.md, "Eighth session"). On GPUs, where shuffles are cheap, it may pay: measure with
   // osr-bench bvh and trace --ploc-local-rounds.
   uint32_t plocLocalRounds = 0;
