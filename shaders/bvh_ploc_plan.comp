@@ -39,15 +39,8 @@ void main() {
   }
   if (t != 0u) return;
   uint survivors = merged ? sum.x : count;
-  uint next = gPush.param ^ 1u;
   if (merged) gState.iterations += 1u;
-  gState.count[next] = survivors;
-  DispatchArgs args = DispatchArgs(survivors > 1u ? (survivors + kWorkgroupSize - 1u) / kWorkgroupSize : 0u, 1u, 1u);
-  if (next == 0u) {
-    gState.args0 = args;
-  } else {
-    gState.args1 = args;
-  }
+  plocSetClusterCount(gPush.param ^ 1u, survivors);
   gState.pairs = sum.y;
   gState.pairArgs = DispatchArgs((sum.y + kWorkgroupSize - 1u) / kWorkgroupSize, 1u, 1u);
 }

@@ -66,6 +66,19 @@ uint pairHash(uint i, uint j) {
 // (`distance` places apart), then the hash of the pair. Both clusters of a pair compute it alike.
 uint plocTieKey(uint distance, uint i, uint j) { return (distance << 24u) | (pairHash(i, j) >> 8u); }
 
+// Sets the clusters an iteration of parity `parity` starts from, and its per-cluster dispatch (no
+// group once one cluster is left: the tree is done). One invocation calls it (bvh_ploc_plan for
+// the next iteration, bvh_ploc_local for the first).
+void plocSetClusterCount(uint parity, uint count) {
+  gState.count[parity] = count;
+  DispatchArgs args = DispatchArgs(count > 1u ? (count + kWorkgroupSize - 1u) / kWorkgroupSize : 0u, 1u, 1u);
+  if (parity == 0u) {
+    gState.args0 = args;
+  } else {
+    gState.args1 = args;
+  }
+}
+
 // Cluster i's nearest neighbour (bvh_ploc_nearest's, read by later dispatches: a gather).
 uint plocNearest(uint i) { return texelFetch(gNearestTexels, int(i)).x; }
 

@@ -224,12 +224,11 @@ class PlocPass {
     VkBufferView subtreeNodeTexels = VK_NULL_HANDLE;  // R32UI view of them
     const vk::Buffer* state = nullptr;            // PlocState, with kStateUsage
     uint32_t triangleCount = 0;                   // >= 2, <= kWorkgroupSize * kMaxGroupsX
-    uint32_t localRounds = 0;                     // bvh_ploc_local rounds (0 where !localMerges())
+    uint32_t localRounds = 0;                     // bvh_ploc_local rounds (0 where !localMergesSupported)
   };
   // Whether bvh_ploc_local can run on `ctx`'s device: subgroup shuffles, and chunks that
   // subgroups hold whole.
   static bool localMergesSupported(const vk::Context& ctx);
-  bool localMerges() const { return local_.has_value(); }
   // bvh_ploc_init, `localRounds` rounds of bvh_ploc_local and the first `iterations` global
   // iterations; `timer` (may be null) gets scopes "bvh_ploc_init", "bvh_ploc_local" and
   // "bvh_ploc".
