@@ -256,6 +256,7 @@ OSR_CONST(uint, kSubtreeCountBindingCount, kSubtreeCountBindingTexels + kBuildTe
 //   bvh_ploc_merge    one invocation per pair (every lane busy: a quarter of the clusters
 //                     merge in an iteration): the interior node, its children's parent and
 //                     its subtree's traversal nodes
+//   bvh_ploc_root     once, after the iterations: the root swaps places with the node at 0
 // Iterations alternate two cluster arrays and two halves of PlocState (param = parity); an
 // iteration whose count is 1 dispatches no group, so the host records a fixed number of them.
 // A cluster is its box, its build node and its first leaf (the lowest sorted index of its
@@ -306,7 +307,7 @@ struct PlocState {
   DispatchArgs args0;    // per-cluster dispatch of an iteration of parity 0, then of parity 1
   DispatchArgs args1;    // (adjacent: the host offsets by parity)
   DispatchArgs pairArgs; // per-pair dispatch of the current iteration
-  uint _pad0;
+  uint root;             // where the last merge made the root (bvh_ploc_root moves it to 0)
   uint _pad1;
   uint _pad2;
 };

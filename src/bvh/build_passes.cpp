@@ -402,7 +402,8 @@ PlocPass::PlocPass(const vk::Context& ctx)
       count_(ctx, shaders::Id::bvh_ploc_count, plocTypes(), sizeof(BuildPush), plocSpec(ctx)),
       plan_(ctx, shaders::Id::bvh_ploc_plan, plocTypes(), sizeof(BuildPush), plocSpec(ctx)),
       compact_(ctx, shaders::Id::bvh_ploc_compact, plocTypes(), sizeof(BuildPush), plocSpec(ctx)),
-      merge_(ctx, shaders::Id::bvh_ploc_merge, plocTypes(), sizeof(BuildPush), plocSpec(ctx)) {
+      merge_(ctx, shaders::Id::bvh_ploc_merge, plocTypes(), sizeof(BuildPush), plocSpec(ctx)),
+      root_(ctx, shaders::Id::bvh_ploc_root, plocTypes(), sizeof(BuildPush), plocSpec(ctx)) {
   if (localMergesSupported(ctx))
     local_.emplace(ctx, shaders::Id::bvh_ploc_local, plocTypes(), sizeof(BuildPush), plocSpec(ctx));
 }
@@ -449,6 +450,11 @@ void PlocPass::record(VkCommandBuffer cmd, const Args& a, uint32_t iterations, v
   }
   recordLocal(cmd, a, timer);
   recordIterations(cmd, a, iterations, timer);
+  vk::TimedScope scope(timer, cmd, "bvh_ploc");  // with the iterations
+  BuildPush p{};
+  binder(root_, a, 0, 1, 0, p).bind(cmd, p);
+  root_.dispatch(cmd, 1);
+  vk::computeBarrier(cmd);
 }
 
 void PlocPass::recordLocal(VkCommandBuffer cmd, const Args& a, vk::GpuTimer* timer) const {

@@ -242,7 +242,7 @@ class PlocPass {
   vk::Binder binder(const vk::ComputePipeline& pipeline, const Args& a, uint32_t in, uint32_t out, uint32_t parity,
                     gpu::bvh_build::BuildPush& push) const;
   ArrayAccess access_;
-  vk::ComputePipeline init_, nearest_, count_, plan_, compact_, merge_;
+  vk::ComputePipeline init_, nearest_, count_, plan_, compact_, merge_, root_;
   std::optional<vk::ComputePipeline> local_;
 };
 

@@ -260,7 +260,7 @@ TEST_F(GpuBuilder, ReferenceScenes) {
 // 1.1x of the CPU binned-SAH tree, the closest hits of the brute-force loop, and the same bytes
 // from two builds. The
 // meshes include degenerate triangles, huge and tiny coordinates and three triangles (the root's
-// merge then also moves the node at index 0).
+// index may then be another than 0, which bvh_ploc_root swaps with the node at 0).
 TEST_F(GpuBuilder, PlocTreesAreValidAndTraceExactly) {
   auto& ctx = test::context();
   bvh::GpuBuildOptions options;
