@@ -1,6 +1,6 @@
 #version 460
 // bvh_emit_nodes: the traversal nodes (shared/bvh.h), exact (BvhNode) and/or quantized
-// (BvhTraversalNode, shared/bvh_quantize.h) as param2 asks, in depth-first order, and where
+// (BvhTraversalNode, shared/bvh_quantize.h) as kForms asks, in depth-first order, and where
 // each leaf's triangles go. One indirect dispatch per depth (param), one invocation per
 // traversal node of that depth (the root alone at depth 0, position 0). A node at position p:
 //   - puts its child a at p + 1 and its child b at p + 1 + (a's traversal nodes, from
@@ -12,14 +12,15 @@
 //     bvh_emit_leaves copies them there (slots[build node] = bvhEmitSlot(a's first entry, a's
 //     count), or b's first entry and 0 where a is a node). info.leafCounter sums the leaf
 //     triangles, for the host's check;
-//   - stores the forms of itself that param2 asks for at p.
+//   - stores the forms of itself that kForms asks for at p.
 // A walk that descends to child a finds it next to its parent, and every subtree is one run of
 // nodes. Appends and the leaf count take one atomic per workgroup (subgroup totals meet in
 // shared memory): one counter that every subgroup hits moves its cache line between lavapipe's
 // two threads.
 // Inputs: build nodes, subtreeNodes, positions[root] = leafBases[root] = 0, the schedule's depth
-// 0, info.leafCounter = 0; param2: which forms to write (kEmitExactNodes, kEmitQuantizedNodes).
-// Outputs: nodes, traversal nodes (as param2 says), slots, positions, leafBases.
+// 0, info.leafCounter = 0. Specialized (shared/bvh_build.h): kForms, which forms to write;
+// kSingleTriangle, a build of one triangle (one invocation writes the root).
+// Outputs: nodes, traversal nodes (as kForms says), slots, positions, leafBases.
 #extension GL_GOOGLE_include_directive : require
 #extension GL_KHR_shader_subgroup_arithmetic : require
 #extension GL_KHR_shader_subgroup_ballot : require
@@ -27,6 +28,8 @@
 #include "shared/bvh_quantize.h"
 
 layout(local_size_x = kWorkgroupSize) in;
+layout(constant_id = kEmitSpecForms) const uint kForms = kEmitExactNodes | kEmitQuantizedNodes;
+layout(constant_id = kEmitSpecSingleTriangle) const bool kSingleTriangle = false;
 layout(std430, binding = kEmitBindingInfo) buffer Info { BvhBuildInfo gInfo; };
 layout(std430, binding = kEmitBindingSlots) writeonly buffer Slots { uint gSlots[]; };
 layout(std430, binding = kEmitBindingPositions) buffer Positions { uint gPositions[]; };
@@ -75,8 +78,7 @@ uvec2 allocate(uvec2 counts, uint nextDepth) {
 }
 
 void main() {
-  uint n = gPush.triangleCount;
-  if (n == 1u) {  // no interior node: a root with one leaf and one empty child
+  if (kSingleTriangle) {  // no interior node: a root with one leaf and one empty child
     if (bvhBuildItem() != 0u) return;
     BvhBuildNode leaf = readNode(0u);  // leaf 0: there is no interior node
     gInfo.leafCounter = 1u;
@@ -89,8 +91,8 @@ void main() {
     root.b = kBvhEmptyChild;
     root._pad0 = 0u;
     root._pad1 = 0u;
-    if ((gPush.param2 & kEmitExactNodes) != 0u) storeNode(0u, root);
-    if ((gPush.param2 & kEmitQuantizedNodes) != 0u) storeTraversalNode(0u, bvhQuantizeNode(root));
+    if ((kForms & kEmitExactNodes) != 0u) storeNode(0u, root);
+    if ((kForms & kEmitQuantizedNodes) != 0u) storeTraversalNode(0u, bvhQuantizeNode(root));
     return;
   }
   uint depth = gPush.param;
@@ -143,8 +145,8 @@ void main() {
   out_.b = nodeB ? positionB : leafRef(r, leafBaseB);
   out_._pad0 = 0u;
   out_._pad1 = 0u;
-  // The form traversal does not read is written only on request (uniform branches).
-  if ((gPush.param2 & kEmitExactNodes) != 0u) storeNode(position, out_);
-  if ((gPush.param2 & kEmitQuantizedNodes) != 0u) storeTraversalNode(position, bvhQuantizeNode(out_));
+  // The form traversal does not read is written only on request (compiled out).
+  if ((kForms & kEmitExactNodes) != 0u) storeNode(position, out_);
+  if ((kForms & kEmitQuantizedNodes) != 0u) storeTraversalNode(position, bvhQuantizeNode(out_));
   gSlots[u] = nodeA ? bvhEmitSlot(leafBaseB, 0u) : bvhEmitSlot(leafBaseA, leavesA);
 }

@@ -343,7 +343,13 @@ OSR_CONST(uint, kEmitBindingLevelNodes, kEmitBindingPositions + 3u);  // uint pe
 OSR_CONST(uint, kEmitBindingLeafBases, kEmitBindingPositions + 4u);  // uint per interior node
 OSR_CONST(uint, kEmitBindingCount, kEmitBindingPositions + 5u);
 OSR_CONST(uint, kEmitSpecSlotTexels, 5u);  // spec constant id: bool
-// param2 of bvh_emit_nodes: which node arrays to write (bvh::NodeForms, src/bvh/gpu_builder.h).
+// bvh_emit_nodes' specialization (not push constants: on lavapipe a branch costs every lane
+// whether taken or not, and the unwritten form's stores or the one-triangle root's quantization
+// cost every subgroup). kEmitSpecForms: which node arrays to write (bvh::NodeForms,
+// src/bvh/gpu_builder.h), kEmitExactNodes | kEmitQuantizedNodes; kEmitSpecSingleTriangle: the
+// build has one triangle (the root alone, over one leaf).
+OSR_CONST(uint, kEmitSpecForms, 7u);           // spec constant id: uint
+OSR_CONST(uint, kEmitSpecSingleTriangle, 8u);  // spec constant id: bool
 OSR_CONST(uint, kEmitExactNodes, 1u);
 OSR_CONST(uint, kEmitQuantizedNodes, 2u);
 OSR_CONST(uint, kEmitSlotCountShift, 27u);  // above kBvhLeafFirstMask: first entries < 2^27

@@ -501,10 +501,19 @@ std::vector<VkDescriptorType> emitTypes() {
 
 EmitPass::EmitPass(const vk::Context& ctx, bool byAddress)
     : access_{&ctx, byAddress},
-      nodes_(ctx, shaders::Id::bvh_emit_nodes, emitTypes(), sizeof(BuildPush),
-             wordTexelSpec(ctx, byAddress, bb::kEmitSpecSlotTexels)),
       leaves_(ctx, shaders::Id::bvh_emit_leaves, emitTypes(), sizeof(BuildPush),
               wordTexelSpec(ctx, byAddress, bb::kEmitSpecSlotTexels)) {}
+
+const vk::ComputePipeline& EmitPass::nodes(uint32_t forms, bool singleTriangle) const {
+  std::optional<vk::ComputePipeline>& pipeline = nodes_[forms | (singleTriangle ? 4u : 0u)];
+  if (!pipeline) {
+    std::vector<vk::SpecConstant> spec = wordTexelSpec(*access_.ctx, access_.byAddress, bb::kEmitSpecSlotTexels);
+    spec.push_back(vk::specUint(bb::kEmitSpecForms, forms));
+    spec.push_back(vk::specUint(bb::kEmitSpecSingleTriangle, singleTriangle ? 1u : 0u));
+    pipeline.emplace(*access_.ctx, shaders::Id::bvh_emit_nodes, emitTypes(), sizeof(BuildPush), spec);
+  }
+  return *pipeline;
+}
 
 uint64_t EmitPass::scheduleBytes() {
   return bb::kEmitMaxLevels * (sizeof(bb::LevelList) + sizeof(bb::DispatchArgs));
@@ -533,7 +542,6 @@ void EmitPass::record(VkCommandBuffer cmd, const Args& a, vk::GpuTimer* timer) c
   auto binder = [&](const vk::ComputePipeline& pipeline) {
     vk::Binder b(pipeline);
     p = bindArrays(b, access_, *a.arrays, a.triangleCount, 0);
-    p.param2 = (a.exactNodes ? bb::kEmitExactNodes : 0u) | (a.quantizedNodes ? bb::kEmitQuantizedNodes : 0u);
     b.set(bb::kEmitBindingInfo, a.info).set(bb::kEmitBindingSlots, a.slots).setTexel(bb::kEmitBindingSlotTexels, a.slotTexels);
     // One triangle: the order's buffers are unread, and the slots fill their slots.
     b.set(bb::kEmitBindingPositions, ordered ? a.positions : a.slots)
@@ -546,13 +554,15 @@ void EmitPass::record(VkCommandBuffer cmd, const Args& a, vk::GpuTimer* timer) c
   };
   {
     vk::TimedScope scope(timer, cmd, "bvh_emit_nodes");
-    const vk::Binder nodes = binder(nodes_);
+    const uint32_t forms = (a.exactNodes ? bb::kEmitExactNodes : 0u) | (a.quantizedNodes ? bb::kEmitQuantizedNodes : 0u);
+    const vk::ComputePipeline& pipeline = nodes(forms, !ordered);
+    const vk::Binder nodeBinder = binder(pipeline);
     if (!ordered) {
-      nodes.bind(cmd, p);
-      nodes_.dispatch(cmd, 1);
+      nodeBinder.bind(cmd, p);
+      pipeline.dispatch(cmd, 1);
       vk::computeBarrier(cmd);
     }
-    if (ordered) dispatchLevels(cmd, nodes_, nodes, p, *a.schedule, 0, bb::kEmitMaxLevels);
+    if (ordered) dispatchLevels(cmd, pipeline, nodeBinder, p, *a.schedule, 0, bb::kEmitMaxLevels);
   }
   vk::TimedScope scope(timer, cmd, "bvh_emit_leaves");
   binder(leaves_).bind(cmd, p);

@@ -291,8 +291,12 @@ class EmitPass {
   void record(VkCommandBuffer cmd, const Args& args, vk::GpuTimer* timer = nullptr) const;
 
  private:
+  // bvh_emit_nodes specialized for (forms, one triangle) (shared/bvh_build.h, kEmitSpecForms),
+  // made on first need: index forms | single << 2.
+  const vk::ComputePipeline& nodes(uint32_t forms, bool singleTriangle) const;
   ArrayAccess access_;
-  vk::ComputePipeline nodes_, leaves_;
+  mutable std::optional<vk::ComputePipeline> nodes_[8];
+  vk::ComputePipeline leaves_;
 };
 
 }  // namespace osr::bvh
