@@ -22,7 +22,7 @@ void main() {
   uint at = gPartials[s] + subgroupBallotExclusiveBitCount(survivorBallot);
   uint pairAt = gPartials[plocPairPartials() + s] + subgroupBallotExclusiveBitCount(pairBallot);
   PlocCluster a = plocCluster(min(i, count - 1u)), b = plocCluster(j);
-  uint node = max(a.firstLeaf, b.firstLeaf) - 1u;  // the pair's parent (shared/bvh_build.h)
+  uint node = plocParentIndex(a, b);
   // The root's cluster (the last pair's) holds index 0, where bvh_ploc_root moves the root.
   if (survives) plocStoreCluster(at, merges ? plocUnion(a, b, count == 2u ? 0u : node) : a);
   if (merges) gPairs[pairAt] = uvec4(a.node, b.node, node, 0u);

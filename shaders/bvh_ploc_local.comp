@@ -51,16 +51,6 @@ BvhBuildNode buildNodeOf(LocalCluster x) {
   return BvhBuildNode(x.c.lo, x.cost, x.c.hi, x.triangleCount, kInvalidNode, kInvalidNode, kInvalidNode, x.flags);
 }
 
-// Keeps neighbour j (union area a, tie key `tie`) if it is valid and orders before the best so
-// far, as bvh_ploc_nearest orders pairs.
-void considerNeighbour(uint j, float a, uint tie, bool valid, inout float best, inout uint bestTie, inout uint nearest) {
-  if (valid && (a < best || (a == best && tie < bestTie))) {
-    best = a;
-    bestTie = tie;
-    nearest = j;
-  }
-}
-
 // This lane's chunk's bits of a ballot (lanes `base` to base + kPlocLocalChunk - 1).
 uint chunkBits(uvec4 ballot, uint base) {
   return (ballot[base >> 5u] >> (base & 31u)) & ((1u << kPlocLocalChunk) - 1u);
@@ -74,7 +64,10 @@ void main() {
   uint chunkStart = i - r;
   uint m = count > chunkStart ? min(kPlocLocalChunk, count - chunkStart) : 0u;
   uint keep = plocLocalKeep(m);
-  if (i == 0u) plocSetClusterCount(gPush.param ^ 1u, plocLocalCount(count));
+  if (i == 0u) {
+    plocSetClusterCount(gPush.param ^ 1u, plocLocalCount(count), false);
+    gState.clusterParity = gPush.param ^ 1u;
+  }
   PlocCluster c = plocCluster(min(i, count - 1u));
   BvhBuildNode n = readNode(c.node);
   LocalCluster x = LocalCluster(c, n.cost, n.triangleCount, n.flags, subtreeNodesOf(c.node));
@@ -97,13 +90,13 @@ void main() {
       uint j = r + d;
       areaAbove[d] = plocUnionArea(x.c, o);
       bool valid = live && j < kPlocLocalChunk && ((liveBits >> j) & 1u) != 0u;
-      considerNeighbour(j, areaAbove[d], plocTieKey(d, chunkStart + r, chunkStart + j), valid, best, bestTie, nearest);
+      plocConsiderNeighbour(j, areaAbove[d], plocTieKey(d, chunkStart + r, chunkStart + j), valid, best, bestTie, nearest);
     }
     for (uint d = 1u; d <= kPlocRadius; ++d) {
       float a = subgroupShuffleUp(areaAbove[d], d);
       uint j = r - d;  // wraps below 0: then invalid
       bool valid = live && j < kPlocLocalChunk && ((liveBits >> j) & 1u) != 0u;
-      considerNeighbour(j, a, plocTieKey(d, chunkStart + r, chunkStart + j), valid, best, bestTie, nearest);
+      plocConsiderNeighbour(j, a, plocTieKey(d, chunkStart + r, chunkStart + j), valid, best, bestTie, nearest);
     }
     // Shuffles outside any condition: in `a && shuffle(...)` the shuffle would run only on the
     // lanes where a holds, and read undefined values from the others.

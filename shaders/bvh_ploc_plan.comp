@@ -20,7 +20,8 @@ void main() {
   uint subgroups = (count + kWorkgroupSize - 1u) / kWorkgroupSize * (kWorkgroupSize / gl_SubgroupSize);
   uint run = (subgroups + kWorkgroupSize - 1u) / kWorkgroupSize;
   uint first = min(t * run, subgroups), end = min(first + run, subgroups);
-  bool merged = count > 1u;  // else nothing ran this iteration
+  // Whether this iteration ran (its dispatch had groups); else it leaves everything as it was.
+  bool merged = (gPush.param == 0u ? gState.args0.x : gState.args1.x) != 0u;
   uint pairBase = plocPairPartials();
   uvec2 total = uvec2(0u);  // survivors, pairs
   for (uint g = first; merged && g < end; ++g) total += uvec2(gPartials[g], gPartials[pairBase + g]);
@@ -39,8 +40,11 @@ void main() {
   }
   if (t != 0u) return;
   uint survivors = merged ? sum.x : count;
-  if (merged) gState.iterations += 1u;
-  plocSetClusterCount(gPush.param ^ 1u, survivors);
+  if (merged) {
+    gState.iterations += 1u;
+    gState.clusterParity = gPush.param ^ 1u;
+  }
+  plocSetClusterCount(gPush.param ^ 1u, survivors, true);
   gState.pairs = sum.y;
   gState.pairArgs = DispatchArgs((sum.y + kWorkgroupSize - 1u) / kWorkgroupSize, 1u, 1u);
 }

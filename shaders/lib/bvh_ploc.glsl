@@ -8,7 +8,8 @@
 
 layout(binding = kPlocBindingClusterTexels) uniform usamplerBuffer gClusterTexels;
 layout(std430, binding = kPlocBindingNextClusters) writeonly buffer NextClusters { uvec4 gNextClusters[]; };
-layout(std430, binding = kPlocBindingNearest) buffer Nearest { uint gNearest[]; };
+// coherent: bvh_ploc_tail reads what other invocations of its workgroup wrote (after a barrier).
+layout(std430, binding = kPlocBindingNearest) coherent buffer Nearest { uint gNearest[]; };
 layout(binding = kPlocBindingNearestTexels) uniform usamplerBuffer gNearestTexels;
 layout(std430, binding = kPlocBindingPartials) buffer Partials { uint gPartials[]; };
 layout(std430, binding = kPlocBindingState) buffer State { PlocState gState; };
@@ -66,12 +67,14 @@ uint pairHash(uint i, uint j) {
 // (`distance` places apart), then the hash of the pair. Both clusters of a pair compute it alike.
 uint plocTieKey(uint distance, uint i, uint j) { return (distance << 24u) | (pairHash(i, j) >> 8u); }
 
-// Sets the clusters an iteration of parity `parity` starts from, and its per-cluster dispatch (no
-// group once one cluster is left: the tree is done). One invocation calls it (bvh_ploc_plan for
-// the next iteration, bvh_ploc_local for the first).
-void plocSetClusterCount(uint parity, uint count) {
+// Sets the clusters an iteration of parity `parity` starts from, and its per-cluster dispatch: no
+// group once one cluster is left (the tree is done) or, where `tail`, once no more than
+// state.tailClusters are (bvh_ploc_tail finishes). One invocation calls it (bvh_ploc_plan for
+// the next iteration, bvh_ploc_local for the first, which always runs).
+void plocSetClusterCount(uint parity, uint count, bool tail) {
   gState.count[parity] = count;
-  DispatchArgs args = DispatchArgs(count > 1u ? (count + kWorkgroupSize - 1u) / kWorkgroupSize : 0u, 1u, 1u);
+  bool runs = count > 1u && (!tail || count > gState.tailClusters);
+  DispatchArgs args = DispatchArgs(runs ? (count + kWorkgroupSize - 1u) / kWorkgroupSize : 0u, 1u, 1u);
   if (parity == 0u) {
     gState.args0 = args;
   } else {
@@ -82,15 +85,34 @@ void plocSetClusterCount(uint parity, uint count) {
 // Cluster i's nearest neighbour (bvh_ploc_nearest's, read by later dispatches: a gather).
 uint plocNearest(uint i) { return texelFetch(gNearestTexels, int(i)).x; }
 
-// Whether cluster i survives this iteration's merge (it is in range, and has no mutual nearest
-// neighbour or is the lower of a mutual pair), and whether it merges (the lower of a pair, with
-// cluster `partner`). Every lane reads: lanes past count read the last cluster's.
+// Whether cluster i, whose nearest neighbour is j, and j's is nearestOfJ, survives this
+// iteration's merge (it is in range, and has no mutual nearest neighbour or is the lower of a
+// mutual pair), and whether it merges (the lower of a pair, with cluster j).
+bool plocSurvivesGiven(uint i, uint count, uint j, uint nearestOfJ, out bool merges) {
+  bool mutual = i < count && nearestOfJ == i;
+  merges = mutual && i < j;
+  return i < count && (!mutual || i < j);
+}
+// plocSurvivesGiven with bvh_ploc_nearest's results. Every lane reads: lanes past count read the
+// last cluster's.
 bool plocSurvives(uint i, uint count, out bool merges, out uint partner) {
   uint j = plocNearest(min(i, count - 1u));
-  bool mutual = i < count && plocNearest(j) == i;
-  merges = mutual && i < j;
   partner = j;
-  return i < count && (!mutual || i < j);
+  return plocSurvivesGiven(i, count, j, plocNearest(j), merges);
+}
+
+// The index of the parent of merging clusters a and b (shared/bvh_build.h: the later first leaf
+// of the two, minus 1).
+uint plocParentIndex(PlocCluster a, PlocCluster b) { return max(a.firstLeaf, b.firstLeaf) - 1u; }
+
+// Keeps neighbour j (union area a, tie key `tie`) if it is valid and orders before the best so
+// far, as bvh_ploc_nearest orders pairs.
+void plocConsiderNeighbour(uint j, float a, uint tie, bool valid, inout float best, inout uint bestTie, inout uint nearest) {
+  if (valid && (a < best || (a == best && tie < bestTie))) {
+    best = a;
+    bestTie = tie;
+    nearest = j;
+  }
 }
 
 // This subgroup's place among the dispatch's subgroups, which bvh_ploc_count's survivor counts

@@ -6,7 +6,8 @@
 #ifndef OSR_BVH_SUBTREE_NODES_GLSL
 #define OSR_BVH_SUBTREE_NODES_GLSL
 
-layout(std430, binding = OSR_SUBTREE_NODES_BINDING) buffer SubtreeNodes { uint gSubtreeNodes[]; };
+// coherent: bvh_ploc_tail reads counts that other invocations of its workgroup wrote.
+layout(std430, binding = OSR_SUBTREE_NODES_BINDING) coherent buffer SubtreeNodes { uint gSubtreeNodes[]; };
 layout(binding = OSR_SUBTREE_NODES_BINDING + 1) uniform usamplerBuffer gSubtreeNodeTexels;
 
 // Build node u's count, written by an earlier dispatch (a leaf: 0; read on every lane, then

@@ -256,6 +256,10 @@ OSR_CONST(uint, kSubtreeCountBindingCount, kSubtreeCountBindingTexels + kBuildTe
 //   bvh_ploc_merge    one invocation per pair (every lane busy: a quarter of the clusters
 //                     merge in an iteration): the interior node, its children's parent and
 //                     its subtree's traversal nodes
+//   bvh_ploc_tail     optional (GpuBuildOptions::plocTailClusters): one workgroup runs the
+//                     iterations from PlocState.tailClusters clusters down to the root, in one
+//                     dispatch (below that count the global iterations are dispatches with
+//                     little work each: on the 1M-triangle bench mesh 60 of its 80)
 //   bvh_ploc_root     once, after the iterations: the root swaps places with the node at 0
 // Iterations alternate two cluster arrays and two halves of PlocState (param = parity); an
 // iteration whose count is 1 dispatches no group, so the host records a fixed number of them.
@@ -288,7 +292,14 @@ OSR_CONST(uint, kPlocBindingPairs, kBuildArrayBindingCount + 7u);           // u
 OSR_CONST(uint, kPlocBindingSubtreeNodes, kBuildArrayBindingCount + 8u);    // uint per interior
                                                                             // node, then its view
 OSR_CONST(uint, kPlocBindingTexels, kBuildArrayBindingCount + 10u);         // build texels
-OSR_CONST(uint, kPlocBindingCount, kPlocBindingTexels + kBuildTexelBindingCount);
+// bvh_ploc_tail: its two cluster arrays (uvec4 pairs, param2 clusters each), and the cluster
+// array of parity 1's view (parity 0's at kPlocBindingClusterTexels): where the tail starts.
+OSR_CONST(uint, kPlocBindingTailClusters, kPlocBindingTexels + kBuildTexelBindingCount);
+OSR_CONST(uint, kPlocBindingClusterTexels1, kPlocBindingTailClusters + 1u);
+OSR_CONST(uint, kPlocBindingCount, kPlocBindingClusterTexels1 + 1u);
+// The most clusters bvh_ploc_tail takes (its scratch: 64 bytes each). A one-workgroup loop runs
+// at most count - 1 iterations (each merges a pair), within llvmpipe's 65535 per loop.
+OSR_CONST(uint, kPlocTailCapacity, 16384u);
 // bvh_ploc_local (before the global iterations, rounds chosen by the builder): PLOC within
 // chunks of kPlocLocalChunk clusters in Morton order, in registers, down to plocLocalKeep of a
 // chunk's m clusters (half, rounded up; one or two keep theirs, so two clusters are left for
@@ -308,8 +319,8 @@ struct PlocState {
   DispatchArgs args1;    // (adjacent: the host offsets by parity)
   DispatchArgs pairArgs; // per-pair dispatch of the current iteration
   uint root;             // where the last merge made the root (bvh_ploc_root moves it to 0)
-  uint _pad1;
-  uint _pad2;
+  uint clusterParity;    // which cluster array holds the clusters (the last pass that merged)
+  uint tailClusters;     // iterations at or below this many clusters are left to bvh_ploc_tail
 };
 
 // bvh_emit_nodes: arrays interior, leaves (texels), nodes, traversalNodes (out); info, slots,

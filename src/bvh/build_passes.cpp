@@ -388,7 +388,7 @@ void SubtreeCountPass::record(VkCommandBuffer cmd, const Args& a) const {
 namespace {
 std::vector<VkDescriptorType> plocTypes() {
   std::vector<VkDescriptorType> t = wordTexelTypes(bb::kPlocBindingCount, bb::kPlocBindingTexels, bb::kPlocBindingClusterTexels);
-  for (uint32_t slot : {bb::kPlocBindingNearestTexels, bb::kPlocBindingSubtreeNodes + 1})
+  for (uint32_t slot : {bb::kPlocBindingNearestTexels, bb::kPlocBindingSubtreeNodes + 1, bb::kPlocBindingClusterTexels1})
     t[slot] = VK_DESCRIPTOR_TYPE_UNIFORM_TEXEL_BUFFER;
   return t;
 }
@@ -403,6 +403,7 @@ PlocPass::PlocPass(const vk::Context& ctx)
       plan_(ctx, shaders::Id::bvh_ploc_plan, plocTypes(), sizeof(BuildPush), plocSpec(ctx)),
       compact_(ctx, shaders::Id::bvh_ploc_compact, plocTypes(), sizeof(BuildPush), plocSpec(ctx)),
       merge_(ctx, shaders::Id::bvh_ploc_merge, plocTypes(), sizeof(BuildPush), plocSpec(ctx)),
+      tail_(ctx, shaders::Id::bvh_ploc_tail, plocTypes(), sizeof(BuildPush), plocSpec(ctx)),
       root_(ctx, shaders::Id::bvh_ploc_root, plocTypes(), sizeof(BuildPush), plocSpec(ctx)) {
   if (localMergesSupported(ctx))
     local_.emplace(ctx, shaders::Id::bvh_ploc_local, plocTypes(), sizeof(BuildPush), plocSpec(ctx));
@@ -426,7 +427,9 @@ vk::Binder PlocPass::binder(const vk::ComputePipeline& pipeline, const Args& a, 
       .set(bb::kPlocBindingValues, a.values)
       .set(bb::kPlocBindingPairs, a.pairs)
       .set(bb::kPlocBindingSubtreeNodes, a.subtreeNodes)
-      .setTexel(bb::kPlocBindingSubtreeNodes + 1, a.subtreeNodeTexels);
+      .setTexel(bb::kPlocBindingSubtreeNodes + 1, a.subtreeNodeTexels)
+      .set(bb::kPlocBindingTailClusters, a.tailClusters != 0 ? a.tailScratch : a.pairs)  // unread without a tail
+      .setTexel(bb::kPlocBindingClusterTexels1, a.clusterTexels[1]);
   bindTexels(b, bb::kPlocBindingTexels, *a.texels);
   return b;
 }
@@ -435,10 +438,16 @@ void PlocPass::record(VkCommandBuffer cmd, const Args& a, uint32_t iterations, v
   if (a.triangleCount < 2 || groups(a.triangleCount) > bb::kMaxGroupsX)
     throw DeviceError("bvh: PLOC builds 2 to " + std::to_string(uint64_t(bb::kMaxGroupsX) * bb::kWorkgroupSize) +
                       " triangles, not " + std::to_string(a.triangleCount));
+  if (a.tailClusters != 0 && (a.tailCapacity > bb::kPlocTailCapacity || a.tailCapacity < std::min(a.tailClusters, a.triangleCount) ||
+                              a.tailScratch.bytes() < 64ull * a.tailCapacity))
+    throw DeviceError("bvh: PLOC's tail takes " + std::to_string(a.tailClusters) + " clusters, but has room for " +
+                      std::to_string(a.tailCapacity));
   bb::PlocState initial{};
   initial.count = {a.triangleCount, 0};
-  initial.args0 = {groups(a.triangleCount), 1, 1};
+  initial.args0 = {groups(a.triangleCount), 1, 1};  // bvh_ploc_local or the first iteration: always
   initial.args1 = {0, 1, 1};
+  initial.clusterParity = 0;  // bvh_ploc_init's
+  initial.tailClusters = a.tailClusters;
   vkCmdUpdateBuffer(cmd, a.state->handle(), 0, sizeof(initial), &initial);
   vk::transferBarrier(cmd);
   {
@@ -450,8 +459,18 @@ void PlocPass::record(VkCommandBuffer cmd, const Args& a, uint32_t iterations, v
   }
   recordLocal(cmd, a, timer);
   recordIterations(cmd, a, iterations, timer);
-  vk::TimedScope scope(timer, cmd, "bvh_ploc");  // with the iterations
   BuildPush p{};
+  if (a.tailClusters != 0) {
+    vk::TimedScope scope(timer, cmd, "bvh_ploc_tail");
+    // Clusters of parity 0 at kPlocBindingClusterTexels, 1 at kPlocBindingClusterTexels1.
+    const vk::Binder tail = binder(tail_, a, 0, 1, finalParity(a.localRounds, iterations), p);
+    p.param2 = a.tailCapacity;
+    tail.bind(cmd, p);
+    tail_.dispatch(cmd, 1);
+    vk::computeBarrier(cmd);
+  }
+  vk::TimedScope scope(timer, cmd, "bvh_ploc");  // with the iterations
+  p = BuildPush{};
   binder(root_, a, 0, 1, 0, p).bind(cmd, p);
   root_.dispatch(cmd, 1);
   vk::computeBarrier(cmd);

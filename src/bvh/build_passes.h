@@ -225,13 +225,18 @@ class PlocPass {
     const vk::Buffer* state = nullptr;            // PlocState, with kStateUsage
     uint32_t triangleCount = 0;                   // >= 2, <= kWorkgroupSize * kMaxGroupsX
     uint32_t localRounds = 0;                     // bvh_ploc_local rounds (0 where !localMergesSupported)
+    // bvh_ploc_tail: the global iterations stop at this many clusters or fewer and the tail
+    // finishes (0: no tail, the global iterations run to the root); its scratch, 64 bytes per
+    // cluster of tailCapacity (<= kPlocTailCapacity).
+    uint32_t tailClusters = 0, tailCapacity = 0;
+    vk::BufferRange tailScratch;
   };
   // Whether bvh_ploc_local can run on `ctx`'s device: subgroup shuffles, and chunks that
   // subgroups hold whole.
   static bool localMergesSupported(const vk::Context& ctx);
-  // bvh_ploc_init, `localRounds` rounds of bvh_ploc_local and the first `iterations` global
-  // iterations; `timer` (may be null) gets scopes "bvh_ploc_init", "bvh_ploc_local" and
-  // "bvh_ploc".
+  // bvh_ploc_init, `localRounds` rounds of bvh_ploc_local, the first `iterations` global
+  // iterations, bvh_ploc_tail where args.tailClusters asks, and bvh_ploc_root; `timer` (may be
+  // null) gets scopes "bvh_ploc_init", "bvh_ploc_local", "bvh_ploc" and "bvh_ploc_tail".
   void record(VkCommandBuffer cmd, const Args& args, uint32_t iterations, vk::GpuTimer* timer = nullptr) const;
   // The parity of PlocState.count that holds the clusters left after record().
   static uint32_t finalParity(uint32_t localRounds, uint32_t iterations) { return (localRounds + iterations) & 1u; }
@@ -242,7 +247,7 @@ class PlocPass {
   vk::Binder binder(const vk::ComputePipeline& pipeline, const Args& a, uint32_t in, uint32_t out, uint32_t parity,
                     gpu::bvh_build::BuildPush& push) const;
   ArrayAccess access_;
-  vk::ComputePipeline init_, nearest_, count_, plan_, compact_, merge_, root_;
+  vk::ComputePipeline init_, nearest_, count_, plan_, compact_, merge_, tail_, root_;
   std::optional<vk::ComputePipeline> local_;
 };
 

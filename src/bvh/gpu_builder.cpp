@@ -2,6 +2,7 @@
 // passes). One command buffer, timed per pass; a readback of one node afterwards gives the SAH
 // cost and depth, and checks that every triangle was placed.
 #include <algorithm>
+#include <cmath>
 #include <cstring>
 #include <memory>
 #include <string>
@@ -98,9 +99,10 @@ struct GpuBuilder::Scratch {
 // PLOC's scratch (PlocPass::Args) for up to `capacity` triangles, kept like Scratch.
 struct GpuBuilder::PlocScratch {
   uint32_t capacity;
-  vk::Buffer clusters[2], nearest, partials, pairs, state;
+  vk::Buffer clusters[2], nearest, partials, pairs, state, tail;
   vk::BufferView clusterTexels[2], nearestTexels;
   uint64_t bytes = 0;
+  static uint32_t tailCapacity(uint32_t n) { return std::min(n, bb::kPlocTailCapacity); }
   PlocScratch(const vk::Context& ctx, uint32_t n) : capacity(n) {
     for (int k = 0; k < 2; ++k) {
       clusters[k] = scratch(ctx, 32ull * n, "bvh ploc clusters", PlocPass::kClusterUsage);
@@ -111,7 +113,8 @@ struct GpuBuilder::PlocScratch {
     partials = scratch(ctx, 8ull * (n + bb::kWorkgroupSize), "bvh ploc partials");
     pairs = scratch(ctx, 16ull * (n / 2 + 1), "bvh ploc pairs");
     state = scratch(ctx, sizeof(bb::PlocState), "bvh ploc state", PlocPass::kStateUsage);
-    for (const vk::Buffer* b : {&clusters[0], &clusters[1], &nearest, &partials, &pairs, &state}) bytes += b->size();
+    tail = scratch(ctx, 64ull * tailCapacity(n), "bvh ploc tail clusters");
+    for (const vk::Buffer* b : {&clusters[0], &clusters[1], &nearest, &partials, &pairs, &state, &tail}) bytes += b->size();
   }
 };
 
@@ -221,6 +224,10 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
   const vk::BufferRange subtreeNodes(keysTmp, 0, 4ull * interiorCount), positions(valuesTmp, 0, 4ull * interiorCount);
   bool usePloc = plocFor(options, n, !byAddress);
   const uint32_t plocLocalRounds = PlocPass::localMergesSupported(ctx) ? options.plocLocalRounds : 0;
+  if (options.plocTailClusters > bb::kPlocTailCapacity)
+    throw DeviceError("bvh: plocTailClusters " + std::to_string(options.plocTailClusters) + " exceeds the tail's " +
+                      std::to_string(bb::kPlocTailCapacity));
+  const uint32_t plocTailClusters = options.plocTailClusters;
   const bool plocTreelets = options.plocTreeletMinTriangles != 0 && n > 2;
   auto plocArgs = [&]() {
     if (!passes.ploc) passes.ploc = std::make_unique<PlocPass>(ctx);
@@ -246,6 +253,9 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
     a.state = &ps.state;
     a.triangleCount = n;
     a.localRounds = plocLocalRounds;
+    a.tailClusters = plocTailClusters;
+    a.tailCapacity = PlocScratch::tailCapacity(n);
+    a.tailScratch = vk::BufferRange(ps.tail, 0, 64ull * a.tailCapacity);
     return a;
   };
 
@@ -316,9 +326,16 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
   // 100K, 250K, 500K and 1.05M triangles needed 59, 64, 71 and 82-85, the test meshes of 2,000 at
   // most 32; a tree left unfinished is rebuilt with twice as many (every iteration merges, so
   // n - 1 always suffice).
+  // With the tail, the global iterations need only reach plocTailClusters (then they dispatch
+  // nothing) or at most kPlocTailCapacity: on the 1M-triangle bench mesh each left about 0.76 of
+  // the clusters from the eighth on (count 77K after 8, 4949 after 18, 2973 after 20), so
+  // 4 ln(n / tailClusters) + 2 leaves room for meshes that merge more slowly.
   uint32_t log2n = 0;
   while ((uint64_t(1) << log2n) < n) ++log2n;
   uint32_t plocIterations = std::min<uint32_t>(16 + 4 * log2n, n);
+  if (plocTailClusters != 0)
+    plocIterations = std::min<uint32_t>(
+        2 + uint32_t(std::ceil(4.0 * std::log(std::max(1.0, double(n) / plocTailClusters)))), n);
   bb::BvhBuildNode root{};
   bb::BvhBuildInfo done{};
   bb::PlocState plocState{};

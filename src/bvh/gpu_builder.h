@@ -51,6 +51,11 @@ struct GpuBuildOptions {
   // (docs/bvh.md, "Eighth session"). On GPUs, where shuffles are cheap, it may pay: measure with
   // osr-bench bvh and trace --ploc-local-rounds.
   uint32_t plocLocalRounds = 0;
+  // PLOC's global iterations stop at this many clusters or fewer, and bvh_ploc_tail, one
+  // workgroup, runs the rest in one dispatch (0: none; at most kPlocTailCapacity). On lavapipe,
+  // 4096 clusters are reached after about 20 of the 1M-triangle bench mesh's 80 iterations;
+  // the other 60 took 5 dispatches each for a few hundred merges (docs/bvh.md, "Ninth session").
+  uint32_t plocTailClusters = 4096;
 };
 
 // The treelet rounds a build of `triangleCount` triangles runs with `options` (before the

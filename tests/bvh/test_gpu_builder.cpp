@@ -270,13 +270,22 @@ TEST_F(GpuBuilder, PlocTreesAreValidAndTraceExactly) {
   // round that follows (no bvh_subtree_count): also right without that round, and with one that
   // restructures every node (so that every count is rewritten). And with bvh_ploc_local's
   // merges within chunks (two rounds: the second merges nodes the first made), where the device
-  // has subgroup shuffles.
+  // has subgroup shuffles. The tail (bvh_ploc_tail: by default every iteration after the first
+  // on these meshes) makes the same tree, byte for byte, in as many iterations as the global
+  // iterations alone, or with a tail from 8 clusters.
   struct Other {
     std::string what;
     std::unique_ptr<bvh::GpuBuilder> builder;
     uint32_t localRounds = 0;  // bvh_ploc_local rounds it must have run
+    bool sameTree = false;     // the default's tree, byte for byte
   };
   std::vector<Other> others;
+  for (uint32_t tailClusters : {0u, 8u}) {
+    bvh::GpuBuildOptions other = options;
+    other.plocTailClusters = tailClusters;
+    others.push_back({"tail from " + std::to_string(tailClusters) + " clusters", std::make_unique<bvh::GpuBuilder>(ctx, other),
+                      0, true});
+  }
   for (uint32_t minTriangles : {0u, 7u}) {
     bvh::GpuBuildOptions other = options;
     other.plocTreeletMinTriangles = minTriangles;
@@ -318,11 +327,18 @@ TEST_F(GpuBuilder, PlocTreesAreValidAndTraceExactly) {
     EXPECT_EQ(bytes(tree.nodes, live * sizeof(gpu::bvh::BvhNode)), bytes(again.nodes, live * sizeof(gpu::bvh::BvhNode)))
         << name;
     EXPECT_EQ(bytes(tree.leafData, tree.leafData.size()), bytes(again.leafData, again.leafData.size())) << name;
-    for (const auto& [how, builder, localRounds] : others) {
+    for (const auto& [how, builder, localRounds, sameTree] : others) {
       bvh::BuildStats otherStats;
       bvh::Bvh t = builder->build(dm.vertices, dm.triangles, n, &otherStats, bvh::NodeForms::Both);
       const std::string what = name + ", " + how;
       EXPECT_EQ(bvh::checkInvariants(bvh::download(t), mesh.vertices, mesh.triangles), "") << what;
+      if (sameTree) {
+        EXPECT_EQ(otherStats.plocIterations, stats.plocIterations) << what;
+        EXPECT_EQ(liveNodes(t), live) << what;
+        EXPECT_EQ(bytes(t.nodes, live * sizeof(gpu::bvh::BvhNode)), bytes(tree.nodes, live * sizeof(gpu::bvh::BvhNode)))
+            << what;
+        EXPECT_EQ(bytes(t.leafData, t.leafData.size()), bytes(tree.leafData, tree.leafData.size())) << what;
+      }
       if (localRounds != 0 && n > 1) {  // the rounds ran (PLOC needs two triangles), and their node
         // indices follow from the tree too
         EXPECT_EQ(otherStats.plocLocalRounds, localRounds) << what;
@@ -372,6 +388,18 @@ TEST_F(GpuBuilder, PlocBuildsSixHundredThousandTriangles) {
   bvh::BuildStats stats;
   bvh::Bvh tree = ploc.build(dm.vertices, dm.triangles, n, &stats, bvh::NodeForms::Both);
   EXPECT_GT(stats.plocIterations, 0u);
+  // Here the global iterations run until plocTailClusters are left, and the tail (bvh_ploc_tail)
+  // makes the rest of the same tree that the global iterations alone make.
+  {
+    bvh::GpuBuildOptions noTail = options;
+    noTail.plocTailClusters = 0;
+    bvh::BuildStats noTailStats;
+    bvh::Bvh global = bvh::GpuBuilder(ctx, noTail).build(dm.vertices, dm.triangles, n, &noTailStats, bvh::NodeForms::Both);
+    EXPECT_EQ(noTailStats.plocIterations, stats.plocIterations);
+    const uint32_t live = liveNodes(tree);
+    EXPECT_EQ(bytes(global.nodes, live * sizeof(gpu::bvh::BvhNode)), bytes(tree.nodes, live * sizeof(gpu::bvh::BvhNode)));
+    EXPECT_EQ(bytes(global.leafData, global.leafData.size()), bytes(tree.leafData, tree.leafData.size()));
+  }
   bvh::HostBvh host = bvh::download(tree);
   EXPECT_EQ(bvh::checkInvariants(host, mesh.vertices, mesh.triangles), "");
   const bvh::HostBvh cpu = bvh::buildCpu(mesh.vertices, mesh.triangles);

@@ -115,7 +115,7 @@ const std::vector<Layout>& layouts() {
       STRUCT(bvh_build, LevelList, F(count), F(offset), F(_pad0), F(_pad1)),
       STRUCT(bvh_build, DispatchArgs, F(x), F(y), F(z)),
       STRUCT(bvh_build, PlocState, F(count), F(iterations), F(pairs), F(args0), F(args1), F(pairArgs), F(root),
-             F(_pad1), F(_pad2)),
+             F(clusterParity), F(tailClusters)),
       STRUCT(bvh_trace, TraceRay, F(origin), F(tMin), F(dir), F(tMax)),
       STRUCT(bvh_trace, TraceHit, F(t), F(triangle), F(barycentrics)),
       STRUCT(bvh_trace, Push, F(rayCount), F(mode), F(raysPerLane), F(_pad0)),
