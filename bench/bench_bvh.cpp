@@ -97,7 +97,7 @@ int runBvh(const std::vector<std::string>& argv) {
     if (cpuReference) line.num("sah_cpu", sahCpu).num("sah_ratio", sahGpu / sahCpu);
     line.integer("treelet_rounds", best.treeletRounds).integer("treelet_leaves", options.treeletLeaves);
     line.integer("treelet_min_triangles", options.treeletMinTriangles).integer("ploc_iterations", best.plocIterations);
-    line.integer("ploc_local_rounds", best.plocLocalRounds);
+    line.integer("ploc_local_rounds", best.plocLocalRounds).integer("ploc_tail_clusters", best.plocTailClusters);
     line.integer("depth", bvh::depth(gpuTree)).num("wall_ms", bestWall).num("cpu_time_ms", bestCpu);
     if (cpuReference) line.num("cpu_build_ms", cpuMs);
     // Memory per triangle. Device: the scene's vertex and triangle buffers, the BVH the renderer

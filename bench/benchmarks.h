@@ -24,7 +24,7 @@ inline constexpr char kBvhSummary[] = "GPU BVH build time and quality against CP
 inline constexpr char kBvhUsage[] =
     "osr-bench bvh [--scene NAME | --triangles N] [--repeat N] [--treelet-rounds N]\n"
     "              [--treelet-leaves N] [--treelet-min-triangles N] [--hierarchy auto|lbvh|ploc]\n"
-    "              [--ploc-local-rounds N] [--no-cpu-reference]\n"
+    "              [--ploc-local-rounds N] [--ploc-tail-clusters N] [--no-cpu-reference]\n"
     "  --scene NAME               generated_1m, cornell or room (default: all)\n"
     "  --triangles N              instead, a displaced sphere of at least N triangles, 1 to the\n"
     "                             device's limit (scale: memory per triangle)\n"
@@ -38,13 +38,15 @@ inline constexpr char kBvhUsage[] =
     "                             upper tree); auto: ploc from 500,000 triangles where the\n"
     "                             build's arrays fit one storage binding, as the renderer builds\n"
     "  --ploc-local-rounds N      PLOC's rounds of merges within chunks of 8 clusters before its\n"
-    "                             global iterations, 0 to 4 (default 0)";
+    "                             global iterations, 0 to 4 (default 0)\n"
+    "  --ploc-tail-clusters N     PLOC's global iterations stop at N clusters or fewer and one\n"
+    "                             workgroup finishes the tree, 0 (none) to 16384 (default 1024)";
 int runBvh(const std::vector<std::string>& args);   // GPU BVH build vs CPU SAH and Embree
 inline constexpr char kTraceSummary[] = "rays/s of BVH traversal against Embree";
 inline constexpr char kTraceUsage[] =
     "osr-bench trace [--scene NAME | --triangles N] [--side N] [--repeat N]\n"
     "                [--bvh-access auto|storage|texel] [--rays-per-lane N,...]\n"
-    "                [--hierarchy auto|lbvh|ploc] [--ploc-local-rounds N]\n"
+    "                [--hierarchy auto|lbvh|ploc] [--ploc-local-rounds N] [--ploc-tail-clusters N]\n"
     "  --scene NAME       generated_1m, cornell or room (default: all)\n"
     "  --triangles N      instead, a displaced sphere of at least N triangles\n"
     "  --side N           rays = N x N, 16 to 2048 (default 1024)\n"
@@ -55,7 +57,8 @@ inline constexpr char kTraceUsage[] =
     "                     64, one line each (default 1,16); 1 traces one ray per invocation, as\n"
     "                     the renderers' kernels do\n"
     "  --hierarchy H      how the BVH is built (osr-bench bvh --help; default auto)\n"
-    "  --ploc-local-rounds N  PLOC's local merge rounds (osr-bench bvh --help)";
+    "  --ploc-local-rounds N  PLOC's local merge rounds (osr-bench bvh --help)\n"
+    "  --ploc-tail-clusters N  where PLOC's one-workgroup tail starts (osr-bench bvh --help)";
 int runTrace(const std::vector<std::string>& args); // rays/s of bvh_trace_rays vs Embree
 inline constexpr char kUnetSummary[] = "U-Net maps/s against PyTorch on the same cores";
 inline constexpr char kUnetUsage[] =

@@ -55,6 +55,8 @@ std::vector<BvhBenchScene> bvhBenchScenes(const std::string& only, uint32_t tria
 
 void hierarchyOptions(app::Args& args, const std::string& bench, bvh::GpuBuildOptions& options) {
   if (auto rounds = args.integer("--ploc-local-rounds", 0, 4)) options.plocLocalRounds = uint32_t(*rounds);
+  if (auto clusters = args.integer("--ploc-tail-clusters", 0, gpu::bvh_build::kPlocTailCapacity))
+    options.plocTailClusters = uint32_t(*clusters);
   const std::string h = args.value("--hierarchy").value_or("auto");
   if (h == "auto")
     options.hierarchy = bvh::Hierarchy::Auto;

@@ -26,7 +26,8 @@ struct BvhBenchScene {
 std::vector<BvhBenchScene> bvhBenchScenes(const std::string& only, uint32_t triangles = 0);
 
 // The options of how the hierarchy is made, into `options`: --hierarchy (auto, lbvh or ploc;
-// absent: auto) and --ploc-local-rounds (0 to 4; absent: the builder's default); InputError
+// absent: auto), --ploc-local-rounds (0 to 4) and --ploc-tail-clusters (0 to kPlocTailCapacity;
+// absent: the builder's defaults); InputError
 // naming the benchmark.
 void hierarchyOptions(app::Args& args, const std::string& bench, bvh::GpuBuildOptions& options);
 

@@ -2,8 +2,8 @@
 // bvh_bounds: for each triangle, a copy of its world-space vertices (BvhLeafTriangle, scene
 // index in v0.w) and the scene's centroid bounds: subgroup min/max, then one atomic per
 // subgroup and axis where that grows the box, on order-preserving uints (bvhOrderedFromBits).
-// Inputs: scene triangles and vertices (lib/bvh_build_arrays.glsl, or texel views of them:
-// param2 = kBoundsSceneTexels, shared/bvh_build.h). Outputs: prims,
+// Inputs: scene triangles and vertices (lib/bvh_build_arrays.glsl, or texel views of them where
+// kSceneTexels is set, shared/bvh_build.h). Outputs: prims,
 // info.centroidMin/Max, which the caller has set to the empty box. Precondition: vertex indices
 // in range.
 #extension GL_GOOGLE_include_directive : require
@@ -15,10 +15,10 @@ layout(std430, binding = kBoundsBindingInfo) buffer Info { BvhBuildInfo gInfo; }
 layout(binding = kBoundsBindingTriangleTexels) uniform usamplerBuffer gTriangleTexels;
 layout(binding = kBoundsBindingVertexTexels) uniform usamplerBuffer gVertexTexels;
 
-// Triangle i's vertex positions, from the scene's texel views or its storage arrays (a uniform
-// choice: param2 comes from the push constants).
+layout(constant_id = kBoundsSpecSceneTexels) const bool kSceneTexels = false;
+// Triangle i's vertex positions, from the scene's texel views or its storage arrays.
 void loadCorners(uint i, out vec3 p0, out vec3 p1, out vec3 p2) {
-  if (gPush.param2 == kBoundsSceneTexels) {
+  if (kSceneTexels) {
     uvec4 t = texelFetch(gTriangleTexels, int(i));
     p0 = uintBitsToFloat(texelFetch(gVertexTexels, int(2u * t.x)).xyz);
     p1 = uintBitsToFloat(texelFetch(gVertexTexels, int(2u * t.y)).xyz);

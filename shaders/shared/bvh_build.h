@@ -122,12 +122,13 @@ OSR_CONST(uint, kBuildNodeTexels, 3u);  // 16-byte texels per BvhBuildNode
 // bvh_bounds: arrays triangles, vertices (in), prims (out).
 OSR_CONST(uint, kBoundsBindingInfo, kBuildArrayBindingCount);
 // RGBA32UI views of the scene's triangles and vertices (a Triangle is one texel, a Vertex two),
-// read where param2 is kBoundsSceneTexels: on lavapipe four gathers per triangle, where the
-// storage loads are twelve loops over the lanes.
+// read where spec constant kBoundsSpecSceneTexels is set: on lavapipe four gathers per
+// triangle, where the storage loads are twelve loops over the lanes (a specialization, not a
+// push constant: on lavapipe the path not taken would cost its loads too).
 OSR_CONST(uint, kBoundsBindingTriangleTexels, kBuildArrayBindingCount + 1u);
 OSR_CONST(uint, kBoundsBindingVertexTexels, kBuildArrayBindingCount + 2u);
 OSR_CONST(uint, kBoundsBindingCount, kBuildArrayBindingCount + 3u);
-OSR_CONST(uint, kBoundsSceneTexels, 1u);
+OSR_CONST(uint, kBoundsSpecSceneTexels, 9u);  // spec constant id: bool
 
 // bvh_morton: arrays prims (through texels).
 OSR_CONST(uint, kMortonBindingInfo, kBuildArrayBindingCount);
@@ -256,10 +257,10 @@ OSR_CONST(uint, kSubtreeCountBindingCount, kSubtreeCountBindingTexels + kBuildTe
 //   bvh_ploc_merge    one invocation per pair (every lane busy: a quarter of the clusters
 //                     merge in an iteration): the interior node, its children's parent and
 //                     its subtree's traversal nodes
-//   bvh_ploc_tail     optional (GpuBuildOptions::plocTailClusters): one workgroup runs the
+//   bvh_ploc_tail     GpuBuildOptions::plocTailClusters (default 1024): one workgroup runs the
 //                     iterations from PlocState.tailClusters clusters down to the root, in one
 //                     dispatch (below that count the global iterations are dispatches with
-//                     little work each: on the 1M-triangle bench mesh 60 of its 80)
+//                     little work each: on the 1M-triangle bench mesh 55 of its 80)
 //   bvh_ploc_root     once, after the iterations: the root swaps places with the node at 0
 // Iterations alternate two cluster arrays and two halves of PlocState (param = parity); an
 // iteration whose count is 1 dispatches no group, so the host records a fixed number of them.

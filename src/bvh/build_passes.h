@@ -67,7 +67,7 @@ class BoundsPass {
 
  private:
   ArrayAccess access_;
-  vk::ComputePipeline pipeline_;
+  mutable std::optional<vk::ComputePipeline> pipelines_[2];  // by kBoundsSpecSceneTexels, made on first need
 };
 
 // bvh_morton: keys = Morton codes of the centroids, values = triangle indices. Arrays: prims

@@ -81,6 +81,7 @@ struct BuildStats {
   uint32_t treeletRounds = 0;        // GPU build: treelet restructuring rounds run
   uint32_t plocIterations = 0;       // GPU build: PLOC iterations that merged (0: LBVH built it)
   uint32_t plocLocalRounds = 0;      // GPU build: bvh_ploc_local rounds before them
+  uint32_t plocTailClusters = 0;     // GPU build: where bvh_ploc_tail took over (0: no tail)
 };
 
 // Builds on the device by compute passes from the scene's Vertex and Triangle buffers (world

@@ -366,6 +366,7 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
         stats->treeletRounds = usePloc ? (plocTreelets ? 1 : 0) : rounds;
         stats->plocIterations = usePloc ? plocState.iterations : 0;
         stats->plocLocalRounds = usePloc ? plocLocalRounds : 0;
+        stats->plocTailClusters = usePloc ? plocTailClusters : 0;
       }
       break;
     }

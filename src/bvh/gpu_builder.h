@@ -52,10 +52,13 @@ struct GpuBuildOptions {
   // osr-bench bvh and trace --ploc-local-rounds.
   uint32_t plocLocalRounds = 0;
   // PLOC's global iterations stop at this many clusters or fewer, and bvh_ploc_tail, one
-  // workgroup, runs the rest in one dispatch (0: none; at most kPlocTailCapacity). On lavapipe,
-  // 4096 clusters are reached after about 20 of the 1M-triangle bench mesh's 80 iterations;
-  // the other 60 took 5 dispatches each for a few hundred merges (docs/bvh.md, "Ninth session").
-  uint32_t plocTailClusters = 4096;
+  // workgroup, runs the rest in one dispatch (0: none; at most kPlocTailCapacity). The
+  // 1M-triangle bench mesh is down to 1024 clusters after about 25 of its 80 iterations; the
+  // other 55 took 5 dispatches each for a few hundred merges. On lavapipe (osr-bench bvh
+  // --ploc-tail-clusters, alternating runs; docs/bvh.md, "Ninth session") the tail takes 2.5 ms
+  // from 1024 clusters, 3.6 from 2048, 5.5 from 4096 and 17 from 16384, and PLOC as a whole
+  // (iterations and tail) was fastest from 1024-2048.
+  uint32_t plocTailClusters = 1024;
 };
 
 // The treelet rounds a build of `triangleCount` triangles runs with `options` (before the

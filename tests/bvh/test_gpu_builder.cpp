@@ -270,7 +270,7 @@ TEST_F(GpuBuilder, PlocTreesAreValidAndTraceExactly) {
   // round that follows (no bvh_subtree_count): also right without that round, and with one that
   // restructures every node (so that every count is rewritten). And with bvh_ploc_local's
   // merges within chunks (two rounds: the second merges nodes the first made), where the device
-  // has subgroup shuffles. The tail (bvh_ploc_tail: by default every iteration after the first
+  // has subgroup shuffles. The tail (bvh_ploc_tail: by default all but the first iteration or two
   // on these meshes) makes the same tree, byte for byte, in as many iterations as the global
   // iterations alone, or with a tail from 8 clusters.
   struct Other {
