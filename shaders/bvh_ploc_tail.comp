@@ -74,8 +74,10 @@ void main() {
   if (count <= 1u || count > gPush.param2) return;  // uniform: the whole workgroup leaves
   uint from = gState.clusterParity;
   for (uint i = t; i < count; i += kWorkgroupSize) {
-    uvec4 a0 = texelFetch(gClusterTexels, int(2u * i)), b0 = texelFetch(gClusterTexels, int(2u * i + 1u));
-    uvec4 a1 = texelFetch(gClusterTexels1, int(2u * i)), b1 = texelFetch(gClusterTexels1, int(2u * i + 1u));
+    uvec4 a0 = texelFetch(gClusterTexels, int(2u * i));
+    uvec4 b0 = texelFetch(gClusterTexels, int(2u * i + 1u));
+    uvec4 a1 = texelFetch(gClusterTexels1, int(2u * i));
+    uvec4 b1 = texelFetch(gClusterTexels1, int(2u * i + 1u));
     uvec4 a = from == 0u ? a0 : a1, b = from == 0u ? b0 : b1;
     storeTailCluster(0u, i, PlocCluster(uintBitsToFloat(a.xyz), uintBitsToFloat(b.xyz), a.w, b.w));
   }
@@ -107,7 +109,8 @@ void main() {
         PlocCluster b = tailCluster(gSource, j);
         uint node = plocParentIndex(a, b);
         plocMergePair(a.node, b.node, node, isRoot);
-        a = plocUnion(a, b, isRoot ? 0u : node);  // the root's cluster holds 0, as in bvh_ploc_compact
+        // The root's cluster holds 0, as in bvh_ploc_compact.
+        a = plocUnion(a, b, isRoot ? 0u : node);
       }
       if (survives) storeTailCluster(gSource ^ 1u, at++, a);
     }

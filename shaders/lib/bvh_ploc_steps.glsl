@@ -27,7 +27,8 @@ uint plocNearestNeighbour(uint i, uint count) {
     uint j = i + k - kPlocRadius;  // wraps below 0: then past count
     bool valid = j < count && j != i;
     float a = plocUnionArea(self, plocSearchCluster(valid ? j : i));
-    plocConsiderNeighbour(j, a, plocTieKey(uint(abs(int(k) - int(kPlocRadius))), i, j), valid, best, bestTie, nearest);
+    uint tie = plocTieKey(uint(abs(int(k) - int(kPlocRadius))), i, j);
+    plocConsiderNeighbour(j, a, tie, valid, best, bestTie, nearest);
   }
   return nearest;
 }
