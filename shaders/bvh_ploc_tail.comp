@@ -69,7 +69,9 @@ uvec2 workgroupExclusiveAdd(uvec2 mine, out uvec2 total) {
 }
 
 void main() {
-  uint t = gl_LocalInvocationIndex;
+  // Invocations in subgroup order, which the scan follows (workgroupExclusiveAdd): runs of
+  // clusters, and so survivors, stay in order whatever the local index's layout.
+  uint t = gl_SubgroupID * gl_SubgroupSize + gl_SubgroupInvocationID;
   uint count = gState.count[gPush.param];
   if (count <= 1u || count > gPush.param2) return;  // uniform: the whole workgroup leaves
   uint from = gState.clusterParity;
@@ -83,8 +85,10 @@ void main() {
   }
   workgroupSync();
   uint iterations = 0u;
-  // Each iteration merges at least one pair: at most count - 1 of them.
-  while (count > 1u) {
+  // Each iteration merges at least one pair: at most count - 1 of them. The bound only guards
+  // against corrupt state (a device would hang, not stop as llvmpipe's loop limit does): the
+  // host then sees more than one cluster left and rebuilds.
+  while (count > 1u && iterations < gPush.param2) {
     bool isRoot = count == 2u;
     for (uint i = t; i < count; i += kWorkgroupSize) gNearest[i] = plocNearestNeighbour(i, count);
     workgroupSync();

@@ -7,7 +7,8 @@ bool isLeafNode(uint u) { return u >= interiorCount(); }
 
 float boxArea(vec3 lo, vec3 hi) {
   vec3 d = max(hi - lo, vec3(0.0));
-  return 2.0 * (d.x * d.y + d.y * d.z + d.z * d.x);
+  precise float area = 2.0 * (d.x * d.y + d.y * d.z + d.z * d.x);  // as refitNode's
+  return area;
 }
 
 uint heightOf(BvhBuildNode n) { return n.flags & kHeightMask; }
@@ -24,9 +25,10 @@ BvhBuildNode refitNode(BvhBuildNode n, BvhBuildNode l, BvhBuildNode r, bool isRo
   n.lo = min(l.lo, r.lo);
   n.hi = max(l.hi, r.hi);
   n.triangleCount = l.triangleCount + r.triangleCount;
-  float area = boxArea(n.lo, n.hi);
-  float interiorCost = kSahNodeCost * area + l.cost + r.cost;
-  float leafCost = kSahTriangleCost * area * float(n.triangleCount);
+  // precise: the passes that refit (bvh_ploc_merge, bvh_ploc_tail, ...) give the same bits.
+  precise float area = boxArea(n.lo, n.hi);
+  precise float interiorCost = kSahNodeCost * area + l.cost + r.cost;
+  precise float leafCost = kSahTriangleCost * area * float(n.triangleCount);
   bool collapse = !isRoot && n.triangleCount <= kBvhMaxLeafTriangles && leafCost <= interiorCost;
   n.cost = collapse ? leafCost : interiorCost;
   uint height = 1u + max(heightOf(l), heightOf(r));

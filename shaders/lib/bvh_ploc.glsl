@@ -48,10 +48,12 @@ PlocCluster plocUnion(PlocCluster a, PlocCluster b, uint node) {
 }
 
 // Half the surface area of the union of two clusters' boxes; past 3e38 (NaN, infinite
-// coordinates) 3e38.
+// coordinates) 3e38. precise: ties are compared with ==, and the passes that search
+// (bvh_ploc_nearest, bvh_ploc_tail, bvh_ploc_local) must see the same bits, however a compiler
+// would otherwise fuse the products and sums in each.
 float plocUnionArea(PlocCluster a, PlocCluster b) {
   vec3 d = max(a.hi, b.hi) - min(a.lo, b.lo);
-  float area = d.x * d.y + d.y * d.z + d.z * d.x;
+  precise float area = d.x * d.y + d.y * d.z + d.z * d.x;
   return area < 3.0e38 ? area : 3.0e38;
 }
 
