@@ -30,6 +30,7 @@ layout(local_size_x = kWorkgroupSize) in;
 #include "lib/bvh_build_texels.glsl"
 #define OSR_SUBTREE_NODES_BINDING kPlocBindingSubtreeNodes
 #include "lib/bvh_subtree_nodes.glsl"
+#include "lib/bvh_ploc_steps.glsl"
 
 // A lane's cluster and what a merge needs of its build node.
 struct LocalCluster {
@@ -121,17 +122,12 @@ void main() {
     // The pair's parent, as bvh_ploc_compact numbers it. Each lane sets its own node's parent: a
     // node made here was stored by this lane, and two invocations' stores to one word would be
     // unordered.
-    uint p = max(x.c.firstLeaf, partner.c.firstLeaf) - 1u;
+    uint p = plocParentIndex(x.c, partner.c);
     if (merges || partnerMerges) setParent(x.c.node, p);
     if (merges) {  // the parent, as bvh_ploc_merge makes it
-      BvhBuildNode node;
-      node.left = x.c.node;
-      node.right = partner.c.node;
-      node.parent = kInvalidNode;  // until its own parent is made
-      node = refitNode(node, buildNodeOf(x), buildNodeOf(partner), false);
-      storeInterior(p, node);
+      BvhBuildNode node = plocStoreParent(x.c.node, partner.c.node, p, buildNodeOf(x), buildNodeOf(partner),
+                                          x.subtreeNodes + partner.subtreeNodes, false);
       uint below = subtreeNodesFrom(node.flags, x.subtreeNodes + partner.subtreeNodes);
-      gSubtreeNodes[p] = below;
       x = LocalCluster(plocUnion(x.c, partner.c, p), node.cost, node.triangleCount, node.flags, below);
     }
     live = live && !partnerMerges;

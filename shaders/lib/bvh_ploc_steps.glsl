@@ -1,6 +1,7 @@
 // PLOC's nearest-neighbour search and merge, one text for the passes that run them one
-// iteration per dispatch (bvh_ploc_nearest, bvh_ploc_merge) and for bvh_ploc_tail, which runs
-// many iterations in one workgroup and so reads what its own invocations wrote. The includer
+// iteration per dispatch (bvh_ploc_nearest, bvh_ploc_merge), for bvh_ploc_tail, which runs
+// many iterations in one workgroup and so reads what its own invocations wrote, and (the
+// parent's making, plocStoreParent) for bvh_ploc_local, whose children are in registers. The includer
 // defines where the clusters, the children's build nodes and their traversal-node counts come
 // from (the prototypes below), after including lib/bvh_ploc.glsl and lib/bvh_subtree_nodes.glsl.
 #ifndef OSR_BVH_PLOC_STEPS_GLSL
@@ -33,21 +34,30 @@ uint plocNearestNeighbour(uint i, uint count) {
   return nearest;
 }
 
-// The parent of a mutual pair of build nodes (left, right) at interior index p, with everything
-// bvh_refit would give it (refitNode), both children's parent and its subtree's traversal nodes.
-// The root (the pair of the last two clusters) is made at its own index like any node, which goes
-// to state.root for bvh_ploc_root.
-void plocMergePair(uint left, uint right, uint p, bool isRoot) {
+// Makes and stores the parent of build nodes left and right (whose nodes are l and r, with
+// `childNodes` traversal nodes below them both) at interior index p, with everything bvh_refit
+// would give it (refitNode), and its subtree's traversal-node count; returns the node. Its own
+// parent is set when that is made; the children's parents are the caller's to set.
+BvhBuildNode plocStoreParent(uint left, uint right, uint p, BvhBuildNode l, BvhBuildNode r, uint childNodes,
+                             bool isRoot) {
   BvhBuildNode node;
   node.left = left;
   node.right = right;
   node.parent = kInvalidNode;  // until its own parent is made
-  node = refitNode(node, plocChildNode(left), plocChildNode(right), isRoot);
-  uint below = plocChildSubtreeNodes(left) + plocChildSubtreeNodes(right);
+  node = refitNode(node, l, r, isRoot);
   storeInterior(p, node);
+  gSubtreeNodes[p] = subtreeNodesFrom(node.flags, childNodes);
+  return node;
+}
+
+// The parent of a mutual pair of build nodes (left, right) at interior index p
+// (plocStoreParent), and both children's parent. The root (the pair of the last two clusters)
+// is made at its own index like any node, which goes to state.root for bvh_ploc_root.
+void plocMergePair(uint left, uint right, uint p, bool isRoot) {
+  plocStoreParent(left, right, p, plocChildNode(left), plocChildNode(right),
+                  plocChildSubtreeNodes(left) + plocChildSubtreeNodes(right), isRoot);
   setParent(left, p);
   setParent(right, p);
-  gSubtreeNodes[p] = subtreeNodesFrom(node.flags, below);
   if (isRoot) gState.root = p;
 }
 

@@ -224,10 +224,7 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
   const vk::BufferRange subtreeNodes(keysTmp, 0, 4ull * interiorCount), positions(valuesTmp, 0, 4ull * interiorCount);
   bool usePloc = plocFor(options, n, !byAddress);
   const uint32_t plocLocalRounds = PlocPass::localMergesSupported(ctx) ? options.plocLocalRounds : 0;
-  if (options.plocTailClusters > bb::kPlocTailCapacity)
-    throw DeviceError("bvh: plocTailClusters " + std::to_string(options.plocTailClusters) + " exceeds the tail's " +
-                      std::to_string(bb::kPlocTailCapacity));
-  const uint32_t plocTailClusters = options.plocTailClusters;
+  const uint32_t plocTailClusters = options.plocTailClusters;  // PlocPass refuses more than its tail holds
   const bool plocTreelets = options.plocTreeletMinTriangles != 0 && n > 2;
   auto plocArgs = [&]() {
     if (!passes.ploc) passes.ploc = std::make_unique<PlocPass>(ctx);
