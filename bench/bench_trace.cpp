@@ -160,7 +160,7 @@ int runTrace(const std::vector<std::string>& argv) {
       std::vector<TraceHit> hits;
       for (uint32_t perLane : raysPerLane) {
         double best = std::numeric_limits<double>::infinity(), bestCpu = best;
-        for (int r = 0; r <= repeat; ++r) {  // the first run warms up, the rest are timed
+        for (int r = 0; r <= repeat; ++r) {  // the first warms up, the rest are timed
           double cpuStart = processCpuMs();
           ctx.submitAndWait([&](VkCommandBuffer cmd) {
             timer.reset(cmd);

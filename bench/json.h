@@ -1,10 +1,18 @@
 // One JSON object per line: JsonLine().str("bench", "bvh").num("build_ms", 1.5).print();
+// Every line names its "bench" and the "device" that ran it; with --record, print() also
+// appends the line to bench/results/<benchmark>.jsonl (bench/record.cpp).
 #pragma once
 #include <cmath>
 #include <cstdio>
 #include <string>
 
 namespace osr::bench {
+
+// --record: from now on, append each printed line to bench/results/<benchmark>.jsonl in the
+// source tree with "date", "commit" and "machine" first. Throws InputError if it cannot open it.
+void startRecording(const std::string& benchmark);
+// Appends {date, commit, machine, body} as one line, atomically; nothing when not recording.
+void recordLine(const std::string& body);
 
 class JsonLine {
  public:
@@ -26,6 +34,7 @@ class JsonLine {
   void print() const {
     std::printf("{%s}\n", body_.c_str());
     std::fflush(stdout);
+    recordLine(body_);
   }
 
  private:

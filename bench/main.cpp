@@ -2,7 +2,8 @@
 // one; `osr-bench all` runs every one with default options; with no name it lists them, one
 // line each (running them all takes many minutes: not what a person trying the command wants).
 // Each benchmark verifies its output before timing it. `--help` or `-h` anywhere prints the
-// usage (of NAME, when given) on stdout and exits 0.
+// usage (of NAME, when given) on stdout and exits 0. `--record` anywhere also appends every
+// line to bench/results/NAME.jsonl in the source tree, with date, commit and machine.
 //
 // Exit code (DESIGN.md): 0 success, 2 bad input, 1 failure (device, verification, internal).
 // Running all, each benchmark runs even if an earlier one failed, and the run exits with the
@@ -16,6 +17,7 @@
 
 #include "app/args.h"
 #include "bench/benchmarks.h"
+#include "bench/json.h"
 #include "common/error.h"
 
 namespace {
@@ -41,8 +43,9 @@ int worst(int a, int b) {
 }
 
 // Runs one benchmark; an exception is one stderr line and its exit code.
-int runOne(const Benchmark& b, const std::vector<std::string>& args) {
+int runOne(const Benchmark& b, const std::vector<std::string>& args, bool record) {
   try {
+    if (record) osr::bench::startRecording(b.name);
     return b.run(args);
   } catch (const osr::InputError& e) {
     std::fprintf(stderr, "osr-bench: %s\n", e.what());
@@ -60,6 +63,7 @@ void printList(FILE* out) {
   std::fprintf(out,
                "usage: osr-bench NAME [options]   one benchmark (osr-bench NAME --help: its options)\n"
                "       osr-bench all              every benchmark, default options\n"
+               "  --record  also append each line to bench/results/NAME.jsonl in the source tree\n"
                "benchmarks:\n");
   for (const Benchmark& b : kBenchmarks) std::fprintf(out, "  %-10s %s\n", b.name, b.summary);
 }
@@ -67,7 +71,14 @@ void printList(FILE* out) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::vector<std::string> args(argv + 1, argv + argc);
+  std::vector<std::string> args;
+  bool record = false;
+  for (int i = 1; i < argc; ++i) {
+    if (std::strcmp(argv[i], "--record") == 0 && !record)
+      record = true;
+    else
+      args.push_back(argv[i]);
+  }
   const Benchmark* chosen = nullptr;
   for (const Benchmark& b : kBenchmarks)
     if (!args.empty() && args[0] == b.name) chosen = &b;
@@ -79,17 +90,21 @@ int main(int argc, char** argv) {
     return osr::kExitOk;
   }
   if (args.empty()) {
+    if (record) {
+      std::fprintf(stderr, "osr-bench: --record: name a benchmark (osr-bench lists them)\n");
+      return osr::kExitBadInput;
+    }
     printList(stdout);
     return osr::kExitOk;
   }
-  if (chosen) return runOne(*chosen, {args.begin() + 1, args.end()});
+  if (chosen) return runOne(*chosen, {args.begin() + 1, args.end()}, record);
   if (args[0] == "all") {
     if (args.size() > 1) {
       std::fprintf(stderr, "osr-bench: all: takes no options (run one benchmark to set them)\n");
       return osr::kExitBadInput;
     }
     int rc = osr::kExitOk;
-    for (const Benchmark& b : kBenchmarks) rc = worst(rc, runOne(b, {}));
+    for (const Benchmark& b : kBenchmarks) rc = worst(rc, runOne(b, {}, record));
     return rc;
   }
   std::fprintf(stderr, "osr-bench: unknown benchmark '%s' (osr-bench lists them)\n", args[0].c_str());
