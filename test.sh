@@ -8,7 +8,7 @@ cmake --build build
 cd build
 # --repeat until-pass:2: a test that fails is run once more, and fails the suite only if it
 # fails again. With cold shader caches (every fresh machine, so every CI run) most full runs
-# see one test hit heap corruption inside the Khronos validation layer on lavapipe (README,
-# Device notes, "Known flake"); a second attempt runs with warm caches. A test that fails
-# twice still fails.
+# see one test hit heap corruption inside the Khronos validation layer on lavapipe
+# (docs/testing.md, "The known flake"); a second attempt runs with warm caches. A test that
+# fails twice still fails.
 ctest --output-on-failure -j"$(nproc)" --repeat until-pass:2 "$@"
