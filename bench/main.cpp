@@ -74,10 +74,14 @@ int main(int argc, char** argv) {
   std::vector<std::string> args;
   bool record = false;
   for (int i = 1; i < argc; ++i) {
-    if (std::strcmp(argv[i], "--record") == 0 && !record)
-      record = true;
-    else
+    if (std::strcmp(argv[i], "--record") != 0) {
       args.push_back(argv[i]);
+    } else if (record) {
+      std::fprintf(stderr, "osr-bench: --record: given twice\n");
+      return osr::kExitBadInput;
+    } else {
+      record = true;
+    }
   }
   const Benchmark* chosen = nullptr;
   for (const Benchmark& b : kBenchmarks)

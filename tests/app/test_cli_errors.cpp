@@ -268,6 +268,8 @@ TEST(CliErrors, BenchBadOptionsExitTwoWithOneLine) {
       {"no-such-benchmark", "osr-bench: unknown benchmark 'no-such-benchmark'"},
       {"osr --size x", "osr-bench: osr: option --size expects an integer, got 'x'"},
       {"all --size 8", "osr-bench: all: takes no options"},
+      {"--record", "osr-bench: --record: name a benchmark"},
+      {"fill --record --record", "osr-bench: --record: given twice"},
   };
   for (const auto& [args, start] : cases) {
     SCOPED_TRACE(args);
