@@ -3,7 +3,7 @@
 // Inputs: Frame (camera, size, seed), the BVH, the scene; push: pixel range and sample index.
 // Output: FilmPixel sums (shared/pt.h). A megakernel: each invocation follows its path to the
 // end: on lavapipe a wavefront variant measured slower (src/pt/trace_pass.h,
-// docs/pathtracer.md).
+// docs/pathtracer.md, "Tried and not kept").
 //
 // Path integrator (kIntegratorPath): camera rays drawn from the pixel filter (lib/camera.glsl:
 // Cycles' Blackman-Harris, 2 px wide), then lib/path.glsl's bounce (next-event estimation with MIS, Russian roulette)

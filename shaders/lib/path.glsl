@@ -2,10 +2,10 @@
 // heuristic), shared by the path tracer (pt_trace), OSR's hemisphere maps (osr_maps) and its
 // residual paths (osr_residual), so every estimate of indirect light is the same estimator.
 // Russian roulette from the fourth surface on, survival min(sqrt(max(throughput)), 0.95), as
-// Cycles' but capped (min(max, 0.95) ended paths early enough to cost cornell 1.2x Cycles'
-// relMSE at 256 spp: 0.00102 -> 0.00083); no fixed depth cap. Requires lib/scene.glsl, lib/bvh_traverse.glsl,
-// lib/rng.glsl, lib/sampling.glsl, lib/bsdf.glsl, lib/ray_offset.glsl, lib/lights.glsl and
-// lib/shading.glsl.
+// Cycles' but capped (min(max, 0.95) ended long interreflection paths too early and was the
+// noise: docs/pathtracer.md, "Against Cycles"); no fixed depth cap. Requires lib/scene.glsl,
+// lib/bvh_traverse.glsl, lib/rng.glsl, lib/sampling.glsl, lib/bsdf.glsl, lib/ray_offset.glsl,
+// lib/lights.glsl and lib/shading.glsl.
 #ifndef OSR_LIB_PATH_GLSL
 #define OSR_LIB_PATH_GLSL
 

@@ -27,8 +27,8 @@ ConvPass::ConvPass(const vk::Context& ctx, const ConvConfig& config) : config_(c
   const uint32_t rounded = (config.cout + sub - 1) / sub * sub;
   workgroup_ = std::min(rounded, 64u);
   // Tile of output pixels per lane: the accumulators amortise the per-lane weight loads and
-  // the shared footprint loads. On lavapipe 8x8 (64 accumulators, spilled) measured ~5-10%
-  // less CPU per map than 4x8 and 2x16 (osr-bench unet --tile); GPUs keep 32 registers.
+  // the shared footprint loads. On lavapipe 8x8 (64 accumulators, spilled) costs less per map
+  // than smaller tiles (docs/device_notes.md, "The U-Net's kernels"); GPUs keep 32 registers.
   const uint32_t defaultH = ctx.caps().isCpu() ? 8u : 4u;
   tileW_ = config.tileW ? config.tileW : std::min(config.width, 8u);
   tileH_ = config.tileH ? config.tileH : std::min(config.width, defaultH);

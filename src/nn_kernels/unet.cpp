@@ -69,9 +69,10 @@ UNet::UNet(const vk::Context& ctx, const UNetWeights& w, const UNetOptions& opti
   flopsPerMap_ = w.flopsPerMap();
   const VkDeviceSize elem = half_ ? 2 : 4;
 
-  // fp32 weights are read as texels where every layer fits the device's texel-buffer limit
-  // (measured on lavapipe: 20% less CPU per map; RGBA16F texels cost more than they save, so
-  // fp16 weights stay in the storage buffer).
+  // fp32 weights are read as texels where every layer fits the device's texel-buffer limit: a
+  // texel fetch is a gather on lavapipe, a storage load a loop over the lanes. RGBA16F texels
+  // cost more than they save, so fp16 weights stay in the storage buffer
+  // (docs/device_notes.md, "The U-Net's kernels").
   VkPhysicalDeviceProperties props;
   vkGetPhysicalDeviceProperties(ctx.physicalDevice(), &props);
   bool texels = !half_;

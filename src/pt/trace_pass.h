@@ -2,10 +2,9 @@
 //
 // Megakernel, not wavefront: on lavapipe (2 CPU threads, SIMD width 8) a wavefront split pays
 // a dispatch and a full write/read of the path state per bounce, while the megakernel's path
-// regeneration already keeps its lanes busy. Measured with a wavefront prototype whose bounces
-// traced with the batch tracer's ray pools: 1.4x the time per bounce on room, 1.9x on cornell,
-// before its tail (docs/pathtracer.md, "A wavefront variant"). A GPU may prefer it; not
-// measured there.
+// regeneration already keeps its lanes busy. A wavefront prototype with ray pools was slower
+// per bounce on both reference scenes (docs/pathtracer.md, "Tried and not kept"). A GPU may
+// prefer it; not measured there.
 // Dispatches are one sample over at most kMaxPixelsPerDispatch pixels, short enough for a
 // desktop GPU's watchdog.
 #pragma once

@@ -36,7 +36,8 @@ class GpuScene {
   uint32_t triangleCount = 0;
   uint32_t vertexCount = 0;
   // kSceneFeature* bits (shaders/shared/scene.h) of what this scene uses, for passes to
-  // specialise on: on lavapipe, pt_trace without the alpha test alone runs 2x faster.
+  // specialise on: on lavapipe a branch costs every lane whether any lane takes it, so code a
+  // scene does not need is compiled out (docs/device_notes.md, "What lavapipe charges for").
   uint32_t features = 0;
 
   // RGBA32UI views of vertices, triangles, materials in kSceneTexelBinding* order, for passes

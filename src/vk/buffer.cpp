@@ -13,8 +13,8 @@ namespace osr::vk {
 
 namespace {
 // On a CPU device the memory is process memory, and a fresh allocation costs a page fault per
-// 4 KiB on first touch: measured on the 2-core bench VM, 4.5 ms per MiB (1.2 s for 256 MiB),
-// more than the GPU BVH build's own work on a 1M-triangle scene. Transparent huge pages (where
+// 4 KiB on first touch, more than the GPU BVH build's own work on a large scene
+// (docs/device_notes.md, "What lavapipe charges for"). Transparent huge pages (where
 // the system offers them on request: /sys/kernel/mm/transparent_hugepage/enabled = madvise)
 // fault 2 MiB at a time. Only the whole 2 MiB pages inside the allocation are advised.
 void adviseHugePages(void* data, VkDeviceSize bytes) {
