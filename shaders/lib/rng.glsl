@@ -55,7 +55,7 @@ uint nestedUniformScramble(uint x, uint seed) {
 // odd exactly when j's bits are a subset of k's (Lucas), so bit j of the reversed result is the
 // XOR of i's bits at every k that contains j: a superset sum over the 5-bit positions, five
 // shift-mask-xor steps. The same bits as the loop over i's bits, which ran up to 32 iterations
-// (replacing it made pt_trace 8-10% faster on room), and no branch.
+// and was a large part of pt_trace's time (docs/pathtracer.md, "Benchmark"), and no branch.
 uint sobolDimension1(uint i) {
   i ^= (i >> 1) & 0x55555555u;
   i ^= (i >> 2) & 0x33333333u;

@@ -14,8 +14,8 @@
 // far off. On the host the sample's CDF is then u to float rounding (2.4e-7), for a power, two
 // sines and two cosines, where 10 bisection-guarded Newton steps over the whole window took 30
 // sines and 30 cosines and missed by up to 0.18 in CDF for a few u in a million. (A table of
-// the inverse instead of the polynomial made pt_trace a quarter to a third slower on cornell: on
-// lavapipe a constant array read at a per-lane index is copied to scratch memory.)
+// the inverse instead of the polynomial was slower: on lavapipe a constant array read at a
+// per-lane index is copied to scratch memory; docs/pathtracer.md, "Benchmark".)
 #ifndef OSR_SHARED_PIXEL_FILTER_H
 #define OSR_SHARED_PIXEL_FILTER_H
 #include "shared/types.h"
