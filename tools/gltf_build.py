@@ -96,6 +96,22 @@ class Gltf:
             self.doc["scenes"][0]["nodes"].append(index)
         return index
 
+    def animate(self, node: int, path: str, times: list[float], values: list,
+                interpolation: str = "LINEAR", animation: int = 0) -> None:
+        """Adds a channel moving `node`'s `path` (translation, rotation, scale) to animation
+        `animation` (made when missing); CUBICSPLINE values are (in-tangent, value,
+        out-tangent) per key."""
+        anims = self.doc.setdefault("animations", [])
+        while len(anims) <= animation:
+            anims.append({"channels": [], "samplers": []})
+        kind = {"translation": "VEC3", "rotation": "VEC4", "scale": "VEC3", "weights": "SCALAR"}[path]
+        anim = anims[animation]
+        anim["samplers"].append({"input": self.accessor(list(times), "SCALAR"),
+                                 "output": self.accessor(list(values), kind),
+                                 "interpolation": interpolation})
+        anim["channels"].append({"sampler": len(anim["samplers"]) - 1,
+                                 "target": {"node": node, "path": path}})
+
     def add(self, key: str, item: dict) -> int:
         self.doc.setdefault(key, []).append(item)
         return len(self.doc[key]) - 1

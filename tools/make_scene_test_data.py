@@ -289,6 +289,66 @@ def quantized(out: Path) -> None:
     g.gltf(out / "quantized.gltf")
 
 
+def animated(out: Path) -> None:
+    """One node per sampler kind (hand-computed values in tests/scene/test_animation.cpp):
+    STEP translation, LINEAR rotation (second key negated: slerp takes the short arc) with a
+    LINEAR translation and a static child, CUBICSPLINE scale, a STEP scale that mirrors a flat
+    shaded triangle, a moving camera, a still quad, and a morph-weights channel (skipped)."""
+    g = Gltf(GENERATOR)
+    quad = g.mesh(QUAD_P, QUAD_I, QUAD_N)
+    flat = g.mesh([(0, 0, 0), (1, 0, 0), (0, 1, 0)], [0, 1, 2])
+    g.doc["cameras"] = [{"type": "perspective", "perspective": {"yfov": 0.8, "znear": 0.1}}]
+    h = math.sqrt(0.5)
+    stepper = g.node(name="stepper", mesh=quad)
+    g.animate(stepper, "translation", [0, 1, 2], [(0, 0, 0), (1, 0, 0), (3, 0, 0)], "STEP")
+    rider = g.node(root=False, name="rider", mesh=quad, translation=[1, 0, 0])
+    spinner = g.node(name="spinner", mesh=quad, children=[rider])
+    g.animate(spinner, "rotation", [0, 2], [(0, 0, 0, 1), (0, -h, 0, -h)])
+    g.animate(spinner, "translation", [0, 2], [(0, 0, -2), (0, 2, -2)])
+    bouncer = g.node(name="bouncer", mesh=quad)
+    g.animate(bouncer, "scale", [0, 2], [(0, 0, 0), (1, 1, 1), (3, 0, 0),
+                                         (0, 0, 0), (2, 1, 1), (0, 0, 0)], "CUBICSPLINE")
+    flipper = g.node(name="flipper", mesh=flat, translation=[0, 0, 4])
+    g.animate(flipper, "scale", [0, 1], [(1, 1, 1), (-1, 1, 1)], "STEP", animation=1)
+    camera = g.node(name="camera", camera=0)
+    g.animate(camera, "translation", [0, 2], [(0, 1, 5), (0, 1, 9)], animation=1)
+    still = g.node(name="still", mesh=quad, translation=[0, -3, 0])
+    g.animate(still, "weights", [0, 1], [0.0, 1.0], animation=1)
+    g.gltf(out / "animated.gltf")
+
+
+def camera_path(out: Path) -> None:
+    """A lit corner (floor, back wall, a ceiling lamp, a leaning panel) seen by a camera that
+    moves and turns over 0.25 s: the command-line frame tests render it at 24 frames/s."""
+    g = Gltf(GENERATOR)
+    g.add("materials", {"pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.8, 0.8, 1],
+                                                  "metallicFactor": 0}})
+    g.add("materials", {"pbrMetallicRoughness": {"baseColorFactor": [0.8, 0.3, 0.2, 1],
+                                                  "metallicFactor": 0}})
+    g.add("materials", {"emissiveFactor": [1, 1, 1],
+                        "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 8}}})
+    g.doc["extensionsUsed"] = ["KHR_materials_emissive_strength"]
+    square = [(-1, 0, -1), (1, 0, -1), (1, 0, 1), (-1, 0, 1)]
+    up = [(0, 1, 0)] * 4
+    facing = [0, 2, 1, 0, 3, 2]  # counter-clockwise seen from +Y
+    g.mesh(square, facing, up, material=0)
+    g.mesh(square, [0, 1, 2, 0, 2, 3], [(0, -1, 0)] * 4, material=2)  # facing down
+    g.mesh(square, facing, up, material=1)
+    g.node(name="floor", mesh=0, scale=[2, 1, 2])
+    g.node(name="wall", mesh=0, translation=[0, 2, -2], rotation=[math.sqrt(0.5), 0, 0, math.sqrt(0.5)],
+           scale=[2, 1, 2])
+    g.node(name="lamp", mesh=1, translation=[0, 3, 0], scale=[0.5, 1, 0.5])
+    g.node(name="panel", mesh=2, translation=[0.3, 0.6, -0.5], rotation=[0.3, 0.2, 0, 0.933],
+           scale=[0.4, 1, 0.4])
+    g.doc["cameras"] = [{"type": "perspective", "perspective": {"yfov": 0.9, "znear": 0.1}}]
+    camera = g.node(name="camera", camera=0, translation=[0, 1.2, 4])
+    g.animate(camera, "translation", [0, 0.25], [(-0.5, 1.2, 4), (0.5, 1.0, 3.5)])
+    turn = math.radians(8) / 2
+    g.animate(camera, "rotation", [0, 0.25],
+              [(0, math.sin(-turn), 0, math.cos(turn)), (0, math.sin(turn), 0, math.cos(turn))])
+    g.gltf(out / "camera_path.gltf")
+
+
 def bad_inputs(out: Path) -> None:
     """One file per kind of bad input the loader must refuse with one line."""
     def quad_file(name: str, edit=None, positions=QUAD_P, indices=QUAD_I, **kw: Any) -> None:
@@ -313,6 +373,14 @@ def bad_inputs(out: Path) -> None:
     def view_length(g: Gltf) -> None:
         g.doc["bufferViews"][0]["byteLength"] = 100000  # view past the buffer
     quad_file("bad_buffer_view_range.gltf", view_length)
+
+    def animation_times(g: Gltf) -> None:
+        g.animate(0, "translation", [0, 2, 1], [(0, 0, 0), (1, 0, 0), (2, 0, 0)])
+    quad_file("bad_animation_times.gltf", animation_times)
+
+    def animation_count(g: Gltf) -> None:
+        g.animate(0, "scale", [0, 1], [(1, 1, 1), (2, 2, 2)], "CUBICSPLINE")  # needs 6 values
+    quad_file("bad_animation_count.gltf", animation_count)
 
     quad_file("bad_index.gltf", indices=[0, 1, 2, 0, 2, 7])
     quad_file("bad_nan.gltf", positions=[(0, 0, 0), (1, 0, 0), (float("nan"), 1, 0), (0, 1, 0)])
@@ -343,7 +411,7 @@ def main() -> None:
     args.out.mkdir(parents=True, exist_ok=True)
     for make in [hierarchy, nonindexed, index_types, textured, alpha_mask, lights, cameras, materials,
                  binary, sparse, quantized, texture16, degenerate_attributes,
-                 texture_transform, bad_inputs]:
+                 texture_transform, animated, camera_path, bad_inputs]:
         make(args.out)
 
 

@@ -9,6 +9,17 @@
 
 namespace osr::scene {
 
+std::optional<glm::mat4> rigidTransform(const glm::mat4& worldFromNode) {
+  glm::mat4 m = worldFromNode;
+  for (int k = 0; k < 3; ++k) {
+    const glm::vec3 axis(m[k]);
+    const float len = glm::length(axis);
+    if (!(len > 0.0f) || !std::isfinite(len)) return std::nullopt;
+    m[k] = glm::vec4(axis / len, 0.0f);
+  }
+  return m;
+}
+
 Camera defaultCamera(const Scene& scene, float aspect) {
   if (!(aspect > 0.0f) || !std::isfinite(aspect)) aspect = 1.0f;
   Camera cam;

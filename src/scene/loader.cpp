@@ -213,13 +213,14 @@ class Loader {
     checkExtensions();
     for (size_t i = 0; i < model_.materials.size(); ++i)
       scene_.materials.push_back(material(int(i)));
+    readAnimations();
     traverseScenes();
     if (scene_.triangles.empty()) fail("the scene has no triangles");
     if (defaultMaterialIndex_ >= 0 || scene_.materials.empty()) {
       if (defaultMaterialIndex_ < 0) defaultMaterialIndex_ = int(scene_.materials.size());
       scene_.materials.push_back(defaultMaterial());
     }
-    finishBounds();
+    updateBounds(scene_);
     collectEmissive(scene_);
     for (const std::string& w : scene_.warnings)
       std::fprintf(stderr, "osr-vk: warning: %s: %s\n", path_.c_str(), w.c_str());
@@ -641,26 +642,108 @@ class Loader {
 
   // --- Nodes ----------------------------------------------------------------------------------
 
-  glm::mat4 localTransform(const tinygltf::Node& node, int index) const {
+  // The node's rest pose: its matrix, or translation, rotation (normalized), scale.
+  NodePose restPose(const tinygltf::Node& node, int index) const {
+    NodePose p;
     if (node.matrix.size() == 16) {
-      glm::mat4 m;
-      for (int i = 0; i < 16; ++i) glm::value_ptr(m)[i] = float(node.matrix[i]);  // column-major
-      return m;
+      p.hasMatrix = true;
+      for (int i = 0; i < 16; ++i) glm::value_ptr(p.matrix)[i] = float(node.matrix[i]);  // column-major
+      return p;
     }
     if (!node.matrix.empty()) fail("node " + std::to_string(index) + ": matrix needs 16 numbers");
-    glm::mat4 t(1.0f), r(1.0f), s(1.0f);
     if (node.translation.size() == 3)
-      t = glm::translate(glm::mat4(1.0f),
-                         glm::vec3(node.translation[0], node.translation[1], node.translation[2]));
+      p.translation = glm::vec3(node.translation[0], node.translation[1], node.translation[2]);
     if (node.rotation.size() == 4) {
       // glTF stores quaternions as (x, y, z, w); glm's constructor takes (w, x, y, z).
       glm::quat q(float(node.rotation[3]), float(node.rotation[0]), float(node.rotation[1]),
                   float(node.rotation[2]));
-      r = glm::mat4_cast(glm::normalize(q));
+      p.rotation = glm::normalize(q);
     }
-    if (node.scale.size() == 3)
-      s = glm::scale(glm::mat4(1.0f), glm::vec3(node.scale[0], node.scale[1], node.scale[2]));
-    return t * r * s;
+    if (node.scale.size() == 3) p.scale = glm::vec3(node.scale[0], node.scale[1], node.scale[2]);
+    return p;
+  }
+
+  // --- Animations -----------------------------------------------------------------------------
+
+  // Every channel that moves a node's translation, rotation or scale, checked here so that
+  // sampling needs no checks: times finite and non-decreasing, values finite and as many as
+  // the keys ask. Morph-target weights are warned about and skipped, like morph targets.
+  void readAnimations() {
+    Animation& a = scene_.animation;
+    for (size_t i = 0; i < model_.animations.size(); ++i) {
+      const tinygltf::Animation& animation = model_.animations[i];
+      for (size_t c = 0; c < animation.channels.size(); ++c) {
+        const tinygltf::AnimationChannel& ch = animation.channels[c];
+        const std::string name = "animation " + std::to_string(i) + " channel " + std::to_string(c);
+        if (ch.target_node < 0) continue;  // the spec: a channel without a node is ignored
+        if (size_t(ch.target_node) >= model_.nodes.size())
+          fail(name + ": node " + std::to_string(ch.target_node) + " does not exist");
+        AnimationChannel out;
+        out.node = ch.target_node;
+        if (ch.target_path == "translation") {
+          out.path = TrsPath::Translation;
+        } else if (ch.target_path == "rotation") {
+          out.path = TrsPath::Rotation;
+        } else if (ch.target_path == "scale") {
+          out.path = TrsPath::Scale;
+        } else if (ch.target_path == "weights") {
+          warn("morph target weights not animated (morph targets not supported)");
+          continue;
+        } else {
+          warn(name + ": target path '" + ch.target_path + "' not supported, ignored");
+          continue;
+        }
+        if (!model_.nodes[out.node].matrix.empty()) {
+          warn(name + ": node " + std::to_string(out.node) +
+               " has a matrix, which glTF does not animate; ignored");
+          continue;
+        }
+        if (ch.sampler < 0 || size_t(ch.sampler) >= animation.samplers.size())
+          fail(name + ": sampler " + std::to_string(ch.sampler) + " does not exist");
+        readSampler(animation.samplers[ch.sampler],
+                    "animation " + std::to_string(i) + " sampler " + std::to_string(ch.sampler),
+                    out);
+        a.startS = a.channels.empty() ? out.times.front() : std::min(a.startS, out.times.front());
+        a.endS = a.channels.empty() ? out.times.back() : std::max(a.endS, out.times.back());
+        a.channels.push_back(std::move(out));
+      }
+    }
+  }
+
+  void readSampler(const tinygltf::AnimationSampler& s, const std::string& name,
+                   AnimationChannel& out) const {
+    if (s.interpolation == "LINEAR")
+      out.interpolation = Interpolation::Linear;
+    else if (s.interpolation == "STEP")
+      out.interpolation = Interpolation::Step;
+    else if (s.interpolation == "CUBICSPLINE")
+      out.interpolation = Interpolation::CubicSpline;
+    else
+      fail(name + ": unknown interpolation '" + s.interpolation + "'");
+    AccessorData in = accessor(s.input, name + " input");
+    if (in.components != 1 || in.count == 0) fail(name + " input is not a list of scalar times");
+    for (size_t k = 0; k < in.count; ++k) {
+      const double t = in.component(k, 0);
+      if (!std::isfinite(t)) fail(name + " input time " + std::to_string(k) + " is not finite");
+      if (k > 0 && t < out.times.back())
+        fail(name + " input times decrease at key " + std::to_string(k));
+      out.times.push_back(float(t));
+    }
+    const int components = out.path == TrsPath::Rotation ? 4 : 3;
+    const size_t perKey = out.interpolation == Interpolation::CubicSpline ? 3 : 1;
+    AccessorData values = accessor(s.output, name + " output");
+    if (values.components != components)
+      fail(name + " output is not a " + (components == 4 ? "VEC4 (rotation)" : "VEC3"));
+    if (values.count != perKey * in.count)
+      fail(name + " output has " + std::to_string(values.count) + " values for " +
+           std::to_string(in.count) + " keys, needs " + std::to_string(perKey * in.count));
+    for (size_t k = 0; k < values.count; ++k) {
+      glm::vec4 v(0.0f);
+      for (int c = 0; c < components; ++c) v[c] = float(values.component(k, c));
+      if (!std::isfinite(v.x + v.y + v.z + v.w))
+        fail(name + " output value " + std::to_string(k) + " is not finite");
+      out.values.push_back(v);
+    }
   }
 
   void traverseScenes() {
@@ -682,6 +765,14 @@ class Loader {
     // stack. glTF node hierarchies are disjoint trees, so a node reached twice (a cycle or a
     // second parent, which could also blow up exponentially) is refused.
     std::vector<bool> reached(model_.nodes.size(), false);
+    Animation& a = scene_.animation;
+    std::vector<bool> animated(model_.nodes.size(), false);
+    for (const AnimationChannel& c : a.channels) animated[c.node] = true;
+    if (!a.empty()) {
+      a.parent.assign(model_.nodes.size(), -1);
+      a.rest.assign(model_.nodes.size(), NodePose{});
+      a.moving.assign(model_.nodes.size(), false);
+    }
     std::vector<std::pair<int, glm::mat4>> stack;
     for (auto it = roots.rbegin(); it != roots.rend(); ++it)
       stack.emplace_back(*it, glm::mat4(1.0f));
@@ -694,9 +785,21 @@ class Loader {
         fail("node " + std::to_string(index) +
              " is reached twice (a cycle or two parents; glTF node hierarchies are trees)");
       reached[index] = true;
-      glm::mat4 worldFromNode = worldFromParent * localTransform(model_.nodes[index], index);
-      visit(index, worldFromNode);
+      const NodePose rest = restPose(model_.nodes[index], index);
+      glm::mat4 worldFromNode = worldFromParent * rest.local();
       const std::vector<int>& children = model_.nodes[index].children;
+      if (!a.empty()) {
+        // Parents are visited first, so a node's moving flag is final when it is visited.
+        a.order.push_back(index);
+        a.rest[index] = rest;
+        a.moving[index] = a.moving[index] || animated[index];
+        for (int c : children)
+          if (c >= 0 && size_t(c) < model_.nodes.size()) {
+            if (!reached[c]) a.parent[c] = index;
+            a.moving[c] = a.moving[index];
+          }
+      }
+      visit(index, worldFromNode);
       for (auto it = children.rbegin(); it != children.rend(); ++it)
         stack.emplace_back(*it, worldFromNode);
     }
@@ -715,7 +818,7 @@ class Loader {
       for (size_t p = 0; p < mesh.primitives.size(); ++p)
         primitive(mesh.primitives[p],
                   "mesh " + std::to_string(node.mesh) + " primitive " + std::to_string(p),
-                  worldFromNode);
+                  worldFromNode, index);
     }
     if (node.camera >= 0) camera(node, index, worldFromNode);
     auto light = node.extensions.find("KHR_lights_punctual");
@@ -723,7 +826,7 @@ class Loader {
   }
 
   void primitive(const tinygltf::Primitive& prim, const std::string& what,
-                 const glm::mat4& worldFromObject) {
+                 const glm::mat4& worldFromObject, int nodeIndex) {
     if (prim.mode != TINYGLTF_MODE_TRIANGLES && prim.mode != -1) {
       warn(what + ": primitive mode " + std::to_string(prim.mode) +
            " is not triangles (mode 4), skipped");
@@ -814,6 +917,15 @@ class Loader {
       return glm::vec2(0.0f);
     };
 
+    // A primitive under an animated node keeps its object-space data to be posed again.
+    const bool moving = !scene_.animation.empty() && scene_.animation.moving[nodeIndex];
+    MovingPrimitive record;
+    record.node = nodeIndex;
+    record.firstVertex = uint32_t(scene_.vertices.size());
+    record.firstTriangle = uint32_t(scene_.triangles.size());
+    record.triangleCount = uint32_t(triangleCount);
+    record.flatShaded = !hasNormals;
+    record.mirrored = flip;
     if (hasNormals) {
       uint32_t base = uint32_t(scene_.vertices.size());
       for (uint32_t i = 0; i < pos.count; ++i) {
@@ -829,6 +941,10 @@ class Loader {
         v.u = t.x;
         v.v = t.y;
         scene_.vertices.push_back(v);
+        if (moving) {
+          record.positions.push_back(pos.vec3(i));
+          record.normals.push_back(nrm.vec3(i));
+        }
       }
       for (size_t t = 0; t < triangleCount; ++t) {
         uint32_t a = indices[3 * t], b = indices[3 * t + 1], c = indices[3 * t + 2];
@@ -849,10 +965,12 @@ class Loader {
         for (int k = 0; k < 3; ++k) {
           glm::vec2 tc = uvAt(id[k]);
           scene_.vertices.push_back({p[k], tc.x, n, tc.y});
+          if (moving) record.positions.push_back(pos.vec3(id[k]));
         }
         scene_.triangles.push_back({base, base + 1, base + 2, materialIndex});
       }
     }
+    if (moving) scene_.animation.primitives.push_back(std::move(record));
   }
 
   void camera(const tinygltf::Node& node, int nodeIndex, const glm::mat4& worldFromNode) {
@@ -872,21 +990,16 @@ class Loader {
                : !node.name.empty() ? node.name
                                     : "camera " + std::to_string(node.camera);
     // Rigid part only: a scaled camera node must not scale the rays.
-    glm::mat4 m = worldFromNode;
-    for (int k = 0; k < 3; ++k) {
-      glm::vec3 axis(m[k]);
-      float len = glm::length(axis);
-      if (!(len > 0.0f) || !std::isfinite(len))
-        fail("node " + std::to_string(nodeIndex) + ": camera transform is degenerate");
-      m[k] = glm::vec4(axis / len, 0.0f);
-    }
-    cam.worldFromCamera = m;
+    auto rigid = rigidTransform(worldFromNode);
+    if (!rigid) fail("node " + std::to_string(nodeIndex) + ": camera transform is degenerate");
+    cam.worldFromCamera = *rigid;
     cam.yfov = float(c.perspective.yfov);
     cam.aspect = float(c.perspective.aspectRatio);
     if (!(cam.yfov > 0.0f && cam.yfov < 3.14159f))
       fail("camera " + std::to_string(node.camera) + ": yfov must be in (0, pi)");
     if (!(cam.aspect >= 0.0f) || !std::isfinite(cam.aspect)) cam.aspect = 0.0f;
     scene_.cameras.push_back(cam);
+    if (!scene_.animation.empty()) scene_.animation.cameraNodes.push_back(nodeIndex);
   }
 
   void punctualLight(const tinygltf::Value& ext, int nodeIndex, const glm::mat4& worldFromNode) {
@@ -898,11 +1011,8 @@ class Loader {
     gpu::PunctualLight out{};
     glm::vec3 color = toVec3(l.color, glm::vec3(1.0f));
     out.intensity = color * float(l.intensity) / kLumensPerWatt;
-    out.position = glm::vec3(worldFromNode * glm::vec4(0, 0, 0, 1));
-    glm::vec3 dir = glm::mat3(worldFromNode) * glm::vec3(0, 0, -1);  // lights point down -Z
-    float len = glm::length(dir);
-    out.direction = len > 0.0f ? dir / len : glm::vec3(0, 0, -1);
     out.range = float(l.range);
+    placeLight(out, worldFromNode);
     if (l.type == "point") {
       out.type = gpu::kLightPoint;
     } else if (l.type == "spot") {
@@ -928,18 +1038,7 @@ class Loader {
         !std::isfinite(out.position.x + out.position.y + out.position.z))
       fail("light " + std::to_string(index) + " is not finite");
     scene_.lights.push_back(out);
-  }
-
-  // --- Derived data ---------------------------------------------------------------------------
-
-  void finishBounds() {
-    glm::vec3 lo(INFINITY), hi(-INFINITY);
-    for (const gpu::Vertex& v : scene_.vertices) {
-      lo = glm::min(lo, v.position);
-      hi = glm::max(hi, v.position);
-    }
-    scene_.boundsMin = lo;
-    scene_.boundsMax = hi;
+    if (!scene_.animation.empty()) scene_.animation.lightNodes.push_back(nodeIndex);
   }
 
   const std::string& path_;
@@ -954,6 +1053,23 @@ class Loader {
 };
 
 }  // namespace
+
+void placeLight(gpu::PunctualLight& light, const glm::mat4& worldFromNode) {
+  light.position = glm::vec3(worldFromNode * glm::vec4(0, 0, 0, 1));
+  glm::vec3 dir = glm::mat3(worldFromNode) * glm::vec3(0, 0, -1);  // lights point down -Z
+  float len = glm::length(dir);
+  light.direction = len > 0.0f && std::isfinite(len) ? dir / len : glm::vec3(0, 0, -1);
+}
+
+void updateBounds(Scene& scene) {
+  glm::vec3 lo(INFINITY), hi(-INFINITY);
+  for (const gpu::Vertex& v : scene.vertices) {
+    lo = glm::min(lo, v.position);
+    hi = glm::max(hi, v.position);
+  }
+  scene.boundsMin = lo;
+  scene.boundsMax = hi;
+}
 
 Scene loadScene(const std::string& path) {
   Scene scene;

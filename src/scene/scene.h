@@ -4,9 +4,11 @@
 #pragma once
 #include <cstdint>
 #include <glm/glm.hpp>
+#include <optional>
 #include <string>
 #include <vector>
 
+#include "scene/animation.h"
 #include "shaders/shared/scene.h"
 
 namespace osr::scene {
@@ -58,6 +60,9 @@ struct Scene {
   glm::vec3 boundsMin{0.0f}, boundsMax{0.0f};
   std::vector<std::string> warnings;  // e.g. unsupported extensions (also printed once each)
   float emissivePower = 0.0f;         // sum of emissive[i].power
+  // The file's animations and what they move (empty when it has none): poseScene() in
+  // scene/animation.h rewrites the parts above that lie under animated nodes.
+  Animation animation;
 };
 
 // The glTF default material (white, metallic 1, roughness 1 per the spec's factor defaults,
@@ -92,6 +97,16 @@ Camera selectCamera(const Scene& scene, const std::string& selector, float aspec
 // that the front, a side and the top of a box all show; far enough for the bounding sphere to
 // fit the smaller field of view of an image with this aspect.
 Camera defaultCamera(const Scene& scene, float aspect);
+
+// worldFromNode with its axes scaled to unit length (cameras ignore a node's scale); nullopt
+// when an axis has zero or non-finite length.
+std::optional<glm::mat4> rigidTransform(const glm::mat4& worldFromNode);
+
+// Sets a punctual light's position and direction (its node's -Z) from its node's transform.
+void placeLight(gpu::PunctualLight& light, const glm::mat4& worldFromNode);
+
+// Scene::boundsMin and boundsMax from the vertices.
+void updateBounds(Scene& scene);
 
 // Rec. 709 luminance of linear RGB (the weight used for emissive power).
 inline float luminance(glm::vec3 c) {
