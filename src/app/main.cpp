@@ -10,6 +10,7 @@
 #include "app/commands.h"
 #include "common/error.h"
 #include "nn_kernels/weights_format.h"
+#include "osr_git_version.h"
 #include "viewer/viewer.h"
 
 namespace {
@@ -37,7 +38,9 @@ constexpr const char* kUsage =
     "  --exposure EV         PNG exposure (default: automatic, metered on what was hit or lit)\n"
     "  --exr-float           32-bit float EXR channels (default half)\n"
     "  --width N --height N  image size (default 512 wide, camera aspect; up to 16384)\n"
-    "  --camera N|name       glTF camera by its index in the file or its name (default: the\n"
+    "  --crop X,Y,W,H        render only that window of the image (the same pixels as the\n"
+    "                        whole render's: path mode bit for bit; tools/osr_farm.py tiles)\n"
+  "  --camera N|name       glTF camera by its index in the file or its name (default: the\n"
     "                        first, or a three-quarter view framing the scene)\n"
     "  --env file.exr|.hdr|none  equirectangular environment light; a scene without lights\n"
     "                        gets a neutral sky unless --env none\n"
@@ -89,7 +92,9 @@ int main(int argc, char** argv) {
       return osr::kExitBadInput;
     }
     if (args[0] == "--version") {
-      std::printf("osr-vk %s (packed weights format %u)\n", osr::app::kVersion, osr::nn::kWeightsVersion);
+      // The commit tells builds apart (tools/osr_farm.py checks every worker runs the same).
+      std::printf("osr-vk %s (commit %s, packed weights format %u)\n", osr::app::kVersion,
+                  OSR_GIT_COMMIT, osr::nn::kWeightsVersion);
       return osr::kExitOk;
     }
     if (args[0] == "help") {  // `osr-vk help [COMMAND]`
