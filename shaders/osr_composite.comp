@@ -26,7 +26,7 @@ void main() {
     if (gather.total > 0.0) {
       estimate = bsdfDiffuseReflectance(sp.bsdf, sp.woLocal) * kInvPi * gatherIrradiance(gather, sp.ns);
       if (ggxAlpha(sp.bsdf) >= kNarrowLobeAlpha && gPush.samples > 0u) {
-        Rng rng = passRng(pixel, kSaltComposite);
+        Rng rng = pixelRng(pixel, kSaltComposite);
         vec3 spec = vec3(0.0);
         for (uint i = 0u; i < gPush.samples; ++i) {
           float pdf;

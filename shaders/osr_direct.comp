@@ -17,7 +17,7 @@ void main() {
   vec3 sum = vec3(0.0);
   if (g.position.w > 0.5) {
     ShadingPoint sp = gbufferShadingPoint(g);
-    Rng rng = passRng(pixel, kSaltDirect);
+    Rng rng = pixelRng(pixel, kSaltDirect);
     for (uint i = 0u; i < gPush.samples; ++i) {
       sum += estimateDirect(sp, rngNext3(rng));
       // The BSDF-sampled half of MIS: a light hit by the sampled direction.

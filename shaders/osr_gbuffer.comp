@@ -24,7 +24,7 @@ void main() {
   uint local = gl_GlobalInvocationID.x;
   if (local >= gPush.pixelCount) return;
   uint pixel = gPush.pixelOffset + local;
-  Rng rng = passRng(pixel, kSaltGBuffer);
+  Rng rng = pixelRng(pixel, kSaltGBuffer);
   vec3 origin, dir;
   cameraRay(gFrame, pixel % gFrame.width, pixel / gFrame.width, rngNext2(rng), origin, dir);
 

@@ -39,7 +39,7 @@ void main() {
     MapRecord rec;
     rec.position = vec4(g.position.xyz, valid ? 1.0 : 0.0);
     // World size of one pixel at the point: the interpolation's plane-distance scale.
-    float footprint = g.wo.w * 2.0 * gFrame.tanHalfFovY / float(gFrame.height);
+    float footprint = g.wo.w * 2.0 * gFrame.tanHalfFovY / float(gFrame.imageHeight);
     rec.normal = vec4(g.normal.xyz, footprint);
     rec.pixel = uvec4(pixel, 0u, 0u);
     rec.mean = vec4(0.0);

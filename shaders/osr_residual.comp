@@ -27,7 +27,7 @@ void main() {
     bool covered = gather.total > 0.0;
     bool wide = ggxAlpha(sp.bsdf) >= kNarrowLobeAlpha;
     vec3 rho = bsdfDiffuseReflectance(sp.bsdf, sp.woLocal);
-    Rng rng = passRng(pixel, kSaltResidual);
+    Rng rng = pixelRng(pixel, kSaltResidual);
     // One flat loop over the bounces of successive paths (see osr_maps.comp for why).
     uint i = 0u;
     bool live = false;

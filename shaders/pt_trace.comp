@@ -78,11 +78,12 @@ void bounceRandoms(CameraPath c, out vec3 uLight, out vec3 uBsdf) {
   uBsdf = vec3(choice.y, stratified2(c, base + 2u));
 }
 
-// Starts sample `sampleIndex` of `pixel`: its random stream and jittered camera ray.
+// Starts sample `sampleIndex` of film pixel `pixel`: its random stream (keyed on the pixel's
+// place in the whole image, lib/camera.glsl) and jittered camera ray.
 CameraPath startPath(uint pixel, uint sampleIndex) {
   CameraPath c;
-  c.rng = rngInit(pixel, sampleIndex, gFrame.seed);
-  c.pixel = pixel;
+  c.pixel = imagePixelIndex(gFrame, pixel);
+  c.rng = rngInit(c.pixel, sampleIndex, gFrame.seed);
   c.sampleIndex = sampleIndex;
   vec3 origin, dir;
   cameraRay(gFrame, pixel % gFrame.width, pixel / gFrame.width, stratified2(c, 0u), origin, dir);

@@ -4,7 +4,13 @@
 #include "shared/camera.h"
 #include "shared/pixel_filter.h"
 
-// Ray through pixel (x, y) for the pixel-filter sample drawn from `u` in [0, 1)^2 (it may
+// Index of film pixel `pixel` (row-major in the film) in the whole image: what pixel random
+// streams are keyed on, so that they do not depend on the film's window.
+uint imagePixelIndex(CameraFrame f, uint pixel) {
+  return (pixel / f.width + f.originY) * f.imageWidth + pixel % f.width + f.originX;
+}
+
+// Ray through film pixel (x, y) for the pixel-filter sample drawn from `u` in [0, 1)^2 (it may
 // land in a neighbouring pixel); row 0 is the top. The default filter (CameraFrame::pixelFilter;
 // the other is a 1 px box) is Cycles' Blackman-Harris, sampled by importance
 // (shared/pixel_filter.h): a box differs from it by up to 0.3 in radiance beside the cornell
@@ -13,8 +19,8 @@ void cameraRay(CameraFrame f, uint x, uint y, vec2 u, out vec3 origin, out vec3 
   vec2 jitter = f.pixelFilter == kPixelFilterBox
                     ? u
                     : 0.5 + vec2(blackmanHarrisOffset(u.x), blackmanHarrisOffset(u.y));
-  vec2 ndc = vec2((float(x) + jitter.x) / float(f.width) * 2.0 - 1.0,
-                  1.0 - (float(y) + jitter.y) / float(f.height) * 2.0);
+  vec2 ndc = vec2((float(x + f.originX) + jitter.x) / float(f.imageWidth) * 2.0 - 1.0,
+                  1.0 - (float(y + f.originY) + jitter.y) / float(f.imageHeight) * 2.0);
   vec3 local = vec3(ndc.x * f.tanHalfFovY * f.aspect, ndc.y * f.tanHalfFovY, -1.0);
   origin = f.cameraOrigin.xyz;
   dir = normalize(local.x * f.cameraRight.xyz + local.y * f.cameraUp.xyz +

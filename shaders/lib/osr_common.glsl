@@ -40,6 +40,9 @@ const uint kSaltComposite = 0x27d4eb2fu;
 const uint kSaltResidual = 0x165667b1u;
 
 Rng passRng(uint index, uint salt) { return rngInit(index, gPush.pass, gFrame.seed ^ salt); }
+// The stream of film pixel `pixel` in this pass, keyed on its place in the whole image
+// (lib/camera.glsl), so that a --crop window draws the whole image's numbers.
+Rng pixelRng(uint pixel, uint salt) { return passRng(imagePixelIndex(gFrame, pixel), salt); }
 
 // The G-buffer's surface as a shading point (the frame is rebuilt from the stored normal).
 ShadingPoint gbufferShadingPoint(GBufferPixel g) {

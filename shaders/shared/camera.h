@@ -11,19 +11,27 @@ OSR_NAMESPACE_BEGIN(camera)
 OSR_CONST(uint, kPixelFilterBlackmanHarris, 0u);
 OSR_CONST(uint, kPixelFilterBox, 1u);
 
+// The film may be a window of a larger image (--crop): film pixel (x, y) is image pixel
+// (x + originX, y + originY) of an imageWidth x imageHeight image, and camera rays, pixel
+// random streams and pixel footprints are the image's, so a window renders the pixels the
+// whole image would (path mode: bit for bit). Without a crop the film is the image.
 struct CameraFrame {
   vec4 cameraRight;  // worldFromCamera columns: +X
   vec4 cameraUp;     // +Y
   vec4 cameraBack;   // +Z (the camera looks down -Z)
   vec4 cameraOrigin;
-  uint width;
+  uint width;   // of the film: the pixels this render computes
   uint height;
   uint seed;
   uint pixelFilter;  // kPixelFilter*
   float tanHalfFovY;
-  float aspect;  // width / height of the image
+  float aspect;  // imageWidth / imageHeight
   float _pad1;
   float _pad2;
+  uint imageWidth;  // of the whole image the film is a window of
+  uint imageHeight;
+  uint originX;  // the film's top-left pixel in the image
+  uint originY;
 };
 
 OSR_NAMESPACE_END

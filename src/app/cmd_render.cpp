@@ -135,6 +135,7 @@ int runRender(const std::vector<std::string>& args) {
   auto dumpMaps = a.value("--dump-maps");
   auto viewerScript = a.value("--viewer-script");
   auto saveDir = a.value("--save-dir");
+  auto crop = a.integerList("--crop", 0, 16384);
   vk::ContextOptions vkOptions = readDeviceOptions(a);
   auto files = a.positional();
   a.finish();
@@ -188,13 +189,17 @@ int runRender(const std::vector<std::string>& args) {
   // Checked now, not at the first save: every S in the window would fail with it.
   if (saveDir && !std::filesystem::is_directory(*saveDir))
     throw InputError("--save-dir: " + *saveDir + " is not a folder");
+  if (live && crop) throw InputError("--crop: an option of --offline/--png renders");
+  if (crop && (crop->size() != 4 || (*crop)[2] < 1 || (*crop)[3] < 1))
+    throw InputError("--crop: expected X,Y,W,H (the window's corner and size, W and H >= 1)");
   if (live) {
     // Before any work: no display means one line suggesting --offline and exit 2.
     vkOptions.instanceExtensions = viewer::requireDisplay();
     vkOptions.swapchain = true;
   }
 
-  const HostScene host = loadHostScene(files[0], sceneOptions);
+  HostScene host = loadHostScene(files[0], sceneOptions);
+  if (crop) applyCrop(host, *crop);
   // Fail before the (long) render, not after it, and never write over what the render reads.
   std::vector<OutputFile> outputs;
   if (exrPath) outputs.push_back({"--offline", *exrPath, ".exr", "OpenEXR"});

@@ -3,6 +3,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <string>
+
+#include "common/error.h"
 
 namespace osr::app {
 
@@ -40,6 +43,16 @@ HostScene loadHostScene(const std::string& path, const SceneOptions& o) {
     h.height = std::max(1u, uint32_t(std::lround(h.width / aspect)));
   }
   return h;
+}
+
+void applyCrop(HostScene& host, const std::vector<long long>& c) {
+  if (c[0] + c[2] > host.width || c[1] + c[3] > host.height)
+    throw InputError("--crop: " + std::to_string(c[0]) + "," + std::to_string(c[1]) + "," +
+                     std::to_string(c[2]) + "," + std::to_string(c[3]) + " is not inside the " +
+                     std::to_string(host.width) + "x" + std::to_string(host.height) + " image");
+  host.camera.window = {uint32_t(c[0]), uint32_t(c[1]), host.width, host.height};
+  host.width = uint32_t(c[2]);
+  host.height = uint32_t(c[3]);
 }
 
 void warnIfNeutralSky(const HostScene& host) {

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "app/args.h"
 #include "bvh/bvh.h"
@@ -34,6 +35,10 @@ struct HostScene {
   bool neutralSky = false;  // env is scene::neutralEnvironment(): the scene has no lights
 };
 HostScene loadHostScene(const std::string& path, const SceneOptions& options);
+// --crop X,Y,W,H: the render's film becomes that window of host's image (scene::Camera::Window),
+// so that it renders the whole image's pixels there; host.width x height becomes W x H.
+// A window not inside the image is an InputError.
+void applyCrop(HostScene& host, const std::vector<long long>& xywh);
 // The one-line warning for a neutral sky, on stderr: printed once the command's own checks
 // have passed, so that a refused command prints only its error.
 void warnIfNeutralSky(const HostScene& host);

@@ -16,8 +16,14 @@ gpu::camera::CameraFrame makeFrame(const scene::Camera& camera, uint32_t width, 
   f.height = height;
   f.seed = seed;
   f.pixelFilter = pixelFilter;
+  const scene::Camera::Window& w = camera.window;
+  const bool crop = w.imageWidth > 0;
+  f.imageWidth = crop ? w.imageWidth : width;
+  f.imageHeight = crop ? w.imageHeight : height;
+  f.originX = crop ? w.x : 0u;
+  f.originY = crop ? w.y : 0u;
   f.tanHalfFovY = std::tan(0.5f * camera.yfov);
-  f.aspect = float(width) / float(height);
+  f.aspect = float(f.imageWidth) / float(f.imageHeight);
   return f;
 }
 

@@ -7,7 +7,8 @@
 
 namespace osr::render {
 
-// The frame of `camera` for a width x height image and `seed` (width, height >= 1);
+// The frame of `camera` for a width x height film and `seed` (width, height >= 1): the whole
+// image, or the window camera.window of a larger one (the caller checks that it fits);
 // pixelFilter: gpu::camera::kPixelFilter*.
 gpu::camera::CameraFrame makeFrame(const scene::Camera& camera, uint32_t width, uint32_t height,
                                    uint32_t seed,

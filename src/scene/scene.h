@@ -31,6 +31,12 @@ struct Camera {
   glm::mat4 worldFromCamera{1.0f};
   float yfov = 0.8f;
   float aspect = 0.0f;
+  // The film as a window of a larger image (--crop; shared/camera.h CameraFrame): the render's
+  // width x height pixels are those at (x, y) of an imageWidth x imageHeight image. 0 x 0:
+  // the film is the whole image.
+  struct Window {
+    uint32_t x = 0, y = 0, imageWidth = 0, imageHeight = 0;
+  } window;
 };
 
 // Equirectangular environment: linear RGB radiance, row 0 at the top (+Y), see

@@ -6,6 +6,7 @@
 #include <sys/wait.h>
 
 #include <cstdio>
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 
@@ -176,11 +177,24 @@ TEST(CliErrors, SaveDirThatIsNoFolderExitsTwo) {
                 "osr-vk: --save-dir: " + missing + " is not a folder");
 }
 
+// --crop must lie inside the image it is a window of: one line, before any work.
+TEST(CliErrors, CropOutsideTheImageExitsTwo) {
+  const std::string cornell = osr::test::referencePath("cornell/cornell.gltf");
+  const std::string out = tempPrefix() + "osr_cli_crop.exr";
+  expectOneLine(runOsr("--width 64 --height 64 --crop 60,0,10,10 --offline '" + out + "' " + cornell),
+                "osr-vk: --crop: 60,0,10,10 is not inside the 64x64 image");
+  expectOneLine(runOsr("--crop 1,2,3 --offline '" + out + "' " + cornell),
+                "osr-vk: --crop: expected X,Y,W,H (the window's corner and size, W and H >= 1)");
+  EXPECT_FALSE(std::filesystem::exists(out));
+}
+
 TEST(CliErrors, VersionIsOneLine) {
   Outcome r = runOsr("--version");
   EXPECT_EQ(r.exitCode, 0) << r.err;
   EXPECT_EQ(r.out.rfind("osr-vk ", 0), 0u) << r.out;
   EXPECT_EQ(r.out.find('\n'), r.out.size() - 1) << r.out;
+  // The build's commit (git describe of the source tree), or "unknown" outside git.
+  EXPECT_NE(r.out.find("(commit "), std::string::npos) << r.out;
 }
 
 // A film larger than the device can allocate is the device's limit, not bad input: exit 1,

@@ -312,6 +312,42 @@ TEST(PathIntegrator, SlicedUnitsGiveTheSameImage) {
   EXPECT_DOUBLE_EQ(seen[0].unitFraction, 1.0 / pt::PathIntegrator::kMaxSlicesPerUnit);
 }
 
+// A film that is a window of a larger image (--crop) renders exactly the image's pixels
+// there: camera rays, pixel filter and random streams are those of the whole image.
+TEST(PathIntegrator, CropWindowEqualsTheWholeImageBitForBit) {
+  auto& ctx = test::context();
+  const scene::Scene sc = scene::loadScene(test::referencePath("cornell/cornell.gltf"));
+  scene::Camera cam = scene::selectCamera(sc, "", 1.f);
+  scene::GpuScene gs(ctx, sc, nullptr);
+  bvh::Bvh tree = bvh::buildGpu(ctx, gs.vertices, gs.triangles, gs.triangleCount);
+  pt::RenderSettings s;
+  s.width = 37;  // odd sizes: rows of the window do not align with the image's
+  s.height = 29;
+  s.spp = 3;
+  s.seed = 11;
+  const render::FilmLayers whole = pt::render(ctx, gs, tree, cam, s);
+  const uint32_t x0 = 9, y0 = 5, w = 17, h = 13;
+  cam.window = {x0, y0, s.width, s.height};
+  s.width = w;
+  s.height = h;
+  const render::FilmLayers crop = pt::render(ctx, gs, tree, cam, s);
+  ASSERT_EQ(crop.width, int(w));
+  auto window = [&](const std::vector<float>& layer, int channels) {
+    std::vector<float> out;
+    for (uint32_t y = y0; y < y0 + h; ++y)
+      for (uint32_t x = x0; x < x0 + w; ++x)
+        for (int c = 0; c < channels; ++c) out.push_back(layer[(y * whole.width + x) * channels + c]);
+    return out;
+  };
+  EXPECT_EQ(crop.combined, window(whole.combined, 3));
+  EXPECT_EQ(crop.direct, window(whole.direct, 3));
+  EXPECT_EQ(crop.indirect, window(whole.indirect, 3));
+  EXPECT_EQ(crop.albedo, window(whole.albedo, 3));
+  EXPECT_EQ(crop.normal, window(whole.normal, 3));
+  EXPECT_EQ(crop.depth, window(whole.depth, 1));
+  EXPECT_GT(mean(crop.combined), 0.0);
+}
+
 TEST(PathIntegrator, PreviewIsAlbedoTimesHeadlightCosine) {
   fs::path d = tempDir();
   GltfWriter g;

@@ -127,7 +127,7 @@ const std::vector<Layout>& layouts() {
       STRUCT(film, FilmPixel, F(combined), F(direct), F(indirect), F(albedo), F(normal), F(depth)),
       STRUCT(camera, CameraFrame, F(cameraRight), F(cameraUp), F(cameraBack), F(cameraOrigin),
              F(width), F(height), F(seed), F(pixelFilter), F(tanHalfFovY), F(aspect), F(_pad1),
-             F(_pad2)),
+             F(_pad2), F(imageWidth), F(imageHeight), F(originX), F(originY)),
       STRUCT(hemi, HemiProbeCase, F(square), F(direction), F(normal), F(toDirection),
              F(toSquare), F(frameT), F(frameB)),
       STRUCT(osr, GBufferPixel, F(position), F(normal), F(geomNormal), F(wo), F(throughput),
