@@ -4,8 +4,13 @@
 usage: weights_pack.py CHECKPOINT OUT [--fp16] [--golden DIR]
 
 CHECKPOINT is a state_dict (or a dict holding one under "state_dict"/"model", or a pickled
-module) of tools/unet.py's UNet, which has the seed's attribute names (encoder0..encoder3,
-decoder0..decoder2), for any base width K. Each BatchNorm (eval statistics) becomes the
+module) of one of two architectures, told apart by its keys (and by the checkpoint's
+"architecture" entry, which must then agree):
+- tools/unet.py's UNet ("osr_unet_v1", stage "map_denoiser"), the seed's attribute names
+  (encoder0..encoder3, decoder0..decoder2);
+- tools/image_unet.py's ImageUNet ("osr_image_unet_v1", stage "image_denoiser": colour,
+  albedo, normal in with the exposure_log1p transform, layers in image_unet.LAYERS order).
+Either for any base width K. For the map U-Net, each BatchNorm (eval statistics) becomes the
 per-channel scale and shift that the preceding convolution's epilogue applies after its
 activation; each stride-1 ConvTranspose2d becomes the equivalent plain convolution (kernel
 transposed in/out and flipped). The byte layout is src/nn_kernels/weights_format.h (parsed
@@ -16,7 +21,11 @@ checkpoint dict carries its own `mapping` / `normalization` strings (a model tra
 maps), which are written instead.
 
 With --golden DIR it also writes DIR/input.f32 (N x 7 x 32 x 32 random maps), DIR/output.f32
-(this checkpoint's PyTorch fp32 output for them, N x 3 x 32 x 32) and DIR/golden.json.
+(this checkpoint's PyTorch fp32 output for them, N x 3 x 32 x 32) and DIR/golden.json; for an
+image denoiser, a random HDR image (colour.f32, albedo.f32, normal.f32, each 3 x H x W with H
+and W from --golden-size, any size) and output.f32, the denoised colour as the renderer must
+compute it: the image padded to multiples of 8 by repeating its last row and column, exposure,
+network, output transform, cropped back (golden_image_denoise below).
 Errors (unreadable file, missing or extra keys, wrong shapes) are one line on stderr, exit 2.
 """
 from __future__ import annotations
@@ -52,12 +61,18 @@ def read_format(path: Path = FORMAT_HEADER) -> dict[str, int | str]:
     return constants
 
 
-def load_state_dict(path: str) -> dict:
+def load_checkpoint(path: str):
     import torch
     try:
-        obj = torch.load(path, map_location="cpu")
+        return torch.load(path, map_location="cpu")
     except Exception as e:  # torch raises many kinds for a bad file
         raise PackError(f"{path}: cannot read checkpoint ({type(e).__name__}: {str(e).splitlines()[0] if str(e) else ''})")
+
+
+def load_state_dict(path: str, obj=None) -> dict:
+    import torch
+    if obj is None:
+        obj = load_checkpoint(path)
     if isinstance(obj, torch.nn.Module):
         obj = obj.state_dict()
     if isinstance(obj, dict):
@@ -70,13 +85,34 @@ def load_state_dict(path: str) -> dict:
     return {k[len("module."):] if k.startswith("module.") else k: v for k, v in obj.items()}
 
 
-def build_model(path: str, state: dict):
+MAP_ARCHITECTURE = "osr_unet_v1"
+
+
+def detect_architecture(path: str, state: dict, declared) -> str:
+    """The architecture of a state_dict, from its first convolution's key; a checkpoint's own
+    "architecture" entry must agree."""
+    import image_unet
+    known = (MAP_ARCHITECTURE, image_unet.ARCHITECTURE)
+    if declared is not None and declared not in known:
+        raise PackError(f"{path}: architecture '{declared}' is not one this packer knows ({', '.join(known)})")
+    found = (image_unet.ARCHITECTURE if "enc0.0.weight" in state
+             else MAP_ARCHITECTURE if "encoder0.0.weight" in state else None)
+    if found is None:
+        raise PackError(f"{path}: neither U-Net (no enc0.0.weight or encoder0.0.weight key)")
+    if declared is not None and declared != found:
+        raise PackError(f"{path}: checkpoint says architecture '{declared}' but its keys are {found}'s")
+    return found
+
+
+def build_model(path: str, state: dict, architecture: str = MAP_ARCHITECTURE):
+    import image_unet
     import unet
+    module = image_unet if architecture == image_unet.ARCHITECTURE else unet
     try:
-        k = unet.base_width(state)
+        k = module.base_width(state)
     except ValueError as e:
         raise PackError(f"{path}: {e}")
-    model = unet.UNet(k)
+    model = image_unet.ImageUNet(k) if module is image_unet else unet.UNet(k)
     expected = model.state_dict()
     missing = [n for n in expected if n not in state]
     extra = [n for n in state if n not in expected]
@@ -128,7 +164,39 @@ def conv_layers(model) -> list[dict]:
     return layers
 
 
+def image_conv_layers(model) -> list[dict]:
+    """The image U-Net's convolutions in image_unet.LAYERS order (no BatchNorm, no transposes)."""
+    import image_unet
+    modules = dict(model.named_modules())
+    layers = []
+    for name, activation in image_unet.LAYERS:
+        m = modules[name]
+        w = m.weight.detach().double()
+        layers.append({"name": name, "kernel": m.kernel_size[0], "cin": w.shape[1], "cout": w.shape[0],
+                       "weight": w, "bias": m.bias.detach().double(), "activation": activation,
+                       "batchnorm": False})
+    return layers
+
+
+def header_fields(model, k: int, fmt: dict, metadata: dict) -> dict:
+    """The header keys that say what the file is: stage, architecture, shapes, conventions."""
+    import image_unet
+    if isinstance(model, image_unet.ImageUNet):
+        for key in ("inputs", "input_transform"):
+            metadata.pop(key, None)
+        return {"stage": fmt["kStageImageDenoiser"], "architecture": fmt["kImageArchitecture"],
+                "base_width": k, "in_channels": fmt["kImageInChannels"],
+                "out_channels": fmt["kOutChannels"], "multiple": fmt["kImageMultiple"],
+                "inputs": list(image_unet.INPUTS), "input_transform": image_unet.INPUT_TRANSFORM}
+    return {"stage": fmt["kStageMapDenoiser"], "architecture": fmt["kArchitecture"],
+            "base_width": k, "map_size": fmt["kMapSize"], "in_channels": fmt["kInChannels"],
+            "out_channels": fmt["kOutChannels"],
+            "mapping": metadata.pop("mapping", fmt["kMappingConcentric"]),
+            "normalization": metadata.pop("normalization", fmt["kNormalizationLogMean10"])}
+
+
 def pack(model, k: int, fp16: bool, source: str, fmt: dict, metadata: dict) -> bytes:
+    import image_unet
     import torch
     align = fmt["kDataAlignment"]
     data = bytearray()
@@ -145,7 +213,8 @@ def pack(model, k: int, fp16: bool, source: str, fmt: dict, metadata: dict) -> b
         data += raw
         return entry
 
-    for layer in conv_layers(model):
+    layers = image_conv_layers(model) if isinstance(model, image_unet.ImageUNet) else conv_layers(model)
+    for layer in layers:
         entry = {k2: layer[k2] for k2 in ("name", "kernel", "cin", "cout", "activation", "batchnorm")}
         if "slope" in layer:
             entry["slope"] = layer["slope"]
@@ -158,18 +227,8 @@ def pack(model, k: int, fp16: bool, source: str, fmt: dict, metadata: dict) -> b
         entry["tensors"] = tensors
         table.append(entry)
 
-    header = {
-        "architecture": fmt["kArchitecture"],
-        "base_width": k,
-        "map_size": fmt["kMapSize"],
-        "in_channels": fmt["kInChannels"],
-        "out_channels": fmt["kOutChannels"],
-        "dtype": "f16" if fp16 else "f32",
-        "mapping": metadata.pop("mapping", fmt["kMappingConcentric"]),
-        "normalization": metadata.pop("normalization", fmt["kNormalizationLogMean10"]),
-        "layers": table,
-        "training": metadata,
-    }
+    header = header_fields(model, k, fmt, metadata)
+    header.update({"dtype": "f16" if fp16 else "f32", "layers": table, "training": metadata})
     header_bytes = json.dumps(header, separators=(",", ":")).encode("utf-8")
     prefix_bytes = fmt["kPrefixBytes"]
     data_offset = prefix_bytes + len(header_bytes)
@@ -186,20 +245,48 @@ def pack(model, k: int, fp16: bool, source: str, fmt: dict, metadata: dict) -> b
     return bytes(prefix) + body
 
 
-def checkpoint_metadata(path: str) -> dict:
+def checkpoint_metadata(path: str, obj) -> dict:
     """Scalar entries of a checkpoint dict (epoch, loss, ...) plus where the file came from."""
-    import torch
     meta: dict = {"source": os.path.basename(path),
                   "packed_at": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")}
-    try:
-        obj = torch.load(path, map_location="cpu")
-    except Exception:
-        return meta
     if isinstance(obj, dict):
         for key, value in obj.items():
             if isinstance(value, (int, float, str, bool)):
                 meta[key] = value
     return meta
+
+
+def golden_image_denoise(model, colour, albedo, normal):
+    """The renderer's image denoising in PyTorch (1 x 3 x H x W each, any H, W): pad to
+    multiples of 8 by repeating the last row and column, exposure over the padded image, the
+    network, the output transform, crop."""
+    import image_unet
+    import torch.nn.functional as F
+    h, w = colour.shape[2], colour.shape[3]
+    m = image_unet.MULTIPLE
+    pad = (0, -w % m, 0, -h % m)
+    padded = [F.pad(t, pad, mode="replicate") for t in (colour, albedo, normal)]
+    x, e = image_unet.make_input(*padded)
+    return image_unet.output_colour(model(x), e)[:, :, :h, :w]
+
+
+def write_image_golden(model, directory: str, size: tuple[int, int], seed: int, k: int) -> None:
+    import torch
+    os.makedirs(directory, exist_ok=True)
+    g = torch.Generator().manual_seed(seed)
+    w, h = size
+    # HDR colour over four decades with some black pixels, albedo in [0, 1], unit normals.
+    colour = torch.exp(torch.randn((1, 3, h, w), generator=g) * 2.0 - 1.0)
+    colour = colour * (torch.rand((1, 1, h, w), generator=g) > 0.05)
+    albedo = torch.rand((1, 3, h, w), generator=g)
+    normal = torch.nn.functional.normalize(torch.randn((1, 3, h, w), generator=g), dim=1)
+    with torch.no_grad():
+        y = golden_image_denoise(model.float(), colour, albedo, normal)
+    for name, t in (("colour", colour), ("albedo", albedo), ("normal", normal), ("output", y)):
+        Path(directory, name + ".f32").write_bytes(t.numpy().astype("<f4").tobytes())
+    Path(directory, "golden.json").write_text(json.dumps(
+        {"base_width": k, "width": w, "height": h, "seed": seed, "torch": torch.__version__},
+        indent=1) + "\n")
 
 
 def write_golden(model, directory: str, maps: int, seed: int, k: int) -> None:
@@ -225,6 +312,7 @@ def main(argv: list[str] | None = None) -> int:
     parser.add_argument("--fp16", action="store_true", help="store convolution weights as fp16")
     parser.add_argument("--golden", metavar="DIR", help="also write a random input batch and PyTorch's output for it")
     parser.add_argument("--golden-maps", type=int, default=3, help="maps in the golden batch (default 3)")
+    parser.add_argument("--golden-size", default="37x21", help="WxH of an image denoiser's golden image (default 37x21)")
     parser.add_argument("--seed", type=int, default=1, help="seed of the golden input (default 1)")
     parser.add_argument("--normalization", help="the header's normalization, overriding the checkpoint's "
                         "(log1p_mean10_v1: output rescaled to the one-shot means; log1p_mean10_abs_v1: as predicted)")
@@ -235,9 +323,16 @@ def main(argv: list[str] | None = None) -> int:
         fmt = read_format()
         if not os.path.isfile(args.checkpoint):
             raise PackError(f"{args.checkpoint}: no such file")
-        state = load_state_dict(args.checkpoint)
-        model, k = build_model(args.checkpoint, state)
-        metadata = checkpoint_metadata(args.checkpoint)
+        obj = load_checkpoint(args.checkpoint)
+        state = load_state_dict(args.checkpoint, obj)
+        declared = obj.get("architecture") if isinstance(obj, dict) else None
+        architecture = detect_architecture(args.checkpoint, state, declared)
+        model, k = build_model(args.checkpoint, state, architecture)
+        metadata = checkpoint_metadata(args.checkpoint, obj)
+        metadata.pop("architecture", None)
+        size = re.fullmatch(r"([1-9][0-9]{0,3})x([1-9][0-9]{0,3})", args.golden_size)
+        if not size:
+            raise PackError(f"--golden-size {args.golden_size}: not WxH (e.g. 37x21)")
         if args.normalization:
             known = (fmt["kNormalizationLogMean10"], fmt["kNormalizationLogMean10Absolute"])
             if args.normalization not in known:
@@ -245,8 +340,10 @@ def main(argv: list[str] | None = None) -> int:
             metadata["normalization"] = args.normalization
         blob = pack(model, k, args.fp16, args.checkpoint, fmt, metadata)
         Path(args.out).write_bytes(blob)
-        if args.golden:
+        if args.golden and architecture == MAP_ARCHITECTURE:
             write_golden(model, args.golden, args.golden_maps, args.seed, k)
+        elif args.golden:
+            write_image_golden(model, args.golden, (int(size[1]), int(size[2])), args.seed, k)
     except PackError as e:
         print(f"weights_pack.py: {e}", file=sys.stderr)
         return 2

@@ -32,6 +32,14 @@ const ConvSpec kConvSpecs[kConvCount] = {
     {"decoder2.4", nullptr, 1, 0, 1, false, A::Relu},
 };
 
+const ImageConvSpec kImageConvSpecs[kImageConvCount] = {
+    {"enc0.0", 0, 1, 3, A::Relu, 0}, {"enc0.2", 1, 1, 3, A::Relu, 0},
+    {"enc1.1", 1, 2, 3, A::Relu, 1}, {"enc2.1", 2, 2, 3, A::Relu, 2},
+    {"mid.1", 2, 4, 3, A::Relu, 3},  {"dec2.0", 6, 2, 3, A::Relu, 2},
+    {"dec1.0", 4, 2, 3, A::Relu, 1}, {"dec0.0", 3, 1, 3, A::Relu, 0},
+    {"dec0.2", 1, 1, 3, A::Relu, 0}, {"dec0.4", 1, 0, 1, A::None, 0},
+};
+
 namespace {
 
 // Resolution (width) at which each conv of kConvSpecs runs.
@@ -103,6 +111,31 @@ float halfToFloat(uint16_t h) {
   return v;
 }
 
+namespace {
+
+// A convolution with random weights, uniform with variance 2 / fan_in (keeps activations O(1)
+// through the layers), biases in +-0.1, `round` applied to the weights; no BatchNorm.
+template <class Round>
+ConvWeights randomConv(uint32_t cin, uint32_t cout, uint32_t kernel, Activation activation,
+                       std::mt19937& rng, Round round) {
+  std::uniform_real_distribution<float> uni(-1.0f, 1.0f);
+  ConvWeights c;
+  c.cin = cin;
+  c.cout = cout;
+  c.kernel = kernel;
+  c.activation = activation;
+  const float bound = std::sqrt(6.0f / float(cin * kernel * kernel));
+  c.weight.resize(size_t(cout) * cin * kernel * kernel);
+  for (float& v : c.weight) v = round(bound * uni(rng));
+  c.bias.resize(cout);
+  for (float& v : c.bias) v = 0.1f * uni(rng);
+  c.scale.assign(cout, 1.0f);
+  c.shift.assign(cout, 0.0f);
+  return c;
+}
+
+}  // namespace
+
 UNetWeights UNetWeights::random(uint32_t k, uint32_t seed, bool half) {
   UNetWeights w;
   w.k = k;
@@ -114,20 +147,9 @@ UNetWeights UNetWeights::random(uint32_t k, uint32_t seed, bool half) {
   std::uniform_real_distribution<float> uni(-1.0f, 1.0f);
   auto round = [&](float v) { return half ? halfToFloat(floatToHalf(v)) : v; };
   for (const ConvSpec& s : kConvSpecs) {
-    ConvWeights c;
-    c.cin = channels(s.cinTimesK, k, kInChannels);
-    c.cout = channels(s.coutTimesK, k, kOutChannels);
-    c.kernel = s.kernel;
-    c.activation = s.activation;
+    ConvWeights c = randomConv(channels(s.cinTimesK, k, kInChannels), channels(s.coutTimesK, k, kOutChannels),
+                               s.kernel, s.activation, rng, round);
     c.batchNorm = s.batchNorm != nullptr;
-    // Uniform with variance 2 / fan_in keeps activations O(1) through the 15 layers.
-    float bound = std::sqrt(6.0f / float(c.cin * c.kernel * c.kernel));
-    c.weight.resize(size_t(c.cout) * c.cin * c.kernel * c.kernel);
-    for (float& v : c.weight) v = round(bound * uni(rng));
-    c.bias.resize(c.cout);
-    for (float& v : c.bias) v = 0.1f * uni(rng);
-    c.scale.assign(c.cout, 1.0f);
-    c.shift.assign(c.cout, 0.0f);
     if (c.batchNorm)
       for (uint32_t i = 0; i < c.cout; ++i) {
         c.scale[i] = 1.0f + 0.3f * uni(rng);
@@ -136,6 +158,27 @@ UNetWeights UNetWeights::random(uint32_t k, uint32_t seed, bool half) {
     w.convs.push_back(std::move(c));
   }
   return w;
+}
+
+ImageUNetWeights ImageUNetWeights::random(uint32_t k, uint32_t seed) {
+  ImageUNetWeights w;
+  w.k = k;
+  w.source = "random image U-Net (K=" + std::to_string(k) + ")";
+  std::mt19937 rng(seed);
+  for (const ImageConvSpec& s : kImageConvSpecs)
+    w.convs.push_back(randomConv(channels(s.cinTimesK, k, kImageInChannels),
+                                 channels(s.coutTimesK, k, kOutChannels), s.kernel, s.activation, rng,
+                                 [](float v) { return v; }));
+  return w;
+}
+
+double ImageUNetWeights::flopsPerPixel() const {
+  double flops = 0;
+  for (int i = 0; i < kImageConvCount; ++i) {
+    const ConvWeights& c = convs[i];
+    flops += 2.0 * c.cin * c.cout * c.kernel * c.kernel / double(1u << (2 * kImageConvSpecs[i].scale));
+  }
+  return flops;
 }
 
 double UNetWeights::flopsPerMap() const {
@@ -200,15 +243,22 @@ void readTensor(const std::string& path, std::span<const uint8_t> file, uint64_t
 
 }  // namespace
 
-UNetWeights UNetWeights::load(const std::string& path) {
+namespace {
+
+// A packed file's checked prefix and parsed JSON header.
+struct Packed {
+  nlohmann::json header;
+  uint64_t dataOffset = 0, dataBytes = 0;
+};
+
+std::vector<uint8_t> readWholeFile(const std::string& path) {
   if (auto problem = inputFileProblem(path)) fail(path, *problem);
   std::ifstream in(path, std::ios::binary);
   if (!in) fail(path, "cannot open weights file");
-  std::vector<uint8_t> file((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  return parse(file, path);
+  return {std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
 }
 
-UNetWeights UNetWeights::parse(std::span<const uint8_t> file, const std::string& path) {
+Packed readPacked(std::span<const uint8_t> file, const std::string& path) {
   if (file.size() < kPrefixBytes) fail(path, "truncated: " + std::to_string(file.size()) + " bytes");
   if (std::memcmp(file.data(), kWeightsMagic, 8) != 0)
     fail(path, "not a packed U-Net weights file (bad magic)");
@@ -216,78 +266,159 @@ UNetWeights UNetWeights::parse(std::span<const uint8_t> file, const std::string&
   if (version != kWeightsVersion)
     fail(path, "weights format version " + std::to_string(version) + ", this build reads " +
                    std::to_string(kWeightsVersion));
+  Packed p;
   const uint64_t headerBytes = readLe<uint64_t>(file, kOffsetHeaderBytes);
-  const uint64_t dataOffset = readLe<uint64_t>(file, kOffsetDataOffset);
-  const uint64_t dataBytes = readLe<uint64_t>(file, kOffsetDataBytes);
-  if (dataOffset < kPrefixBytes + headerBytes || dataOffset % kDataAlignment ||
-      dataOffset > (1ull << 40) || dataBytes > (1ull << 40))
+  p.dataOffset = readLe<uint64_t>(file, kOffsetDataOffset);
+  p.dataBytes = readLe<uint64_t>(file, kOffsetDataBytes);
+  if (p.dataOffset < kPrefixBytes + headerBytes || p.dataOffset % kDataAlignment ||
+      p.dataOffset > (1ull << 40) || p.dataBytes > (1ull << 40))
     fail(path, "corrupt prefix (header/data offsets)");
-  if (file.size() < dataOffset + dataBytes)
+  if (file.size() < p.dataOffset + p.dataBytes)
     fail(path, "truncated: " + std::to_string(file.size()) + " bytes, expected " +
-                   std::to_string(dataOffset + dataBytes));
-  if (file.size() > dataOffset + dataBytes) fail(path, "trailing bytes after the data section");
+                   std::to_string(p.dataOffset + p.dataBytes));
+  if (file.size() > p.dataOffset + p.dataBytes) fail(path, "trailing bytes after the data section");
   const uint32_t stored = readLe<uint32_t>(file, kOffsetChecksum);
   const uint32_t actual = crc32(file.data() + kPrefixBytes, file.size() - kPrefixBytes);
   if (stored != actual) fail(path, "checksum mismatch (file corrupted)");
-
-  nlohmann::json header;
   try {
-    header = nlohmann::json::parse(file.begin() + kPrefixBytes,
-                                   file.begin() + kPrefixBytes + headerBytes);
+    p.header = nlohmann::json::parse(file.begin() + kPrefixBytes,
+                                     file.begin() + kPrefixBytes + headerBytes);
   } catch (const std::exception& e) {
     fail(path, std::string("header is not valid JSON: ") + e.what());
   }
-  UNetWeights w;
+  return p;
+}
+
+// Refuses a file made for another stage, then one of another architecture.
+void requireStage(const std::string& path, const nlohmann::json& header, const char* stage,
+                  const char* architecture) {
+  const std::string got = header.value("stage", std::string(kStageMapDenoiser));
+  const std::string arch = header.at("architecture").get<std::string>();
+  if (got != stage)
+    fail(path, "model of stage '" + got + "' (" + arch + "), this needs stage '" + stage + "' (" +
+                   architecture + ")");
+  if (arch != architecture)
+    fail(path, "architecture '" + arch + "', expected '" + architecture + "'");
+}
+
+uint32_t readBaseWidth(const std::string& path, const nlohmann::json& header) {
+  const uint32_t k = header.at("base_width").get<uint32_t>();
+  if (k == 0 || k > 1024) fail(path, "base width K=" + std::to_string(k) + " is not in 1..1024");
+  return k;
+}
+
+// Layer `i` of the table: its name, activation and tensors against the expected shape.
+ConvWeights readConv(const std::string& path, std::span<const uint8_t> file, const Packed& p,
+                     int i, const char* name, uint32_t cin, uint32_t cout, uint32_t kernel,
+                     Activation activation, bool batchNorm) {
+  const nlohmann::json& l = p.header.at("layers")[i];
+  if (l.at("name").get<std::string>() != name)
+    fail(path, "layer " + std::to_string(i) + " is '" + l["name"].get<std::string>() +
+                   "', expected '" + name + "'");
+  ConvWeights c;
+  c.cin = cin;
+  c.cout = cout;
+  c.kernel = kernel;
+  c.activation = activation;
+  c.batchNorm = batchNorm;
+  if (l.at("activation").get<std::string>() != activationName(activation))
+    fail(path, std::string("layer ") + name + " has activation " + l["activation"].dump());
+  c.slope = l.value("slope", 0.2f);
+  if (!std::isfinite(c.slope))
+    fail(path, std::string("layer ") + name + " has slope " + l["slope"].dump());
+  if (l.value("batchnorm", false) != batchNorm)
+    fail(path, std::string("layer ") + name + " BatchNorm presence does not match");
+  readTensor(path, file, p.dataOffset, p.dataBytes, l, "weight", {cout, cin, kernel, kernel}, c.weight);
+  readTensor(path, file, p.dataOffset, p.dataBytes, l, "bias", {cout}, c.bias);
+  if (batchNorm) {
+    readTensor(path, file, p.dataOffset, p.dataBytes, l, "bn_scale", {cout}, c.scale);
+    readTensor(path, file, p.dataOffset, p.dataBytes, l, "bn_shift", {cout}, c.shift);
+  } else {
+    c.scale.assign(cout, 1.0f);
+    c.shift.assign(cout, 0.0f);
+  }
+  return c;
+}
+
+// A weights object of type W from a packed file: `read(packed, w)` fills it from the header,
+// whose missing keys or wrong types become one "malformed header" line.
+template <class W, class Read>
+W parseWith(std::span<const uint8_t> file, const std::string& path, Read read) {
+  const Packed p = readPacked(file, path);
+  W w;
   w.source = path;
   try {
-    if (header.at("architecture").get<std::string>() != kArchitecture)
-      fail(path, "architecture '" + header["architecture"].get<std::string>() + "', expected '" +
-                     kArchitecture + "'");
-    w.k = header.at("base_width").get<uint32_t>();
-    if (w.k == 0 || w.k > 1024) fail(path, "base width K=" + std::to_string(w.k) + " is not in 1..1024");
+    read(p, w);
+  } catch (const nlohmann::json::exception& e) {
+    fail(path, std::string("malformed header: ") + e.what());
+  }
+  return w;
+}
+
+void requireLayerCount(const std::string& path, const nlohmann::json& header, int count) {
+  const nlohmann::json& layers = header.at("layers");
+  if (!layers.is_array() || layers.size() != size_t(count))
+    fail(path, "layer table has " + std::to_string(layers.size()) + " layers, expected " +
+                   std::to_string(count));
+}
+
+}  // namespace
+
+UNetWeights UNetWeights::load(const std::string& path) { return parse(readWholeFile(path), path); }
+
+UNetWeights UNetWeights::parse(std::span<const uint8_t> file, const std::string& path) {
+  return parseWith<UNetWeights>(file, path, [&](const Packed& p, UNetWeights& w) {
+    const nlohmann::json& header = p.header;
+    requireStage(path, header, kStageMapDenoiser, kArchitecture);
+    w.k = readBaseWidth(path, header);
     if (header.at("map_size").get<uint32_t>() != kMapSize)
       fail(path, "map size " + header["map_size"].dump() + ", expected " + std::to_string(kMapSize));
     w.halfStorage = header.at("dtype").get<std::string>() == "f16";
     w.mapping = header.at("mapping").get<std::string>();
     w.normalization = header.at("normalization").get<std::string>();
-    const nlohmann::json& layers = header.at("layers");
-    if (!layers.is_array() || layers.size() != kConvCount)
-      fail(path, "layer table has " + std::to_string(layers.size()) + " layers, expected " +
-                     std::to_string(kConvCount));
+    requireLayerCount(path, header, kConvCount);
     for (int i = 0; i < kConvCount; ++i) {
       const ConvSpec& s = kConvSpecs[i];
-      const nlohmann::json& l = layers[i];
-      if (l.at("name").get<std::string>() != s.name)
-        fail(path, "layer " + std::to_string(i) + " is '" + l["name"].get<std::string>() +
-                       "', expected '" + s.name + "'");
-      ConvWeights c;
-      c.cin = channels(s.cinTimesK, w.k, kInChannels);
-      c.cout = channels(s.coutTimesK, w.k, kOutChannels);
-      c.kernel = s.kernel;
-      c.activation = s.activation;
-      c.batchNorm = s.batchNorm != nullptr;
-      if (l.at("activation").get<std::string>() != activationName(s.activation))
-        fail(path, std::string("layer ") + s.name + " has activation " + l["activation"].dump());
-      c.slope = l.value("slope", 0.2f);
-      if (!std::isfinite(c.slope))
-        fail(path, std::string("layer ") + s.name + " has slope " + l["slope"].dump());
-      if (l.at("batchnorm").get<bool>() != c.batchNorm)
-        fail(path, std::string("layer ") + s.name + " BatchNorm presence does not match");
-      readTensor(path, file, dataOffset, dataBytes, l, "weight", {c.cout, c.cin, c.kernel, c.kernel}, c.weight);
-      readTensor(path, file, dataOffset, dataBytes, l, "bias", {c.cout}, c.bias);
-      if (c.batchNorm) {
-        readTensor(path, file, dataOffset, dataBytes, l, "bn_scale", {c.cout}, c.scale);
-        readTensor(path, file, dataOffset, dataBytes, l, "bn_shift", {c.cout}, c.shift);
-      } else {
-        c.scale.assign(c.cout, 1.0f);
-        c.shift.assign(c.cout, 0.0f);
-      }
-      w.convs.push_back(std::move(c));
+      w.convs.push_back(readConv(path, file, p, i, s.name, channels(s.cinTimesK, w.k, kInChannels),
+                                 channels(s.coutTimesK, w.k, kOutChannels), s.kernel, s.activation,
+                                 s.batchNorm != nullptr));
     }
-  } catch (const nlohmann::json::exception& e) {
-    fail(path, std::string("malformed header: ") + e.what());
-  }
-  return w;
+  });
+}
+
+ImageUNetWeights ImageUNetWeights::load(const std::string& path) {
+  return parse(readWholeFile(path), path);
+}
+
+ImageUNetWeights ImageUNetWeights::parse(std::span<const uint8_t> file, const std::string& path) {
+  return parseWith<ImageUNetWeights>(file, path, [&](const Packed& p, ImageUNetWeights& w) {
+    const nlohmann::json& header = p.header;
+    requireStage(path, header, kStageImageDenoiser, kImageArchitecture);
+    w.k = readBaseWidth(path, header);
+    // The renderer feeds the first-hit colour, albedo and normal; a model asking for anything
+    // else (or another order or transform) cannot be fed by any mode.
+    const std::vector<std::string> want = {kInputColour, kInputAlbedo, kInputNormal};
+    const auto inputs = header.at("inputs").get<std::vector<std::string>>();
+    if (inputs != want) {
+      std::string list;
+      for (const auto& s : inputs) list += (list.empty() ? "" : ", ") + s;
+      fail(path, "model inputs (" + list + ") are not what the renderer feeds (colour, albedo, normal)");
+    }
+    const std::string transform = header.at("input_transform").get<std::string>();
+    if (transform != kInputTransformExposureLog1p)
+      fail(path, "input transform '" + transform + "', this renderer implements '" +
+                     kInputTransformExposureLog1p + "'");
+    if (header.at("in_channels").get<uint32_t>() != kImageInChannels ||
+        header.at("out_channels").get<uint32_t>() != kOutChannels)
+      fail(path, "channels " + header["in_channels"].dump() + " -> " + header["out_channels"].dump() +
+                     ", expected " + std::to_string(kImageInChannels) + " -> " + std::to_string(kOutChannels));
+    requireLayerCount(path, header, kImageConvCount);
+    for (int i = 0; i < kImageConvCount; ++i) {
+      const ImageConvSpec& s = kImageConvSpecs[i];
+      w.convs.push_back(readConv(path, file, p, i, s.name, channels(s.cinTimesK, w.k, kImageInChannels),
+                                 channels(s.coutTimesK, w.k, kOutChannels), s.kernel, s.activation, false));
+    }
+  });
 }
 
 void UNetWeights::requireConventions(std::string_view wantMapping,

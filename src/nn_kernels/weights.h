@@ -63,6 +63,36 @@ struct UNetWeights {
   double flopsPerMap() const;
 };
 
+// The image denoiser (stage "image_denoiser", architecture "osr_image_unet_v1",
+// tools/image_unet.py LAYERS) in execution order: plain convolutions with ReLU, the last a 1x1
+// without activation. `scale` is the resolution it runs at as a power of two (0 full, 3 1/8).
+struct ImageConvSpec {
+  const char* name;
+  uint32_t cinTimesK;   // input channels = cinTimesK * K, or kImageInChannels when 0
+  uint32_t coutTimesK;  // output channels = coutTimesK * K, or kOutChannels when 0
+  uint32_t kernel;
+  Activation activation;
+  uint32_t scale;
+};
+inline constexpr int kImageConvCount = 10;
+extern const ImageConvSpec kImageConvSpecs[kImageConvCount];
+
+struct ImageUNetWeights {
+  uint32_t k = 0;
+  std::string source;
+  std::vector<ConvWeights> convs;  // kImageConvSpecs order, no BatchNorm
+
+  // Random weights (uniform, variance 2 / fan_in; biases in +-0.1) for tests and benchmarks.
+  static ImageUNetWeights random(uint32_t k, uint32_t seed);
+  // Throw InputError "<source>: <problem>": a file of another stage or architecture, inputs
+  // other than colour, albedo, normal with the exposure_log1p transform, or any mismatch
+  // with weights_format.h.
+  static ImageUNetWeights load(const std::string& path);
+  static ImageUNetWeights parse(std::span<const uint8_t> bytes, const std::string& source);
+  // Floating-point operations per full-resolution pixel (2 per multiply-add).
+  double flopsPerPixel() const;
+};
+
 uint32_t crc32(const uint8_t* data, size_t bytes);
 uint16_t floatToHalf(float f);
 float halfToFloat(uint16_t h);

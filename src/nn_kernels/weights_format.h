@@ -25,6 +25,10 @@ inline constexpr uint32_t kOffsetDataOffset = 24;
 inline constexpr uint32_t kOffsetDataBytes = 32;
 inline constexpr uint32_t kPrefixBytes = 40;
 inline constexpr uint32_t kDataAlignment = 64;
+// The header's "stage" names what a file's network is for; a file without the key is a map
+// denoiser (files packed before stages existed). Each stage has one architecture.
+inline constexpr char kStageMapDenoiser[] = "map_denoiser";
+inline constexpr char kStageImageDenoiser[] = "image_denoiser";
 inline constexpr char kArchitecture[] = "osr_unet_v1";
 inline constexpr uint32_t kMapSize = 32;
 inline constexpr uint32_t kInChannels = 7;
@@ -38,5 +42,15 @@ inline constexpr char kNormalizationLogMean10[] = "log1p_mean10_v1";
 // mean, instead of rescaled to the one-shot channel means (docs/training.md: measured better,
 // since a 1-path map's mean is its noisiest statistic).
 inline constexpr char kNormalizationLogMean10Absolute[] = "log1p_mean10_abs_v1";
+// The image denoiser (tools/image_unet.py): colour, albedo and normal in (3 channels each, in
+// this order), colour out; the colour goes in as log1p(e * colour), e the image's exposure
+// scale, and comes out as expm1(max(y, 0)) / e. Images are padded to multiples of 8.
+inline constexpr char kImageArchitecture[] = "osr_image_unet_v1";
+inline constexpr uint32_t kImageInChannels = 9;
+inline constexpr uint32_t kImageMultiple = 8;
+inline constexpr char kInputTransformExposureLog1p[] = "exposure_log1p";
+inline constexpr char kInputColour[] = "colour";
+inline constexpr char kInputAlbedo[] = "albedo";
+inline constexpr char kInputNormal[] = "normal";
 
 }  // namespace osr::nn

@@ -37,11 +37,12 @@ void rechecksum(std::vector<uint8_t>& bytes) {
   std::memcpy(bytes.data() + nn::kOffsetChecksum, &crc, 4);
 }
 
-// Loading `bytes` throws an InputError of one line containing the file name and `problem`.
+// Loading `bytes` as Weights throws an InputError of one line with the file name and `problem`.
+template <class Weights = nn::UNetWeights>
 void expectRejected(const std::vector<uint8_t>& bytes, const std::string& name, const std::string& problem) {
   const std::string path = writeTemp(bytes, name);
   try {
-    nn::UNetWeights::load(path);
+    Weights::load(path);
     ADD_FAILURE() << name << ": loaded without error";
   } catch (const InputError& e) {
     const std::string msg = e.what();
@@ -175,6 +176,117 @@ TEST(Weights, ExposesAndChecksMappingAndNormalization) {
     std::filesystem::remove(path);
   }
   expectRejected(replaced("\"mapping\":", "\"mappinx\":"), "no_mapping", "malformed header");
+}
+
+// The image denoiser's file, packed by tools/weights_pack.py from image_unet.randomize(
+// ImageUNet(8), 8): its layer table, and the refusals that keep one stage's file out of another.
+namespace {
+
+const std::string kImage = "image_unet_k8.osrw";
+
+std::vector<uint8_t> replacedIn(const std::string& file, const std::string& from, const std::string& to) {
+  auto bytes = readFile(test::dataPath(file));
+  std::string text(bytes.begin(), bytes.end());
+  size_t at = text.find(from);
+  EXPECT_NE(at, std::string::npos) << from;
+  EXPECT_EQ(from.size(), to.size());  // the header keeps its length
+  if (at != std::string::npos) std::copy(to.begin(), to.end(), bytes.begin() + at);
+  rechecksum(bytes);
+  return bytes;
+}
+
+void expectImageRejected(const std::vector<uint8_t>& bytes, const std::string& name,
+                         const std::string& problem) {
+  expectRejected<nn::ImageUNetWeights>(bytes, name, problem);
+}
+
+}  // namespace
+
+TEST(Weights, LoadsThePackedImageDenoiser) {
+  nn::ImageUNetWeights w = nn::ImageUNetWeights::load(test::dataPath(kImage));
+  EXPECT_EQ(w.k, 8u);
+  ASSERT_EQ(w.convs.size(), size_t(nn::kImageConvCount));
+  EXPECT_EQ(w.convs[0].cin, 9u);
+  EXPECT_EQ(w.convs[5].cin, 48u);  // dec2.0 reads cat(up(mid), s2): 4K + 2K
+  EXPECT_EQ(w.convs[7].cin, 24u);  // dec0.0 reads cat(up(dec1), s0): 2K + K
+  EXPECT_EQ(w.convs[9].cout, 3u);
+  EXPECT_EQ(w.convs[9].kernel, 1u);
+  EXPECT_EQ(w.convs[9].activation, nn::Activation::None);
+  EXPECT_EQ(w.convs[4].activation, nn::Activation::Relu);
+  // 2 cin cout k^2 / 4^scale summed: 9*8*9 + 8*8*9 + (8*16*9)/4 + (16*16*9)/16 + (16*32*9)/64
+  // + (48*16*9)/16 + (32*16*9)/4 + 24*8*9 + 8*8*9 + 8*3, doubled.
+  EXPECT_DOUBLE_EQ(w.flopsPerPixel(), 2.0 * (648 + 576 + 288 + 144 + 72 + 432 + 1152 + 1728 + 576 + 24));
+}
+
+TEST(Weights, StagesRefuseEachOthersFiles) {
+  try {
+    nn::UNetWeights::load(test::dataPath(kImage));
+    ADD_FAILURE() << "the map denoiser loaded an image denoiser";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), test::dataPath(kImage) +
+              ": model of stage 'image_denoiser' (osr_image_unet_v1), this needs stage "
+              "'map_denoiser' (osr_unet_v1)");
+  }
+  // The committed map file predates the "stage" key: it is a map denoiser.
+  try {
+    nn::ImageUNetWeights::load(test::dataPath(kGood));
+    ADD_FAILURE() << "the image denoiser loaded a map denoiser";
+  } catch (const InputError& e) {
+    EXPECT_EQ(std::string(e.what()), test::dataPath(kGood) +
+              ": model of stage 'map_denoiser' (osr_unet_v1), this needs stage "
+              "'image_denoiser' (osr_image_unet_v1)");
+  }
+}
+
+TEST(Weights, ImageDenoiserRefusesBadFiles) {
+  auto bytes = readFile(test::dataPath(kImage));
+  expectImageRejected({bytes.begin(), bytes.end() - 7}, "image_truncated", "truncated");
+  expectImageRejected(replacedIn(kImage, "\"osr_image_unet_v1\"", "\"osr_image_unet_v2\""),
+                      "image_arch", "architecture 'osr_image_unet_v2', expected 'osr_image_unet_v1'");
+  expectImageRejected(replacedIn(kImage, "\"albedo\",\"normal\"", "\"normal\",\"albedo\""),
+                      "image_inputs", "model inputs (colour, normal, albedo) are not what the renderer feeds");
+  expectImageRejected(replacedIn(kImage, "\"colour\",", "\"depth\", "), "image_depth",
+                      "model inputs (depth, albedo, normal)");
+  expectImageRejected(replacedIn(kImage, "exposure_log1p", "exposure_log2p"), "image_transform",
+                      "input transform 'exposure_log2p', this renderer implements 'exposure_log1p'");
+  expectImageRejected(replacedIn(kImage, "\"dec1.0\"", "\"dec1.9\""), "image_layer",
+                      "layer 6 is 'dec1.9', expected 'dec1.0'");
+  expectImageRejected(replacedIn(kImage, "\"base_width\":8", "\"base_width\":6"), "image_shape",
+                      "tensor enc0.0.weight has shape 8x9x3x3, expected 6x9x3x3");
+}
+
+// A fresh checkpoint of either architecture packs, and the packer refuses one whose declared
+// architecture disagrees with its keys (one line, exit 2).
+TEST(Weights, PackerDetectsTheArchitecture) {
+  const char* py = "/usr/bin/python3";
+  if (std::system((std::string(py) + " -c 'import torch' >/dev/null 2>&1").c_str()) != 0)
+    GTEST_SKIP() << "/usr/bin/python3 has no torch";
+  namespace fs = std::filesystem;
+  const fs::path dir = test::tempDir("weights_stages");
+  const std::string tools = std::string(OSR_SOURCE_DIR) + "/tools";
+  const std::string image = (dir / "image.pt").string(), liar = (dir / "liar.pt").string();
+  const std::string make =
+      std::string(py) + " -c \"import sys; sys.path.insert(0, '" + tools + "'); import image_unet, torch; " +
+      "m = image_unet.ImageUNet(4); image_unet.randomize(m, 3); " +
+      "torch.save({'model': m.state_dict(), 'architecture': 'osr_image_unet_v1', 'base_width': 4, 'epoch': 7}, '" +
+      image + "'); torch.save({'model': m.state_dict(), 'architecture': 'osr_unet_v1'}, '" + liar + "')\"";
+  ASSERT_EQ(std::system(make.c_str()), 0);
+  const std::string packed = (dir / "image.osrw").string();
+  ASSERT_EQ(std::system((std::string(py) + " " + tools + "/weights_pack.py " + image + " " + packed).c_str()), 0);
+  nn::ImageUNetWeights w = nn::ImageUNetWeights::load(packed);
+  EXPECT_EQ(w.k, 4u);
+  EXPECT_EQ(w.convs[6].cin, 16u);
+  auto text = readFile(packed);
+  EXPECT_NE(std::string(text.begin(), text.end()).find("\"epoch\":7"), std::string::npos);
+  const std::string err = (dir / "err.txt").string();
+  const int status = std::system((std::string(py) + " " + tools + "/weights_pack.py " + liar + " " +
+                                  (dir / "x.osrw").string() + " 2>" + err).c_str());
+  EXPECT_EQ(WEXITSTATUS(status), 2);
+  auto msg = readFile(err);
+  const std::string all(msg.begin(), msg.end());
+  EXPECT_EQ(std::count(all.begin(), all.end(), '\n'), 1) << all;
+  EXPECT_NE(all.find(liar + ": checkpoint says architecture 'osr_unet_v1'"), std::string::npos) << all;
+  fs::remove_all(dir);
 }
 
 TEST(Weights, Crc32AndHalfConversion) {
