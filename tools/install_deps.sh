@@ -11,6 +11,8 @@ packages=(
   xvfb xauth
   libgtest-dev libembree-dev
   python3-torch python3-numpy
+  python3-distributed python3-dask
+  slurm-wlm slurm-client munge
   blender
 )
 missing=()
