@@ -3,6 +3,7 @@
 
 usage: train.py DATA [DATA ...] --val VAL --out RUN [--k 16] [--minutes 30 | --steps N] [--batch 64]
                 [--lr 1e-3] [--loss relmse|l1log] [--threads 2] [--seed 1]
+       torchrun --nproc_per_node N [--nnodes M ...] train.py ...   (data-parallel, docs/farm.md)
 
 DATA and VAL are make_dataset.py folders (docs/training.md); VAL holds scenes that DATA does
 not (a split by scene). The run folder RUN gets:
@@ -22,6 +23,11 @@ Loss (--loss):
   texels count alike;
 - l1log: |y - log(1 + t)|, the seed's L1 on log-normalized maps (median-seeking: biased with
   noisy targets).
+Data-parallel under torchrun (WORLD_SIZE > 1): gloo on CPU, NCCL where GPUs are. Every process
+draws the same batch of --batch rows and trains on its share (--batch / processes; --batch must
+divide), gradients are averaged (DistributedDataParallel), so the run is one process's with the
+same total batch, up to BatchNorm statistics taken per share; process 0 alone validates, writes
+the run folder and decides when the budget is spent.
 Validation error: relMSE (epsilon 0.01) against VAL's reference, on maps scaled to the
 reference's unit mean, of the network's map rescaled to the one-shot channel means
 (val_relmse_rescaled, the renderer's default; it picks best.pt unless --select absolute) and
@@ -128,6 +134,16 @@ def progress_line(frac: float, step: int, epoch: float, loss: float, rate: float
             f"{rate:.1f} ex/s, {int(remaining // 60)}:{int(remaining % 60):02d} left ")
 
 
+def init_distributed(torch) -> tuple[int, int]:
+    """(rank, processes) of a torchrun job, its process group made; (0, 1) outside torchrun."""
+    world = int(os.environ.get("WORLD_SIZE", "1"))
+    if world == 1:
+        return 0, 1
+    import torch.distributed as dist
+    dist.init_process_group("nccl" if torch.cuda.is_available() else "gloo")
+    return dist.get_rank(), world
+
+
 def main(argv: list[str] | None = None) -> int:
     p = argparse.ArgumentParser(prog="train.py", description=__doc__.split("\n", 2)[2],
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
@@ -154,6 +170,11 @@ def main(argv: list[str] | None = None) -> int:
     import torch
     from unet import UNet
     torch.set_num_threads(args.threads)
+    rank, world = init_distributed(torch)
+    if args.batch % world:
+        print(f"train.py: --batch {args.batch} does not divide among {world} processes", file=sys.stderr)
+        return 2
+    lead = rank == 0  # the process that validates, writes the run folder and prints
     for folder in [*args.data, args.val]:
         if not (Path(folder) / "dataset.json").is_file():
             print(f"train.py: {folder}: no dataset.json (not a make_dataset.py folder)", file=sys.stderr)
@@ -167,7 +188,8 @@ def main(argv: list[str] | None = None) -> int:
         print("train.py: no usable maps in the training or validation data", file=sys.stderr)
         return 2
     run = Path(args.out)
-    run.mkdir(parents=True, exist_ok=True)
+    if lead:
+        run.mkdir(parents=True, exist_ok=True)
     torch.manual_seed(args.seed)
     model = UNet(args.k)
     # Start the output near the targets' level (log(1 + 0.1), a texel at the map's mean): the
@@ -178,11 +200,17 @@ def main(argv: list[str] | None = None) -> int:
         head.weight.mul_(0.1)
         head.bias.fill_(0.1)
     opt = torch.optim.Adam(model.parameters(), lr=args.lr)
+    net = model
+    if world > 1:
+        import torch.distributed as dist
+        from torch.nn.parallel import DistributedDataParallel
+        net = DistributedDataParallel(model)  # broadcasts rank 0's weights, averages gradients
     state = {"step": 0, "examples": 0, "elapsed": 0.0, "best": math.inf, "rng": args.seed}
     ckpt_path, best_path, log_path = run / "checkpoint.pt", run / "best.pt", run / "train.log"
     if args.init and not ckpt_path.is_file():
         load_weights(model, args.init)
-        print(f"train.py: starting from the weights of {args.init}", file=sys.stderr)
+        if lead:
+            print(f"train.py: starting from the weights of {args.init}", file=sys.stderr)
     if ckpt_path.is_file():
         ck = torch.load(ckpt_path, map_location="cpu")
         if ck["k"] != args.k:
@@ -191,21 +219,23 @@ def main(argv: list[str] | None = None) -> int:
         model.load_state_dict(ck["model"])
         opt.load_state_dict(ck["optimizer"])
         state = ck["state"]
-        print(f"train.py: resuming {ckpt_path} at step {state['step']} ({state['elapsed'] / 60:.1f} min)",
-              file=sys.stderr)
+        if lead:
+            print(f"train.py: resuming {ckpt_path} at step {state['step']} ({state['elapsed'] / 60:.1f} min)",
+                  file=sys.stderr)
     meta = {"k": args.k, "loss": args.loss, "datasets": ",".join(args.data), "validation": args.val,
             "train_scenes": seeds_text(train.scenes), "val_scenes": seeds_text(val.scenes),
             "target_spp": ",".join(str(s) for s in sorted(train.spp)), "train_maps": train.count,
             "val_maps": val.count, "batch": args.batch, "lr": args.lr, "git_commit": git_commit(),
-            "init": args.init or ""}
+            "init": args.init or "", "processes": world}
     # The header's normalization tells the renderer how to turn the output into radiance.
     from weights_pack import read_format
     fmt = read_format()
     meta["normalization"] = fmt["kNormalizationLogMean10Absolute" if args.select == "absolute"
                                 else "kNormalizationLogMean10"]
-    print(f"train.py: {train.count} maps from {len(train.scenes)} scenes ({train.dropped} dropped: unlit or off by 100x), "
-          f"validation {val.count} maps from {len(val.scenes)} scenes; K={args.k}, loss {args.loss}",
-          file=sys.stderr)
+    if lead:
+        print(f"train.py: {train.count} maps from {len(train.scenes)} scenes ({train.dropped} dropped: unlit or off by 100x), "
+              f"validation {val.count} maps from {len(val.scenes)} scenes; K={args.k}, loss {args.loss}"
+              + (f"; {world} processes of {args.batch // world} maps a batch" if world > 1 else ""), file=sys.stderr)
     rng = np.random.default_rng(state["rng"] * 1000003 + state["step"])
     budget = args.minutes * 60.0
     start = time.monotonic() - state["elapsed"]
@@ -244,15 +274,19 @@ def main(argv: list[str] | None = None) -> int:
     while True:
         elapsed = time.monotonic() - start
         frac = done_fraction()
+        if world > 1:  # process 0's clock decides, so that every process stops at the same step
+            t = torch.tensor([frac], dtype=torch.float64)
+            dist.broadcast(t, 0)
+            frac = float(t)
         if frac >= 1.0:
             break
         for group in opt.param_groups:  # cosine decay over the budget
             group["lr"] = args.lr * 0.5 * (1 + math.cos(math.pi * frac))
-        rows = rng.integers(0, train.count, args.batch)
+        rows = rng.integers(0, train.count, args.batch)[rank::world]  # this process's share
         sym = int(rng.integers(0, 8))
         xb = torch.from_numpy(maps_data.symmetry(train.x[rows], sym, normals=True))
         tb = torch.from_numpy(maps_data.symmetry(train.t[rows], sym, normals=False))
-        loss = loss_fn(args.loss, model(xb), tb)
+        loss = loss_fn(args.loss, net(xb), tb)
         opt.zero_grad()
         loss.backward()
         # A map of rare bright paths still makes a large relative loss now and then.
@@ -263,13 +297,13 @@ def main(argv: list[str] | None = None) -> int:
         window_n += args.batch
         running = float(loss) if running is None else 0.98 * running + 0.02 * float(loss)
         now = time.monotonic()
-        if now - last_eval >= args.eval_s:
+        if lead and now - last_eval >= args.eval_s:
             validate()
             last_eval = time.monotonic()
-        if now - last_ckpt >= args.checkpoint_s:
+        if lead and now - last_ckpt >= args.checkpoint_s:
             checkpoint()
             last_ckpt = time.monotonic()
-        if state["step"] % 10 == 0:
+        if lead and state["step"] % 10 == 0:
             rate = window_n / max(now - window_t, 1e-9)
             if now - window_t > 30:
                 window_t, window_n = now, 0
@@ -277,6 +311,10 @@ def main(argv: list[str] | None = None) -> int:
             sys.stderr.write(progress_line(frac, state["step"], state["examples"] / train.count, running, rate,
                                            val_err, left))
             sys.stderr.flush()
+    if world > 1:
+        dist.destroy_process_group()
+    if not lead:
+        return 0
     validate()
     checkpoint()
     sys.stderr.write("\n")
