@@ -112,6 +112,23 @@ std::vector<VkPhysicalDevice> physicalDevices(VkInstance instance) {
 
 }  // namespace
 
+SubgroupPlan planSubgroups(const std::string& deviceName, uint32_t size, uint32_t minSize,
+                           uint32_t maxSize, bool canRequireFull, bool forceRequireFull) {
+  auto refuse = [&](const std::string& why) {
+    return DeviceError("vulkan: device \"" + deviceName + "\" " + why +
+                       "; osr-vk's subgroup passes need one power-of-two size from 4 to 64 "
+                       "(docs/subgroups.md)");
+  };
+  auto supported = [](uint32_t s) { return s >= 4 && s <= 64 && (s & (s - 1)) == 0; };
+  if (!supported(size)) throw refuse("has subgroups of " + std::to_string(size) + " invocations");
+  if (minSize > size || maxSize < size) minSize = maxSize = size;  // a driver's odd report
+  const bool varies = minSize != maxSize;
+  if (varies && !canRequireFull)
+    throw refuse("may run subgroups of " + std::to_string(minSize) + " to " +
+                 std::to_string(maxSize) + " invocations and cannot be asked for full ones");
+  return {minSize, maxSize, (varies || forceRequireFull) && canRequireFull};
+}
+
 std::vector<DeviceInfo> listDevices() {
   VkInstance instance = makeInstance({}, {});
   std::vector<VkPhysicalDevice> devices;
@@ -137,7 +154,8 @@ Context::Context(const ContextOptions& options) {
   try {
     createInstance(options.validation || envFlag("OSR_VALIDATION"), options.instanceExtensions);
     pickPhysicalDevice(options.device);
-    createDevice(options.swapchain, options.testMaxAllocationBytes);
+    createDevice(options.swapchain, options.testMaxAllocationBytes,
+                 options.testRequireFullSubgroups);
   } catch (...) {
     release();
     throw;
@@ -269,22 +287,38 @@ void Context::pickPhysicalDevice(const std::string& selector) {
                       "\" does not support Vulkan 1.2");
 }
 
-void Context::createDevice(bool swapchain, uint64_t testMaxAllocationBytes) {
+void Context::createDevice(bool swapchain, uint64_t testMaxAllocationBytes,
+                           bool testRequireFullSubgroups) {
   VkPhysicalDeviceProperties2 props2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_PROPERTIES_2};
   VkPhysicalDeviceSubgroupProperties subgroup{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_PROPERTIES};
   VkPhysicalDeviceMaintenance3Properties maintenance3{
       VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_MAINTENANCE_3_PROPERTIES};
+  VkPhysicalDeviceSubgroupSizeControlPropertiesEXT sizeControl{
+      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_SIZE_CONTROL_PROPERTIES_EXT};
+  const bool sizeControlExt =
+      hasDeviceExtension(physicalDevice_, VK_EXT_SUBGROUP_SIZE_CONTROL_EXTENSION_NAME);
   props2.pNext = &subgroup;
   subgroup.pNext = &maintenance3;
+  if (sizeControlExt) maintenance3.pNext = &sizeControl;
   vkGetPhysicalDeviceProperties2(physicalDevice_, &props2);
   const VkPhysicalDeviceLimits& limits = props2.properties.limits;
 
   VkPhysicalDeviceFeatures2 features2{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_FEATURES_2};
   VkPhysicalDeviceVulkan11Features f11{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_1_FEATURES};
   VkPhysicalDeviceVulkan12Features f12{VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_VULKAN_1_2_FEATURES};
+  VkPhysicalDeviceSubgroupSizeControlFeaturesEXT sizeFeatures{
+      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_SIZE_CONTROL_FEATURES_EXT};
   features2.pNext = &f11;
   f11.pNext = &f12;
+  if (sizeControlExt) f12.pNext = &sizeFeatures;
   vkGetPhysicalDeviceFeatures2(physicalDevice_, &features2);
+
+  const SubgroupPlan subgroups = planSubgroups(
+      props2.properties.deviceName, subgroup.subgroupSize,
+      sizeControlExt ? sizeControl.minSubgroupSize : subgroup.subgroupSize,
+      sizeControlExt ? sizeControl.maxSubgroupSize : subgroup.subgroupSize,
+      sizeControlExt && sizeFeatures.subgroupSizeControl && sizeFeatures.computeFullSubgroups,
+      testRequireFullSubgroups);
 
   uint32_t familyCount = 0;
   vkGetPhysicalDeviceQueueFamilyProperties(physicalDevice_, &familyCount, nullptr);
@@ -332,6 +366,14 @@ void Context::createDevice(bool swapchain, uint64_t testMaxAllocationBytes) {
   e12.scalarBlockLayout = f12.scalarBlockLayout;
   e12.hostQueryReset = f12.hostQueryReset;
   e12.bufferDeviceAddress = f12.bufferDeviceAddress;
+  VkPhysicalDeviceSubgroupSizeControlFeaturesEXT enableSizeControl{
+      VK_STRUCTURE_TYPE_PHYSICAL_DEVICE_SUBGROUP_SIZE_CONTROL_FEATURES_EXT};
+  if (subgroups.requireFull) {
+    enableSizeControl.subgroupSizeControl = VK_TRUE;
+    enableSizeControl.computeFullSubgroups = VK_TRUE;
+    e12.pNext = &enableSizeControl;
+    extensions.push_back(VK_EXT_SUBGROUP_SIZE_CONTROL_EXTENSION_NAME);
+  }
 
   float priority = 1.0f;
   VkDeviceQueueCreateInfo queueInfo{VK_STRUCTURE_TYPE_DEVICE_QUEUE_CREATE_INFO};
@@ -358,6 +400,9 @@ void Context::createDevice(bool swapchain, uint64_t testMaxAllocationBytes) {
   caps_.deviceName = props2.properties.deviceName;
   caps_.deviceType = props2.properties.deviceType;
   caps_.subgroupSize = subgroup.subgroupSize;
+  caps_.minSubgroupSize = subgroups.minSize;
+  caps_.maxSubgroupSize = subgroups.maxSize;
+  caps_.requireFullSubgroups = subgroups.requireFull;
   const VkSubgroupFeatureFlags shuffles = VK_SUBGROUP_FEATURE_SHUFFLE_BIT | VK_SUBGROUP_FEATURE_SHUFFLE_RELATIVE_BIT |
                                           VK_SUBGROUP_FEATURE_VOTE_BIT | VK_SUBGROUP_FEATURE_BALLOT_BIT;
   caps_.subgroupShuffle = (subgroup.supportedStages & VK_SHADER_STAGE_COMPUTE_BIT) != 0 &&

@@ -27,6 +27,9 @@ struct ContextOptions {
   // (caps().maxMemoryAllocationSize is lowered to it), so refusals of scenes too large for the
   // device can be tested on small data.
   uint64_t testMaxAllocationBytes = 0;
+  // Tests only: ask for full subgroups (VK_EXT_subgroup_size_control) even on a device whose
+  // subgroup size does not vary, so that path runs on lavapipe too.
+  bool testRequireFullSubgroups = false;
 };
 
 struct DeviceInfo {
@@ -41,6 +44,13 @@ struct Capabilities {
   std::string deviceName;
   VkPhysicalDeviceType deviceType = VK_PHYSICAL_DEVICE_TYPE_OTHER;
   uint32_t subgroupSize = 1;
+  // The range a pipeline's subgroups may take (VK_EXT_subgroup_size_control; both equal to
+  // subgroupSize without it).
+  uint32_t minSubgroupSize = 1;
+  uint32_t maxSubgroupSize = 1;
+  // Pipelines that use subgroup operations are created with REQUIRE_FULL_SUBGROUPS: set where
+  // the size may vary (docs/subgroups.md), so that no subgroup is ever partly filled.
+  bool requireFullSubgroups = false;
   // Compute shaders may use subgroupShuffle* (GL_KHR_shader_subgroup_shuffle and _relative),
   // with votes and ballots.
   bool subgroupShuffle = false;
@@ -62,6 +72,18 @@ struct Capabilities {
 };
 
 std::vector<DeviceInfo> listDevices();
+
+// How osr-vk runs a device's subgroups (docs/subgroups.md). Its subgroup passes need whole
+// subgroups of consecutive invocations, of one power-of-two size from 4 to 64 (workgroups of
+// 64 hold whole subgroups): a device outside that range, or whose size may vary per pipeline
+// but cannot be asked for full subgroups, is refused with a DeviceError naming it.
+struct SubgroupPlan {
+  uint32_t minSize = 1;
+  uint32_t maxSize = 1;
+  bool requireFull = false;  // create subgroup pipelines with REQUIRE_FULL_SUBGROUPS
+};
+SubgroupPlan planSubgroups(const std::string& deviceName, uint32_t size, uint32_t minSize,
+                           uint32_t maxSize, bool canRequireFull, bool forceRequireFull);
 
 class Context {
  public:
@@ -98,7 +120,7 @@ class Context {
  private:
   void createInstance(bool wantValidation, const std::vector<std::string>& extraExtensions);
   void pickPhysicalDevice(const std::string& selector);
-  void createDevice(bool swapchain, uint64_t testMaxAllocationBytes);
+  void createDevice(bool swapchain, uint64_t testMaxAllocationBytes, bool testRequireFullSubgroups);
   void release() noexcept;  // frees whatever handles exist, in reverse creation order
   static VKAPI_ATTR VkBool32 VKAPI_CALL debugCallback(
       VkDebugUtilsMessageSeverityFlagBitsEXT severity, VkDebugUtilsMessageTypeFlagsEXT types,

@@ -2,8 +2,25 @@
 
 #include "common/error.h"
 #include "vk/check.h"
+#include "vk/spirv_info.h"
 
 namespace osr::vk {
+namespace {
+// A pass that uses subgroup operations assumes whole subgroups of consecutive invocations
+// (docs/subgroups.md). Its workgroup must hold whole subgroups, and where the device may split
+// them the pipeline asks for full ones.
+VkPipelineShaderStageCreateFlags subgroupFlags(const Context& ctx, const shaders::Module& m,
+                                               const std::vector<SpecConstant>& spec) {
+  const SpirvComputeInfo info = readSpirvComputeInfo({m.code, m.words}, spec);
+  if (!info.usesSubgroups) return 0;
+  const uint32_t size = ctx.caps().subgroupSize;
+  if (info.localSize[0] % size != 0)
+    throw DeviceError(std::string(m.name) + ": workgroup of " + std::to_string(info.localSize[0]) +
+                      " invocations does not hold whole subgroups of " + std::to_string(size));
+  return ctx.caps().requireFullSubgroups ? VK_PIPELINE_SHADER_STAGE_CREATE_REQUIRE_FULL_SUBGROUPS_BIT_EXT
+                                         : 0;
+}
+}  // namespace
 
 ComputePipeline::ComputePipeline(const Context& ctx, shaders::Id shader, uint32_t bindingCount,
                                  uint32_t pushBytes, const std::vector<SpecConstant>& spec)
@@ -67,6 +84,7 @@ ComputePipeline::ComputePipeline(const Context& ctx, shaders::Id shader,
   info.stage.module = module_;
   info.stage.pName = "main";
   info.stage.pSpecializationInfo = spec.empty() ? nullptr : &specInfo;
+  info.stage.flags = subgroupFlags(ctx, m, spec);
   info.layout = layout_;
   check(vkCreateComputePipelines(dev, VK_NULL_HANDLE, 1, &info, nullptr, &pipeline_), name_);
   ctx.setName(VK_OBJECT_TYPE_PIPELINE, reinterpret_cast<uint64_t>(pipeline_), name_);
