@@ -8,6 +8,7 @@
 #include "lib/osr_common.glsl"
 
 layout(local_size_x = kOsrWorkgroupSize) in;
+layout(push_constant) uniform OsrPushBlock { DirectPush gPush; };
 
 void main() {
   uint local = gl_GlobalInvocationID.x;
@@ -17,8 +18,8 @@ void main() {
   vec3 sum = vec3(0.0);
   if (g.position.w > 0.5) {
     ShadingPoint sp = gbufferShadingPoint(g);
-    Rng rng = pixelRng(pixel, kSaltDirect);
-    for (uint i = 0u; i < gPush.samples; ++i) {
+    Rng rng = pixelRng(gPush.pass, pixel, kSaltDirect);
+    for (uint i = 0u; i < gPush.lightSamples; ++i) {
       sum += estimateDirect(sp, rngNext3(rng));
       // The BSDF-sampled half of MIS: a light hit by the sampled direction.
       PathState p = pathStart(sp.position, vec3(0.0), vec3(1.0), 0.0, sp.position, 1u);
@@ -38,12 +39,13 @@ void main() {
         sum += hitEmission(p, hit.triangle, surf, shadingPoint(surf, -wi));
       }
     }
-    sum *= g.throughput.rgb / float(max(gPush.samples, 1u));
+    sum *= g.throughput.rgb / float(max(gPush.lightSamples, 1u));
   }
-  // Weighted by the pass's light samples (passWeight here): passes of 4 samples after passes
-  // of 16 would otherwise add more noise than they remove.
+  // Weighted by the pass's light samples: passes of 4 samples after passes of 16 would
+  // otherwise add more noise than they remove.
+  float weight = float(max(gPush.lightSamples, 1u));
   AccumPixel a = gAccum[local];
-  if (finite3(sum)) a.direct.rgb += gPush.passWeight * sum;
-  a.direct.w += gPush.passWeight;
+  if (finite3(sum)) a.direct.rgb += weight * sum;
+  a.direct.w += weight;
   gAccum[local] = a;
 }

@@ -4,13 +4,14 @@
 // smooth glass (shared/osr.h kNearSpecularAlpha) are followed by sampling their BSDF, with
 // the chain's throughput kept; emission met on the way (the camera's own view of lights, and
 // lights seen in mirrors) goes straight to the direct layer. The lights seen directly are
-// averaged over `samples` camera rays of the pixel filter (the first is the G-buffer's own):
+// averaged over `cameraRays` camera rays of the pixel filter (the first is the G-buffer's own):
 // a light's edge pixels would otherwise be speckled for as many passes as they take to average.
 // In: CameraFrame, scene, BVH. Out: GBufferPixel, AccumPixel first-hit records and emission.
 #extension GL_GOOGLE_include_directive : require
 #include "lib/osr_common.glsl"
 
 layout(local_size_x = kOsrWorkgroupSize) in;
+layout(push_constant) uniform OsrPushBlock { GBufferPush gPush; };
 
 bool nearSpecular(BsdfParams p) {
   float alpha = p.roughness * p.roughness;
@@ -24,7 +25,7 @@ void main() {
   uint local = gl_GlobalInvocationID.x;
   if (local >= gPush.pixelCount) return;
   uint pixel = gPush.pixelOffset + local;
-  Rng rng = pixelRng(pixel, kSaltGBuffer);
+  Rng rng = pixelRng(gPush.pass, pixel, kSaltGBuffer);
   vec3 origin, dir;
   cameraRay(gFrame, pixel % gFrame.width, pixel / gFrame.width, rngNext2(rng), origin, dir);
 
@@ -46,7 +47,7 @@ void main() {
   vec3 beta = vec3(1.0);
   vec3 emitted = vec3(0.0);
   // Each camera ray's share of the lights seen directly (first hit); later hits count whole.
-  const float cameraShare = 1.0 / float(max(gPush.samples, 1u));
+  const float cameraShare = 1.0 / float(max(gPush.cameraRays, 1u));
   float rayLength = 0.0;
   for (uint chain = 0u; chain <= kMaxSpecularChain; ++chain) {
     Hit hit;
@@ -85,7 +86,7 @@ void main() {
   }
   a.albedo.w += 1.0;  // passes, for the first-hit layers' average
   // The other camera rays: the emission (or environment) of their first hit only.
-  for (uint s = 1u; s < gPush.samples; ++s) {
+  for (uint s = 1u; s < gPush.cameraRays; ++s) {
     vec3 o, d;
     cameraRay(gFrame, pixel % gFrame.width, pixel / gFrame.width, rngNext2(rng), o, d);
     Hit hit;
@@ -99,7 +100,7 @@ void main() {
     }
     emitted += cameraShare * e;
   }
-  if (finite3(emitted)) a.direct.rgb += gPush.passWeight * emitted;  // as osr_direct weighs it
+  if (finite3(emitted)) a.direct.rgb += gPush.directWeight * emitted;  // as osr_direct weighs it
   gGBuffer[local] = g;
   gAccum[local] = a;
 }

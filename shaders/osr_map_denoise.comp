@@ -18,7 +18,7 @@ layout(std430, binding = kOsrBindingMapClean) writeonly buffer OsrMapClean { flo
 layout(std430, binding = kOsrBindingMapOneShot) readonly buffer OsrOneShot { float gOneShot[]; };
 layout(std430, binding = kOsrBindingMapStats) readonly buffer OsrStats { MapStats gStats[]; };
 layout(std430, binding = kOsrBindingNetOut) readonly buffer OsrNetOut { float gNetOut[]; };
-layout(push_constant) uniform OsrPushBlock { OsrPush gPush; };
+layout(push_constant) uniform OsrPushBlock { MapDenoisePush gPush; };
 
 float sourceValue(uint local, uint c, uint t) {
   if (kDenoiser == kDenoiserUnet)

@@ -11,7 +11,7 @@ layout(local_size_x = kOsrWorkgroupSize) in;
 layout(std430, binding = kOsrBindingMapOneShot) readonly buffer OsrOneShot { float gOneShot[]; };
 layout(std430, binding = kOsrBindingMapStats) writeonly buffer OsrStats { MapStats gStats[]; };
 layout(std430, binding = kOsrBindingNetIn) writeonly buffer OsrNetIn { float gNetIn[]; };
-layout(push_constant) uniform OsrPushBlock { OsrPush gPush; };
+layout(push_constant) uniform OsrPushBlock { MapNormalizePush gPush; };
 
 void main() {
   uint local = gl_GlobalInvocationID.x;

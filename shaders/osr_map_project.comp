@@ -3,12 +3,13 @@
 // map's normal) and its irradiance as 9 SH coefficients (Ramamoorthi & Hanrahan 2001), in the
 // map's frame, for the composite's Lambertian closed form at other normals. Texel solid angle:
 // every texel covers pi / 1024 of projected solid angle, so d(omega) = pi / (1024 cos theta).
-// One invocation per map of the chunk. In: clean maps. Out: MapRecord.mean, .sh.
+// One invocation per map of the chunk. In: clean maps. Out: MapProjection.
 #extension GL_GOOGLE_include_directive : require
 #include "lib/osr_common.glsl"
 #include "lib/osr_maps.glsl"
 
 layout(local_size_x = kOsrWorkgroupSize) in;
+layout(push_constant) uniform OsrPushBlock { MapProjectPush gPush; };
 
 void main() {
   uint local = gl_GlobalInvocationID.x;
@@ -32,6 +33,6 @@ void main() {
   // Convolution with the clamped cosine: A0 = pi, A1 = 2 pi / 3, A2 = pi / 4.
   const float kA[9] = float[9](kPi, 2.0 * kPi / 3.0, 2.0 * kPi / 3.0, 2.0 * kPi / 3.0,
                                kPi / 4.0, kPi / 4.0, kPi / 4.0, kPi / 4.0, kPi / 4.0);
-  gMaps[map].mean = vec4(sum / float(kMapTexels), 0.0);
-  for (int i = 0; i < 9; ++i) gMaps[map].sh[i] = vec4(sh[i] * kA[i], 0.0);
+  gMapProjections[map].mean = vec4(sum / float(kMapTexels), 0.0);
+  for (int i = 0; i < 9; ++i) gMapProjections[map].sh[i] = vec4(sh[i] * kA[i], 0.0);
 }

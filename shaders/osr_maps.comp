@@ -1,18 +1,19 @@
 #version 460
 // osr_maps: one-shot hemisphere maps at the grid points of this pass, in bulk: one invocation
-// per (map, texel) of a chunk. Texel (x, y) traces `samples` paths (1 for the one-shot input;
+// per (map, texel) of a chunk. Texel (x, y) traces `pathsPerTexel` paths (1 for the one-shot input;
 // many for reference maps) leaving the grid point's surface in a direction jittered inside
 // the texel's cell of the cosine-concentric mapping (shared/hemisphere.h), in the frame of its
 // shading normal. Radiance is light arriving after at least one bounce: emission of the first
 // surface hit is excluded (it is the direct pass's), full depth with Russian roulette. Also
 // writes the first hit's shading normal in the map frame (0 on a miss) and its distance (-1 on
-// a miss). Texel 0 of each map writes its MapRecord (position, normal, pixel, footprint).
-// In: GBufferPixel, scene, BVH. Out: one-shot maps [chunk][7][32][32], MapRecord.
+// a miss). Texel 0 of each map writes its MapPoint (position, normal, pixel, footprint).
+// In: GBufferPixel, scene, BVH. Out: one-shot maps [chunk][7][32][32], MapPoint.
 #extension GL_GOOGLE_include_directive : require
 #include "lib/osr_common.glsl"
 #include "lib/osr_maps.glsl"
 
 layout(local_size_x = kOsrWorkgroupSize) in;
+layout(push_constant) uniform OsrPushBlock { MapsPush gPush; };
 layout(std430, binding = kOsrBindingMapOneShot) writeonly buffer OsrOneShot { float gOneShot[]; };
 
 void writeTexel(uint local, uint texel, vec3 radiance, vec3 normal, float distance) {
@@ -32,19 +33,17 @@ void main() {
   if (local >= gPush.mapCount) return;
   uint texel = id % kMapTexels;
   uint map = gPush.mapOffset + local;
-  uvec2 pixel = mapPixel(map);
-  GBufferPixel g = gGBuffer[pixel.y * gFrame.width + pixel.x - gPush.pixelOffset];
+  uvec2 pixel = mapPixel(gPush.grid, map);
+  GBufferPixel g = gGBuffer[pixel.y * gFrame.width + pixel.x - gPush.gbufferWindowOffset];
   bool valid = g.position.w > 0.5;
   if (texel == 0u) {
-    MapRecord rec;
-    rec.position = vec4(g.position.xyz, valid ? 1.0 : 0.0);
+    MapPoint point;
+    point.position = vec4(g.position.xyz, valid ? 1.0 : 0.0);
     // World size of one pixel at the point: the interpolation's plane-distance scale.
     float footprint = g.wo.w * 2.0 * gFrame.tanHalfFovY / float(gFrame.imageHeight);
-    rec.normal = vec4(g.normal.xyz, footprint);
-    rec.pixel = uvec4(pixel, 0u, 0u);
-    rec.mean = vec4(0.0);
-    for (int i = 0; i < 9; ++i) rec.sh[i] = vec4(0.0);
-    gMaps[map] = rec;
+    point.normal = vec4(g.normal.xyz, footprint);
+    point.pixel = uvec4(pixel, 0u, 0u);
+    gMapPoints[map] = point;
   }
   if (!valid) {
     writeTexel(local, texel, vec3(0.0), vec3(0.0), -1.0);
@@ -64,7 +63,7 @@ void main() {
   PathState p;
   vec3 l = vec3(0.0);
   bool live = false;
-  while (s < gPush.samples) {
+  while (s < gPush.pathsPerTexel) {
     if (!live) {
       vec3 local3 = hemiSquareToDirection((vec2(t) + rngNext2(rng)) / float(kMapSize));
       vec3 dir = frame * local3;
@@ -99,5 +98,5 @@ void main() {
       s += 1u;
     }
   }
-  writeTexel(local, texel, radiance / float(max(gPush.samples, 1u)), hitNormal, distance);
+  writeTexel(local, texel, radiance / float(max(gPush.pathsPerTexel, 1u)), hitNormal, distance);
 }

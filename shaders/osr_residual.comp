@@ -1,5 +1,5 @@
 #version 460
-// osr_residual: what makes OSR converge. At each pixel's G-buffer surface x, `samples`
+// osr_residual: what makes OSR converge. At each pixel's G-buffer surface x, `pathsPerPixel`
 // directions wi drawn from the full BSDF, each followed by a path-traced estimate L_pt of the
 // light arriving after at least one bounce (lib/path.glsl). With L^ the interpolated maps and
 // g(wi) = rho_d / pi cos L^(wi) + [wide lobe] f_rest(wi) L^(wi) the function whose integral
@@ -8,12 +8,13 @@
 // Lobes the composite left out (narrow, transmission, delta) and pixels no map covers have
 // g = 0: their f L_pt / pdf is the path tracer's own answer, added to AccumPixel.indirect in
 // full; the control-variate part goes to AccumPixel.residual, which the resolve blends in.
-// In: GBufferPixel, MapRecord, clean maps, scene, BVH. Out: AccumPixel.indirect, .residual.
+// In: GBufferPixel, MapPoint, clean maps, scene, BVH. Out: AccumPixel.indirect, .residual.
 #extension GL_GOOGLE_include_directive : require
 #include "lib/osr_common.glsl"
 #include "lib/osr_maps.glsl"
 
 layout(local_size_x = kOsrWorkgroupSize) in;
+layout(push_constant) uniform OsrPushBlock { ResidualPush gPush; };
 
 void main() {
   uint local = gl_GlobalInvocationID.x;
@@ -23,18 +24,19 @@ void main() {
   vec3 always = vec3(0.0), blended = vec3(0.0);
   if (g.position.w > 0.5) {
     ShadingPoint sp = gbufferShadingPoint(g);
-    MapGather gather = gatherMaps(uvec2(pixel % gFrame.width, pixel / gFrame.width), sp.position, sp.ns);
+    MapGather gather = gatherMaps(gPush.grid, gPush.cleanMapOffset,
+                                  uvec2(pixel % gFrame.width, pixel / gFrame.width), sp.position, sp.ns);
     bool covered = gather.total > 0.0;
     bool wide = ggxAlpha(sp.bsdf) >= kNarrowLobeAlpha;
     vec3 rho = bsdfDiffuseReflectance(sp.bsdf, sp.woLocal);
-    Rng rng = pixelRng(pixel, kSaltResidual);
+    Rng rng = pixelRng(gPush.pass, pixel, kSaltResidual);
     // One flat loop over the bounces of successive paths (see osr_maps.comp for why).
     uint i = 0u;
     bool live = false;
     PathState p;
     BsdfSample bs;
     vec3 lpt = vec3(0.0);
-    while (i < gPush.samples) {
+    while (i < gPush.pathsPerPixel) {
       if (!live) {
         lpt = vec3(0.0);
         vec3 wi = vec3(0.0);
@@ -78,7 +80,7 @@ void main() {
       blended += ((fd + (restInMaps ? fRest : vec3(0.0))) * lpt - cv) / bs.pdf;
       if (!restInMaps) always += fRest * lpt / bs.pdf;
     }
-    float inv = 1.0 / float(max(gPush.samples, 1u));
+    float inv = 1.0 / float(max(gPush.pathsPerPixel, 1u));
     always *= g.throughput.rgb * inv;
     blended *= g.throughput.rgb * inv;
   }
@@ -89,6 +91,6 @@ void main() {
     // Second moments, so the resolve knows the residual's noise (shared/osr.h).
     a.residualSq += vec4(gPush.passWeight * blended * blended, gPush.passWeight * gPush.passWeight);
   }
-  a.residual.w += float(gPush.samples);
+  a.residual.w += float(gPush.pathsPerPixel);
   gAccum[local] = a;
 }

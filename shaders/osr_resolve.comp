@@ -16,11 +16,11 @@ layout(local_size_x = kOsrWorkgroupSize) in;
 layout(std430, binding = kOsrBindingAccum) readonly buffer OsrAccum { AccumPixel gAccum[]; };
 layout(std430, binding = kOsrBindingFilm) writeonly buffer OsrFilm { FilmPixel gFilm[]; };
 layout(std430, binding = kOsrBindingFrame) readonly buffer OsrFrame { CameraFrame gFrame; };
-layout(push_constant) uniform OsrPushBlock { OsrPush gPush; };
+layout(push_constant) uniform OsrPushBlock { ResolvePush gPush; };
 
 // Half-width of the square neighbourhood whose statistics set a pixel's blend: one pixel's
-// own variance estimate is too noisy after a few passes (measured on cornell at 53 passes:
-// relMSE 0.00123 for 1 x 1, 0.00096 for 5 x 5, 0.00093 for 9 x 9, 0.00093 for 17 x 17).
+// own variance estimate is too noisy after a few passes; 9 x 9 was the smallest size past
+// which the error stopped falling (docs/osr.md "Blending the residual in").
 const int kShrinkRadius = 4;
 
 vec3 shrinkBlend(uint local, uint pixel, AccumPixel centre) {

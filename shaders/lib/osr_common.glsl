@@ -1,6 +1,7 @@
 // What every OSR pass (osr_*.comp) includes: the shared records and bindings of shared/osr.h,
 // the scene, BVH traversal and the shading building blocks, specialised on the scene's
-// features. A pass declares only its own push block and workgroup size.
+// features. A pass declares only its own push block (shared/osr.h, one struct per pass) and
+// workgroup size.
 #ifndef OSR_LIB_OSR_COMMON_GLSL
 #define OSR_LIB_OSR_COMMON_GLSL
 #extension GL_GOOGLE_include_directive : require
@@ -28,9 +29,11 @@ layout(constant_id = kOsrSpecSceneFeatures) const uint kSceneFeatures = kSceneFe
 layout(std430, binding = kOsrBindingFrame) readonly buffer OsrFrameBlock { CameraFrame gFrame; };
 layout(std430, binding = kOsrBindingGBuffer) buffer OsrGBuffer { GBufferPixel gGBuffer[]; };
 layout(std430, binding = kOsrBindingAccum) buffer OsrAccum { AccumPixel gAccum[]; };
-layout(std430, binding = kOsrBindingMapRecords) buffer OsrMapRecords { MapRecord gMaps[]; };
+layout(std430, binding = kOsrBindingMapPoints) buffer OsrMapPoints { MapPoint gMapPoints[]; };
+layout(std430, binding = kOsrBindingMapProjections) buffer OsrMapProjections {
+  MapProjection gMapProjections[];
+};
 layout(std430, binding = kOsrBindingMapClean) buffer OsrMapClean { float gMapClean[]; };
-layout(push_constant) uniform OsrPushBlock { OsrPush gPush; };
 
 // Random stream salts, so the passes of one progressive pass draw independent numbers.
 const uint kSaltGBuffer = 0x1b873593u;
@@ -39,10 +42,12 @@ const uint kSaltMaps = 0xc2b2ae35u;
 const uint kSaltComposite = 0x27d4eb2fu;
 const uint kSaltResidual = 0x165667b1u;
 
-Rng passRng(uint index, uint salt) { return rngInit(index, gPush.pass, gFrame.seed ^ salt); }
-// The stream of film pixel `pixel` in this pass, keyed on its place in the whole image
+Rng passRng(uint pass, uint index, uint salt) { return rngInit(index, pass, gFrame.seed ^ salt); }
+// The stream of film pixel `pixel` in pass `pass`, keyed on its place in the whole image
 // (lib/camera.glsl), so that a --crop window draws the whole image's numbers.
-Rng pixelRng(uint pixel, uint salt) { return passRng(imagePixelIndex(gFrame, pixel), salt); }
+Rng pixelRng(uint pass, uint pixel, uint salt) {
+  return passRng(pass, imagePixelIndex(gFrame, pixel), salt);
+}
 
 // The G-buffer's surface as a shading point (the frame is rebuilt from the stored normal).
 ShadingPoint gbufferShadingPoint(GBufferPixel g) {

@@ -1,26 +1,27 @@
-// Reading the clean hemisphere maps of a pass (MapRecord + kOsrBindingMapClean): which maps a
-// pixel uses and with what weight, radiance looked up in a world direction, and irradiance
-// from a map's SH projection. Requires lib/osr_common.glsl.
+// Reading the clean hemisphere maps of a pass (MapPoint, MapProjection, kOsrBindingMapClean):
+// which maps a pixel uses and with what weight, radiance looked up in a world direction, and
+// irradiance from a map's SH projection. Requires lib/osr_common.glsl.
 #ifndef OSR_LIB_OSR_MAPS_GLSL
 #define OSR_LIB_OSR_MAPS_GLSL
 
 // The grid point of map `map` (cell map % cellsX, map / cellsX): a pixel of its cell, jittered
 // per pass so that successive passes sample different points.
-// With gridRadius 0 the maps are at the pixels the host wrote into their records (MapTracer).
-uvec2 mapPixel(uint map) {
-  if (gPush.gridRadius == 0u) return gMaps[map].pixel.xy;
-  uvec2 cell = uvec2(map % gPush.cellsX, map / gPush.cellsX);
-  uint h = pcgHash(map ^ pcgHash(gPush.gridSeed));
-  uvec2 jitter = uvec2(h & 0xffffu, h >> 16u) % gPush.gridRadius;
-  return min(cell * gPush.gridRadius + jitter, uvec2(gFrame.width - 1u, gFrame.height - 1u));
+// With grid radius 0 the maps are at the pixels the host wrote into their points (MapTracer).
+uvec2 mapPixel(MapGrid grid, uint map) {
+  if (grid.radius == 0u) return gMapPoints[map].pixel.xy;
+  uvec2 cell = uvec2(map % grid.cellsX, map / grid.cellsX);
+  uint h = pcgHash(map ^ pcgHash(grid.seed));
+  uvec2 jitter = uvec2(h & 0xffffu, h >> 16u) % grid.radius;
+  return min(cell * grid.radius + jitter, uvec2(gFrame.width - 1u, gFrame.height - 1u));
 }
 
 // Radiance of map `map` arriving from local direction w (w.z > 0): the texel it falls in
-// (piecewise constant, so that pi x the texel mean is the map's exact irradiance).
-vec3 mapRadianceLocal(uint map, vec3 w) {
+// (piecewise constant, so that pi x the texel mean is the map's exact irradiance);
+// cleanMapOffset: the map gMapClean's window starts at.
+vec3 mapRadianceLocal(uint map, uint cleanMapOffset, vec3 w) {
   uvec2 t = uvec2(hemiDirectionToSquare(w) * float(kMapSize));
   uint texel = min(t.y, kMapSize - 1u) * kMapSize + min(t.x, kMapSize - 1u);
-  uint base = (map - gPush.mapOffset) * 3u * kMapTexels + texel;  // the window's first map
+  uint base = (map - cleanMapOffset) * 3u * kMapTexels + texel;
   return vec3(gMapClean[base], gMapClean[base + kMapTexels], gMapClean[base + 2u * kMapTexels]);
 }
 
@@ -39,7 +40,7 @@ void shBasis(vec3 d, out float y[9]) {
 
 // Irradiance SH coefficients already carry the clamped-cosine convolution (A_l), so the
 // irradiance at normal n is sum sh[i] Y_i(n).
-vec3 shIrradiance(MapRecord m, vec3 nLocal) {
+vec3 shIrradiance(MapProjection m, vec3 nLocal) {
   float y[9];
   shBasis(nLocal, y);
   vec3 e = vec3(0.0);
@@ -49,7 +50,7 @@ vec3 shIrradiance(MapRecord m, vec3 nLocal) {
 
 // Irradiance of map m's radiance at local normal nLocal: exact (pi x mean) at the map's own
 // normal, corrected by the SH difference elsewhere.
-vec3 mapIrradiance(MapRecord m, vec3 nLocal) {
+vec3 mapIrradiance(MapProjection m, vec3 nLocal) {
   vec3 e = kPi * m.mean.rgb + shIrradiance(m, nLocal) - shIrradiance(m, vec3(0.0, 0.0, 1.0));
   return max(e, vec3(0.0));
 }
@@ -60,21 +61,23 @@ struct MapGather {
   float weights[9];
   uint count;
   float total;
+  uint cleanMapOffset;  // the map gMapClean's window starts at
 };
 
-MapGather gatherMaps(uvec2 pixel, vec3 x, vec3 n) {
+MapGather gatherMaps(MapGrid grid, uint cleanMapOffset, uvec2 pixel, vec3 x, vec3 n) {
   MapGather g;
   g.count = 0u;
   g.total = 0.0;
-  int r = int(gPush.gridRadius);
+  g.cleanMapOffset = cleanMapOffset;
+  int r = int(grid.radius);
   ivec2 cell = ivec2(pixel) / r;
   vec2 p = vec2(pixel) + 0.5;
   for (int dy = -1; dy <= 1; ++dy) {
     for (int dx = -1; dx <= 1; ++dx) {
       ivec2 c = cell + ivec2(dx, dy);
-      if (c.x < 0 || c.y < 0 || c.x >= int(gPush.cellsX) || c.y >= int(gPush.cellsY)) continue;
-      uint map = uint(c.y) * gPush.cellsX + uint(c.x);
-      MapRecord m = gMaps[map];
+      if (c.x < 0 || c.y < 0 || c.x >= int(grid.cellsX) || c.y >= int(grid.cellsY)) continue;
+      uint map = uint(c.y) * grid.cellsX + uint(c.x);
+      MapPoint m = gMapPoints[map];
       if (m.position.w < 0.5) continue;
       float w = mapWeight(p, vec2(m.pixel.xy) + 0.5, float(r), x, n, m.position.xyz,
                           m.normal.xyz, m.normal.w * float(r));
@@ -93,10 +96,9 @@ MapGather gatherMaps(uvec2 pixel, vec3 x, vec3 n) {
 vec3 gatherRadiance(MapGather g, vec3 dir) {
   vec3 l = vec3(0.0);
   for (uint i = 0u; i < g.count; ++i) {
-    MapRecord m = gMaps[g.maps[i]];
-    mat3 frame = hemiFrame(m.normal.xyz);
+    mat3 frame = hemiFrame(gMapPoints[g.maps[i]].normal.xyz);
     vec3 w = transpose(frame) * dir;
-    if (w.z > 0.0) l += g.weights[i] * mapRadianceLocal(g.maps[i], w);
+    if (w.z > 0.0) l += g.weights[i] * mapRadianceLocal(g.maps[i], g.cleanMapOffset, w);
   }
   return g.total > 0.0 ? l / g.total : vec3(0.0);
 }
@@ -105,8 +107,8 @@ vec3 gatherRadiance(MapGather g, vec3 dir) {
 vec3 gatherIrradiance(MapGather g, vec3 n) {
   vec3 e = vec3(0.0);
   for (uint i = 0u; i < g.count; ++i) {
-    MapRecord m = gMaps[g.maps[i]];
-    e += g.weights[i] * mapIrradiance(m, transpose(hemiFrame(m.normal.xyz)) * n);
+    vec3 nLocal = transpose(hemiFrame(gMapPoints[g.maps[i]].normal.xyz)) * n;
+    e += g.weights[i] * mapIrradiance(gMapProjections[g.maps[i]], nLocal);
   }
   return g.total > 0.0 ? e / g.total : vec3(0.0);
 }

@@ -37,22 +37,24 @@ OSR_CONST(uint, kMapChannels, 7u);  // one-shot input: radiance RGB, hit normal 
 // Binding slots (one layout for every OSR pass). Per-pixel and clean-map buffers can be larger
 // than one binding (3840 x 2160 pixels of GBufferPixel is 1 GiB; lavapipe binds 128 MiB), so
 // src/osr/osr_pass.cpp binds windows of them (render/film.h): in a pixel pass, element 0 of
-// gGBuffer, gAccum and gFilm is pixel pixelOffset; in every pass, element 0 of gMapClean is
-// map mapOffset; in osr_maps, element 0 of gGBuffer is pixel pixelOffset.
-OSR_CONST(uint, kOsrBindingFrame, 0u);       // camera::CameraFrame
-OSR_CONST(uint, kOsrBindingGBuffer, 1u);     // GBufferPixel[pixel window]
-OSR_CONST(uint, kOsrBindingAccum, 2u);       // AccumPixel[pixel window]
-OSR_CONST(uint, kOsrBindingMapRecords, 3u);  // MapRecord[maps of the pass]
-OSR_CONST(uint, kOsrBindingMapClean, 4u);    // float[map window][3][32][32]: denoised radiance
-OSR_CONST(uint, kOsrBindingMapOneShot, 5u);  // float[chunk maps][7][32][32]: traced input
-OSR_CONST(uint, kOsrBindingMapStats, 6u);    // MapStats[chunk maps]
-OSR_CONST(uint, kOsrBindingNetIn, 7u);       // float[chunk maps][7][32][32]: normalized
-OSR_CONST(uint, kOsrBindingNetOut, 8u);      // float[chunk maps][3][32][32]: U-Net output
-OSR_CONST(uint, kOsrBindingFilm, 9u);        // film::FilmPixel[pixel window] (resolve)
-OSR_CONST(uint, kOsrBvhBinding, 10u);        // + kBvhBindingCount
-OSR_CONST(uint, kOsrSceneBinding, 14u);      // + kSceneBindingCount
-OSR_CONST(uint, kOsrSceneTexelBinding, 24u);  // + kSceneTexelBindingCount
-OSR_CONST(uint, kOsrBindingCount, 27u);
+// gGBuffer, gAccum and gFilm is pixel pixelOffset and element 0 of gMapClean is map
+// cleanMapOffset; in the map passes, element 0 of gMapClean is the chunk's first map; in
+// osr_maps, element 0 of gGBuffer is pixel gbufferWindowOffset.
+OSR_CONST(uint, kOsrBindingFrame, 0u);           // camera::CameraFrame
+OSR_CONST(uint, kOsrBindingGBuffer, 1u);         // GBufferPixel[pixel window]
+OSR_CONST(uint, kOsrBindingAccum, 2u);           // AccumPixel[pixel window]
+OSR_CONST(uint, kOsrBindingMapPoints, 3u);       // MapPoint[maps of the pass]: osr_maps writes
+OSR_CONST(uint, kOsrBindingMapProjections, 4u);  // MapProjection[maps]: osr_map_project writes
+OSR_CONST(uint, kOsrBindingMapClean, 5u);    // float[map window][3][32][32]: denoised radiance
+OSR_CONST(uint, kOsrBindingMapOneShot, 6u);  // float[chunk maps][7][32][32]: traced input
+OSR_CONST(uint, kOsrBindingMapStats, 7u);    // MapStats[chunk maps]
+OSR_CONST(uint, kOsrBindingNetIn, 8u);       // float[chunk maps][7][32][32]: normalized
+OSR_CONST(uint, kOsrBindingNetOut, 9u);      // float[chunk maps][3][32][32]: U-Net output
+OSR_CONST(uint, kOsrBindingFilm, 10u);       // film::FilmPixel[pixel window] (resolve)
+OSR_CONST(uint, kOsrBvhBinding, 11u);        // + kBvhBindingCount
+OSR_CONST(uint, kOsrSceneBinding, 15u);      // + kSceneBindingCount
+OSR_CONST(uint, kOsrSceneTexelBinding, 25u);  // + kSceneTexelBindingCount
+OSR_CONST(uint, kOsrBindingCount, 28u);
 
 // Specialization constants.
 OSR_CONST(uint, kOsrSpecSceneFeatures, 0u);  // the scene's kSceneFeature* bits
@@ -95,14 +97,19 @@ struct AccumPixel {
   vec4 depth;
 };
 
-// One hemisphere map of the pass: where it was taken and its irradiance projection.
-struct MapRecord {
+// Where one hemisphere map of the pass was taken (osr_maps writes it; MapTracer's host fills
+// only `pixel`, which osr_maps reads back with a grid radius of 0).
+struct MapPoint {
   vec4 position;  // xyz: the grid point's surface position; w: 1 valid map, 0 none
   vec4 normal;    // xyz: its shading normal (the map frame's z); w: pixel footprint (world)
   uvec4 pixel;    // x, y: the pixel it was taken at
-  vec4 mean;      // rgb: mean radiance of the clean map (irradiance at the normal = pi mean)
-  vec4 sh[9];     // rgb: irradiance SH (Ramamoorthi & Hanrahan 2001) in the map's frame,
-                  // w of sh[0]: unused
+};
+
+// What osr_map_project makes of one clean map: its irradiance at its own normal and elsewhere.
+struct MapProjection {
+  vec4 mean;    // rgb: mean radiance of the clean map (irradiance at the normal = pi mean)
+  vec4 sh[9];   // rgb: irradiance SH (Ramamoorthi & Hanrahan 2001) in the map's frame,
+                // w of sh[0]: unused
 };
 
 // Per-map normalization statistics of the one-shot input (DESIGN.md "Normalization").
@@ -111,19 +118,79 @@ struct MapStats {
   vec4 meanDistance;  // x: mean distance (misses count as -1)
 };
 
-struct OsrPush {
-  uint pass;         // progressive pass index (random streams)
-  uint gridRadius;   // spacing r of the grid of the current maps, pixels
-  uint cellsX;       // grid cells (= maps) across and down
+// The grid of the current maps: map m sits in cell (m % cellsX, m / cellsX), at a pixel of
+// the cell jittered by `seed` (lib/osr_maps.glsl mapPixel); radius 0: at the pixels of their
+// MapPoints.
+struct MapGrid {
+  uint radius;  // spacing r of the grid, pixels
+  uint cellsX;  // cells (= maps) across and down
   uint cellsY;
-  uint gridSeed;     // jitter of the current maps' grid points
-  uint mapOffset;    // first map of this chunk (map passes) or of the gMapClean window
-  uint mapCount;     // maps in this chunk
-  uint samples;      // samples per pixel (direct, residual) or paths per texel (maps)
-  uint pixelOffset;  // pixel range of this dispatch (pixel passes); osr_maps: gGBuffer window
+  uint seed;    // jitter of the grid points
+};
+
+// Push constants, one struct per pass. `pass` is the progressive pass index (it selects the
+// random streams); pixel passes cover pixels [pixelOffset, pixelOffset + pixelCount).
+struct GBufferPush {
+  uint pass;
+  uint pixelOffset;
   uint pixelCount;
-  float passWeight;     // w_k of this pass (gbuffer, direct: its light samples per pixel)
-  float residualBlend;  // resolve: weight of the accumulated residual (0..1)
+  uint cameraRays;     // camera rays per pixel that average the lights seen directly
+  float directWeight;  // the direct layer's weight of this pass (its light samples per pixel)
+};
+
+struct DirectPush {
+  uint pass;
+  uint pixelOffset;
+  uint pixelCount;
+  uint lightSamples;  // per pixel; also the pass's weight in the direct layer (at least 1)
+};
+
+struct MapsPush {
+  MapGrid grid;
+  uint pass;
+  uint mapOffset;            // first map of this chunk
+  uint mapCount;             // maps in this chunk
+  uint pathsPerTexel;
+  uint gbufferWindowOffset;  // the pixel gGBuffer's element 0 is
+};
+
+struct MapNormalizePush {
+  uint mapCount;  // maps in this chunk
+};
+
+struct MapDenoisePush {
+  uint mapCount;  // maps in this chunk
+};
+
+struct MapProjectPush {
+  uint mapOffset;  // first map of this chunk (gMapClean's element 0)
+  uint mapCount;
+};
+
+struct CompositePush {
+  MapGrid grid;
+  uint pass;
+  uint pixelOffset;
+  uint pixelCount;
+  uint cleanMapOffset;  // the map gMapClean's element 0 is
+  uint glossySamples;   // directions drawn from a wide GGX lobe per pixel
+  float passWeight;     // w_k of this pass
+};
+
+struct ResidualPush {
+  MapGrid grid;
+  uint pass;
+  uint pixelOffset;
+  uint pixelCount;
+  uint cleanMapOffset;  // the map gMapClean's element 0 is
+  uint pathsPerPixel;
+  float passWeight;     // w_k of this pass
+};
+
+struct ResolvePush {
+  uint pixelOffset;
+  uint pixelCount;
+  float residualBlend;  // weight of the accumulated residual (0..1); < 0: measured per pixel
 };
 
 // ---- Formulas shared by host and device -----------------------------------------------------
@@ -182,8 +249,9 @@ OSR_OSR_FN vec3 residualVarianceOfMean(vec4 residual, vec4 residualSq, float wei
 // its noise, the noise-free maps where they are not. As passes grow V -> 0 and beta -> 1
 // wherever b != 0: the estimate converges to the path tracer's. 0 while V is unknown (fewer
 // than kResidualMinPasses passes). V from a few passes of heavy-tailed paths is mostly too
-// low, so it is taken (1 + kResidualMarginPasses / n) times larger after n passes (measured
-// on cornell, 10 / 53 passes: margin 1 gave 0.00149 / 0.00058, 1.5 gave 0.00141 / 0.00064).
+// low, so it is taken (1 + kResidualMarginPasses / n) times larger after n passes: a margin
+// that fades, better early and late than none or a fixed one (docs/osr.md "Blending the
+// residual in").
 OSR_CONST(float, kResidualMarginPasses, 5.0f);
 OSR_OSR_FN vec3 residualShrinkBlend(vec3 sumVar, vec3 sumSq, float passes) {
   if (passes < kResidualMinPasses) return vec3(0.0f);

@@ -95,7 +95,7 @@ void writeMapDump(const std::string& dir, const oneshot::OsrIntegrator::MapDump&
   image::writePng(dir + "/clean.png", atlas(d.clean, 3), {});
   image::RgbImage frame{film.width, film.height, film.combined};
   const double ev = image::autoExposureEv(frame, film.depth);  // metered before the markers
-  for (const auto& r : d.records) {
+  for (const auto& r : d.points) {
     if (r.position.w < 0.5f) continue;
     for (int dy = -1; dy <= 1; ++dy)
       for (int dx = -1; dx <= 1; ++dx) {

@@ -18,7 +18,7 @@ std::vector<float> normalizeMapCpu(const float* oneShot, gpu::osr::MapStats& sta
 std::vector<float> denoiseMapCpu(Denoiser d, const float* oneShot, const float* netOut,
                                  const gpu::osr::MapStats& stats,
                                  uint32_t netOutput = gpu::osr::kNetOutputRescaled);
-// Mean radiance and irradiance SH of a clean map (MapRecord.mean / .sh).
+// Mean radiance and irradiance SH of a clean map (MapProjection).
 void projectMapCpu(const float* clean, glm::vec3& mean, std::array<glm::vec3, 9>& sh);
 // Irradiance at local normal n from the projection, as the composite computes it.
 glm::vec3 mapIrradianceCpu(const glm::vec3& mean, const std::array<glm::vec3, 9>& sh, glm::vec3 n);

@@ -17,8 +17,8 @@ MapTracer::MapTracer(const vk::Context& ctx, const scene::GpuScene& scene, const
       height_(height),
       film_(ctx, width, height),
       buffers_(ctx, width, height, kChunkMaps, kChunkMaps),
-      gbuffer_(ctx, shaders::Id::osr_gbuffer, Domain::Pixels, scene.features, scene.texelFetch),
-      maps_(ctx, shaders::Id::osr_maps, Domain::MapTexels, scene.features, scene.texelFetch),
+      gbuffer_(ctx, scene.features, scene.texelFetch),
+      maps_(ctx, scene.features, scene.texelFetch),
       bindings_{&buffers_, &film_, &bvh, &scene} {
   gbuffer_.prepare(bvh);
   maps_.prepare(bvh);
@@ -32,9 +32,8 @@ void MapTracer::setView(uint32_t view) {
   ctx_.submitAndWait([&](VkCommandBuffer cmd) {
     vkCmdFillBuffer(cmd, buffers_.accum.handle(), 0, VK_WHOLE_SIZE, 0u);
     vk::transferBarrier(cmd);
-    o::OsrPush push{};
-    push.pass = view;
-    gbuffer_.record(cmd, bindings_, push, width_ * height_);
+    // One camera ray; the direct layer is not read.
+    gbuffer_.record(cmd, bindings_, {view, 0, 0.0f, {0, width_ * height_}});
   });
 }
 
@@ -44,23 +43,19 @@ std::vector<float> MapTracer::trace(const std::vector<glm::uvec2>& pixels, uint3
   std::vector<float> out(pixels.size() * mapFloats);
   for (size_t first = 0; first < pixels.size(); first += kChunkMaps) {
     const uint32_t count = uint32_t(std::min<size_t>(kChunkMaps, pixels.size() - first));
-    std::vector<o::MapRecord> records(count);
+    std::vector<o::MapPoint> points(count);
     for (uint32_t i = 0; i < count; ++i) {
       const glm::uvec2 p = pixels[first + i];
       if (p.x >= width_ || p.y >= height_)
         throw InputError("maps: pixel (" + std::to_string(p.x) + ", " + std::to_string(p.y) +
                          ") is outside the " + std::to_string(width_) + "x" +
                          std::to_string(height_) + " image");
-      records[i].pixel = glm::uvec4(p, 0u, 0u);
+      points[i].pixel = glm::uvec4(p, 0u, 0u);
     }
-    buffers_.mapRecords.uploadVector(records);
+    buffers_.mapPoints.uploadVector(points);
     ctx_.submitAndWait([&](VkCommandBuffer cmd) {
-      o::OsrPush push{};
-      push.pass = stream;
-      push.gridRadius = 0;  // maps at the pixels of their records
-      push.mapCount = count;
-      push.samples = pathsPerTexel;
-      maps_.record(cmd, bindings_, push);
+      // A grid of radius 0: the maps sit at the pixels of their points.
+      maps_.record(cmd, bindings_, {o::MapGrid{}, stream, {0, count}, pathsPerTexel});
     });
     buffers_.oneShot.download(out.data() + first * mapFloats, count * mapFloats * sizeof(float));
   }

@@ -9,7 +9,7 @@
 
 #include "bvh/bvh.h"
 #include "osr/osr_buffers.h"
-#include "osr/osr_pass.h"
+#include "osr/osr_passes.h"
 #include "scene/scene.h"
 #include "scene_gpu/gpu_scene.h"
 
@@ -39,7 +39,8 @@ class MapTracer {
   uint32_t width_, height_, view_ = 0;
   render::Film film_;
   OsrBuffers buffers_;
-  OsrPass gbuffer_, maps_;
+  GBufferPass gbuffer_;
+  MapsPass maps_;
   OsrBindings bindings_;
 };
 

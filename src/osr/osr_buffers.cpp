@@ -33,7 +33,8 @@ OsrBuffers::OsrBuffers(const vk::Context& ctx, uint32_t width, uint32_t height, 
   frame = make(sizeof(gpu::camera::CameraFrame), "camera frame", Whole);
   gbuffer = make(pixels * sizeof(o::GBufferPixel), "g-buffer", Windows);
   accum = make(pixels * sizeof(o::AccumPixel), "accumulation", Windows);
-  mapRecords = make(maxMaps * sizeof(o::MapRecord), "map records", Whole);
+  mapPoints = make(maxMaps * sizeof(o::MapPoint), "map points", Whole);
+  mapProjections = make(maxMaps * sizeof(o::MapProjection), "map projections", Whole);
   mapClean = make(maxMaps * kCleanMapBytes, "clean maps", Windows);
   oneShot = make(chunkMaps * kOneShotMapBytes, "one-shot maps", Whole);
   mapStats = make(chunkMaps * sizeof(o::MapStats), "map statistics", Whole);
@@ -58,7 +59,8 @@ void OsrBindings::fill(vk::Binder& b, const OsrWindow& w) const {
   b.set(o::kOsrBindingFrame, buffers->frame)
       .set(o::kOsrBindingGBuffer, pixelRange(buffers->gbuffer, sizeof(o::GBufferPixel)))
       .set(o::kOsrBindingAccum, pixelRange(buffers->accum, sizeof(o::AccumPixel)))
-      .set(o::kOsrBindingMapRecords, buffers->mapRecords)
+      .set(o::kOsrBindingMapPoints, buffers->mapPoints)
+      .set(o::kOsrBindingMapProjections, buffers->mapProjections)
       .set(o::kOsrBindingMapClean, vk::BufferRange(buffers->mapClean, w.mapFirst * kCleanMapBytes,
                                                    w.mapCount * kCleanMapBytes))
       .set(o::kOsrBindingMapOneShot,

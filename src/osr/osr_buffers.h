@@ -1,6 +1,6 @@
 // The device buffers OSR's passes share, at the binding slots of shaders/shared/osr.h: the
-// per-pixel G-buffer and running sums, the maps of the current pass (records and clean
-// radiance), and the per-chunk scratch of map tracing and denoising.
+// per-pixel G-buffer and running sums, the maps of the current pass (points, projections and
+// clean radiance), and the per-chunk scratch of map tracing and denoising.
 #pragma once
 #include <cstdint>
 #include <vector>
@@ -33,7 +33,8 @@ struct OsrBuffers {
   vk::Buffer frame;       // camera::CameraFrame
   vk::Buffer gbuffer;     // GBufferPixel[pixels]
   vk::Buffer accum;       // AccumPixel[pixels]
-  vk::Buffer mapRecords;  // MapRecord[maxMaps]
+  vk::Buffer mapPoints;       // MapPoint[maxMaps]
+  vk::Buffer mapProjections;  // MapProjection[maxMaps]
   vk::Buffer mapClean;    // float[maxMaps][3][32][32]
   vk::Buffer oneShot;     // float[chunkMaps][7][32][32]
   vk::Buffer mapStats;    // MapStats[chunkMaps]

@@ -69,24 +69,28 @@ OsrIntegrator::OsrIntegrator(const vk::Context& ctx, const scene::GpuScene& scen
                 settings.pathsPerTexel),
       film_(ctx, width, height),
       unet_(loadNetwork(ctx, settings, netOutput_)),
-      gbuffer_(ctx, shaders::Id::osr_gbuffer, Domain::Pixels, scene.features, scene.texelFetch),
-      direct_(ctx, shaders::Id::osr_direct, Domain::Pixels, scene.features, scene.texelFetch),
-      maps_(ctx, shaders::Id::osr_maps, Domain::MapTexels, scene.features, scene.texelFetch),
-      normalize_(ctx, shaders::Id::osr_map_normalize, Domain::Maps, scene.features,
-                 scene.texelFetch),
-      denoise_(ctx, shaders::Id::osr_map_denoise, Domain::Maps, scene.features, scene.texelFetch,
-               {vk::specUint(o::kOsrSpecDenoiser, uint32_t(settings.denoiser)),
-                vk::specUint(o::kOsrSpecNetOutput, netOutput_)}),
-      project_(ctx, shaders::Id::osr_map_project, Domain::Maps, scene.features, scene.texelFetch),
-      composite_(ctx, shaders::Id::osr_composite, Domain::Pixels, scene.features, scene.texelFetch),
-      residual_(ctx, shaders::Id::osr_residual, Domain::Pixels, scene.features, scene.texelFetch),
-      resolve_(ctx, shaders::Id::osr_resolve, Domain::Pixels, scene.features, scene.texelFetch) {
+      gbuffer_(ctx, scene.features, scene.texelFetch),
+      direct_(ctx, scene.features, scene.texelFetch),
+      maps_(ctx, scene.features, scene.texelFetch),
+      normalize_(ctx, scene.features, scene.texelFetch),
+      denoise_(ctx, scene.features, scene.texelFetch, uint32_t(settings.denoiser), netOutput_),
+      project_(ctx, scene.features, scene.texelFetch),
+      composite_(ctx, scene.features, scene.texelFetch),
+      residual_(ctx, scene.features, scene.texelFetch),
+      resolve_(ctx, scene.features, scene.texelFetch) {
   const uint32_t maxMaps = schedule_.maxMaps();
   const uint32_t chunk = settings.keepAllMaps ? maxMaps : settings.maxChunkMaps;
   buffers_ = std::make_unique<OsrBuffers>(ctx, width, height, maxMaps, chunk);
   bindings_ = OsrBindings{buffers_.get(), &film_, &bvh_, &scene_};
-  for (const OsrPass* p : {&gbuffer_, &direct_, &maps_, &normalize_, &denoise_, &project_, &composite_, &residual_, &resolve_})
-    p->prepare(bvh_);
+  gbuffer_.prepare(bvh_);
+  direct_.prepare(bvh_);
+  maps_.prepare(bvh_);
+  normalize_.prepare(bvh_);
+  denoise_.prepare(bvh_);
+  project_.prepare(bvh_);
+  composite_.prepare(bvh_);
+  residual_.prepare(bvh_);
+  resolve_.prepare(bvh_);
 }
 
 OsrIntegrator::~OsrIntegrator() = default;
@@ -98,7 +102,7 @@ double OsrIntegrator::unitCost(uint32_t pass) const {
 }
 
 OsrIntegrator::Grid OsrIntegrator::gridOf(uint32_t radius, uint32_t mapPass) const {
-  Grid g;
+  Grid g{};
   g.radius = radius;
   const glm::uvec2 cells = schedule_.cellsOfRadius(radius);
   g.cellsX = cells.x;
@@ -166,77 +170,70 @@ void OsrIntegrator::recordStep(VkCommandBuffer cmd, uint32_t k, const Step& step
                                vk::GpuTimer* timer) {
   using K = Step::Kind;
   const PassSamples samples = settings_.samplesOfPass(k);
-  o::OsrPush push{};
-  push.pass = k;
-  push.passWeight = schedule_.pass(k).weight;
-  push.gridRadius = current_.radius;
-  push.cellsX = current_.cellsX;
-  push.cellsY = current_.cellsY;
-  push.gridSeed = current_.seed;
-  // The pixel passes: their band of pixels with their samples per pixel.
-  auto pixelPass = [&](const OsrPass& pass, const char* name, uint32_t samplesPerPixel) {
-    vk::TimedScope scope(timer, cmd, name);
-    push.samples = samplesPerPixel;
-    // The direct layer weighs each pass by its light samples (osr_direct, osr_gbuffer).
-    if (step.kind == K::Gbuffer || step.kind == K::Direct)
-      push.passWeight = float(std::max(samples.direct, 1u));
-    pass.record(cmd, bindings_, push, step.end, step.begin);
-  };
+  const PixelRange pixels{step.begin, step.end};
+  const float weight = schedule_.pass(k).weight;
   switch (step.kind) {
-    case K::Gbuffer:
-      pixelPass(gbuffer_, "gbuffer", samples.camera);
+    case K::Gbuffer: {
+      vk::TimedScope scope(timer, cmd, "gbuffer");
+      // The direct layer weighs each pass by its light samples (osr_direct does the same).
+      gbuffer_.record(cmd, bindings_,
+                      {k, samples.camera, float(std::max(samples.direct, 1u)), pixels});
       break;
-    case K::Direct:
-      pixelPass(direct_, "direct", samples.direct);
+    }
+    case K::Direct: {
+      vk::TimedScope scope(timer, cmd, "direct");
+      direct_.record(cmd, bindings_, k, samples.direct, pixels);
       break;
+    }
     case K::Maps: {
-      push.mapOffset = step.begin;
-      push.mapCount = step.end - step.begin;
-      push.samples = settings_.pathsPerTexel;
+      const MapChunk chunk{step.begin, step.end - step.begin};
       {
         vk::TimedScope scope(timer, cmd, "maps");
-        maps_.record(cmd, bindings_, push);
+        maps_.record(cmd, bindings_, {current_, k, chunk, settings_.pathsPerTexel});
       }
       {
         // Every denoiser needs the per-map statistics; only the U-Net its normalized input.
         vk::TimedScope scope(timer, cmd, "normalize");
-        normalize_.record(cmd, bindings_, push);
+        normalize_.record(cmd, bindings_, chunk);
       }
       if (unet_) {
         vk::TimedScope scope(timer, cmd, "unet");
-        unet_->record(cmd, buffers_->netIn, 0, buffers_->netOut, 0, push.mapCount);
+        unet_->record(cmd, buffers_->netIn, 0, buffers_->netOut, 0, chunk.count);
       }
       {
         vk::TimedScope scope(timer, cmd, "denoise");
-        denoise_.record(cmd, bindings_, push);
+        denoise_.record(cmd, bindings_, chunk);
       }
       vk::TimedScope scope(timer, cmd, "project");
-      project_.record(cmd, bindings_, push);
+      project_.record(cmd, bindings_, chunk);
       break;
     }
-    case K::Composite:
-      pixelPass(composite_, "composite", settings_.glossySamples);
+    case K::Composite: {
+      vk::TimedScope scope(timer, cmd, "composite");
+      composite_.record(cmd, bindings_, {current_, k, settings_.glossySamples, weight, pixels});
       break;
-    case K::Residual:
-      pixelPass(residual_, "residual", samples.residual);
+    }
+    case K::Residual: {
+      vk::TimedScope scope(timer, cmd, "residual");
+      residual_.record(cmd, bindings_, {current_, k, samples.residual, weight, pixels});
       break;
+    }
   }
 }
 
 void OsrIntegrator::recordResolve(VkCommandBuffer cmd, uint32_t passesDone,
                                   vk::GpuTimer* timer) const {
-  o::OsrPush push{};
   // Negative: the resolve measures each pixel's blend (docs/osr.md). Else the fixed ramp, by
   // passes, not samples: the late passes' extra residual paths lower its noise instead of
   // showing it sooner.
-  push.residualBlend = -1.0f;
+  float residualBlend = -1.0f;
   if (settings_.residualRamp >= 0.0) {
     const double n = settings_.samplesOfPass(0).residual > 0 ? double(passesDone) : 0.0;
-    push.residualBlend = settings_.residualRamp > 0.0 ? float(n / (n + settings_.residualRamp))
-                                                      : (n > 0.0 ? 1.f : 0.f);
+    residualBlend = settings_.residualRamp > 0.0 ? float(n / (n + settings_.residualRamp))
+                                                 : (n > 0.0 ? 1.f : 0.f);
   }
   vk::TimedScope scope(timer, cmd, "resolve");
-  resolve_.record(cmd, bindings_, push, width_ * height_);
+  resolve_.record(cmd, bindings_, residualBlend, {0, width_ * height_});
 }
 
 void OsrIntegrator::record(VkCommandBuffer cmd, uint32_t first, uint32_t count,
@@ -305,7 +302,8 @@ OsrIntegrator::MapDump OsrIntegrator::downloadMaps() const {
   d.radius = current_.radius;
   const size_t texels = gpu::hemi::kMapTexels;
   d.clean = buffers_->mapClean.downloadVector<float>(size_t(d.maps) * 3 * texels);
-  d.records = buffers_->mapRecords.downloadVector<o::MapRecord>(d.maps);
+  d.points = buffers_->mapPoints.downloadVector<o::MapPoint>(d.maps);
+  d.projections = buffers_->mapProjections.downloadVector<o::MapProjection>(d.maps);
   if (buffers_->chunkMaps >= d.maps)
     d.oneShot = buffers_->oneShot.downloadVector<float>(size_t(d.maps) * o::kMapChannels * texels);
   return d;

@@ -12,7 +12,7 @@
 #include "nn_kernels/unet.h"
 #include "osr/grid_schedule.h"
 #include "osr/osr_buffers.h"
-#include "osr/osr_pass.h"
+#include "osr/osr_passes.h"
 #include "osr/osr_settings.h"
 #include "render/integrator.h"
 #include "scene_gpu/gpu_scene.h"
@@ -44,20 +44,20 @@ class OsrIntegrator : public render::Integrator {
   render::FilmLayers resolve() const override;
 
   // Maps of the last map pass, downloaded (after the last submission): one-shot input
-  // [maps][7][32][32] (only with keepAllMaps), clean [maps][3][32][32], and their records.
+  // [maps][7][32][32] (only with keepAllMaps), clean [maps][3][32][32], where they were taken
+  // and their projections.
   struct MapDump {
     uint32_t maps = 0, cellsX = 0, cellsY = 0, radius = 0;
     std::vector<float> oneShot, clean;
-    std::vector<gpu::osr::MapRecord> records;
+    std::vector<gpu::osr::MapPoint> points;
+    std::vector<gpu::osr::MapProjection> projections;
   };
   MapDump downloadMaps() const;
   // Maps traced since restart() (recorded, i.e. after the submissions complete).
   uint64_t mapsTraced() const { return mapsTraced_; }
 
  private:
-  struct Grid {
-    uint32_t radius = 0, cellsX = 0, cellsY = 0, seed = 0;
-  };
+  using Grid = gpu::osr::MapGrid;
   Grid gridOf(uint32_t radius, uint32_t mapPass) const;
   // One step of a pass: a pixel band of one pixel pass, or one chunk of maps through every map
   // pass; cost in the schedule's path units.
@@ -83,10 +83,18 @@ class OsrIntegrator : public render::Integrator {
   std::unique_ptr<OsrBuffers> buffers_;
   uint32_t netOutput_ = gpu::osr::kNetOutputRescaled;  // from the weights' normalization
   std::unique_ptr<nn::UNet> unet_;
-  OsrPass gbuffer_, direct_, maps_, normalize_, denoise_, project_, composite_, residual_, resolve_;
+  GBufferPass gbuffer_;
+  DirectPass direct_;
+  MapsPass maps_;
+  MapNormalizePass normalize_;
+  MapDenoisePass denoise_;
+  MapProjectPass project_;
+  CompositePass composite_;
+  ResidualPass residual_;
+  ResolvePass resolve_;
   OsrBindings bindings_;
   uint32_t seed_ = 0;
-  Grid current_;  // maps in mapRecords / mapClean
+  Grid current_{};  // maps in mapPoints / mapProjections / mapClean
   uint64_t mapsTraced_ = 0;
   uint32_t passesDone_ = 0;  // by the last record() or last slice of a pass
   mutable bool filmBehind_ = false;  // record() or recordSlice() skipped the resolve

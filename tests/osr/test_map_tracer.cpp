@@ -97,8 +97,8 @@ TEST(MapPasses, DenoiseAndProjectMatchCpuTwins) {
       glm::vec3 mean;
       std::array<glm::vec3, 9> sh;
       oneshot::projectMapCpu(dump.clean.data() + m * 3 * kT, mean, sh);
-      const auto& rec = dump.records[m];
-      valid += rec.position.w > 0.5f;
+      const auto& rec = dump.projections[m];
+      valid += dump.points[m].position.w > 0.5f;
       EXPECT_LT(glm::length(glm::vec3(rec.mean) - mean), 1e-4f * (1 + glm::length(mean)));
       for (int i = 0; i < 9; ++i)
         EXPECT_LT(glm::length(glm::vec3(rec.sh[i]) - sh[i]), 1e-3f * (1 + glm::length(sh[0])));
@@ -163,7 +163,7 @@ TEST(MapPasses, ClosedFormIrradianceMatchesBruteForce) {
   auto s = test::loadForTest(test::referencePath("cornell/cornell.gltf"));
   auto dump = onePass(s, oneshot::Denoiser::Blur);
   for (uint32_t m = 0; m < dump.maps; ++m) {
-    if (dump.records[m].position.w < 0.5f) continue;
+    if (dump.points[m].position.w < 0.5f) continue;
     const float* clean = dump.clean.data() + m * 3 * kT;
     glm::vec3 mean;
     std::array<glm::vec3, 9> sh;

@@ -62,6 +62,7 @@ template <> struct Std430<glm::mat4> : Std430Is<64, 16> {};
 template <> struct Std430<glm::vec4[9]> : Std430Is<144, 16> {};
 // Nested structs: their own layout is checked as a listed struct; alignment = largest member's.
 template <> struct Std430<gpu::nn::View> : Std430Is<sizeof(gpu::nn::View), 4> {};
+template <> struct Std430<gpu::osr::MapGrid> : Std430Is<sizeof(gpu::osr::MapGrid), 4> {};
 template <> struct Std430<gpu::bsdf::BsdfParams> : Std430Is<sizeof(gpu::bsdf::BsdfParams), 16> {};
 template <> struct Std430<gpu::bvh_build::BuildArrays> : Std430Is<sizeof(gpu::bvh_build::BuildArrays), 8> {};
 template <> struct Std430<gpu::bvh_build::DispatchArgs> : Std430Is<sizeof(gpu::bvh_build::DispatchArgs), 4> {};
@@ -134,11 +135,23 @@ const std::vector<Layout>& layouts() {
              F(bsdf)),
       STRUCT(osr, AccumPixel, F(direct), F(indirect), F(residual), F(residualSq), F(albedo),
              F(normal), F(depth)),
-      STRUCT(osr, MapRecord, F(position), F(normal), F(pixel), F(mean), F(sh)),
+      STRUCT(osr, MapPoint, F(position), F(normal), F(pixel)),
+      STRUCT(osr, MapProjection, F(mean), F(sh)),
       STRUCT(osr, MapStats, F(meanRadiance), F(meanDistance)),
-      STRUCT(osr, OsrPush, F(pass), F(gridRadius), F(cellsX), F(cellsY), F(gridSeed),
-             F(mapOffset), F(mapCount), F(samples), F(pixelOffset), F(pixelCount),
-             F(passWeight), F(residualBlend)),
+      STRUCT(osr, MapGrid, F(radius), F(cellsX), F(cellsY), F(seed)),
+      STRUCT(osr, GBufferPush, F(pass), F(pixelOffset), F(pixelCount), F(cameraRays),
+             F(directWeight)),
+      STRUCT(osr, DirectPush, F(pass), F(pixelOffset), F(pixelCount), F(lightSamples)),
+      STRUCT(osr, MapsPush, F(grid), F(pass), F(mapOffset), F(mapCount), F(pathsPerTexel),
+             F(gbufferWindowOffset)),
+      STRUCT(osr, MapNormalizePush, F(mapCount)),
+      STRUCT(osr, MapDenoisePush, F(mapCount)),
+      STRUCT(osr, MapProjectPush, F(mapOffset), F(mapCount)),
+      STRUCT(osr, CompositePush, F(grid), F(pass), F(pixelOffset), F(pixelCount),
+             F(cleanMapOffset), F(glossySamples), F(passWeight)),
+      STRUCT(osr, ResidualPush, F(grid), F(pass), F(pixelOffset), F(pixelCount),
+             F(cleanMapOffset), F(pathsPerPixel), F(passWeight)),
+      STRUCT(osr, ResolvePush, F(pixelOffset), F(pixelCount), F(residualBlend)),
       STRUCT(pt, Push, F(pixelOffset), F(pixelCount), F(sampleIndex), F(sampleCount)),
       STRUCT(bsdf, BsdfParams, F(baseColor), F(metallic), F(specularColor), F(roughness),
              F(specular), F(eta), F(transmission), F(_pad0)),

@@ -1,0 +1,98 @@
+#include "osr/osr_passes.h"
+
+namespace osr::oneshot {
+
+namespace o = gpu::osr;
+using shaders::Id;
+
+namespace {
+const o::MapGrid kNoMaps{};  // for passes that read no clean maps
+
+// CompositePush and ResidualPush: the same fields in the same order, named for their pass.
+template <class Push>
+Push mapPixelPush(const MapPixelArgs& a, const OsrWindow& w) {
+  return Push{a.grid, a.pass, w.pixelFirst, w.pixelCount, w.mapFirst, a.samples, a.passWeight};
+}
+}  // namespace
+
+GBufferPass::GBufferPass(const vk::Context& ctx, uint32_t features, bool texelFetch)
+    : PassWithPush(ctx, Id::osr_gbuffer, Domain::Pixels, features, texelFetch) {}
+
+void GBufferPass::record(VkCommandBuffer cmd, const OsrBindings& b, const Args& a) const {
+  recordPixels(cmd, b, kNoMaps, a.pixels, [&](const OsrWindow& w) {
+    return o::GBufferPush{a.pass, w.pixelFirst, w.pixelCount, a.cameraRays, a.directWeight};
+  });
+}
+
+DirectPass::DirectPass(const vk::Context& ctx, uint32_t features, bool texelFetch)
+    : PassWithPush(ctx, Id::osr_direct, Domain::Pixels, features, texelFetch) {}
+
+void DirectPass::record(VkCommandBuffer cmd, const OsrBindings& b, uint32_t pass,
+                        uint32_t lightSamples, PixelRange pixels) const {
+  recordPixels(cmd, b, kNoMaps, pixels, [&](const OsrWindow& w) {
+    return o::DirectPush{pass, w.pixelFirst, w.pixelCount, lightSamples};
+  });
+}
+
+MapsPass::MapsPass(const vk::Context& ctx, uint32_t features, bool texelFetch)
+    : PassWithPush(ctx, Id::osr_maps, Domain::MapTexels, features, texelFetch) {}
+
+void MapsPass::record(VkCommandBuffer cmd, const OsrBindings& b, const Args& a) const {
+  recordMaps(cmd, b, a.grid, a.maps, [&](const OsrWindow& w) {
+    return o::MapsPush{a.grid, a.pass, w.mapFirst, w.mapCount, a.pathsPerTexel, w.pixelFirst};
+  });
+}
+
+MapNormalizePass::MapNormalizePass(const vk::Context& ctx, uint32_t features, bool texelFetch)
+    : PassWithPush(ctx, Id::osr_map_normalize, Domain::Maps, features, texelFetch) {}
+
+void MapNormalizePass::record(VkCommandBuffer cmd, const OsrBindings& b, MapChunk maps) const {
+  recordMaps(cmd, b, kNoMaps, maps,
+             [](const OsrWindow& w) { return o::MapNormalizePush{w.mapCount}; });
+}
+
+MapDenoisePass::MapDenoisePass(const vk::Context& ctx, uint32_t features, bool texelFetch,
+                               uint32_t denoiser, uint32_t netOutput)
+    : PassWithPush(ctx, Id::osr_map_denoise, Domain::Maps, features, texelFetch,
+                   {vk::specUint(o::kOsrSpecDenoiser, denoiser),
+                    vk::specUint(o::kOsrSpecNetOutput, netOutput)}) {}
+
+void MapDenoisePass::record(VkCommandBuffer cmd, const OsrBindings& b, MapChunk maps) const {
+  recordMaps(cmd, b, kNoMaps, maps, [](const OsrWindow& w) { return o::MapDenoisePush{w.mapCount}; });
+}
+
+MapProjectPass::MapProjectPass(const vk::Context& ctx, uint32_t features, bool texelFetch)
+    : PassWithPush(ctx, Id::osr_map_project, Domain::Maps, features, texelFetch) {}
+
+void MapProjectPass::record(VkCommandBuffer cmd, const OsrBindings& b, MapChunk maps) const {
+  recordMaps(cmd, b, kNoMaps, maps,
+             [](const OsrWindow& w) { return o::MapProjectPush{w.mapFirst, w.mapCount}; });
+}
+
+CompositePass::CompositePass(const vk::Context& ctx, uint32_t features, bool texelFetch)
+    : PassWithPush(ctx, Id::osr_composite, Domain::Pixels, features, texelFetch) {}
+
+void CompositePass::record(VkCommandBuffer cmd, const OsrBindings& b, const MapPixelArgs& a) const {
+  recordPixels(cmd, b, a.grid, a.pixels, 
+               [&](const OsrWindow& w) { return mapPixelPush<o::CompositePush>(a, w); });
+}
+
+ResidualPass::ResidualPass(const vk::Context& ctx, uint32_t features, bool texelFetch)
+    : PassWithPush(ctx, Id::osr_residual, Domain::Pixels, features, texelFetch) {}
+
+void ResidualPass::record(VkCommandBuffer cmd, const OsrBindings& b, const MapPixelArgs& a) const {
+  recordPixels(cmd, b, a.grid, a.pixels, 
+               [&](const OsrWindow& w) { return mapPixelPush<o::ResidualPush>(a, w); });
+}
+
+ResolvePass::ResolvePass(const vk::Context& ctx, uint32_t features, bool texelFetch)
+    : PassWithPush(ctx, Id::osr_resolve, Domain::Pixels, features, texelFetch) {}
+
+void ResolvePass::record(VkCommandBuffer cmd, const OsrBindings& b, float residualBlend,
+                         PixelRange pixels) const {
+  recordPixels(cmd, b, kNoMaps, pixels, [&](const OsrWindow& w) {
+    return o::ResolvePush{w.pixelFirst, w.pixelCount, residualBlend};
+  });
+}
+
+}  // namespace osr::oneshot
