@@ -339,6 +339,7 @@ def attempts_on_scheduler(dask_scheduler=None, keys=()) -> dict:
 def connect(args):
     import logging
     from distributed import Client, LocalCluster
+    logging.getLogger("distributed").setLevel(logging.ERROR)  # the farm's own lines say what happens
     timeout = args.connect_timeout
     try:
         if args.scheduler:
@@ -372,7 +373,7 @@ def check_workers(client, osr_vk: str, inputs: list[str]) -> tuple[str, int]:
     return want, len(workers)
 
 
-def run_job(client, tasks: list[Task], progress: Progress) -> tuple[list[dict], int]:
+def run_job(client, tasks: list[Task], progress: Progress) -> tuple[list[dict], int, int]:
     """Submits tasks, resubmits a failed one once and stops when a task fails twice the same way."""
     from distributed import as_completed
     results, failed, errors, keys = [], 0, {}, {}
@@ -409,10 +410,10 @@ def run_job(client, tasks: list[Task], progress: Progress) -> tuple[list[dict], 
     attempts = client.run_on_scheduler(attempts_on_scheduler, keys=list(keys))
     retried = retried_by_us + sum(max(0, a - 1) for a in attempts.values())
     progress.show(len(results), failed, retried, final=True)
-    return results, retried
+    return results, failed, retried
 
 
-def run_here(tasks: list[Task], progress: Progress) -> tuple[list[dict], int]:
+def run_here(tasks: list[Task], progress: Progress) -> tuple[list[dict], int, int]:
     """The tasks one after another in this process, with run_job's rule for failures."""
     results, failed, retried = [], 0, 0
     progress.show(0, 0, 0)
@@ -430,7 +431,7 @@ def run_here(tasks: list[Task], progress: Progress) -> tuple[list[dict], int]:
             progress.show(len(results), failed, retried)
         progress.show(len(results), failed, retried)
     progress.show(len(results), failed, retried, final=True)
-    return results, retried
+    return results, failed, retried
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -503,29 +504,34 @@ def main(argv: list[str] | None = None) -> int:
             for o in t.outputs:
                 Path(o).parent.mkdir(parents=True, exist_ok=True)
         run = run_here if args.here else lambda todo, progress: run_job(client, todo, progress)
-        results, retried = run(todo, Progress(len(todo)))
+        results, failed, retried = run(todo, Progress(len(todo)))
+        assembled = time.monotonic()
         if args.kind == "tiles":
             assemble(info)
         elif args.kind == "dataset":
             merge_dataset(info)
+        assemble_s = time.monotonic() - assembled
         wall = [r["wall_s"] for r in results]
         render = [r["render_s"] for r in results if r["render_s"] is not None]
         elapsed = time.monotonic() - t0
         summary = {
             "job": args.kind, "spec": args.spec, "osr_vk": version, "workers": nworkers,
-            "tasks": len(tasks), "rendered": len(results), "skipped": len(skipped), "failed": 0,
+            "tasks": len(tasks), "rendered": len(results), "skipped": len(skipped),
+            "failed": failed,  # attempts that failed and were run again (the job completed)
             "retried": retried, "seconds": round(elapsed, 2),
             "task_wall_s_mean": round(sum(wall) / len(wall), 3) if wall else None,
             "task_render_s_mean": round(sum(render) / len(render), 3) if render else None,
             # Process start, scene load, BVH build and writing: the task's time outside its render.
             "task_setup_s_mean": round((sum(wall) - sum(render)) / len(render), 3) if render and len(render) == len(wall) else None,
             # The cluster's own cost: the job's time beyond its tasks' wall time spread over the workers.
+            # (It includes the cluster's start, the checks before submitting and the assembly.)
             "scheduling_s": round(elapsed - sum(wall) / nworkers, 2) if wall else None,
             "outputs": [info["out"]] if args.kind == "tiles" else [o for t in tasks for o in t.outputs],
             "task_results": sorted(results, key=lambda r: r["task"]),
         }
         if args.kind == "tiles":
             summary["margin"] = info["margin"]
+            summary["assemble_s"] = round(assemble_s, 2)
             summary["outputs"] = [str(info["out"])]
         if args.kind == "dataset":
             summary["outputs"] = [str(info["out"] / "dataset.json")]
