@@ -1,15 +1,26 @@
-// buildGpu: the dispatch sequence of the device BVH build (shaders/shared/bvh_build.h lists the
-// passes). One command buffer, timed per pass; a readback of one node afterwards gives the SAH
-// cost and depth, and checks that every triangle was placed.
+// GpuBuilder::build: the device BVH build in named stages (validate, allocate, record the sort,
+// the hierarchy and the emit in one command buffer, verify or retry, statistics); the passes are
+// src/bvh/<pass>.h, their order and data shaders/shared/bvh_build.h. A readback of one node
+// afterwards gives the SAH cost and depth, and checks that every triangle was placed.
+#include "bvh/gpu_builder.h"
+
 #include <algorithm>
-#include <cmath>
 #include <cstring>
 #include <memory>
+#include <optional>
 #include <string>
 
-#include "bvh/build_passes.h"
+#include "bvh/bounds.h"
 #include "bvh/bvh.h"
-#include "bvh/gpu_builder.h"
+#include "bvh/emit.h"
+#include "bvh/lbvh.h"
+#include "bvh/morton.h"
+#include "bvh/ploc.h"
+#include "bvh/radix_sort.h"
+#include "bvh/refit.h"
+#include "bvh/scan.h"
+#include "bvh/subtree_count.h"
+#include "bvh/treelet.h"
 #include "common/error.h"
 
 namespace osr::bvh {
@@ -17,6 +28,10 @@ namespace osr::bvh {
 namespace bb = gpu::bvh_build;
 
 namespace {
+
+vk::Buffer scratch(const vk::Context& ctx, uint64_t bytes, const char* name, VkBufferUsageFlags extraUsage = 0) {
+  return vk::Buffer(ctx, std::max<uint64_t>(bytes, 16), vk::MemoryUse::DeviceLocal, name, extraUsage);
+}
 
 uint32_t ordered(float f) {
   uint32_t bits;
@@ -26,7 +41,7 @@ uint32_t ordered(float f) {
 
 }  // namespace
 
-struct GpuBuilder::Passes {
+struct BuildPasses {
   BoundsPass bounds;
   MortonPass morton;
   RadixSort sort;
@@ -36,23 +51,15 @@ struct GpuBuilder::Passes {
   SubtreeCountPass subtreeCount;
   EmitPass emit;
   std::unique_ptr<PlocPass> ploc;  // bindings only (plocFor); made on the first PLOC build
-  Passes(const vk::Context& ctx, uint32_t treeletLeaves, bool byAddress)
+  BuildPasses(const vk::Context& ctx, uint32_t treeletLeaves, bool byAddress)
       : bounds(ctx, byAddress), morton(ctx, byAddress), sort(ctx), lbvh(ctx, byAddress), refit(ctx, byAddress),
         treelet(ctx, treeletLeaves, byAddress), subtreeCount(ctx, byAddress), emit(ctx, byAddress) {}
 };
 
-namespace {
-
-vk::Buffer scratch(const vk::Context& ctx, uint64_t bytes, const char* name, VkBufferUsageFlags extraUsage = 0) {
-  return vk::Buffer(ctx, std::max<uint64_t>(bytes, 16), vk::MemoryUse::DeviceLocal, name, extraUsage);
-}
-
-}  // namespace
-
 // The build's scratch buffers for up to `capacity` triangles, and their views. A builder keeps
-// them for its next build: on a CPU device fresh memory is faulted in on first touch, which
-// measured about a quarter of a 1M-triangle build's CPU time (huge pages included).
-struct GpuBuilder::Scratch {
+// them for its next build: on a CPU device fresh memory is faulted in on first touch, a large
+// part of a first build's CPU time (docs/bvh.md).
+struct BuildScratch {
   uint32_t capacity;
   vk::Buffer prims, info, keys, keysTmp, values, valuesTmp, hist, partials, interior, leaves, counters, schedule,
       nodeList;
@@ -62,7 +69,7 @@ struct GpuBuilder::Scratch {
   vk::BufferView interiorTexels, leafTexels, primTexels, slotTexels;
   uint64_t bytes = 0;
 
-  Scratch(const vk::Context& ctx, uint32_t n) : capacity(n) {
+  BuildScratch(const vk::Context& ctx, uint32_t n) : capacity(n) {
     const uint32_t interiorCount = std::max<uint32_t>(n - 1, 1);
     const uint64_t nodeBytes = sizeof(bb::BvhBuildNode);
     const uint64_t histBytes = RadixSort::histogramBytes(n);
@@ -96,8 +103,8 @@ struct GpuBuilder::Scratch {
   }
 };
 
-// PLOC's scratch (PlocPass::Args) for up to `capacity` triangles, kept like Scratch.
-struct GpuBuilder::PlocScratch {
+// PLOC's scratch (PlocPass::Args) for up to `capacity` triangles, kept like BuildScratch.
+struct PlocScratch {
   uint32_t capacity;
   vk::Buffer clusters[2], nearest, partials, pairs, state, tail;
   vk::BufferView clusterTexels[2], nearestTexels;
@@ -118,48 +125,37 @@ struct GpuBuilder::PlocScratch {
   }
 };
 
-Bvh buildGpu(const vk::Context& ctx, const vk::Buffer& vertices, const vk::Buffer& triangles,
-             uint32_t triangleCount, BuildStats* stats) {
-  return GpuBuilder(ctx).build(vertices, triangles, triangleCount, stats);
-}
+// One build's buffers and views, as the stages below hand them to the passes. It points into
+// itself (arrays at bvh's buffers), so it stays where it was made.
+struct BuildResources {
+  BuildResources(const vk::Context& ctx, const BuildScratch& sc, const vk::Buffer& vertices,
+                 const vk::Buffer& triangles, uint32_t n, NodeForms forms);
+  BuildResources(const BuildResources&) = delete;
+  BuildResources& operator=(const BuildResources&) = delete;
+  const vk::Context& ctx;
+  const uint32_t n, interiorCount;
+  const BuildScratch& scratch;
+  Bvh bvh;  // the result
+  BuildTexelViews texels;
+  // The scene's triangles and vertices through texel views where their buffers allow them
+  // (gpu::GpuScene's do) and the views reach their ends: bvh_bounds then gathers instead of
+  // looping over the lanes per load.
+  vk::BufferView triangleTexels, vertexTexels;
+  BuildArrayBuffers arrays;
+  // The sort's temporary arrays (uint per triangle) are free once it is done: they hold the
+  // subtree node counts (from PLOC on) and positions; its keys hold the leaf bases of the
+  // depth-first order after the hierarchy is made.
+  vk::BufferRange subtreeNodes, positions, leafBases;
+  bool byAddress = false;           // arrays past one binding: passes that read them by address
+  BuildPasses* passes = nullptr;    // of byAddress
+  std::optional<PlocPass::Args> ploc;  // where the build may use PLOC (plocFor)
+  uint64_t plocScratchBytes = 0;
+};
 
-Bvh buildGpu(const vk::Context& ctx, const vk::Buffer& vertices, const vk::Buffer& triangles,
-             uint32_t triangleCount, const GpuBuildOptions& options, BuildStats* stats, NodeForms forms) {
-  return GpuBuilder(ctx, options).build(vertices, triangles, triangleCount, stats, forms);
-}
-
-GpuBuilder::GpuBuilder(const vk::Context& ctx, const GpuBuildOptions& options)
-    : ctx_(ctx), options_(options), passes_(std::make_unique<Passes>(ctx, options.treeletLeaves, false)) {}
-
-GpuBuilder::~GpuBuilder() = default;
-
-Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
-                      uint32_t triangleCount, BuildStats* stats, NodeForms forms) const {
-  const vk::Context& ctx = ctx_;
-  const GpuBuildOptions& options = options_;
-  const uint32_t n = triangleCount;
-  if (n == 0) throw InputError("bvh: a scene with no triangles has no BVH");
-  const TriangleLimit limit = triangleLimit(ctx);
-  if (n > limit.triangles)
-    throw DeviceError("bvh: " + std::to_string(n) + " triangles exceed the device's limit of " +
-                      std::to_string(limit.triangles) + " (" + limit.limit + ", " + ctx.caps().deviceName + ")");
-  if (triangles.size() < uint64_t(n) * sizeof(gpu::scene::Triangle))
-    throw DeviceError("bvh: triangle buffer '" + triangles.name() + "' holds fewer than " +
-                      std::to_string(n) + " triangles");
-  const uint32_t interiorCount = std::max<uint32_t>(n - 1, 1);
+BuildResources::BuildResources(const vk::Context& context, const BuildScratch& sc, const vk::Buffer& vertices,
+                               const vk::Buffer& triangles, uint32_t triangleCount, NodeForms forms)
+    : ctx(context), n(triangleCount), interiorCount(std::max<uint32_t>(triangleCount - 1, 1)), scratch(sc) {
   const uint64_t nodeBytes = sizeof(bb::BvhBuildNode);
-
-  if (!scratch_ || scratch_->capacity < n) {
-    scratch_.reset();  // before the next allocation: at most one set of scratch exists
-    scratch_ = std::make_unique<Scratch>(ctx, n);
-  }
-  const Scratch& sc = *scratch_;
-  const uint64_t scratchBytes = sc.bytes;
-  const vk::Buffer &info = sc.info, &keys = sc.keys, &keysTmp = sc.keysTmp, &values = sc.values,
-                   &valuesTmp = sc.valuesTmp, &hist = sc.hist, &partials = sc.partials, &interior = sc.interior,
-                   &leaves = sc.leaves, &counters = sc.counters, &schedule = sc.schedule, &nodeList = sc.nodeList;
-
-  Bvh bvh;
   bvh.nodeCount = interiorCount;
   bvh.triangleCount = n;
   bvh.quantized = quantizedTraversal(bvh.triangleCount);
@@ -171,21 +167,15 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
   bvh.traversalNodes = vk::Buffer(ctx, uint64_t(quantizedNodes) * sizeof(gpu::bvh::BvhTraversalNode), vk::MemoryUse::DeviceLocal, "bvh traversal nodes", Bvh::kExtraUsage);
   bvh.leafData = vk::Buffer(ctx, uint64_t(n) * sizeof(gpu::bvh::BvhLeafTriangle), vk::MemoryUse::DeviceLocal, "bvh leaf triangles", Bvh::kExtraUsage);
   bvh.makeTexelViews(ctx);
-  // bvh_emit_leaves writes every leaf entry, scattered, from both of lavapipe's threads: its
-  // first-touch faults made the pass take 27 to 68 ms on the 1M-triangle bench mesh (bimodal),
-  // against 23-27 ms after the kernel has populated the memory here (docs/bvh.md, "Seventh
-  // session"). The node arrays are written in order and only in part: populating them gained
-  // nothing, nor did populating the scratch buffers of a first build (which costs more).
+  // bvh_emit_leaves writes every leaf entry, scattered, from every device thread: populated here
+  // first, the pass runs faster and steadier (docs/bvh.md). The node arrays are written in order
+  // and only in part: populating them gained nothing, nor did populating the scratch buffers of
+  // a first build (which costs more).
   bvh.leafData.prefault(bvh.leafData.size());
 
-  BuildTexelViews texels;
   texels.interior = sc.interiorTexels.handle();
   texels.leaves = sc.leafTexels.handle();
   texels.prims = sc.primTexels.handle();
-  // The scene's triangles and vertices through texel views where their buffers allow them
-  // (gpu::GpuScene's do) and the views reach their ends: bvh_bounds then gathers instead of
-  // looping over the lanes per load.
-  vk::BufferView triangleTexels, vertexTexels;
   constexpr VkBufferUsageFlags kTexelUsage = VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT;
   if ((triangles.usage() & kTexelUsage) && (vertices.usage() & kTexelUsage)) {
     bool coversT = false, coversV = false;
@@ -193,7 +183,6 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
     vertexTexels = vk::BufferView::uintTexels(ctx, vertices, "bvh scene vertex texels", &coversV);
     if (!coversT || !coversV) triangleTexels = vk::BufferView(), vertexTexels = vk::BufferView();
   }
-  BuildArrayBuffers arrays;
   arrays.triangles = vk::BufferRange(triangles, 0, uint64_t(n) * sizeof(gpu::scene::Triangle));
   arrays.vertices = vertices;
   arrays.prims = vk::BufferRange(sc.prims, 0, uint64_t(n) * sizeof(gpu::bvh::BvhLeafTriangle));
@@ -202,198 +191,279 @@ Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
   arrays.nodes = bvh.nodes;
   arrays.leafTriangles = bvh.leafData;
   arrays.traversalNodes = bvh.traversalNodes;
-  // Past one binding, pipelines that reach the arrays by address (made on first need: on
-  // lavapipe an address load costs about twice a binding's, lib/bvh_build_arrays.glsl).
-  const bool byAddress = arrays.pastOneBinding(ctx);
-  if (byAddress && !ctx.caps().bufferDeviceAddress)
-    throw DeviceError("bvh: " + std::to_string(n) + " triangles need arrays past maxStorageBufferRange (" +
-                      std::to_string(ctx.caps().maxStorageBufferRange >> 20) + " MiB), read by device address, which \"" +
-                      ctx.caps().deviceName + "\" lacks (bufferDeviceAddress)");
-  if (byAddress && !addressPasses_) addressPasses_ = std::make_unique<Passes>(ctx, options.treeletLeaves, true);
-  Passes& passes = byAddress ? *addressPasses_ : *passes_;
+  byAddress = arrays.pastOneBinding(ctx);
+  subtreeNodes = vk::BufferRange(sc.keysTmp, 0, 4ull * interiorCount);
+  positions = vk::BufferRange(sc.valuesTmp, 0, 4ull * interiorCount);
+  leafBases = vk::BufferRange(sc.keys, 0, 4ull * interiorCount);
+}
 
-  vk::GpuTimer timer(ctx, 256);
+namespace {
+
+// How one recording makes the hierarchy: by PLOC, then one treelet round over the upper tree,
+// where its greedy merges are weakest; or by LBVH, then treelet rounds.
+struct HierarchyPlan {
+  bool ploc = false;
+  // LBVH: round r restructures the nodes of at least treeletMinTriangles << r triangles.
+  uint32_t treeletRounds = 0, treeletMinTriangles = 0;
+  // PLOC: its iterations, and its treelet round's smallest subtree (0: no round).
+  PlocPass::Iterations plocIterations;
+  uint32_t plocTreeletMinTriangles = 0;
+};
+
+// What the readback of a complete tree says.
+struct BuiltTree {
+  bb::BvhBuildNode root{};
+  uint32_t height = 0, plocIterations = 0;
+};
+
+// Stage 1: the scene is one the device can build.
+void validate(const vk::Context& ctx, const vk::Buffer& triangles, uint32_t n) {
+  if (n == 0) throw InputError("bvh: a scene with no triangles has no BVH");
+  const TriangleLimit limit = triangleLimit(ctx);
+  if (n > limit.triangles)
+    throw DeviceError("bvh: " + std::to_string(n) + " triangles exceed the device's limit of " +
+                      std::to_string(limit.triangles) + " (" + limit.limit + ", " + ctx.caps().deviceName + ")");
+  if (triangles.size() < uint64_t(n) * sizeof(gpu::scene::Triangle))
+    throw DeviceError("bvh: triangle buffer '" + triangles.name() + "' holds fewer than " +
+                      std::to_string(n) + " triangles");
+}
+
+HierarchyPlan firstPlan(const GpuBuildOptions& options, const BuildResources& res) {
+  HierarchyPlan plan;
+  plan.ploc = plocFor(options, res.n, !res.byAddress);
+  plan.treeletRounds = treeletRoundsFor(options, res.n);
+  plan.treeletMinTriangles = options.treeletMinTriangles;
+  if (plan.ploc) {
+    plan.plocIterations = PlocPass::Iterations(res.n, res.ploc->tailClusters);
+    plan.plocTreeletMinTriangles = res.n > 2 ? options.plocTreeletMinTriangles : 0;
+  }
+  return plan;
+}
+
+// Stage 3a: the triangles' bounds and Morton codes, sorted.
+void recordSort(VkCommandBuffer cmd, const BuildResources& res, vk::GpuTimer& timer) {
+  const BuildScratch& sc = res.scratch;
   bb::BvhBuildInfo initial{};
   const float kBig = 3.0e38f;
   initial.centroidMin = glm::uvec4(ordered(kBig), ordered(kBig), ordered(kBig), 0);
   initial.centroidMax = glm::uvec4(ordered(-kBig), ordered(-kBig), ordered(-kBig), 0);
-
-  // The sort's temporary arrays (uint per triangle) are free once it is done: they hold the
-  // subtree node counts (from PLOC on) and positions; its keys hold the leaf bases of the
-  // depth-first order after the hierarchy is made.
-  const vk::BufferRange subtreeNodes(keysTmp, 0, 4ull * interiorCount), positions(valuesTmp, 0, 4ull * interiorCount);
-  bool usePloc = plocFor(options, n, !byAddress);
-  const uint32_t plocLocalRounds = PlocPass::localMergesSupported(ctx) ? options.plocLocalRounds : 0;
-  const uint32_t plocTailClusters = options.plocTailClusters;  // PlocPass refuses more than its tail holds
-  const bool plocTreelets = options.plocTreeletMinTriangles != 0 && n > 2;
-  auto plocArgs = [&]() {
-    if (!passes.ploc) passes.ploc = std::make_unique<PlocPass>(ctx);
-    if (!plocScratch_ || plocScratch_->capacity < n) {
-      plocScratch_.reset();
-      plocScratch_ = std::make_unique<PlocScratch>(ctx, n);
-    }
-    const PlocScratch& ps = *plocScratch_;
-    PlocPass::Args a;
-    a.arrays = &arrays;
-    a.texels = &texels;
-    a.values = vk::BufferRange(values, 0, 4ull * n);
-    for (int k = 0; k < 2; ++k) {
-      a.clusters[k] = &ps.clusters[k];
-      a.clusterTexels[k] = ps.clusterTexels[k].handle();
-    }
-    a.nearest = vk::BufferRange(ps.nearest, 0, 4ull * n);
-    a.partials = ps.partials;
-    a.pairs = ps.pairs;
-    a.nearestTexels = ps.nearestTexels.handle();
-    a.subtreeNodes = subtreeNodes;
-    a.subtreeNodeTexels = sc.keyTmpTexels.handle();
-    a.state = &ps.state;
-    a.triangleCount = n;
-    a.localRounds = plocLocalRounds;
-    a.tailClusters = plocTailClusters;
-    a.tailCapacity = PlocScratch::tailCapacity(n);
-    a.tailScratch = vk::BufferRange(ps.tail, 0, 64ull * a.tailCapacity);
-    return a;
-  };
-
-  // A treelet round over the nodes of at least minTriangles triangles; after PLOC it keeps the
-  // subtree node counts that PLOC's merges made, so no bvh_subtree_count.
-  auto treeletArgs = [&](uint32_t minTriangles) {
-    TreeletPass::Args a{&arrays, &texels, counters, &schedule, nodeList, n, minTriangles};
-    a.subtreeNodes = subtreeNodes;
-    a.subtreeNodeTexels = sc.keyTmpTexels.handle();
-    a.countNodes = usePloc;
-    return a;
-  };
-  auto record = [&](VkCommandBuffer cmd, uint32_t treeletRounds, uint32_t plocIterations) {
-    timer.reset(cmd);
-    vkCmdUpdateBuffer(cmd, info.handle(), 0, sizeof(initial), &initial);
-    vk::transferBarrier(cmd);
-    {
-      vk::TimedScope scope(&timer, cmd, "bvh_bounds");
-      passes.bounds.record(cmd, {&arrays, info, n, triangleTexels.handle(), vertexTexels.handle(), texels.prims});
-    }
-    {
-      vk::TimedScope scope(&timer, cmd, "bvh_morton");
-      passes.morton.record(cmd, {&arrays, &texels, info, keys, values, n});
-    }
-    passes.sort.record(cmd,
-                       {keys, values, keysTmp, valuesTmp, hist, partials, n, sc.keyTexels.handle(),
-                        sc.valueTexels.handle(), sc.keyTmpTexels.handle(), sc.valueTmpTexels.handle()},
-                       &timer);
-    if (usePloc) {
-      const PlocPass::Args a = plocArgs();  // makes the pass on first need: before passes.ploc is read
-      passes.ploc->record(cmd, a, plocIterations, &timer);
-      // One treelet round over the upper tree, where PLOC's greedy merges are weakest.
-      if (plocTreelets)
-        passes.treelet.record(cmd, treeletArgs(options.plocTreeletMinTriangles), &timer);
-    } else {
-      {
-        vk::TimedScope scope(&timer, cmd, "bvh_lbvh");
-        passes.lbvh.record(cmd, {&arrays, &texels, keys, values, sc.keyTexels.handle(), n});
-      }
-      if (n > 1) {
-        vk::TimedScope scope(&timer, cmd, "bvh_refit");
-        passes.refit.record(cmd, {&arrays, &texels, &counters, n});
-      }
-      for (uint32_t round = 0; round < treeletRounds && n > 2; ++round) {
-        // Karras & Aila grow the smallest restructured subtree each round: the bottom levels
-        // improve most in the first round, later rounds polish the upper tree at less cost.
-        passes.treelet.record(cmd, treeletArgs(options.treeletMinTriangles << round), &timer);
-      }
-    }
-    if (n > 1 && !usePloc) {
-      vk::TimedScope scope(&timer, cmd, "bvh_subtree_count");
-      passes.subtreeCount.record(cmd, {&arrays, &texels, counters, subtreeNodes, n});
-    }
-    EmitPass::Args emit{&arrays, &texels, info, counters, sc.slotTexels.handle()};
-    emit.subtreeNodes = subtreeNodes;
-    emit.positions = positions;
-    emit.levelNodes = nodeList;
-    emit.leafBases = vk::BufferRange(keys, 0, 4ull * interiorCount);
-    emit.schedule = &schedule;
-    emit.triangleCount = n;
-    emit.exactNodes = bvh.hasExactNodes;
-    emit.quantizedNodes = bvh.hasQuantizedNodes;
-    passes.emit.record(cmd, emit, &timer);
-  };
-
-  uint32_t rounds = treeletRoundsFor(options, n);
-  // PLOC iterations recorded: those past the last merge still cost their dispatches. Spheres of
-  // 100K, 250K, 500K and 1.05M triangles needed 59, 64, 71 and 82-85, the test meshes of 2,000 at
-  // most 32; a tree left unfinished is rebuilt with twice as many (every iteration merges, so
-  // n - 1 always suffice).
-  // With the tail, the global iterations need only reach plocTailClusters (then they dispatch
-  // nothing) or at most kPlocTailCapacity: on the 1M-triangle bench mesh each left about 0.76 of
-  // the clusters from the eighth on (count 77K after 8, 4949 after 18, 2973 after 20), so
-  // 4 ln(n / tailClusters) + 2 leaves room for meshes that merge more slowly.
-  uint32_t log2n = 0;
-  while ((uint64_t(1) << log2n) < n) ++log2n;
-  uint32_t plocIterations = std::min<uint32_t>(16 + 4 * log2n, n);
-  if (plocTailClusters != 0)
-    plocIterations = std::min<uint32_t>(
-        2 + uint32_t(std::ceil(4.0 * std::log(std::max(1.0, double(n) / plocTailClusters)))), n);
-  bb::BvhBuildNode root{};
-  bb::BvhBuildInfo done{};
-  bb::PlocState plocState{};
-  for (;;) {
-    ctx.submitAndWait([&](VkCommandBuffer cmd) { record(cmd, rounds, plocIterations); });
-    if (usePloc) {
-      plocState = plocScratch_->state.downloadVector<bb::PlocState>(1)[0];
-      const uint32_t left = plocState.count[PlocPass::finalParity(plocLocalRounds, plocIterations)];
-      if (left != 1) {
-        if (plocIterations >= n)
-          throw DeviceError("bvh: PLOC left " + std::to_string(left) + " clusters after " +
-                            std::to_string(plocIterations) + " iterations");
-        plocIterations = std::min(2 * plocIterations, n);
-        continue;
-      }
-    }
-    root = n > 1 ? interior.downloadVector<bb::BvhBuildNode>(1)[0] : leaves.downloadVector<bb::BvhBuildNode>(1)[0];
-    done = info.downloadVector<bb::BvhBuildInfo>(1)[0];
-    uint32_t height = n > 1 ? (root.flags >> bb::kTraversalHeightShift) & bb::kHeightMask : 1;
-    // The LBVH alone has at most 30 + ceil(log2 N) + 1 <= 58 levels (N <= 2^27, the leaf
-    // index field); restructuring or PLOC can deepen it, so a tree past the traversal bound is
-    // rebuilt as a plain LBVH.
-    if (height <= gpu::bvh::kBvhMaxDepth || (rounds == 0 && !usePloc)) {
-      if (height > gpu::bvh::kBvhMaxDepth)
-        throw DeviceError("bvh: tree depth " + std::to_string(height) + " exceeds kBvhMaxDepth");
-      if (stats) {
-        stats->depth = height;
-        stats->treeletRounds = usePloc ? (plocTreelets ? 1 : 0) : rounds;
-        stats->plocIterations = usePloc ? plocState.iterations : 0;
-        stats->plocLocalRounds = usePloc ? plocLocalRounds : 0;
-        stats->plocTailClusters = usePloc ? plocTailClusters : 0;
-      }
-      break;
-    }
-    rounds = 0;
-    usePloc = false;
+  vkCmdUpdateBuffer(cmd, sc.info.handle(), 0, sizeof(initial), &initial);
+  vk::transferBarrier(cmd);
+  BuildPasses& passes = *res.passes;
+  {
+    vk::TimedScope scope(&timer, cmd, "bvh_bounds");
+    passes.bounds.record(cmd, {&res.arrays, sc.info, res.n, res.triangleTexels.handle(), res.vertexTexels.handle(),
+                               res.texels.prims});
   }
-  if (done.leafCounter != n)
-    throw DeviceError("bvh: GPU build placed " + std::to_string(done.leafCounter) + " of " +
-                      std::to_string(n) + " triangles");
-  if (stats) {
-    std::vector<vk::PassTime> perScope = timer.results();
-    stats->passes.clear();
-    stats->totalMs = 0;
-    for (const auto& p : perScope) {
-      auto it = std::find_if(stats->passes.begin(), stats->passes.end(),
-                             [&](const vk::PassTime& q) { return q.name == p.name; });
-      if (it == stats->passes.end())
-        stats->passes.push_back(p);
-      else
-        it->ms += p.ms;
-      stats->totalMs += p.ms;
-    }
-    glm::vec3 d = root.hi - root.lo;
-    double area = 2.0 * (double(d.x) * d.y + double(d.y) * d.z + double(d.z) * d.x);
-    // One triangle: the root node over a single leaf (root.cost is that leaf's).
-    double cost = n > 1 ? root.cost : gpu::bvh::kSahNodeCost * area + root.cost;
-    stats->sahCost = area > 0 ? cost / area : 0.0;
-    stats->scratchBytes = scratchBytes + (usePloc ? plocScratch_->bytes : 0);
+  {
+    vk::TimedScope scope(&timer, cmd, "bvh_morton");
+    passes.morton.record(cmd, {&res.arrays, &res.texels, sc.info, sc.keys, sc.values, res.n});
   }
-  return bvh;
+  passes.sort.record(cmd,
+                     {sc.keys, sc.values, sc.keysTmp, sc.valuesTmp, sc.hist, sc.partials, res.n, sc.keyTexels.handle(),
+                      sc.valueTexels.handle(), sc.keyTmpTexels.handle(), sc.valueTmpTexels.handle()},
+                     &timer);
+}
+
+// A treelet round over the nodes of at least minTriangles triangles; after PLOC it keeps the
+// subtree node counts that PLOC's merges made, so no bvh_subtree_count.
+void recordTreelets(VkCommandBuffer cmd, const BuildResources& res, uint32_t minTriangles, bool afterPloc,
+                    vk::GpuTimer& timer) {
+  const BuildScratch& sc = res.scratch;
+  TreeletPass::Args a{&res.arrays, &res.texels, sc.counters, &sc.schedule, sc.nodeList, res.n, minTriangles};
+  a.subtreeNodes = res.subtreeNodes;
+  a.subtreeNodeTexels = sc.keyTmpTexels.handle();
+  a.countNodes = afterPloc;
+  res.passes->treelet.record(cmd, a, &timer);
+}
+
+// Stage 3b: the hierarchy over the sorted triangles, with its subtree node counts.
+void recordHierarchy(VkCommandBuffer cmd, const BuildResources& res, const HierarchyPlan& plan, vk::GpuTimer& timer) {
+  BuildPasses& passes = *res.passes;
+  const uint32_t n = res.n;
+  if (plan.ploc) {
+    passes.ploc->record(cmd, *res.ploc, plan.plocIterations.count(), &timer);
+    if (plan.plocTreeletMinTriangles != 0) recordTreelets(cmd, res, plan.plocTreeletMinTriangles, true, timer);
+    return;
+  }
+  const BuildScratch& sc = res.scratch;
+  {
+    vk::TimedScope scope(&timer, cmd, "bvh_lbvh");
+    passes.lbvh.record(cmd, {&res.arrays, &res.texels, sc.keys, sc.values, sc.keyTexels.handle(), n});
+  }
+  if (n > 1) {
+    vk::TimedScope scope(&timer, cmd, "bvh_refit");
+    passes.refit.record(cmd, {&res.arrays, &res.texels, &sc.counters, n});
+  }
+  for (uint32_t round = 0; round < plan.treeletRounds && n > 2; ++round) {
+    // Karras & Aila grow the smallest restructured subtree each round: the bottom levels
+    // improve most in the first round, later rounds polish the upper tree at less cost.
+    recordTreelets(cmd, res, plan.treeletMinTriangles << round, false, timer);
+  }
+  if (n > 1) {
+    vk::TimedScope scope(&timer, cmd, "bvh_subtree_count");
+    passes.subtreeCount.record(cmd, {&res.arrays, &res.texels, sc.counters, res.subtreeNodes, n});
+  }
+}
+
+// Stage 4: the traversal nodes (the forms res.bvh holds) and leaf triangles.
+void recordEmit(VkCommandBuffer cmd, const BuildResources& res, vk::GpuTimer& timer) {
+  const BuildScratch& sc = res.scratch;
+  EmitPass::Args emit{&res.arrays, &res.texels, sc.info, sc.counters, sc.slotTexels.handle()};
+  emit.subtreeNodes = res.subtreeNodes;
+  emit.positions = res.positions;
+  emit.levelNodes = sc.nodeList;
+  emit.leafBases = res.leafBases;
+  emit.schedule = &sc.schedule;
+  emit.triangleCount = res.n;
+  emit.exactNodes = res.bvh.hasExactNodes;
+  emit.quantizedNodes = res.bvh.hasQuantizedNodes;
+  res.passes->emit.record(cmd, emit, &timer);
+}
+
+// Stage 5: reads back the recorded tree. Returns it where it is complete and within
+// kBvhMaxDepth; otherwise sets `plan` to what the next recording builds and returns nothing.
+std::optional<BuiltTree> verifyOrRetry(const BuildResources& res, HierarchyPlan& plan) {
+  const uint32_t n = res.n;
+  BuiltTree tree;
+  if (plan.ploc) {
+    const PlocPass::Result ploc = PlocPass::result(*res.ploc, plan.plocIterations.count());
+    if (!plan.plocIterations.complete(ploc.clustersLeft)) return std::nullopt;
+    tree.plocIterations = ploc.iterationsMerged;
+  }
+  const BuildScratch& sc = res.scratch;
+  tree.root = n > 1 ? sc.interior.downloadVector<bb::BvhBuildNode>(1)[0] : sc.leaves.downloadVector<bb::BvhBuildNode>(1)[0];
+  const bb::BvhBuildInfo info = sc.info.downloadVector<bb::BvhBuildInfo>(1)[0];
+  tree.height = n > 1 ? (tree.root.flags >> bb::kTraversalHeightShift) & bb::kHeightMask : 1;
+  // The LBVH alone has at most 30 + ceil(log2 N) + 1 <= 58 levels (N <= 2^27, the leaf index
+  // field); restructuring or PLOC can deepen it, so a tree past the traversal bound is rebuilt
+  // as a plain LBVH.
+  if (tree.height > gpu::bvh::kBvhMaxDepth) {
+    if (plan.ploc || plan.treeletRounds != 0) {
+      plan.ploc = false;
+      plan.treeletRounds = 0;
+      return std::nullopt;
+    }
+    throw DeviceError("bvh: tree depth " + std::to_string(tree.height) + " exceeds kBvhMaxDepth");
+  }
+  if (info.leafCounter != n)
+    throw DeviceError("bvh: GPU build placed " + std::to_string(info.leafCounter) + " of " + std::to_string(n) +
+                      " triangles");
+  return tree;
+}
+
+// Stage 6: the statistics of the build that made `tree` by `plan`.
+BuildStats buildStats(const BuildResources& res, const HierarchyPlan& plan, const BuiltTree& tree,
+                      const vk::GpuTimer& timer) {
+  BuildStats stats;
+  stats.depth = tree.height;
+  stats.treeletRounds = plan.ploc ? (plan.plocTreeletMinTriangles != 0 ? 1 : 0) : plan.treeletRounds;
+  stats.plocIterations = plan.ploc ? tree.plocIterations : 0;
+  stats.plocLocalRounds = plan.ploc ? res.ploc->localRounds : 0;
+  stats.plocTailClusters = plan.ploc ? res.ploc->tailClusters : 0;
+  for (const vk::PassTime& p : timer.results()) {
+    auto it = std::find_if(stats.passes.begin(), stats.passes.end(),
+                           [&](const vk::PassTime& q) { return q.name == p.name; });
+    if (it == stats.passes.end())
+      stats.passes.push_back(p);
+    else
+      it->ms += p.ms;
+    stats.totalMs += p.ms;
+  }
+  const bb::BvhBuildNode& root = tree.root;
+  glm::vec3 d = root.hi - root.lo;
+  double area = 2.0 * (double(d.x) * d.y + double(d.y) * d.z + double(d.z) * d.x);
+  // One triangle: the root node over a single leaf (root.cost is that leaf's).
+  double cost = res.n > 1 ? root.cost : gpu::bvh::kSahNodeCost * area + root.cost;
+  stats.sahCost = area > 0 ? cost / area : 0.0;
+  stats.scratchBytes = res.scratch.bytes + (plan.ploc ? res.plocScratchBytes : 0);
+  return stats;
+}
+
+}  // namespace
+
+Bvh buildGpu(const vk::Context& ctx, const vk::Buffer& vertices, const vk::Buffer& triangles,
+             uint32_t triangleCount, BuildStats* stats) {
+  return GpuBuilder(ctx).build(vertices, triangles, triangleCount, stats);
+}
+
+Bvh buildGpu(const vk::Context& ctx, const vk::Buffer& vertices, const vk::Buffer& triangles,
+             uint32_t triangleCount, const GpuBuildOptions& options, BuildStats* stats, NodeForms forms) {
+  return GpuBuilder(ctx, options).build(vertices, triangles, triangleCount, stats, forms);
+}
+
+GpuBuilder::GpuBuilder(const vk::Context& ctx, const GpuBuildOptions& options)
+    : ctx_(ctx), options_(options), passes_(std::make_unique<BuildPasses>(ctx, options.treeletLeaves, false)) {}
+
+GpuBuilder::~GpuBuilder() = default;
+
+std::unique_ptr<BuildResources> GpuBuilder::allocate(const vk::Buffer& vertices, const vk::Buffer& triangles,
+                                                     uint32_t n, NodeForms forms) const {
+  const vk::Context& ctx = ctx_;
+  if (!scratch_ || scratch_->capacity < n) {
+    scratch_.reset();  // before the next allocation: at most one set of scratch exists
+    scratch_ = std::make_unique<BuildScratch>(ctx, n);
+  }
+  auto resources = std::make_unique<BuildResources>(ctx, *scratch_, vertices, triangles, n, forms);
+  BuildResources& res = *resources;
+  // Past one binding, pipelines that reach the arrays by address (made on first need: on
+  // lavapipe an address load costs about twice a binding's, lib/bvh_build_arrays.glsl).
+  if (res.byAddress && !ctx.caps().bufferDeviceAddress)
+    throw DeviceError("bvh: " + std::to_string(n) + " triangles need arrays past maxStorageBufferRange (" +
+                      std::to_string(ctx.caps().maxStorageBufferRange >> 20) + " MiB), read by device address, which \"" +
+                      ctx.caps().deviceName + "\" lacks (bufferDeviceAddress)");
+  if (res.byAddress && !addressPasses_) addressPasses_ = std::make_unique<BuildPasses>(ctx, options_.treeletLeaves, true);
+  res.passes = res.byAddress ? addressPasses_.get() : passes_.get();
+  if (!plocFor(options_, n, !res.byAddress)) return resources;
+  if (!res.passes->ploc) res.passes->ploc = std::make_unique<PlocPass>(ctx);
+  if (!plocScratch_ || plocScratch_->capacity < n) {
+    plocScratch_.reset();
+    plocScratch_ = std::make_unique<PlocScratch>(ctx, n);
+  }
+  const PlocScratch& ps = *plocScratch_;
+  PlocPass::Args& a = res.ploc.emplace();
+  a.arrays = &res.arrays;
+  a.texels = &res.texels;
+  a.values = vk::BufferRange(scratch_->values, 0, 4ull * n);
+  for (int k = 0; k < 2; ++k) {
+    a.clusters[k] = &ps.clusters[k];
+    a.clusterTexels[k] = ps.clusterTexels[k].handle();
+  }
+  a.nearest = vk::BufferRange(ps.nearest, 0, 4ull * n);
+  a.partials = ps.partials;
+  a.pairs = ps.pairs;
+  a.nearestTexels = ps.nearestTexels.handle();
+  a.subtreeNodes = res.subtreeNodes;
+  a.subtreeNodeTexels = scratch_->keyTmpTexels.handle();
+  a.state = &ps.state;
+  a.triangleCount = n;
+  a.localRounds = PlocPass::localMergesSupported(ctx) ? options_.plocLocalRounds : 0;
+  a.tailClusters = options_.plocTailClusters;  // PlocPass refuses more than its tail holds
+  a.tailCapacity = PlocScratch::tailCapacity(n);
+  a.tailScratch = vk::BufferRange(ps.tail, 0, 64ull * a.tailCapacity);
+  res.plocScratchBytes = ps.bytes;
+  return resources;
+}
+
+Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles, uint32_t triangleCount,
+                      BuildStats* stats, NodeForms forms) const {
+  validate(ctx_, triangles, triangleCount);
+  const std::unique_ptr<BuildResources> resources = allocate(vertices, triangles, triangleCount, forms);
+  BuildResources& res = *resources;
+  HierarchyPlan plan = firstPlan(options_, res);
+  vk::GpuTimer timer(ctx_, 256);
+  std::optional<BuiltTree> tree;
+  while (!tree) {
+    ctx_.submitAndWait([&](VkCommandBuffer cmd) {
+      timer.reset(cmd);
+      recordSort(cmd, res, timer);
+      recordHierarchy(cmd, res, plan, timer);
+      recordEmit(cmd, res, timer);
+    });
+    tree = verifyOrRetry(res, plan);
+  }
+  if (stats) *stats = buildStats(res, plan, *tree, timer);
+  return std::move(res.bvh);
 }
 
 }  // namespace osr::bvh

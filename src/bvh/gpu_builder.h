@@ -93,6 +93,11 @@ Bvh buildGpu(const vk::Context& ctx, const vk::Buffer& vertices, const vk::Buffe
              uint32_t triangleCount, const GpuBuildOptions& options, BuildStats* stats = nullptr,
              NodeForms forms = NodeForms::Traversed);
 
+struct BuildPasses;   // gpu_builder.cpp: the passes, for one way of reaching the arrays
+struct BuildScratch;  // the scratch buffers of a build, and of its PLOC
+struct PlocScratch;
+struct BuildResources;
+
 // Keeps the build's pipelines between builds (creating them compiles every pass, which on
 // lavapipe costs far more than building a small scene), and its scratch buffers, sized for the
 // largest scene built so far (fresh memory costs page faults on a CPU device). Same contract as
@@ -107,14 +112,15 @@ class GpuBuilder {
             BuildStats* stats = nullptr, NodeForms forms = NodeForms::Traversed) const;
 
  private:
-  struct Passes;
-  struct Scratch;
+  // The buffers, views and passes of a build of `triangleCount` triangles; the scratch stays
+  // with the builder for its next build.
+  std::unique_ptr<BuildResources> allocate(const vk::Buffer& vertices, const vk::Buffer& triangles,
+                                           uint32_t triangleCount, NodeForms forms) const;
   const vk::Context& ctx_;
   GpuBuildOptions options_;
-  std::unique_ptr<Passes> passes_;                 // arrays in storage bindings
-  mutable std::unique_ptr<Passes> addressPasses_;  // arrays by device address (scenes past one binding)
-  mutable std::unique_ptr<Scratch> scratch_;
-  struct PlocScratch;
+  std::unique_ptr<BuildPasses> passes_;                 // arrays in storage bindings
+  mutable std::unique_ptr<BuildPasses> addressPasses_;  // arrays by device address (scenes past one binding)
+  mutable std::unique_ptr<BuildScratch> scratch_;
   mutable std::unique_ptr<PlocScratch> plocScratch_;  // made on the first PLOC build
 };
 

@@ -8,10 +8,13 @@
 #include <numeric>
 #include <random>
 
-#include "bvh/build_passes.h"
+#include "bvh/bounds.h"
+#include "bvh/morton.h"
+#include "bvh/radix_sort.h"
+#include "bvh/scan.h"
 #include "bvh/synthetic_mesh.h"
-#include "vk/buffer_view.h"
 #include "common/vk_test.h"
+#include "vk/buffer_view.h"
 
 using namespace osr;
 namespace bb = gpu::bvh_build;

@@ -8,11 +8,11 @@
 #include <memory>
 #include <stdexcept>
 
-#include "bvh/build_passes.h"
 #include "bvh/cpu_builder.h"
 #include "bvh/gpu_builder.h"
 #include "bvh/host_trace.h"
 #include "bvh/node_quantize.h"
+#include "bvh/ploc.h"
 #include "bvh/tree_stats.h"
 #include "bvh_test_util.h"
 #include "common/error.h"
