@@ -423,3 +423,96 @@ TEST_F(GpuBuilder, PlocBuildsSixHundredThousandTriangles) {
   EXPECT_EQ(bad, 0u);
   EXPECT_GT(hit, rays.size() / 4);
 }
+
+namespace {
+
+// `count` small triangles along the x axis at doubling distances (x = 2^k, exact in floats): the
+// cluster nearest each one is the one before it, so PLOC merges one pair per iteration.
+bvh::SyntheticMesh doublingChain(uint32_t count) {
+  bvh::SyntheticMesh m;
+  for (uint32_t k = 0; k < count; ++k) {
+    const float x = std::ldexp(1.0f, int(k)), s = x / 16;
+    const uint32_t base = uint32_t(m.vertices.size());
+    for (glm::vec3 p : {glm::vec3(x, 0, 0), glm::vec3(x + s, s, 0), glm::vec3(x, 0, s)}) {
+      gpu::scene::Vertex v{};
+      v.position = p;
+      v.normal = {0, 0, 1};
+      m.vertices.push_back(v);
+    }
+    m.triangles.push_back({base, base + 1, base + 2, 0});
+  }
+  return m;
+}
+
+}  // namespace
+
+// The build's two retries. A chain that PLOC merges one pair per iteration needs more global
+// iterations than the first recording's estimate (PlocPass::Iterations; without a tail): the
+// build records again with more and makes the tree that the tail makes in one recording. A
+// longer chain gives a PLOC tree deeper than kBvhMaxDepth: the build falls back to a plain LBVH.
+TEST_F(GpuBuilder, PlocRetriesWithMoreIterationsAndFallsBackToLbvhPastMaxDepth) {
+  auto& ctx = test::context();
+  bvh::GpuBuildOptions options;
+  options.hierarchy = bvh::Hierarchy::Ploc;
+  bvh::GpuBuildOptions noTail = options;
+  noTail.plocTailClusters = 0;
+  const bvh::GpuBuilder withTail(ctx, options), globalOnly(ctx, noTail);
+
+  const bvh::SyntheticMesh chain = doublingChain(48);
+  const uint32_t n = uint32_t(chain.triangles.size());
+  ASSERT_LT(bvh::PlocPass::Iterations(n, 0).count(), n - 1);  // the first recording falls short
+  DeviceMesh dm(ctx, chain);
+  bvh::BuildStats retried, tailed;
+  const bvh::Bvh tree = globalOnly.build(dm.vertices, dm.triangles, n, &retried, bvh::NodeForms::Both);
+  const bvh::Bvh reference = withTail.build(dm.vertices, dm.triangles, n, &tailed, bvh::NodeForms::Both);
+  EXPECT_EQ(retried.plocIterations, n - 1);
+  EXPECT_EQ(tailed.plocTailClusters, options.plocTailClusters);
+  const bvh::HostBvh host = bvh::download(tree);
+  EXPECT_EQ(bvh::checkInvariants(host, chain.vertices, chain.triangles), "");
+  EXPECT_EQ(retried.depth, bvh::depth(host));
+  const uint32_t live = liveNodes(tree);
+  EXPECT_EQ(liveNodes(reference), live);
+  EXPECT_EQ(bytes(tree.nodes, live * sizeof(gpu::bvh::BvhNode)), bytes(reference.nodes, live * sizeof(gpu::bvh::BvhNode)));
+  EXPECT_EQ(bytes(tree.leafData, tree.leafData.size()), bytes(reference.leafData, reference.leafData.size()));
+
+  const bvh::SyntheticMesh deep = doublingChain(80);
+  const uint32_t m = uint32_t(deep.triangles.size());
+  DeviceMesh ddm(ctx, deep);
+  for (const bvh::GpuBuilder* builder : {&withTail, &globalOnly}) {
+    bvh::BuildStats stats;
+    const bvh::HostBvh fallback = bvh::download(builder->build(ddm.vertices, ddm.triangles, m, &stats, bvh::NodeForms::Both));
+    EXPECT_EQ(bvh::checkInvariants(fallback, deep.vertices, deep.triangles), "");
+    EXPECT_EQ(stats.plocIterations, 0u);  // the LBVH built the tree that was kept
+    EXPECT_EQ(stats.treeletRounds, 0u);
+    EXPECT_EQ(stats.depth, bvh::depth(fallback));
+    EXPECT_LE(stats.depth, gpu::bvh::kBvhMaxDepth);
+  }
+  // The plain LBVH of the same mesh, built as such: the same tree.
+  bvh::GpuBuildOptions plain;
+  plain.hierarchy = bvh::Hierarchy::Lbvh;
+  plain.treeletRounds = 0;
+  bvh::BuildStats s1, s2;
+  const bvh::Bvh lbvh = bvh::GpuBuilder(ctx, plain).build(ddm.vertices, ddm.triangles, m, &s1, bvh::NodeForms::Both);
+  const bvh::Bvh fellBack = withTail.build(ddm.vertices, ddm.triangles, m, &s2, bvh::NodeForms::Both);
+  const uint32_t liveLbvh = liveNodes(lbvh);
+  EXPECT_EQ(bytes(lbvh.nodes, liveLbvh * sizeof(gpu::bvh::BvhNode)), bytes(fellBack.nodes, liveLbvh * sizeof(gpu::bvh::BvhNode)));
+  std::printf("chain of %u: PLOC %u iterations, depth %u; chain of %u: fallback depth %u\n", n, retried.plocIterations,
+              retried.depth, m, s2.depth);
+}
+
+// PLOC's iteration policy: the first estimate (without and with a tail), then twice as many
+// after a recording that left more than one cluster, up to the triangle count, then a refusal.
+TEST(PlocIterations, GrowUntilEveryMergeFits) {
+  bvh::PlocPass::Iterations global(100, 0);
+  EXPECT_EQ(global.count(), 16u + 4u * 7u);  // 16 + 4 ceil(log2 n)
+  EXPECT_TRUE(global.complete(1));
+  EXPECT_EQ(global.count(), 44u);
+  EXPECT_FALSE(global.complete(5));
+  EXPECT_EQ(global.count(), 88u);
+  EXPECT_FALSE(global.complete(2));
+  EXPECT_EQ(global.count(), 100u);
+  EXPECT_THROW(global.complete(2), DeviceError);
+  EXPECT_EQ(bvh::PlocPass::Iterations(1u << 20, 1024).count(), 30u);  // 2 + ceil(4 ln(n / tail))
+  EXPECT_EQ(bvh::PlocPass::Iterations(500, 1024).count(), 2u);
+  EXPECT_EQ(bvh::PlocPass::Iterations(3, 0).count(), 3u);
+}
