@@ -12,7 +12,7 @@
 // Why: the global iterations pay five dispatches and a compaction through memory for every
 // cluster while the first quarter of the clusters merge; here the bottom of the tree is made
 // from one read and one write per cluster. What it gives up: pairs across a chunk's edges wait
-// for the global iterations (docs/bvh.md, "Eighth session", measures the tree).
+// for the global iterations, which makes the tree worse (docs/bvh.md).
 // Assumes a subgroup's lanes are consecutive invocations (as plocSubgroupIndex does) and the
 // subgroup size is a multiple of kPlocLocalChunk (the builder runs this pass only then).
 // Input: clusters (texels), their build nodes and traversal-node counts (texels), state.count

@@ -7,7 +7,7 @@
 // of clusters and a workgroup scan places them; each invocation then moves its survivors to the
 // other array in order and makes its pairs' parents (plocMergePair). Why: below a few thousand
 // clusters an iteration is a few hundred merges, and the five dispatches it takes cost more
-// than its work (on the 1M-triangle bench mesh, the last 55 of 80 iterations). Its clusters
+// than its work (most of the iterations of a large mesh; docs/bvh.md). Its clusters
 // live in its own scratch (tail clusters: two arrays of param2), copied in first from the
 // cluster array that state.clusterParity names; nodes made here are read back through storage
 // (coherent), never through texels. Leaves state.count[param] = 1 (param: the parity the host

@@ -17,8 +17,8 @@ uint plocChildSubtreeNodes(uint u);     // traversal nodes below build node u (a
 // that both clusters of a pair see, so the least pair is always mutual and every iteration
 // merges. Ties matter where areas are equal (congruent triangles of a tessellation, which boxes
 // quantized to 16 bits made common): broken by index alone, a run of equals merges one pair per
-// iteration (the 1M-triangle bench mesh then took 122 iterations and its tree passed
-// kBvhMaxDepth). A fixed trip count, places past the ends masked: every lane runs the same steps.
+// iteration, and a large mesh's tree passed kBvhMaxDepth. A fixed trip count, places past the
+// ends masked: every lane runs the same steps.
 uint plocNearestNeighbour(uint i, uint count) {
   PlocCluster self = plocSearchCluster(i);
   float best = uintBitsToFloat(0x7f800000u);  // +inf: any neighbour beats it

@@ -211,7 +211,7 @@ bool osrBvhTriangle(OsrBvhRay r, vec3 v0, vec3 v1, vec3 v2, float tMin, float tF
 // a lane that found one keeps walking until it holds a second. Then every lane tests all the
 // triangles it holds in one loop. lavapipe runs a loop body for all 8 lanes while any lane
 // needs it, so intersecting leaves where the walk meets them cost max over lanes of each
-// node's leaf triangles at every node (measured on incoherent rays: 3x the lanes' mean work);
+// node's leaf triangles at every node, several times the lanes' mean work on incoherent rays;
 // gathering them first costs one max per phase.
 //
 // With OSR_BVH_RAY_POOL defined the loop is osrBvhTracePool instead: a lane whose ray is done
@@ -222,8 +222,8 @@ bool osrBvhTriangle(OsrBvhRay r, vec3 v0, vec3 v1, vec3 v2, float tMin, float tF
 //   void osrBvhPoolResult(uint i, bool found, Hit hit); // its result
 // bvhClosestHit and bvhAnyHit stay defined. Both loops are the text of
 // lib/bvh_traverse_loop.glsl. (A more general pool, whose includer made each lane's next ray
-// and took its result in one hook called when half the lanes were idle, measured 10-15%
-// slower here, and the one kernel that tried it, osr_direct, got slower: docs/bvh.md.)
+// and took its result in one hook called when half the lanes were idle, was slower, also in
+// osr_direct, the one kernel that tried it: docs/bvh.md.)
 #ifdef OSR_BVH_RAY_POOL
 struct OsrBvhPoolRayDesc {
   vec3 origin;

@@ -260,26 +260,24 @@ OSR_CONST(uint, kSubtreeCountBindingCount, kSubtreeCountBindingTexels + kBuildTe
 //   bvh_ploc_tail     GpuBuildOptions::plocTailClusters (default 1024): one workgroup runs the
 //                     iterations from PlocState.tailClusters clusters down to the root, in one
 //                     dispatch (below that count the global iterations are dispatches with
-//                     little work each: on the 1M-triangle bench mesh 55 of its 80)
+//                     little work each, most of them on large meshes)
 //   bvh_ploc_root     once, after the iterations: the root swaps places with the node at 0
 // Iterations alternate two cluster arrays and two halves of PlocState (param = parity); an
-// iteration whose count is 1 dispatches no group, so the host records a fixed number of them.
+// iteration whose count is 1 dispatches no group, so the host records a number of them chosen
+// ahead (PlocPass::Iterations) and records again with more if the tree is not complete.
 // A cluster is its box, its build node and its first leaf (the lowest sorted index of its
 // leaves), in two texels. The nearest-neighbour search reads clusters in Morton order, a
 // neighbour's two texels each; compaction moves them; a merge reads its children's other fields
 // from the build nodes. Boxes quantized to 16 or 21 bits per plane (one texel with the node
-// elsewhere) built 10 ms faster on the 1M-triangle bench mesh, but its tree traced coherent rays
-// 5-10% slower.
+// elsewhere) built a little faster but gave trees that traced slower (docs/bvh.md).
 // Interior indices as Karras's LBVH numbers them, so that a node lies near its leaves: a node
 // takes the first leaf of whichever child has the later one, minus 1. Every leaf but leaf 0 is
 // that for exactly one node (follow the subtrees whose first leaf it is up to the largest: that
 // subtree's parent), so the indices are 0 to N-2, each once, and depend only on the tree. The
 // root then swaps places with the node at 0, where the emit passes and the host expect it.
-// The search radius. On the 1M-triangle bench mesh (osr-bench bvh and trace, alternating runs;
-// docs/bvh.md, "Seventh session"): radius 3 gives SAH/CPU-SAH 1.063 against 1.066 for 4, about
-// 10 ms less PLOC time and the same traversal speed; 2 gives 1.070 and traced 5-10% slower; 1
-// gives 1.091, PLOC 45 ms faster, diffuse rays 1-3% slower. Radius 1 for the first 4 to 16
-// iterations only: 1.088-1.094 (the bottom levels decide most of the cost).
+// The search radius: 3 builds as good a tree as 4 in less time, and smaller radii, even for
+// the first iterations only, give trees that trace slower (osr-bench bvh and trace;
+// docs/bvh.md, bench/results/bvh.jsonl and trace.jsonl).
 OSR_CONST(uint, kPlocRadius, 3u);
 OSR_CONST(uint, kPlocBindingClusterTexels, kBuildArrayBindingCount);       // this iteration's
                                                                             // clusters (RGBA32UI)

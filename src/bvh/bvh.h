@@ -58,10 +58,9 @@ struct Bvh {
   uint64_t storageRange = 0;  // the device's maxStorageBufferRange (set by makeTexelViews)
 };
 
-// Whether traversal reads the quantized nodes for a scene of `triangleCount` triangles. Measured
-// on lavapipe (osr-bench trace, diffuse rays): quantized nodes are 8% slower on the reference
-// scenes (86 and 2,380 triangles, whose nodes stay in cache), even at 20K triangles, and 15-20%
-// faster from 150K triangles on (docs/bvh.md).
+// Whether traversal reads the quantized nodes for a scene of `triangleCount` triangles: they
+// trace slower while the exact nodes stay in cache and faster on large scenes, where memory
+// traffic dominates (osr-bench trace; docs/bvh.md, bench/results/trace.jsonl).
 inline constexpr uint32_t kQuantizedTraversalFromTriangles = 16384;
 inline bool quantizedTraversal(uint32_t triangleCount) { return triangleCount >= kQuantizedTraversalFromTriangles; }
 

@@ -9,11 +9,9 @@
 namespace osr::bvh {
 
 // GpuBuildOptions::treeletRounds' default: two rounds for a scene traversed with exact nodes
-// (under kQuantizedTraversalFromTriangles; it builds in a few milliseconds), one above. Measured
-// on lavapipe (docs/bvh.md): the second round lowers SAH/CPU-SAH from 0.987 to 0.928 on room
-// and from 0.990 to 0.928 on cornell, and one-ray incoherent traversal gains 6-7% there (more
-// rounds: no further gain). On the 100K and 1.05M-triangle spheres it lowers SAH by 1.3% and
-// 1.0% for 16% and 13% more build time, with no measurable traversal gain.
+// (under kQuantizedTraversalFromTriangles), one above. A small scene builds in milliseconds and
+// traces faster for the second round; on large meshes it costs build time for no traversal gain
+// (docs/bvh.md, bench/results/bvh.jsonl and trace.jsonl).
 inline constexpr uint32_t kTreeletRoundsAuto = ~0u;
 
 // How the hierarchy is made from the sorted triangles. Lbvh: Karras 2012, then treelet
@@ -25,39 +23,29 @@ enum class Hierarchy { Auto, Lbvh, Ploc };
 struct GpuBuildOptions {
   Hierarchy hierarchy = Hierarchy::Auto;
   // 0: plain LBVH; kTreeletRoundsAuto: treeletRoundsFor's choice. One round keeps most of the
-  // quality on large meshes: on the 1.05M-triangle bench mesh SAH/CPU-SAH is 1.047 with one
-  // round vs 1.033 with three (7-leaf treelets), for less than half of the build time on
-  // lavapipe.
+  // quality on large meshes for a fraction of the build time of more (docs/bvh.md).
   uint32_t treeletRounds = kTreeletRoundsAuto;
-  // Round r restructures the nodes with at least treeletMinTriangles << r triangles. Measured on
-  // the 1.05M-triangle bench mesh (lavapipe): 14 halves the restructuring time (577 -> ~250 ms)
-  // but SAH/CPU-SAH rises from 1.047 to 1.066 and a small mesh gains under 5% over the plain
-  // LBVH, so the default restructures every node that can hold a full treelet.
+  // Round r restructures the nodes with at least treeletMinTriangles << r triangles. The default
+  // restructures every node that can hold a full treelet: skipping the small ones saves build
+  // time but loses most of the SAH gain (docs/bvh.md, bench/results/bvh.jsonl).
   uint32_t treeletMinTriangles = gpu::bvh_build::kTreeletMaxLeaves;
-  // 3..7. 6 rather than 7 (measured on the 1.05M-triangle bench mesh, lavapipe): a third less
-  // restructuring time (444 -> 275 ms), SAH/CPU-SAH 1.056 instead of 1.047.
+  // 3..7. 6 rather than 7: a third less restructuring time for a slightly higher SAH
+  // (docs/bvh.md, bench/results/bvh.jsonl).
   uint32_t treeletLeaves = 6;
   // After PLOC, one treelet round over the nodes of at least this many triangles (0: none).
-  // PLOC's tree alone traced coherent rays 8% slower than the LBVH + treelets tree on the
-  // 1.05M-triangle bench mesh at about the same SAH; restructuring its upper nodes (SAH/CPU-SAH
-  // 1.073 -> 1.066, about 10 ms) closes that
-  // (docs/bvh.md, "Sixth session").
+  // PLOC's greedy merges leave its upper tree weakest, and it traced coherent rays slower than
+  // the LBVH + treelets tree until that round (docs/bvh.md, bench/results/trace.jsonl).
   uint32_t plocTreeletMinTriangles = 512;
   // Rounds of bvh_ploc_local before PLOC's global iterations, each halving the clusters by
   // merges within chunks of 8 in Morton order, in registers (where the device has subgroup
-  // shuffles). None by default: on lavapipe one round built the 1M-triangle bench mesh 15-20 ms
-  // faster (PLOC 157 -> 38 + 105 ms) but its tree (SAH/CPU-SAH 1.063 -> 1.076) traced primary
-  // rays about 9% and diffuse rays 1-12% slower, and a render traces far more rays than it builds
-  // (docs/bvh.md, "Eighth session"). On GPUs, where shuffles are cheap, it may pay: measure with
-  // osr-bench bvh and trace --ploc-local-rounds.
+  // shuffles). None by default: on lavapipe a round builds faster but its tree traces slower, and
+  // a render traces far more rays than it builds (docs/bvh.md). On GPUs, where shuffles are
+  // cheap, it may pay: measure with osr-bench bvh and trace --ploc-local-rounds.
   uint32_t plocLocalRounds = 0;
   // PLOC's global iterations stop at this many clusters or fewer, and bvh_ploc_tail, one
-  // workgroup, runs the rest in one dispatch (0: none; at most kPlocTailCapacity). The
-  // 1M-triangle bench mesh is down to 1024 clusters after about 25 of its 80 iterations; the
-  // other 55 took 5 dispatches each for a few hundred merges. On lavapipe (osr-bench bvh
-  // --ploc-tail-clusters, alternating runs; docs/bvh.md, "Ninth session") the tail takes 2.5 ms
-  // from 1024 clusters, 3.6 from 2048, 5.5 from 4096 and 17 from 16384, and PLOC as a whole
-  // (iterations and tail) was fastest from 1024-2048.
+  // workgroup, runs the rest in one dispatch (0: none; at most kPlocTailCapacity): the last
+  // iterations cost several dispatches each for few merges. PLOC as a whole was fastest with
+  // the tail from 1024-2048 clusters (osr-bench bvh --ploc-tail-clusters; docs/bvh.md).
   uint32_t plocTailClusters = 1024;
 };
 
@@ -69,11 +57,9 @@ inline uint32_t treeletRoundsFor(const GpuBuildOptions& options, uint32_t triang
 }
 
 // Whether a build of `triangleCount` triangles with `options` makes its hierarchy by PLOC (when
-// `fitsOneBinding`: no build array past maxStorageBufferRange). Auto: from kPlocFromTriangles.
-// Measured on lavapipe (osr-bench bvh --hierarchy, alternating runs; docs/bvh.md, "Sixth
-// session"): PLOC built the 1.05M-triangle bench mesh 12% faster than LBVH + treelets (402-435
-// against 472-480 ms), a 500K sphere 3% faster, 250K within noise and 100K 5% slower; the
-// trees trace alike.
+// `fitsOneBinding`: no build array past maxStorageBufferRange). Auto: from kPlocFromTriangles,
+// where PLOC starts to build faster than LBVH + treelets, with trees that trace alike
+// (osr-bench bvh --hierarchy; docs/bvh.md, bench/results/bvh.jsonl).
 inline constexpr uint32_t kPlocFromTriangles = 500000;
 inline bool plocFor(const GpuBuildOptions& options, uint32_t triangleCount, bool fitsOneBinding) {
   if (triangleCount < 2 || !fitsOneBinding) return false;
@@ -83,10 +69,10 @@ inline bool plocFor(const GpuBuildOptions& options, uint32_t triangleCount, bool
 
 // Which node arrays a build writes. Traversed: only the one traversal reads
 // (quantizedTraversal); the other keeps one node of memory, unwritten, so a quantized scene's
-// BVH takes 80 bytes per triangle instead of 144, and writing the unread 64-byte exact nodes was
-// about a third of bvh_emit_nodes on the 1M-triangle mesh (docs/bvh.md). Both: also the other,
-// for bvh::download (statistics, invariant checks, the host tracer read the exact nodes) and for
-// tests that compare the forms.
+// BVH takes 80 bytes per triangle instead of 144, and bvh_emit_nodes skips the unread exact
+// nodes, a large part of its time (docs/bvh.md). Both: also the other, for bvh::download
+// (statistics, invariant checks, the host tracer read the exact nodes) and for tests that
+// compare the forms.
 enum class NodeForms { Traversed, Both };
 
 Bvh buildGpu(const vk::Context& ctx, const vk::Buffer& vertices, const vk::Buffer& triangles,
