@@ -6,8 +6,6 @@
 
 namespace osr::bvh {
 
-namespace bb = gpu::bvh_build;
-using bb::BuildPush;
 using namespace detail;
 
 BoundsPass::BoundsPass(const vk::Context& ctx, bool byAddress) : access_{&ctx, byAddress} {}
@@ -18,9 +16,11 @@ void BoundsPass::record(VkCommandBuffer cmd, const Args& a) const {
   if (!pipeline) {
     std::vector<vk::SpecConstant> spec = arraySpec(access_.byAddress);
     spec.push_back(vk::specUint(bb::kBoundsSpecSceneTexels, sceneTexels ? 1u : 0u));
-    pipeline.emplace(*access_.ctx, shaders::Id::bvh_bounds,
-                     storageAndTexelTypes(bb::kBoundsBindingCount, {bb::kBoundsBindingTriangleTexels, bb::kBoundsBindingVertexTexels}),
-                     sizeof(BuildPush), spec);
+    pipeline.emplace(
+        *access_.ctx, shaders::Id::bvh_bounds,
+        storageAndTexelTypes(bb::kBoundsBindingCount,
+                             {bb::kBoundsBindingTriangleTexels, bb::kBoundsBindingVertexTexels}),
+        sizeof(BuildPush), spec);
   }
   vk::Binder binder(*pipeline);
   BuildPush p = bindArrays(binder, access_, *a.arrays, a.triangleCount, 0);

@@ -26,7 +26,8 @@ class BoundsPass {
 
  private:
   ArrayAccess access_;
-  mutable std::optional<vk::ComputePipeline> pipelines_[2];  // by kBoundsSpecSceneTexels, made on first need
+  mutable std::optional<vk::ComputePipeline>
+      pipelines_[2];  // by kBoundsSpecSceneTexels, made on first need
 };
 
 }  // namespace osr::bvh

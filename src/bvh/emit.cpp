@@ -6,8 +6,6 @@
 
 namespace osr::bvh {
 
-namespace bb = gpu::bvh_build;
-using bb::BuildPush;
 using namespace detail;
 
 namespace {
@@ -24,10 +22,12 @@ EmitPass::EmitPass(const vk::Context& ctx, bool byAddress)
 const vk::ComputePipeline& EmitPass::nodes(uint32_t forms, bool singleTriangle) const {
   std::optional<vk::ComputePipeline>& pipeline = nodes_[forms | (singleTriangle ? 4u : 0u)];
   if (!pipeline) {
-    std::vector<vk::SpecConstant> spec = wordTexelSpec(*access_.ctx, access_.byAddress, bb::kEmitSpecSlotTexels);
+    std::vector<vk::SpecConstant> spec =
+        wordTexelSpec(*access_.ctx, access_.byAddress, bb::kEmitSpecSlotTexels);
     spec.push_back(vk::specUint(bb::kEmitSpecForms, forms));
     spec.push_back(vk::specUint(bb::kEmitSpecSingleTriangle, singleTriangle ? 1u : 0u));
-    pipeline.emplace(*access_.ctx, shaders::Id::bvh_emit_nodes, emitTypes(), sizeof(BuildPush), spec);
+    pipeline.emplace(*access_.ctx, shaders::Id::bvh_emit_nodes, emitTypes(), sizeof(BuildPush),
+                     spec);
   }
   return *pipeline;
 }
@@ -44,14 +44,18 @@ void EmitPass::record(VkCommandBuffer cmd, const Args& a, vk::GpuTimer* timer) c
       bb::LevelList levels[bb::kEmitMaxLevels];
       bb::DispatchArgs args[bb::kEmitMaxLevels];
     } initial{};
-    static_assert(sizeof(Schedule) == bb::kEmitMaxLevels * (sizeof(bb::LevelList) + sizeof(bb::DispatchArgs)));
+    static_assert(sizeof(Schedule) ==
+                  bb::kEmitMaxLevels * (sizeof(bb::LevelList) + sizeof(bb::DispatchArgs)));
     for (bb::DispatchArgs& d : initial.args) d = {0, 1, 1};
     initial.levels[0].count = 1;
     initial.args[0].x = 1;
     vkCmdUpdateBuffer(cmd, a.schedule->handle(), 0, sizeof(initial), &initial);
-    vkCmdFillBuffer(cmd, a.positions.buffer->handle(), a.positions.offset, 4, 0);    // the root's position
-    vkCmdFillBuffer(cmd, a.levelNodes.buffer->handle(), a.levelNodes.offset, 4, 0);  // depth 0: the root
-    vkCmdFillBuffer(cmd, a.leafBases.buffer->handle(), a.leafBases.offset, 4, 0);    // the root's leaf base
+    vkCmdFillBuffer(cmd, a.positions.buffer->handle(), a.positions.offset, 4,
+                    0);  // the root's position
+    vkCmdFillBuffer(cmd, a.levelNodes.buffer->handle(), a.levelNodes.offset, 4,
+                    0);  // depth 0: the root
+    vkCmdFillBuffer(cmd, a.leafBases.buffer->handle(), a.leafBases.offset, 4,
+                    0);  // the root's leaf base
     vk::transferBarrier(cmd);
   }
   BuildPush p{};
@@ -59,7 +63,9 @@ void EmitPass::record(VkCommandBuffer cmd, const Args& a, vk::GpuTimer* timer) c
   auto binder = [&](const vk::ComputePipeline& pipeline) {
     vk::Binder b(pipeline);
     p = bindArrays(b, access_, *a.arrays, a.triangleCount, 0);
-    b.set(bb::kEmitBindingInfo, a.info).set(bb::kEmitBindingSlots, a.slots).setTexel(bb::kEmitBindingSlotTexels, a.slotTexels);
+    b.set(bb::kEmitBindingInfo, a.info)
+        .set(bb::kEmitBindingSlots, a.slots)
+        .setTexel(bb::kEmitBindingSlotTexels, a.slotTexels);
     // One triangle: the order's buffers are unread, and the slots fill their slots.
     b.set(bb::kEmitBindingPositions, ordered ? a.positions : a.slots)
         .set(bb::kEmitBindingSubtreeNodes, ordered ? a.subtreeNodes : a.slots)
@@ -71,7 +77,8 @@ void EmitPass::record(VkCommandBuffer cmd, const Args& a, vk::GpuTimer* timer) c
   };
   {
     vk::TimedScope scope(timer, cmd, "bvh_emit_nodes");
-    const uint32_t forms = (a.exactNodes ? bb::kEmitExactNodes : 0u) | (a.quantizedNodes ? bb::kEmitQuantizedNodes : 0u);
+    const uint32_t forms = (a.exactNodes ? bb::kEmitExactNodes : 0u) |
+                           (a.quantizedNodes ? bb::kEmitQuantizedNodes : 0u);
     const vk::ComputePipeline& pipeline = nodes(forms, !ordered);
     const vk::Binder nodeBinder = binder(pipeline);
     if (!ordered) {

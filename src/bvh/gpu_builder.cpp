@@ -29,8 +29,10 @@ namespace bb = gpu::bvh_build;
 
 namespace {
 
-vk::Buffer scratch(const vk::Context& ctx, uint64_t bytes, const char* name, VkBufferUsageFlags extraUsage = 0) {
-  return vk::Buffer(ctx, std::max<uint64_t>(bytes, 16), vk::MemoryUse::DeviceLocal, name, extraUsage);
+vk::Buffer scratch(const vk::Context& ctx, uint64_t bytes, const char* name,
+                   VkBufferUsageFlags extraUsage = 0) {
+  return vk::Buffer(ctx, std::max<uint64_t>(bytes, 16), vk::MemoryUse::DeviceLocal, name,
+                    extraUsage);
 }
 
 uint32_t ordered(float f) {
@@ -52,8 +54,14 @@ struct BuildPasses {
   EmitPass emit;
   std::unique_ptr<PlocPass> ploc;  // bindings only (plocFor); made on the first PLOC build
   BuildPasses(const vk::Context& ctx, uint32_t treeletLeaves, bool byAddress)
-      : bounds(ctx, byAddress), morton(ctx, byAddress), sort(ctx), lbvh(ctx, byAddress), refit(ctx, byAddress),
-        treelet(ctx, treeletLeaves, byAddress), subtreeCount(ctx, byAddress), emit(ctx, byAddress) {}
+      : bounds(ctx, byAddress),
+        morton(ctx, byAddress),
+        sort(ctx),
+        lbvh(ctx, byAddress),
+        refit(ctx, byAddress),
+        treelet(ctx, treeletLeaves, byAddress),
+        subtreeCount(ctx, byAddress),
+        emit(ctx, byAddress) {}
 };
 
 // The build's scratch buffers for up to `capacity` triangles, and their views. A builder keeps
@@ -61,8 +69,8 @@ struct BuildPasses {
 // part of a first build's CPU time (docs/bvh.md).
 struct BuildScratch {
   uint32_t capacity;
-  vk::Buffer prims, info, keys, keysTmp, values, valuesTmp, hist, partials, interior, leaves, counters, schedule,
-      nodeList;
+  vk::Buffer prims, info, keys, keysTmp, values, valuesTmp, hist, partials, interior, leaves,
+      counters, schedule, nodeList;
   // Of keys, values and their scratch twins for the sort; keys (where the sort leaves them) also
   // for bvh_lbvh.
   vk::BufferView keyTexels, valueTexels, keyTmpTexels, valueTmpTexels;
@@ -73,24 +81,28 @@ struct BuildScratch {
     const uint32_t interiorCount = std::max<uint32_t>(n - 1, 1);
     const uint64_t nodeBytes = sizeof(bb::BvhBuildNode);
     const uint64_t histBytes = RadixSort::histogramBytes(n);
-    prims = scratch(ctx, uint64_t(n) * sizeof(gpu::bvh::BvhLeafTriangle), "bvh prims", BuildTexelViews::kUsage);
+    prims = scratch(ctx, uint64_t(n) * sizeof(gpu::bvh::BvhLeafTriangle), "bvh prims",
+                    BuildTexelViews::kUsage);
     info = scratch(ctx, sizeof(bb::BvhBuildInfo), "bvh build info");
     keys = scratch(ctx, 4ull * n, "bvh keys", RadixSort::kUsage);
     keysTmp = scratch(ctx, 4ull * n, "bvh keys tmp", RadixSort::kUsage);
     values = scratch(ctx, 4ull * n, "bvh values", RadixSort::kUsage);
     valuesTmp = scratch(ctx, 4ull * n, "bvh values tmp", RadixSort::kUsage);
     hist = scratch(ctx, histBytes, "bvh radix histogram");
-    partials = scratch(ctx, ExclusiveScan::partialsBytes(uint32_t(histBytes / 4)), "bvh scan partials");
-    interior = scratch(ctx, interiorCount * nodeBytes, "bvh build interior", BuildTexelViews::kUsage);
+    partials =
+        scratch(ctx, ExclusiveScan::partialsBytes(uint32_t(histBytes / 4)), "bvh scan partials");
+    interior =
+        scratch(ctx, interiorCount * nodeBytes, "bvh build interior", BuildTexelViews::kUsage);
     leaves = scratch(ctx, n * nodeBytes, "bvh build leaves", BuildTexelViews::kUsage);
     // Climb counters of bvh_refit and bvh_subtree_count, then slots of the emit passes.
     counters = scratch(ctx, 4ull * interiorCount, "bvh climb counters", EmitPass::kSlotsUsage);
     // The treelet rounds' schedule, then the emit's (by depth).
-    schedule = scratch(ctx, std::max(TreeletPass::scheduleBytes(), EmitPass::scheduleBytes()), "bvh level schedule");
+    schedule = scratch(ctx, std::max(TreeletPass::scheduleBytes(), EmitPass::scheduleBytes()),
+                       "bvh level schedule");
     // Node lists of the treelet rounds, then of the emit's depths.
     nodeList = scratch(ctx, 4ull * interiorCount, "bvh node list");
-    for (const vk::Buffer* b : {&prims, &info, &keys, &keysTmp, &values, &valuesTmp, &hist, &partials, &interior,
-                                &leaves, &counters, &schedule, &nodeList})
+    for (const vk::Buffer* b : {&prims, &info, &keys, &keysTmp, &values, &valuesTmp, &hist,
+                                &partials, &interior, &leaves, &counters, &schedule, &nodeList})
       bytes += b->size();
     keyTexels = vk::BufferView::uintWords(ctx, keys, "bvh key texels");
     valueTexels = vk::BufferView::uintWords(ctx, values, "bvh value texels");
@@ -121,7 +133,9 @@ struct PlocScratch {
     pairs = scratch(ctx, 16ull * (n / 2 + 1), "bvh ploc pairs");
     state = scratch(ctx, sizeof(bb::PlocState), "bvh ploc state", PlocPass::kStateUsage);
     tail = scratch(ctx, 64ull * tailCapacity(n), "bvh ploc tail clusters");
-    for (const vk::Buffer* b : {&clusters[0], &clusters[1], &nearest, &partials, &pairs, &state, &tail}) bytes += b->size();
+    for (const vk::Buffer* b :
+         {&clusters[0], &clusters[1], &nearest, &partials, &pairs, &state, &tail})
+      bytes += b->size();
   }
 };
 
@@ -132,7 +146,6 @@ struct BuildResources {
                  const vk::Buffer& triangles, uint32_t n, NodeForms forms);
   BuildResources(const BuildResources&) = delete;
   BuildResources& operator=(const BuildResources&) = delete;
-  const vk::Context& ctx;
   const uint32_t n, interiorCount;
   const BuildScratch& scratch;
   Bvh bvh;  // the result
@@ -146,15 +159,16 @@ struct BuildResources {
   // subtree node counts (from PLOC on) and positions; its keys hold the leaf bases of the
   // depth-first order after the hierarchy is made.
   vk::BufferRange subtreeNodes, positions, leafBases;
-  bool byAddress = false;           // arrays past one binding: passes that read them by address
-  BuildPasses* passes = nullptr;    // of byAddress
+  bool byAddress = false;              // arrays past one binding: passes that read them by address
+  BuildPasses* passes = nullptr;       // of byAddress
   std::optional<PlocPass::Args> ploc;  // where the build may use PLOC (plocFor)
   uint64_t plocScratchBytes = 0;
 };
 
-BuildResources::BuildResources(const vk::Context& context, const BuildScratch& sc, const vk::Buffer& vertices,
-                               const vk::Buffer& triangles, uint32_t triangleCount, NodeForms forms)
-    : ctx(context), n(triangleCount), interiorCount(std::max<uint32_t>(triangleCount - 1, 1)), scratch(sc) {
+BuildResources::BuildResources(const vk::Context& ctx, const BuildScratch& sc,
+                               const vk::Buffer& vertices, const vk::Buffer& triangles,
+                               uint32_t triangleCount, NodeForms forms)
+    : n(triangleCount), interiorCount(std::max<uint32_t>(triangleCount - 1, 1)), scratch(sc) {
   const uint64_t nodeBytes = sizeof(bb::BvhBuildNode);
   bvh.nodeCount = interiorCount;
   bvh.triangleCount = n;
@@ -162,10 +176,15 @@ BuildResources::BuildResources(const vk::Context& context, const BuildScratch& s
   bvh.hasExactNodes = forms == NodeForms::Both || !bvh.quantized;
   bvh.hasQuantizedNodes = forms == NodeForms::Both || bvh.quantized;
   // An unwritten form keeps one node of memory: its binding must still be valid.
-  const uint32_t exactNodes = bvh.hasExactNodes ? interiorCount : 1, quantizedNodes = bvh.hasQuantizedNodes ? interiorCount : 1;
-  bvh.nodes = vk::Buffer(ctx, uint64_t(exactNodes) * sizeof(gpu::bvh::BvhNode), vk::MemoryUse::DeviceLocal, "bvh nodes", Bvh::kExtraUsage);
-  bvh.traversalNodes = vk::Buffer(ctx, uint64_t(quantizedNodes) * sizeof(gpu::bvh::BvhTraversalNode), vk::MemoryUse::DeviceLocal, "bvh traversal nodes", Bvh::kExtraUsage);
-  bvh.leafData = vk::Buffer(ctx, uint64_t(n) * sizeof(gpu::bvh::BvhLeafTriangle), vk::MemoryUse::DeviceLocal, "bvh leaf triangles", Bvh::kExtraUsage);
+  const uint32_t exactNodes = bvh.hasExactNodes ? interiorCount : 1,
+                 quantizedNodes = bvh.hasQuantizedNodes ? interiorCount : 1;
+  bvh.nodes = vk::Buffer(ctx, uint64_t(exactNodes) * sizeof(gpu::bvh::BvhNode),
+                         vk::MemoryUse::DeviceLocal, "bvh nodes", Bvh::kExtraUsage);
+  bvh.traversalNodes =
+      vk::Buffer(ctx, uint64_t(quantizedNodes) * sizeof(gpu::bvh::BvhTraversalNode),
+                 vk::MemoryUse::DeviceLocal, "bvh traversal nodes", Bvh::kExtraUsage);
+  bvh.leafData = vk::Buffer(ctx, uint64_t(n) * sizeof(gpu::bvh::BvhLeafTriangle),
+                            vk::MemoryUse::DeviceLocal, "bvh leaf triangles", Bvh::kExtraUsage);
   bvh.makeTexelViews(ctx);
   // bvh_emit_leaves writes every leaf entry, scattered, from every device thread: populated here
   // first, the pass runs faster and steadier (docs/bvh.md). The node arrays are written in order
@@ -179,7 +198,8 @@ BuildResources::BuildResources(const vk::Context& context, const BuildScratch& s
   constexpr VkBufferUsageFlags kTexelUsage = VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT;
   if ((triangles.usage() & kTexelUsage) && (vertices.usage() & kTexelUsage)) {
     bool coversT = false, coversV = false;
-    triangleTexels = vk::BufferView::uintTexels(ctx, triangles, "bvh scene triangle texels", &coversT);
+    triangleTexels =
+        vk::BufferView::uintTexels(ctx, triangles, "bvh scene triangle texels", &coversT);
     vertexTexels = vk::BufferView::uintTexels(ctx, vertices, "bvh scene vertex texels", &coversV);
     if (!coversT || !coversV) triangleTexels = vk::BufferView(), vertexTexels = vk::BufferView();
   }
@@ -222,7 +242,8 @@ void validate(const vk::Context& ctx, const vk::Buffer& triangles, uint32_t n) {
   const TriangleLimit limit = triangleLimit(ctx);
   if (n > limit.triangles)
     throw DeviceError("bvh: " + std::to_string(n) + " triangles exceed the device's limit of " +
-                      std::to_string(limit.triangles) + " (" + limit.limit + ", " + ctx.caps().deviceName + ")");
+                      std::to_string(limit.triangles) + " (" + limit.limit + ", " +
+                      ctx.caps().deviceName + ")");
   if (triangles.size() < uint64_t(n) * sizeof(gpu::scene::Triangle))
     throw DeviceError("bvh: triangle buffer '" + triangles.name() + "' holds fewer than " +
                       std::to_string(n) + " triangles");
@@ -252,25 +273,27 @@ void recordSort(VkCommandBuffer cmd, const BuildResources& res, vk::GpuTimer& ti
   BuildPasses& passes = *res.passes;
   {
     vk::TimedScope scope(&timer, cmd, "bvh_bounds");
-    passes.bounds.record(cmd, {&res.arrays, sc.info, res.n, res.triangleTexels.handle(), res.vertexTexels.handle(),
-                               res.texels.prims});
+    passes.bounds.record(cmd, {&res.arrays, sc.info, res.n, res.triangleTexels.handle(),
+                               res.vertexTexels.handle(), res.texels.prims});
   }
   {
     vk::TimedScope scope(&timer, cmd, "bvh_morton");
     passes.morton.record(cmd, {&res.arrays, &res.texels, sc.info, sc.keys, sc.values, res.n});
   }
   passes.sort.record(cmd,
-                     {sc.keys, sc.values, sc.keysTmp, sc.valuesTmp, sc.hist, sc.partials, res.n, sc.keyTexels.handle(),
-                      sc.valueTexels.handle(), sc.keyTmpTexels.handle(), sc.valueTmpTexels.handle()},
+                     {sc.keys, sc.values, sc.keysTmp, sc.valuesTmp, sc.hist, sc.partials, res.n,
+                      sc.keyTexels.handle(), sc.valueTexels.handle(), sc.keyTmpTexels.handle(),
+                      sc.valueTmpTexels.handle()},
                      &timer);
 }
 
 // A treelet round over the nodes of at least minTriangles triangles; after PLOC it keeps the
 // subtree node counts that PLOC's merges made, so no bvh_subtree_count.
-void recordTreelets(VkCommandBuffer cmd, const BuildResources& res, uint32_t minTriangles, bool afterPloc,
-                    vk::GpuTimer& timer) {
+void recordTreelets(VkCommandBuffer cmd, const BuildResources& res, uint32_t minTriangles,
+                    bool afterPloc, vk::GpuTimer& timer) {
   const BuildScratch& sc = res.scratch;
-  TreeletPass::Args a{&res.arrays, &res.texels, sc.counters, &sc.schedule, sc.nodeList, res.n, minTriangles};
+  TreeletPass::Args a{&res.arrays, &res.texels, sc.counters, &sc.schedule,
+                      sc.nodeList, res.n,       minTriangles};
   a.subtreeNodes = res.subtreeNodes;
   a.subtreeNodeTexels = sc.keyTmpTexels.handle();
   a.countNodes = afterPloc;
@@ -278,18 +301,21 @@ void recordTreelets(VkCommandBuffer cmd, const BuildResources& res, uint32_t min
 }
 
 // Stage 3b: the hierarchy over the sorted triangles, with its subtree node counts.
-void recordHierarchy(VkCommandBuffer cmd, const BuildResources& res, const HierarchyPlan& plan, vk::GpuTimer& timer) {
+void recordHierarchy(VkCommandBuffer cmd, const BuildResources& res, const HierarchyPlan& plan,
+                     vk::GpuTimer& timer) {
   BuildPasses& passes = *res.passes;
   const uint32_t n = res.n;
   if (plan.ploc) {
     passes.ploc->record(cmd, *res.ploc, plan.plocIterations.count(), &timer);
-    if (plan.plocTreeletMinTriangles != 0) recordTreelets(cmd, res, plan.plocTreeletMinTriangles, true, timer);
+    if (plan.plocTreeletMinTriangles != 0)
+      recordTreelets(cmd, res, plan.plocTreeletMinTriangles, true, timer);
     return;
   }
   const BuildScratch& sc = res.scratch;
   {
     vk::TimedScope scope(&timer, cmd, "bvh_lbvh");
-    passes.lbvh.record(cmd, {&res.arrays, &res.texels, sc.keys, sc.values, sc.keyTexels.handle(), n});
+    passes.lbvh.record(cmd,
+                       {&res.arrays, &res.texels, sc.keys, sc.values, sc.keyTexels.handle(), n});
   }
   if (n > 1) {
     vk::TimedScope scope(&timer, cmd, "bvh_refit");
@@ -332,7 +358,8 @@ std::optional<BuiltTree> verifyOrRetry(const BuildResources& res, HierarchyPlan&
     tree.plocIterations = ploc.iterationsMerged;
   }
   const BuildScratch& sc = res.scratch;
-  tree.root = n > 1 ? sc.interior.downloadVector<bb::BvhBuildNode>(1)[0] : sc.leaves.downloadVector<bb::BvhBuildNode>(1)[0];
+  tree.root = n > 1 ? sc.interior.downloadVector<bb::BvhBuildNode>(1)[0]
+                    : sc.leaves.downloadVector<bb::BvhBuildNode>(1)[0];
   const bb::BvhBuildInfo info = sc.info.downloadVector<bb::BvhBuildInfo>(1)[0];
   tree.height = n > 1 ? (tree.root.flags >> bb::kTraversalHeightShift) & bb::kHeightMask : 1;
   // The LBVH alone has at most 30 + ceil(log2 N) + 1 <= 58 levels (N <= 2^27, the leaf index
@@ -347,8 +374,8 @@ std::optional<BuiltTree> verifyOrRetry(const BuildResources& res, HierarchyPlan&
     throw DeviceError("bvh: tree depth " + std::to_string(tree.height) + " exceeds kBvhMaxDepth");
   }
   if (info.leafCounter != n)
-    throw DeviceError("bvh: GPU build placed " + std::to_string(info.leafCounter) + " of " + std::to_string(n) +
-                      " triangles");
+    throw DeviceError("bvh: GPU build placed " + std::to_string(info.leafCounter) + " of " +
+                      std::to_string(n) + " triangles");
   return tree;
 }
 
@@ -357,7 +384,8 @@ BuildStats buildStats(const BuildResources& res, const HierarchyPlan& plan, cons
                       const vk::GpuTimer& timer) {
   BuildStats stats;
   stats.depth = tree.height;
-  stats.treeletRounds = plan.ploc ? (plan.plocTreeletMinTriangles != 0 ? 1 : 0) : plan.treeletRounds;
+  stats.treeletRounds =
+      plan.ploc ? (plan.plocTreeletMinTriangles != 0 ? 1 : 0) : plan.treeletRounds;
   stats.plocIterations = plan.ploc ? tree.plocIterations : 0;
   stats.plocLocalRounds = plan.ploc ? res.ploc->localRounds : 0;
   stats.plocTailClusters = plan.ploc ? res.ploc->tailClusters : 0;
@@ -388,17 +416,21 @@ Bvh buildGpu(const vk::Context& ctx, const vk::Buffer& vertices, const vk::Buffe
 }
 
 Bvh buildGpu(const vk::Context& ctx, const vk::Buffer& vertices, const vk::Buffer& triangles,
-             uint32_t triangleCount, const GpuBuildOptions& options, BuildStats* stats, NodeForms forms) {
+             uint32_t triangleCount, const GpuBuildOptions& options, BuildStats* stats,
+             NodeForms forms) {
   return GpuBuilder(ctx, options).build(vertices, triangles, triangleCount, stats, forms);
 }
 
 GpuBuilder::GpuBuilder(const vk::Context& ctx, const GpuBuildOptions& options)
-    : ctx_(ctx), options_(options), passes_(std::make_unique<BuildPasses>(ctx, options.treeletLeaves, false)) {}
+    : ctx_(ctx),
+      options_(options),
+      passes_(std::make_unique<BuildPasses>(ctx, options.treeletLeaves, false)) {}
 
 GpuBuilder::~GpuBuilder() = default;
 
-std::unique_ptr<BuildResources> GpuBuilder::allocate(const vk::Buffer& vertices, const vk::Buffer& triangles,
-                                                     uint32_t n, NodeForms forms) const {
+std::unique_ptr<BuildResources> GpuBuilder::allocate(const vk::Buffer& vertices,
+                                                     const vk::Buffer& triangles, uint32_t n,
+                                                     NodeForms forms) const {
   const vk::Context& ctx = ctx_;
   if (!scratch_ || scratch_->capacity < n) {
     scratch_.reset();  // before the next allocation: at most one set of scratch exists
@@ -409,10 +441,13 @@ std::unique_ptr<BuildResources> GpuBuilder::allocate(const vk::Buffer& vertices,
   // Past one binding, pipelines that reach the arrays by address (made on first need: on
   // lavapipe an address load costs about twice a binding's, lib/bvh_build_arrays.glsl).
   if (res.byAddress && !ctx.caps().bufferDeviceAddress)
-    throw DeviceError("bvh: " + std::to_string(n) + " triangles need arrays past maxStorageBufferRange (" +
-                      std::to_string(ctx.caps().maxStorageBufferRange >> 20) + " MiB), read by device address, which \"" +
-                      ctx.caps().deviceName + "\" lacks (bufferDeviceAddress)");
-  if (res.byAddress && !addressPasses_) addressPasses_ = std::make_unique<BuildPasses>(ctx, options_.treeletLeaves, true);
+    throw DeviceError("bvh: " + std::to_string(n) +
+                      " triangles need arrays past maxStorageBufferRange (" +
+                      std::to_string(ctx.caps().maxStorageBufferRange >> 20) +
+                      " MiB), read by device address, which \"" + ctx.caps().deviceName +
+                      "\" lacks (bufferDeviceAddress)");
+  if (res.byAddress && !addressPasses_)
+    addressPasses_ = std::make_unique<BuildPasses>(ctx, options_.treeletLeaves, true);
   res.passes = res.byAddress ? addressPasses_.get() : passes_.get();
   if (!plocFor(options_, n, !res.byAddress)) return resources;
   if (!res.passes->ploc) res.passes->ploc = std::make_unique<PlocPass>(ctx);
@@ -445,10 +480,11 @@ std::unique_ptr<BuildResources> GpuBuilder::allocate(const vk::Buffer& vertices,
   return resources;
 }
 
-Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles, uint32_t triangleCount,
-                      BuildStats* stats, NodeForms forms) const {
+Bvh GpuBuilder::build(const vk::Buffer& vertices, const vk::Buffer& triangles,
+                      uint32_t triangleCount, BuildStats* stats, NodeForms forms) const {
   validate(ctx_, triangles, triangleCount);
-  const std::unique_ptr<BuildResources> resources = allocate(vertices, triangles, triangleCount, forms);
+  const std::unique_ptr<BuildResources> resources =
+      allocate(vertices, triangles, triangleCount, forms);
   BuildResources& res = *resources;
   HierarchyPlan plan = firstPlan(options_, res);
   vk::GpuTimer timer(ctx_, 256);

@@ -104,8 +104,9 @@ class GpuBuilder {
                                            uint32_t triangleCount, NodeForms forms) const;
   const vk::Context& ctx_;
   GpuBuildOptions options_;
-  std::unique_ptr<BuildPasses> passes_;                 // arrays in storage bindings
-  mutable std::unique_ptr<BuildPasses> addressPasses_;  // arrays by device address (scenes past one binding)
+  std::unique_ptr<BuildPasses> passes_;  // arrays in storage bindings
+  // Arrays by device address (scenes past one binding), made on first need.
+  mutable std::unique_ptr<BuildPasses> addressPasses_;
   mutable std::unique_ptr<BuildScratch> scratch_;
   mutable std::unique_ptr<PlocScratch> plocScratch_;  // made on the first PLOC build
 };

@@ -4,15 +4,14 @@
 
 namespace osr::bvh {
 
-namespace bb = gpu::bvh_build;
-using bb::BuildPush;
 using namespace detail;
 
 LbvhPass::LbvhPass(const vk::Context& ctx, bool byAddress)
     : access_{&ctx, byAddress},
-      pipeline_(ctx, shaders::Id::bvh_lbvh,
-                wordTexelTypes(bb::kLbvhBindingCount, bb::kLbvhBindingTexels, bb::kLbvhBindingKeyTexels),
-                sizeof(BuildPush), wordTexelSpec(ctx, byAddress, bb::kLbvhSpecKeyTexels)) {}
+      pipeline_(
+          ctx, shaders::Id::bvh_lbvh,
+          wordTexelTypes(bb::kLbvhBindingCount, bb::kLbvhBindingTexels, bb::kLbvhBindingKeyTexels),
+          sizeof(BuildPush), wordTexelSpec(ctx, byAddress, bb::kLbvhSpecKeyTexels)) {}
 
 void LbvhPass::record(VkCommandBuffer cmd, const Args& a) const {
   vk::Binder binder(pipeline_);

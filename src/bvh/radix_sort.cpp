@@ -4,13 +4,12 @@
 
 namespace osr::bvh {
 
-namespace bb = gpu::bvh_build;
-using bb::BuildPush;
 using namespace detail;
 
 namespace {
 std::vector<VkDescriptorType> radixTypes() {
-  return storageAndTexelTypes(bb::kRadixBindingCount, {bb::kRadixBindingKeyTexelsIn, bb::kRadixBindingValueTexelsIn});
+  return storageAndTexelTypes(bb::kRadixBindingCount,
+                              {bb::kRadixBindingKeyTexelsIn, bb::kRadixBindingValueTexelsIn});
 }
 std::vector<vk::SpecConstant> radixSpec(const vk::Context& ctx) {
   return {vk::specUint(bb::kRadixSpecTexels, wordTexelsCoverBindings(ctx) ? 1u : 0u)};
@@ -18,8 +17,10 @@ std::vector<vk::SpecConstant> radixSpec(const vk::Context& ctx) {
 }  // namespace
 
 RadixSort::RadixSort(const vk::Context& ctx)
-    : histogram_(ctx, shaders::Id::bvh_radix_histogram, radixTypes(), sizeof(BuildPush), radixSpec(ctx)),
-      scatter_(ctx, shaders::Id::bvh_radix_scatter, radixTypes(), sizeof(BuildPush), radixSpec(ctx)),
+    : histogram_(ctx, shaders::Id::bvh_radix_histogram, radixTypes(), sizeof(BuildPush),
+                 radixSpec(ctx)),
+      scatter_(ctx, shaders::Id::bvh_radix_scatter, radixTypes(), sizeof(BuildPush),
+               radixSpec(ctx)),
       scan_(ctx) {}
 
 uint64_t RadixSort::histogramBytes(uint32_t count) {
@@ -30,7 +31,8 @@ void RadixSort::record(VkCommandBuffer cmd, const Args& a, vk::GpuTimer* timer) 
   uint32_t chunks = vk::groupCount(a.count, bb::kRadixChunk);
   uint32_t histWords = chunks * bb::kRadixBins;
   vk::BufferRange keys[2] = {a.keys, a.keysTmp}, values[2] = {a.values, a.valuesTmp};
-  VkBufferView keyTexels[2] = {a.keyTexels, a.keyTmpTexels}, valueTexels[2] = {a.valueTexels, a.valueTmpTexels};
+  VkBufferView keyTexels[2] = {a.keyTexels, a.keyTmpTexels},
+               valueTexels[2] = {a.valueTexels, a.valueTmpTexels};
   static_assert((bb::kRadixKeyBits + bb::kRadixBits - 1) / bb::kRadixBits % 2 == 0,
                 "an even number of rounds leaves the result in keys/values");
   int src = 0;

@@ -6,8 +6,6 @@
 
 namespace osr::bvh {
 
-namespace bb = gpu::bvh_build;
-using bb::BuildPush;
 using namespace detail;
 
 ExclusiveScan::ExclusiveScan(const vk::Context& ctx)

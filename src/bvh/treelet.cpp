@@ -8,13 +8,12 @@
 
 namespace osr::bvh {
 
-namespace bb = gpu::bvh_build;
-using bb::BuildPush;
 using namespace detail;
 
 namespace {
 std::vector<VkDescriptorType> treeletTypes() {
-  return wordTexelTypes(bb::kTreeletBindingCount, bb::kTreeletBindingTexels, bb::kTreeletBindingSubtreeNodes + 1);
+  return wordTexelTypes(bb::kTreeletBindingCount, bb::kTreeletBindingTexels,
+                        bb::kTreeletBindingSubtreeNodes + 1);
 }
 }  // namespace
 
@@ -22,7 +21,8 @@ TreeletPass::TreeletPass(const vk::Context& ctx, uint32_t treeletLeaves, bool by
     : access_{&ctx, byAddress},
       count_(ctx, shaders::Id::bvh_treelet_count, treeletTypes(), sizeof(BuildPush),
              texelSpec(ctx, byAddress, climbSpec(ctx, byAddress, 0))),
-      plan_(ctx, shaders::Id::bvh_treelet_plan, treeletTypes(), sizeof(BuildPush), climbSpec(ctx, byAddress, 0)),
+      plan_(ctx, shaders::Id::bvh_treelet_plan, treeletTypes(), sizeof(BuildPush),
+            climbSpec(ctx, byAddress, 0)),
       scatter_(ctx, shaders::Id::bvh_treelet_scatter, treeletTypes(), sizeof(BuildPush),
                texelSpec(ctx, byAddress, climbSpec(ctx, byAddress, 0))),
       treelet_(ctx, shaders::Id::bvh_treelet, treeletTypes(), sizeof(BuildPush),

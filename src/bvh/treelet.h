@@ -22,7 +22,7 @@ class TreeletPass {
     const vk::Buffer* schedule = nullptr;  // scheduleBytes()
     vk::BufferRange nodeList;              // uint per interior node
     uint32_t triangleCount = 0;
-    uint32_t minTriangles = 0;             // smallest subtree restructured
+    uint32_t minTriangles = 0;  // smallest subtree restructured
     // SubtreeCountPass's counts (uint per interior node) and their R32UI view: kept up to date
     // where countNodes (they are complete before the round: after PlocPass), else unread.
     vk::BufferRange subtreeNodes;
