@@ -11,6 +11,7 @@
 #include <string>
 
 #include "bvh/bounds.h"
+#include "bvh/build_scratch.h"
 #include "bvh/bvh.h"
 #include "bvh/emit.h"
 #include "bvh/lbvh.h"
@@ -18,7 +19,6 @@
 #include "bvh/ploc.h"
 #include "bvh/radix_sort.h"
 #include "bvh/refit.h"
-#include "bvh/scan.h"
 #include "bvh/subtree_count.h"
 #include "bvh/treelet.h"
 #include "common/error.h"
@@ -28,12 +28,6 @@ namespace osr::bvh {
 namespace bb = gpu::bvh_build;
 
 namespace {
-
-vk::Buffer scratch(const vk::Context& ctx, uint64_t bytes, const char* name,
-                   VkBufferUsageFlags extraUsage = 0) {
-  return vk::Buffer(ctx, std::max<uint64_t>(bytes, 16), vk::MemoryUse::DeviceLocal, name,
-                    extraUsage);
-}
 
 uint32_t ordered(float f) {
   uint32_t bits;
@@ -62,81 +56,6 @@ struct BuildPasses {
         treelet(ctx, treeletLeaves, byAddress),
         subtreeCount(ctx, byAddress),
         emit(ctx, byAddress) {}
-};
-
-// The build's scratch buffers for up to `capacity` triangles, and their views. A builder keeps
-// them for its next build: on a CPU device fresh memory is faulted in on first touch, a large
-// part of a first build's CPU time (docs/bvh.md).
-struct BuildScratch {
-  uint32_t capacity;
-  vk::Buffer prims, info, keys, keysTmp, values, valuesTmp, hist, partials, interior, leaves,
-      counters, schedule, nodeList;
-  // Of keys, values and their scratch twins for the sort; keys (where the sort leaves them) also
-  // for bvh_lbvh.
-  vk::BufferView keyTexels, valueTexels, keyTmpTexels, valueTmpTexels;
-  vk::BufferView interiorTexels, leafTexels, primTexels, slotTexels;
-  uint64_t bytes = 0;
-
-  BuildScratch(const vk::Context& ctx, uint32_t n) : capacity(n) {
-    const uint32_t interiorCount = std::max<uint32_t>(n - 1, 1);
-    const uint64_t nodeBytes = sizeof(bb::BvhBuildNode);
-    const uint64_t histBytes = RadixSort::histogramBytes(n);
-    prims = scratch(ctx, uint64_t(n) * sizeof(gpu::bvh::BvhLeafTriangle), "bvh prims",
-                    BuildTexelViews::kUsage);
-    info = scratch(ctx, sizeof(bb::BvhBuildInfo), "bvh build info");
-    keys = scratch(ctx, 4ull * n, "bvh keys", RadixSort::kUsage);
-    keysTmp = scratch(ctx, 4ull * n, "bvh keys tmp", RadixSort::kUsage);
-    values = scratch(ctx, 4ull * n, "bvh values", RadixSort::kUsage);
-    valuesTmp = scratch(ctx, 4ull * n, "bvh values tmp", RadixSort::kUsage);
-    hist = scratch(ctx, histBytes, "bvh radix histogram");
-    partials =
-        scratch(ctx, ExclusiveScan::partialsBytes(uint32_t(histBytes / 4)), "bvh scan partials");
-    interior =
-        scratch(ctx, interiorCount * nodeBytes, "bvh build interior", BuildTexelViews::kUsage);
-    leaves = scratch(ctx, n * nodeBytes, "bvh build leaves", BuildTexelViews::kUsage);
-    // Climb counters of bvh_refit and bvh_subtree_count, then slots of the emit passes.
-    counters = scratch(ctx, 4ull * interiorCount, "bvh climb counters", EmitPass::kSlotsUsage);
-    // The treelet rounds' schedule, then the emit's (by depth).
-    schedule = scratch(ctx, std::max(TreeletPass::scheduleBytes(), EmitPass::scheduleBytes()),
-                       "bvh level schedule");
-    // Node lists of the treelet rounds, then of the emit's depths.
-    nodeList = scratch(ctx, 4ull * interiorCount, "bvh node list");
-    for (const vk::Buffer* b : {&prims, &info, &keys, &keysTmp, &values, &valuesTmp, &hist,
-                                &partials, &interior, &leaves, &counters, &schedule, &nodeList})
-      bytes += b->size();
-    keyTexels = vk::BufferView::uintWords(ctx, keys, "bvh key texels");
-    valueTexels = vk::BufferView::uintWords(ctx, values, "bvh value texels");
-    keyTmpTexels = vk::BufferView::uintWords(ctx, keysTmp, "bvh key tmp texels");
-    valueTmpTexels = vk::BufferView::uintWords(ctx, valuesTmp, "bvh value tmp texels");
-    interiorTexels = vk::BufferView::uintTexels(ctx, interior, "bvh interior texels");
-    leafTexels = vk::BufferView::uintTexels(ctx, leaves, "bvh leaf texels");
-    primTexels = vk::BufferView::uintTexels(ctx, prims, "bvh prim texels");
-    slotTexels = vk::BufferView::uintWords(ctx, counters, "bvh emit slot texels");
-  }
-};
-
-// PLOC's scratch (PlocPass::Args) for up to `capacity` triangles, kept like BuildScratch.
-struct PlocScratch {
-  uint32_t capacity;
-  vk::Buffer clusters[2], nearest, partials, pairs, state, tail;
-  vk::BufferView clusterTexels[2], nearestTexels;
-  uint64_t bytes = 0;
-  static uint32_t tailCapacity(uint32_t n) { return std::min(n, bb::kPlocTailCapacity); }
-  PlocScratch(const vk::Context& ctx, uint32_t n) : capacity(n) {
-    for (int k = 0; k < 2; ++k) {
-      clusters[k] = scratch(ctx, 32ull * n, "bvh ploc clusters", PlocPass::kClusterUsage);
-      clusterTexels[k] = vk::BufferView::uintTexels(ctx, clusters[k], "bvh ploc cluster texels");
-    }
-    nearest = scratch(ctx, 4ull * n, "bvh ploc nearest", PlocPass::kClusterUsage);
-    nearestTexels = vk::BufferView::uintWords(ctx, nearest, "bvh ploc nearest texels");
-    partials = scratch(ctx, 8ull * (n + bb::kWorkgroupSize), "bvh ploc partials");
-    pairs = scratch(ctx, 16ull * (n / 2 + 1), "bvh ploc pairs");
-    state = scratch(ctx, sizeof(bb::PlocState), "bvh ploc state", PlocPass::kStateUsage);
-    tail = scratch(ctx, 64ull * tailCapacity(n), "bvh ploc tail clusters");
-    for (const vk::Buffer* b :
-         {&clusters[0], &clusters[1], &nearest, &partials, &pairs, &state, &tail})
-      bytes += b->size();
-  }
 };
 
 // One build's buffers and views, as the stages below hand them to the passes. It points into
@@ -249,6 +168,33 @@ void validate(const vk::Context& ctx, const vk::Buffer& triangles, uint32_t n) {
                       std::to_string(n) + " triangles");
 }
 
+// PLOC's arguments over the build's arrays and PLOC's scratch `ps`.
+PlocPass::Args plocArgs(const vk::Context& ctx, const GpuBuildOptions& options,
+                        const BuildResources& res, const PlocScratch& ps) {
+  const uint32_t n = res.n;
+  PlocPass::Args a;
+  a.arrays = &res.arrays;
+  a.texels = &res.texels;
+  a.values = vk::BufferRange(res.scratch.values, 0, 4ull * n);
+  for (int k = 0; k < 2; ++k) {
+    a.clusters[k] = &ps.clusters[k];
+    a.clusterTexels[k] = ps.clusterTexels[k].handle();
+  }
+  a.nearest = vk::BufferRange(ps.nearest, 0, 4ull * n);
+  a.partials = ps.partials;
+  a.pairs = ps.pairs;
+  a.nearestTexels = ps.nearestTexels.handle();
+  a.subtreeNodes = res.subtreeNodes;
+  a.subtreeNodeTexels = res.scratch.keyTmpTexels.handle();
+  a.state = &ps.state;
+  a.triangleCount = n;
+  a.localRounds = PlocPass::localMergesSupported(ctx) ? options.plocLocalRounds : 0;
+  a.tailClusters = options.plocTailClusters;  // PlocPass refuses more than its tail holds
+  a.tailCapacity = PlocScratch::tailCapacity(n);
+  a.tailScratch = vk::BufferRange(ps.tail, 0, 64ull * a.tailCapacity);
+  return a;
+}
+
 HierarchyPlan firstPlan(const GpuBuildOptions& options, const BuildResources& res) {
   HierarchyPlan plan;
   plan.ploc = plocFor(options, res.n, !res.byAddress);
@@ -292,8 +238,9 @@ void recordSort(VkCommandBuffer cmd, const BuildResources& res, vk::GpuTimer& ti
 void recordTreelets(VkCommandBuffer cmd, const BuildResources& res, uint32_t minTriangles,
                     bool afterPloc, vk::GpuTimer& timer) {
   const BuildScratch& sc = res.scratch;
-  TreeletPass::Args a{&res.arrays, &res.texels, sc.counters, &sc.schedule,
-                      sc.nodeList, res.n,       minTriangles};
+  TreeletPass::Args a{&res.arrays, &res.texels, sc.counters, &sc.schedule, sc.nodeList};
+  a.triangleCount = res.n;
+  a.minTriangles = minTriangles;
   a.subtreeNodes = res.subtreeNodes;
   a.subtreeNodeTexels = sc.keyTmpTexels.handle();
   a.countNodes = afterPloc;
@@ -428,6 +375,8 @@ GpuBuilder::GpuBuilder(const vk::Context& ctx, const GpuBuildOptions& options)
 
 GpuBuilder::~GpuBuilder() = default;
 
+// Stage 2: the scratch (grown where too small), the build's resources over it, and the passes
+// for the way they reach the arrays; PLOC's pass, scratch and arguments where it may build.
 std::unique_ptr<BuildResources> GpuBuilder::allocate(const vk::Buffer& vertices,
                                                      const vk::Buffer& triangles, uint32_t n,
                                                      NodeForms forms) const {
@@ -455,28 +404,8 @@ std::unique_ptr<BuildResources> GpuBuilder::allocate(const vk::Buffer& vertices,
     plocScratch_.reset();
     plocScratch_ = std::make_unique<PlocScratch>(ctx, n);
   }
-  const PlocScratch& ps = *plocScratch_;
-  PlocPass::Args& a = res.ploc.emplace();
-  a.arrays = &res.arrays;
-  a.texels = &res.texels;
-  a.values = vk::BufferRange(scratch_->values, 0, 4ull * n);
-  for (int k = 0; k < 2; ++k) {
-    a.clusters[k] = &ps.clusters[k];
-    a.clusterTexels[k] = ps.clusterTexels[k].handle();
-  }
-  a.nearest = vk::BufferRange(ps.nearest, 0, 4ull * n);
-  a.partials = ps.partials;
-  a.pairs = ps.pairs;
-  a.nearestTexels = ps.nearestTexels.handle();
-  a.subtreeNodes = res.subtreeNodes;
-  a.subtreeNodeTexels = scratch_->keyTmpTexels.handle();
-  a.state = &ps.state;
-  a.triangleCount = n;
-  a.localRounds = PlocPass::localMergesSupported(ctx) ? options_.plocLocalRounds : 0;
-  a.tailClusters = options_.plocTailClusters;  // PlocPass refuses more than its tail holds
-  a.tailCapacity = PlocScratch::tailCapacity(n);
-  a.tailScratch = vk::BufferRange(ps.tail, 0, 64ull * a.tailCapacity);
-  res.plocScratchBytes = ps.bytes;
+  res.ploc = plocArgs(ctx, options_, res, *plocScratch_);
+  res.plocScratchBytes = plocScratch_->bytes;
   return resources;
 }
 

@@ -79,10 +79,10 @@ Bvh buildGpu(const vk::Context& ctx, const vk::Buffer& vertices, const vk::Buffe
              uint32_t triangleCount, const GpuBuildOptions& options, BuildStats* stats = nullptr,
              NodeForms forms = NodeForms::Traversed);
 
-struct BuildPasses;   // gpu_builder.cpp: the passes, for one way of reaching the arrays
-struct BuildScratch;  // the scratch buffers of a build, and of its PLOC
+struct BuildPasses;     // gpu_builder.cpp: the passes, for one way of reaching the arrays
+struct BuildResources;  // gpu_builder.cpp: one build's buffers and views
+struct BuildScratch;    // build_scratch.h: the scratch buffers of a build, and of its PLOC
 struct PlocScratch;
-struct BuildResources;
 
 // Keeps the build's pipelines between builds (creating them compiles every pass, which on
 // lavapipe costs far more than building a small scene), and its scratch buffers, sized for the
