@@ -1,0 +1,175 @@
+#!/usr/bin/python3
+"""The image denoiser's training side, small: the symmetries move colour, albedo, normal and
+target together and leave the (world-space) normals' values alone; a Noise2Noise example's
+input and target are spp-weighted means of disjoint renders; train_denoiser.py --quick trains,
+validates, writes the checkpoint the packer reads and resumes; bad data and options are one
+line, exit 2; make_denoise_data.py --quick renders real interiors with osr-vk and a second run
+renders nothing.
+
+Run by CTest (tools/test_denoiser_training) with OSR_BINARY_DIR naming the build folder.
+"""
+import os
+import subprocess
+import sys
+import tempfile
+import unittest
+from pathlib import Path
+
+import numpy as np
+
+ROOT = Path(__file__).resolve().parents[2]
+TOOLS = ROOT / "tools"
+sys.path.insert(0, str(TOOLS))
+import train_denoiser as td  # noqa: E402
+
+PY = "/usr/bin/python3"
+
+
+def run(cmd, expect=0):
+    r = subprocess.run([str(c) for c in cmd], capture_output=True, text=True, timeout=500)
+    if r.returncode != expect:
+        raise AssertionError(f"{' '.join(map(str, cmd))} exited {r.returncode}, not {expect}:\n{r.stderr[-2000:]}")
+    return r
+
+
+def write_view(folder: Path, name: str, spps, colour_of, albedo, normal) -> None:
+    (folder / name).mkdir(parents=True)
+    for i, spp in enumerate(spps):
+        np.savez(folder / name / f"in_{i}_{spp}.npz", spp=np.int32(spp), seed=np.int64(i), seconds=np.float32(0),
+                 colour=colour_of(i).astype(np.float32), albedo=albedo.astype(np.float16),
+                 normal=normal.astype(np.float16))
+
+
+class Examples(unittest.TestCase):
+    def test_symmetries_move_everything_together_and_keep_normal_values(self):
+        # Colour equals albedo, and a pixel's normal is +X where its albedo is red, +Z where
+        # green: after any crop and symmetry the relations must still hold pixel by pixel, and
+        # the normals must still be exactly +X or +Z (a turned normal would be another vector).
+        size = 32
+        albedo = np.zeros((3, size, size), np.float32)
+        normal = np.zeros((3, size, size), np.float32)
+        yy, xx = np.mgrid[0:size, 0:size]
+        red = (xx < 20) & (yy < 12)
+        albedo[0][red], normal[0][red] = 0.8, 1.0
+        albedo[1][~red], normal[2][~red] = 0.6, 1.0
+        with tempfile.TemporaryDirectory() as tmp:
+            write_view(Path(tmp), "1_c0", [1, 2, 4], lambda i: albedo, albedo, normal)
+            view = td.View(Path(tmp) / "1_c0")
+        data = type("D", (), {})()
+        data.views, data.keys = {"v": view}, ["v"]
+        rng = np.random.default_rng(3)
+        moved = 0
+        for _ in range(12):
+            x, e, target, _ = td.make_batch(data, rng, 2, 24)
+            colour = np.expm1(x[:, 0:3].numpy()) / e.numpy()[:, None, None, None]
+            np.testing.assert_allclose(colour, x[:, 3:6].numpy(), rtol=2e-3, atol=1e-4)
+            np.testing.assert_allclose(target.numpy(), x[:, 3:6].numpy(), rtol=2e-3, atol=1e-4)
+            n = x[:, 6:9].numpy()
+            is_red = x[:, 3].numpy() > 0.5
+            np.testing.assert_array_equal(n[:, 0] > 0.999, is_red)
+            np.testing.assert_array_equal(n[:, 2] > 0.999, ~is_red)
+            np.testing.assert_allclose(np.linalg.norm(n, axis=1), 1.0, atol=1e-3)
+            moved += int(not np.array_equal(is_red[0], red[:24, :24]))
+        self.assertGreater(moved, 0, "no crop or symmetry ever changed the image")
+
+    def test_noise2noise_input_and_target_are_disjoint_weighted_means(self):
+        spps = [1, 2, 4, 8]
+        value = [1.0, 10.0, 100.0, 1000.0]  # render i is the constant value[i]
+        flat = np.zeros((3, 8, 8), np.float32)
+        with tempfile.TemporaryDirectory() as tmp:
+            write_view(Path(tmp), "1_c0", spps, lambda i: np.full((3, 8, 8), value[i]), flat, flat)
+            view = td.View(Path(tmp) / "1_c0")
+        rng = np.random.default_rng(1)
+        seen = set()
+        for _ in range(200):
+            colour, _, _, target, spp = view.example(rng)
+            seen.add(spp)
+            # Recover the subset from the level (binary, as the counts are powers of two).
+            chosen = [i for i in range(4) if spp >> i & 1]
+            rest = [i for i in range(4) if i not in chosen]
+            self.assertTrue(rest, "an input used every render: no target left")
+            self.assertGreaterEqual(sum(spps[i] for i in rest), 0.25 * spp)
+            expect_in = sum(spps[i] * value[i] for i in chosen) / spp
+            expect_t = sum(spps[i] * value[i] for i in rest) / sum(spps[i] for i in rest)
+            self.assertAlmostEqual(float(colour[0, 0, 0]), expect_in, places=2)
+            self.assertAlmostEqual(float(target[0, 0, 0]), expect_t, places=2)
+        self.assertIn(1, seen)
+        self.assertTrue(any(s >= 8 for s in seen), f"only low counts drawn: {sorted(seen)}")
+
+
+class QuickTraining(unittest.TestCase):
+    def test_quick_run_checkpoint_resume(self):
+        import torch
+        from image_unet import ARCHITECTURE, ImageUNet
+        with tempfile.TemporaryDirectory() as tmp:
+            out = Path(tmp) / "run"
+            r = run([PY, TOOLS / "train_denoiser.py", "--out", out, "--quick"])
+            self.assertIn("1 spp: relMSE", r.stderr)
+            best = torch.load(out / "best.pt", map_location="cpu")
+            self.assertEqual(best["architecture"], ARCHITECTURE)
+            for key in ("epoch", "step", "loss", "val_relmse", "val_relmse_1spp", "val_noisy_relmse_1spp"):
+                self.assertIn(key, best)
+            model = ImageUNet(best["base_width"])
+            model.load_state_dict(best["model"])
+            self.assertTrue(all(np.isfinite(v.numpy()).all() for v in best["model"].values()))
+            self.assertEqual(len((out / "train.log").read_text().splitlines()), 1)
+            # Without --resume an existing run is refused; with it, it continues.
+            r = run([PY, TOOLS / "train_denoiser.py", "--out", out, "--quick"], expect=2)
+            self.assertIn("--resume", r.stderr.strip().splitlines()[-1])
+            r = run([PY, TOOLS / "train_denoiser.py", "--out", out, "--quick", "--resume", "--steps", "8"])
+            self.assertIn("resuming", r.stderr)
+            self.assertEqual(torch.load(out / "checkpoint.pt", map_location="cpu")["state"]["step"], 8)
+
+    def test_bad_input_is_one_line(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            t = Path(tmp)
+            td.write_synthetic(t / "a", 1, 2, 16, [1, 2], 0)
+            td.write_synthetic(t / "v", 1, 1, 16, [1], 8)  # the same interiors as a
+            td.write_synthetic(t / "noref", 2, 1, 16, [1], 0)
+            cases = [
+                ([t / "nothing", "--val", t / "v"], "no dataset.json"),
+                ([t / "a", "--val", t / "v"], "also in the training data"),
+                ([t / "a", "--val", t / "noref"], "no view with a reference"),
+                ([t / "a", "--val", t / "v", "--crop", "12"], "--crop"),
+                ([t / "a", "--val", t / "v", "--k", "0"], "--k"),
+            ]
+            for args, mention in cases:
+                with self.subTest(mention=mention):
+                    r = run([PY, TOOLS / "train_denoiser.py", *args, "--out", t / "run", "--steps", "1"], expect=2)
+                    self.assertIn(mention, r.stderr.strip().splitlines()[-1])
+                    self.assertNotIn("Traceback", r.stderr)
+            (t / "a" / "100_c0" / "in_0_1.npz").write_bytes(b"not a zip")
+            r = run([PY, TOOLS / "train_denoiser.py", t / "a", "--val", t / "noref", "--out", t / "run2"], expect=2)
+            self.assertIn("in_0_1.npz", r.stderr.strip().splitlines()[-1])
+
+
+class RealRenders(unittest.TestCase):
+    def test_make_denoise_data_quick(self):
+        osr_vk = Path(os.environ.get("OSR_BINARY_DIR", ROOT / "build")) / "osr-vk"
+        if not osr_vk.is_file():
+            self.skipTest(f"{osr_vk} not built")
+        with tempfile.TemporaryDirectory() as tmp:
+            out = Path(tmp) / "data"
+            r = run([PY, TOOLS / "make_denoise_data.py", out, "--quick", "--osr-vk", osr_vk])
+            self.assertNotIn("osr-vk: validation", r.stderr)  # CTest sets OSR_VALIDATION=1
+            files = sorted(out.glob("*/in_*.npz"))
+            self.assertEqual(len(files), 6)  # 2 views x spp 1, 2, 4
+            stamps = [f.stat().st_mtime_ns for f in files]
+            data = td.Dataset([str(out)])
+            self.assertEqual(len(data.keys), 2)
+            for view in data.views.values():
+                self.assertEqual(view.colour.shape, (3, 3, 32, 32))
+                self.assertGreater(float(view.colour.mean()), 0)
+                self.assertGreater(float(view.albedo.max()), 0)
+                lengths = np.linalg.norm(view.normal[0], axis=0)
+                self.assertGreater(float(np.mean(np.abs(lengths - 1) < 0.05)), 0.5)
+            r = run([PY, TOOLS / "make_denoise_data.py", out, "--quick", "--osr-vk", osr_vk])
+            self.assertEqual([f.stat().st_mtime_ns for f in files], stamps, "a finished render was redone")
+            self.assertIn("0 spp rendered", r.stderr)
+            r = run([PY, TOOLS / "make_denoise_data.py", out, "--size", "30", "--seeds", "1",
+                     "--osr-vk", osr_vk], expect=2)
+            self.assertIn("--size", r.stderr.strip().splitlines()[-1])
+
+
+if __name__ == "__main__":
+    unittest.main()

@@ -1,0 +1,535 @@
+#!/usr/bin/python3
+"""Trains the image denoiser (tools/image_unet.py, "osr_image_unet_v1") on noisy renders.
+
+usage: train_denoiser.py DATA [DATA ...] --val VAL --out RUN [--k 16] [--steps N | --minutes M]
+                         [--resume] [--batch 8] [--crop 64] [--lr 2e-3] [--threads 2] [--quick]
+
+DATA and VAL are make_denoise_data.py folders; VAL holds other interiors than DATA, with
+references (make_denoise_data.py VAL --validation). The run folder RUN gets:
+- checkpoint.pt: model, optimizer, step, elapsed time, written atomically every
+  --checkpoint-s seconds; `--resume` continues from it (without --resume an existing one is
+  refused, so a run is never overwritten by accident);
+- best.pt: the weights with the lowest validation error, as a dict {"model": state_dict,
+  "architecture": "osr_image_unet_v1", "base_width": K, "epoch", "step", "loss",
+  "val_relmse", ...} with the training metadata (the packer's input);
+- train.log: one JSON object per validation (step, epoch, losses, relMSE per input spp,
+  crops/s); eval.json: the last validation of best.pt.
+
+Examples: every render of a view is independent, so a random subset of them, averaged with
+their sample counts as weights, is a noisy input of that many samples, and the others'
+average an independent noisy target with the same expectation (Noise2Noise). The input's
+sample count is drawn log-uniformly over the counts the subsets reach, keeping the target at
+least a quarter of the input's samples; a view with a reference (ref_*.npz) uses it as the
+target instead. Albedo and normal are averaged over the input's renders as the renderer
+averages them. The exposure e is computed on the whole input image (as the renderer does),
+then a random crop (a multiple of 8) is taken and one of the 8 symmetries of the square
+applied to colour, albedo, normal and target alike. Normals are world-space directions:
+turning or mirroring the image does not turn them, so their values are moved with the
+pixels but not changed.
+
+Loss: relative MSE on linear colour scaled by the exposure, mean over pixels and channels of
+(y - t)^2 / (sg(y)^2 + 0.01) with y = expm1(out) / e unclamped (so a pixel whose output starts
+below zero still gets a gradient; the renderer clamps it), t the target and sg no gradient
+(Lehtinen et al. 2018: mean-seeking, so noisy targets train towards their expectation).
+Adam with a cosine learning-rate decay over the budget; gradient norm clipped at 1 (a noisy
+target's rare bright path still makes a large relative loss now and then).
+
+Validation: every view of VAL at each of its input sample counts, the whole image, relMSE
+(epsilon 0.01, linear colour, as `osr-vk compare`) of the network's output (as the renderer
+computes it: output_colour) against the reference, and of the noisy input for comparison.
+best.pt is chosen by the geometric mean over views and sample counts (val_relmse_geomean,
+so 1 spp does not drown the rest); val_relmse is the plain mean.
+
+--quick: a tiny synthetic dataset of its own under RUN/synthetic (DATA and --val may then be
+omitted), K=4, a few steps of 16 x 16 crops: seconds; what tests/tools/test_denoiser_training.py
+runs. Its model is not for shipping.
+"""
+from __future__ import annotations
+
+import argparse
+import itertools
+import json
+import math
+import os
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE))
+from arg_types import positive_float, positive_int  # noqa: E402
+
+RELMSE_EPSILON = 0.01  # as osr-vk compare (src/image/image_metrics.h)
+MIN_TARGET_SHARE = 0.25  # a Noise2Noise target keeps at least this share of the input's spp
+
+
+class DataError(Exception):
+    """A dataset or checkpoint that cannot be used; the message names it."""
+
+
+def git_commit() -> str:
+    try:
+        return subprocess.run(["git", "-C", str(HERE), "rev-parse", "--short", "HEAD"], capture_output=True,
+                              text=True, check=True).stdout.strip()
+    except (OSError, subprocess.CalledProcessError):
+        return "unknown"
+
+
+class View:
+    """One camera view: its independent noisy renders and, where it has one, the reference."""
+
+    def __init__(self, folder: Path) -> None:
+        self.name = folder.name
+        inputs = sorted(folder.glob("in_*.npz"), key=lambda p: int(p.name.split("_")[1]))
+        refs = sorted(folder.glob("ref_*.npz"))
+        if not inputs:
+            raise DataError(f"{folder}: no in_*.npz renders")
+        renders = [self._load(p) for p in inputs]
+        self.spp = np.array([int(r["spp"]) for r in renders], np.int64)
+        self.colour = np.stack([r["colour"] for r in renders])  # R x 3 x H x W float32
+        self.albedo = np.stack([r["albedo"] for r in renders]).astype(np.float32)
+        self.normal = np.stack([r["normal"] for r in renders]).astype(np.float32)
+        self.ref = None
+        self.ref_spp = 0
+        if refs:
+            loaded = [self._load(p) for p in refs]
+            weights = np.array([int(r["spp"]) for r in loaded], np.float64)
+            self.ref = (np.tensordot(weights / weights.sum(), np.stack([r["colour"] for r in loaded]), 1)
+                        .astype(np.float32))
+            self.ref_spp = int(weights.sum())
+        shapes = {a.shape[-2:] for a in (self.colour, self.albedo, self.normal)}
+        if len(shapes) != 1 or (self.ref is not None and self.ref.shape[-2:] not in shapes):
+            raise DataError(f"{folder}: renders of different sizes")
+        self.height, self.width = self.colour.shape[-2:]
+        # The subsets usable as an input: proper (a target is left) unless a reference exists.
+        total = int(self.spp.sum())
+        self.subsets: dict[int, list[tuple[int, ...]]] = {}
+        for n in range(1, len(self.spp) + 1):
+            for s in itertools.combinations(range(len(self.spp)), n):
+                spp = int(self.spp[list(s)].sum())
+                if self.ref is None and total - spp < MIN_TARGET_SHARE * spp:
+                    continue
+                self.subsets.setdefault(spp, []).append(s)
+        self.levels = np.array(sorted(self.subsets), np.int64)
+
+    @staticmethod
+    def _load(path: Path) -> dict:
+        try:
+            with np.load(path) as z:
+                return {k: z[k] for k in ("spp", "colour", "albedo", "normal")}
+        except (OSError, ValueError, KeyError, EOFError) as e:
+            raise DataError(f"{path}: not a make_denoise_data.py render ({e})") from None
+
+    def mean(self, idx: list[int]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """The spp-weighted mean of renders idx: colour, albedo, normal."""
+        w = self.spp[idx].astype(np.float32)
+        w /= w.sum()
+        return tuple(np.tensordot(w, a[idx], 1) for a in (self.colour, self.albedo, self.normal))
+
+    def example(self, rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, int]:
+        """A random (input colour, albedo, normal, target colour, input spp), whole images."""
+        # Log-uniform over the reachable sample counts: the nearest level to exp(u).
+        u = rng.uniform(0, math.log(self.levels[-1] + 0.5))
+        level = int(self.levels[np.abs(np.log(self.levels) - u).argmin()])
+        choices = self.subsets[level]
+        chosen = list(choices[int(rng.integers(len(choices)))])
+        colour, albedo, normal = self.mean(chosen)
+        if self.ref is not None:
+            target = self.ref
+        else:
+            rest = [i for i in range(len(self.spp)) if i not in chosen]
+            target = self.mean(rest)[0]
+        return colour, albedo, normal, target, level
+
+
+class Dataset:
+    """The complete views of make_denoise_data.py folders; reload() picks up views that were
+    completed since (a dataset still being rendered)."""
+
+    def __init__(self, folders: list[str], with_reference: bool = False) -> None:
+        self.folders = [Path(f) for f in folders]
+        self.with_reference = with_reference
+        for f in self.folders:
+            if not (f / "dataset.json").is_file():
+                raise DataError(f"{f}: no dataset.json (not a make_denoise_data.py folder)")
+        self.views: dict[str, View] = {}
+        self.reload()
+
+    def reload(self) -> int:
+        added = 0
+        for folder in self.folders:
+            manifest = json.loads((folder / "dataset.json").read_text())
+            wanted = len(manifest.get("spp_list", [])) or 1
+            for name in sorted(manifest.get("views", {})):
+                key = f"{folder}/{name}"
+                if key in self.views:
+                    continue
+                view_dir = folder / name
+                if len(list(view_dir.glob("in_*.npz"))) < wanted:
+                    continue  # still being rendered
+                if self.with_reference and not any(view_dir.glob("ref_*.npz")):
+                    continue
+                self.views[key] = View(view_dir)
+                added += 1
+        self.keys = sorted(self.views)
+        return added
+
+    def scenes(self) -> set[int]:
+        return {int(Path(k).name.split("_")[0]) for k in self.keys}
+
+    def pixels(self) -> int:
+        return sum(v.height * v.width for v in self.views.values())
+
+
+def symmetry(a: np.ndarray, k: int) -> np.ndarray:
+    """One of the 8 symmetries of the square on the last two axes (k: 0-7). Only pixels move:
+    the caller passes normals through it too, unchanged, since they are world-space."""
+    if k & 4:
+        a = a[..., ::-1]
+    return np.rot90(a, k & 3, axes=(-2, -1))
+
+
+def make_batch(data: Dataset, rng: np.random.Generator, batch: int, crop: int):
+    """(x, e, target) tensors of `batch` random crops, and the mean input spp."""
+    import torch
+    from image_unet import image_exposure, make_input
+    colours, albedos, normals, targets, es, spps = [], [], [], [], [], []
+    for _ in range(batch):
+        view = data.views[data.keys[int(rng.integers(len(data.keys)))]]
+        colour, albedo, normal, target, spp = view.example(rng)
+        es.append(image_exposure(torch.from_numpy(colour)[None]))
+        size = min(crop, view.height, view.width) // 8 * 8
+        y0 = int(rng.integers(view.height - size + 1))
+        x0 = int(rng.integers(view.width - size + 1))
+        k = int(rng.integers(8))
+        window = (slice(None), slice(y0, y0 + size), slice(x0, x0 + size))
+        for out, a in ((colours, colour), (albedos, albedo), (normals, normal), (targets, target)):
+            out.append(np.ascontiguousarray(symmetry(a[window], k)))
+        spps.append(spp)
+    e = torch.cat(es)
+    x, _ = make_input(torch.from_numpy(np.stack(colours)), torch.from_numpy(np.stack(albedos)),
+                      torch.from_numpy(np.stack(normals)), e)
+    return x, e, torch.from_numpy(np.stack(targets)), float(np.mean(spps))
+
+
+def loss_fn(out, e, target):
+    import torch
+    scale = e.view(-1, 1, 1, 1)
+    y = torch.expm1(out)  # exposure-scaled colour, unclamped (see the docstring)
+    t = target * scale
+    return ((y - t) ** 2 / (y.detach() ** 2 + RELMSE_EPSILON)).mean()
+
+
+def relmse(a: np.ndarray, ref: np.ndarray) -> float:
+    return float(np.mean((a.astype(np.float64) - ref) ** 2 / (ref.astype(np.float64) ** 2 + RELMSE_EPSILON)))
+
+
+def denoise(model, colour: np.ndarray, albedo: np.ndarray, normal: np.ndarray) -> np.ndarray:
+    """The network's colour for one whole image (3 x H x W, H and W multiples of 8)."""
+    import torch
+    from image_unet import make_input, output_colour
+    with torch.no_grad():
+        x, e = make_input(*(torch.from_numpy(np.ascontiguousarray(a))[None] for a in (colour, albedo, normal)))
+        return output_colour(model(x), e)[0].numpy()
+
+
+def evaluate(model, val: Dataset) -> dict:
+    """relMSE of the network and of its noisy input against the reference, per input spp."""
+    model.eval()
+    net: dict[int, list[float]] = {}
+    noisy: dict[int, list[float]] = {}
+    for key in val.keys:
+        view = val.views[key]
+        for i, spp in enumerate(view.spp.tolist()):
+            colour, albedo, normal = view.colour[i], view.albedo[i], view.normal[i]
+            net.setdefault(spp, []).append(relmse(denoise(model, colour, albedo, normal), view.ref))
+            noisy.setdefault(spp, []).append(relmse(colour, view.ref))
+    model.train()
+    every = [v for vs in net.values() for v in vs]
+    out = {"val_relmse": float(np.mean(every)),
+           "val_relmse_geomean": float(np.exp(np.mean(np.log(np.maximum(every, 1e-12)))))}
+    for spp in sorted(net):
+        out[f"val_relmse_{spp}spp"] = float(np.mean(net[spp]))
+        out[f"val_noisy_relmse_{spp}spp"] = float(np.mean(noisy[spp]))
+    return out
+
+
+def save_atomic(obj, path: Path) -> None:
+    import torch
+    tmp = path.with_name(path.name + ".tmp")
+    torch.save(obj, tmp)
+    os.replace(tmp, path)
+
+
+def write_synthetic(folder: Path, seed: int, views: int, size: int, spp_list: list[int], ref_spp: int) -> None:
+    """A tiny make_denoise_data.py-shaped dataset of smooth images with Poisson-like noise
+    (--quick and the tests): random boxes of colour, albedo and normal, the colour lit by a
+    smooth gradient, each render its own noise at its sample count."""
+    rng = np.random.default_rng(seed)
+    folder.mkdir(parents=True, exist_ok=True)
+    manifest = {"format": "osr-vk denoise data", "size": size, "spp_list": spp_list, "target_spp": ref_spp,
+                "validation": ref_spp > 0, "synthetic": True, "views": {}}
+    yy, xx = np.mgrid[0:size, 0:size] / size
+    for v in range(views):
+        albedo = np.full((3, size, size), 0.5, np.float32)
+        normal = np.zeros((3, size, size), np.float32)
+        normal[1] = 1
+        for _ in range(4):
+            y0, x0 = rng.integers(0, size - 4, 2)
+            h, w = rng.integers(4, size // 2, 2)
+            albedo[:, y0:y0 + h, x0:x0 + w] = rng.uniform(0.1, 0.9, (3, 1, 1))
+            n = rng.normal(size=3)
+            normal[:, y0:y0 + h, x0:x0 + w] = (n / np.linalg.norm(n))[:, None, None]
+        light = (0.5 + xx + 0.5 * yy).astype(np.float32)
+        clean = albedo * light
+        name = f"{seed * 100 + v}_c0"
+        (folder / name).mkdir(exist_ok=True)
+
+        def write(file: str, spp: int) -> None:
+            noisy = rng.gamma(spp, 1.0 / spp, clean.shape).astype(np.float32) * clean
+            np.savez(folder / name / file, spp=np.int32(spp), seed=np.int64(0), seconds=np.float32(0),
+                     colour=noisy, albedo=albedo.astype(np.float16), normal=normal.astype(np.float16))
+        for i, spp in enumerate(spp_list):
+            write(f"in_{i}_{spp}.npz", spp)
+        if ref_spp:
+            write(f"ref_0_{ref_spp}.npz", ref_spp)
+        manifest["views"][name] = {"seed": seed * 100 + v, "camera": 0, "seconds": 0.0}
+    (folder / "dataset.json").write_text(json.dumps(manifest, indent=1) + "\n")
+
+
+def progress_line(frac: float, step: int, epoch: float, loss: float, rate: float, val: float | None,
+                  remaining: float) -> str:
+    bar = "#" * int(frac * 24) + "-" * (24 - int(frac * 24))
+    v = f" val {val:.4f}" if val is not None else ""
+    return (f"\r[{bar}] {100 * frac:5.1f}% step {step} epoch {epoch:.2f} loss {loss:.4f}{v} "
+            f"{rate:.1f} crops/s, {int(remaining // 60)}:{int(remaining % 60):02d} left ")
+
+
+def main(argv: list[str] | None = None) -> int:
+    p = argparse.ArgumentParser(prog="train_denoiser.py", description=__doc__.split("\n", 2)[2],
+                                formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("data", nargs="*", help="training dataset folders (make_denoise_data.py)")
+    p.add_argument("--val", help="validation folder (other interiors, with references)")
+    p.add_argument("--out", required=True, help="run folder")
+    p.add_argument("--resume", action="store_true", help="continue the run in --out from its checkpoint.pt")
+    p.add_argument("--k", type=positive_int, default=16, help="base width K of the U-Net (default 16)")
+    p.add_argument("--minutes", type=positive_float, default=30.0, help="training time budget (default 30)")
+    p.add_argument("--steps", type=positive_int, help="a budget in steps instead of time")
+    p.add_argument("--batch", type=positive_int, default=8, help="crops per step (default 8)")
+    p.add_argument("--crop", type=positive_int, default=64, help="crop size, a multiple of 8 (default 64)")
+    p.add_argument("--lr", type=positive_float, default=2e-3, help="initial Adam learning rate (default 2e-3)")
+    p.add_argument("--threads", type=positive_int, default=2, help="PyTorch CPU threads (default 2)")
+    p.add_argument("--seed", type=int, default=1, help="seed of initialization and batches (default 1)")
+    p.add_argument("--eval-s", type=positive_float, default=300.0, help="seconds between validations (default 300)")
+    p.add_argument("--checkpoint-s", type=positive_float, default=60.0,
+                   help="seconds between checkpoints (default 60)")
+    p.add_argument("--reload-s", type=positive_float, default=600.0,
+                   help="seconds between looks for newly rendered views in DATA (default 600)")
+    p.add_argument("--quick", action="store_true", help="a tiny synthetic dataset and a few steps (tests)")
+    p.add_argument("--evaluate", metavar="CHECKPOINT",
+                   help="no training: validate this checkpoint on --val, write RUN/eval.json")
+    p.add_argument("--record", metavar="JSON",
+                   help="with --evaluate: also write the checkpoint's metadata and figures here (models/*.json)")
+    args = p.parse_args(argv)
+    if args.crop % 8:
+        p.error(f"argument --crop: must be a multiple of 8, got {args.crop}")
+
+    import torch
+    import image_unet
+    torch.set_num_threads(args.threads)
+    run = Path(args.out)
+    ckpt_path, best_path, log_path = run / "checkpoint.pt", run / "best.pt", run / "train.log"
+    if ckpt_path.is_file() and not args.resume and not args.evaluate:
+        print(f"train_denoiser.py: {ckpt_path} exists: pass --resume to continue it, or another --out",
+              file=sys.stderr)
+        return 2
+    if args.resume and not ckpt_path.is_file():
+        print(f"train_denoiser.py: --resume: {ckpt_path} does not exist", file=sys.stderr)
+        return 2
+    if args.quick:
+        synthetic = run / "synthetic"
+        if not args.data:
+            write_synthetic(synthetic / "train", 1, 4, 32, [1, 2, 4], 0)
+            args.data = [str(synthetic / "train")]
+        if not args.val:
+            write_synthetic(synthetic / "val", 2, 1, 32, [1, 4], 64)
+            args.val = str(synthetic / "val")
+        if args.steps is None:
+            args.steps = 6
+        args.k, args.batch, args.crop = min(args.k, 4), min(args.batch, 2), min(args.crop, 16)
+    if not args.val or not (args.data or args.evaluate):
+        p.error("DATA and --val are required (unless --quick; --evaluate needs only --val)")
+    if args.evaluate:
+        return evaluate_checkpoint(args.evaluate, args.val, run, args.record)
+    train, val = Dataset(args.data), Dataset([args.val], with_reference=True)
+    if not train.keys:
+        raise DataError(f"{', '.join(args.data)}: no complete views yet")
+    if not val.keys:
+        raise DataError(f"{args.val}: no view with a reference (make_denoise_data.py --validation)")
+    overlap = train.scenes() & val.scenes()
+    if overlap:
+        raise DataError(f"{args.val}: interiors {sorted(overlap)} are also in the training data "
+                        "(validation must be other interiors)")
+    run.mkdir(parents=True, exist_ok=True)
+    torch.manual_seed(args.seed)
+    model = image_unet.ImageUNet(args.k)
+    # Start as a mild blur of the input's level: the head's bias at log1p(0.18), the exposure
+    # key, so the first steps do not spend themselves lifting a dark output.
+    with torch.no_grad():
+        head = model.dec0[-1]
+        head.weight.mul_(0.1)
+        head.bias.fill_(math.log1p(image_unet.EXPOSURE_KEY))
+    opt = torch.optim.Adam(model.parameters(), lr=args.lr)
+    state = {"step": 0, "crops": 0, "pixels": 0, "elapsed": 0.0, "best": math.inf}
+    if args.resume:
+        ck = torch.load(ckpt_path, map_location="cpu")
+        if ck.get("base_width") != args.k:
+            raise DataError(f"{ckpt_path}: K={ck.get('base_width')} but --k {args.k}")
+        model.load_state_dict(ck["model"])
+        opt.load_state_dict(ck["optimizer"])
+        state = ck["state"]
+        print(f"train_denoiser.py: resuming {ckpt_path} at step {state['step']} "
+              f"({state['elapsed'] / 60:.1f} min)", file=sys.stderr)
+    meta = {"architecture": image_unet.ARCHITECTURE, "stage": image_unet.STAGE, "base_width": args.k,
+            "inputs": ",".join(image_unet.INPUTS), "input_transform": image_unet.INPUT_TRANSFORM,
+            "loss_kind": "relmse_exposed_n2n", "datasets": ",".join(args.data), "validation": args.val,
+            "batch": args.batch, "crop": args.crop, "lr": args.lr, "git_commit": git_commit(),
+            "quick": bool(args.quick)}
+    print(f"train_denoiser.py: {len(train.keys)} views ({train.pixels() / 1e6:.1f} Mpixel) from "
+          f"{len(train.scenes())} interiors, validation {len(val.keys)} views; K={args.k}", file=sys.stderr)
+    rng = np.random.default_rng(args.seed * 1000003 + state["step"])
+    budget = args.minutes * 60.0
+    start = time.monotonic() - state["elapsed"]
+    last_ckpt = last_eval = last_reload = time.monotonic()
+    window_t, window_n, running = time.monotonic(), 0, None
+    val_err = None
+    model.train()
+
+    def epoch() -> float:
+        return state["pixels"] / max(train.pixels(), 1)
+
+    def checkpoint() -> None:
+        state["elapsed"] = time.monotonic() - start
+        save_atomic({"model": model.state_dict(), "optimizer": opt.state_dict(), "state": state,
+                     "base_width": args.k, "architecture": image_unet.ARCHITECTURE}, ckpt_path)
+
+    def validate() -> dict:
+        nonlocal val_err
+        errors = evaluate(model, val)
+        val_err = errors["val_relmse_geomean"]
+        elapsed = time.monotonic() - start
+        entry = {"step": state["step"], "crops": state["crops"], "epoch": round(epoch(), 3),
+                 "train_loss": running, **errors, "minutes": round(elapsed / 60, 2),
+                 "crops_per_s": round(state["crops"] / max(elapsed, 1e-9), 2), "train_views": len(train.keys)}
+        with open(log_path, "a") as f:
+            f.write(json.dumps(entry) + "\n")
+        if val_err < state["best"]:
+            state["best"] = val_err
+            save_atomic({"model": model.state_dict(), **meta, "epoch": entry["epoch"], "step": state["step"],
+                         "loss": running if running is not None else float("nan"), **errors,
+                         "train_views": len(train.keys), "train_interiors": len(train.scenes()),
+                         "val_views": len(val.keys), "val_ref_spp": min(v.ref_spp for v in val.views.values()),
+                         "train_minutes": entry["minutes"]}, best_path)
+        return errors
+
+    def done_fraction() -> float:
+        if args.steps:
+            return state["step"] / args.steps
+        return (time.monotonic() - start) / budget
+
+    while True:
+        elapsed = time.monotonic() - start
+        frac = done_fraction()
+        if frac >= 1.0:
+            break
+        for group in opt.param_groups:  # cosine decay over the budget
+            group["lr"] = args.lr * 0.5 * (1 + math.cos(math.pi * frac))
+        x, e, target, _ = make_batch(train, rng, args.batch, args.crop)
+        loss = loss_fn(model(x), e, target)
+        opt.zero_grad()
+        loss.backward()
+        torch.nn.utils.clip_grad_norm_(model.parameters(), 1.0)
+        opt.step()
+        state["step"] += 1
+        state["crops"] += args.batch
+        state["pixels"] += x.shape[0] * x.shape[2] * x.shape[3]
+        window_n += args.batch
+        running = float(loss) if running is None else 0.98 * running + 0.02 * float(loss)
+        now = time.monotonic()
+        if now - last_reload >= args.reload_s:
+            added = train.reload()
+            if added:
+                print(f"\ntrain_denoiser.py: {added} newly rendered views, {len(train.keys)} in all",
+                      file=sys.stderr)
+            last_reload = time.monotonic()
+        if now - last_eval >= args.eval_s:
+            validate()
+            last_eval = time.monotonic()
+        if now - last_ckpt >= args.checkpoint_s:
+            checkpoint()
+            last_ckpt = time.monotonic()
+        if state["step"] % 5 == 0:
+            rate = window_n / max(now - window_t, 1e-9)
+            if now - window_t > 30:
+                window_t, window_n = now, 0
+            left = elapsed * (1 - frac) / max(frac, 1e-9)
+            sys.stderr.write(progress_line(frac, state["step"], epoch(), running, rate, val_err, left))
+            sys.stderr.flush()
+    validate()
+    checkpoint()
+    sys.stderr.write("\n")
+    print(f"train_denoiser.py: {state['step']} steps ({epoch():.1f} epochs) in "
+          f"{(time.monotonic() - start) / 60:.1f} min", file=sys.stderr)
+    return evaluate_checkpoint(str(best_path), args.val, run)
+    return 0
+
+
+def evaluate_checkpoint(path: str, val_folder: str, run: Path, record_path: str | None = None) -> int:
+    """Validates the checkpoint at path on every referenced view of val_folder (references as
+    they are now), prints relMSE per input spp beside the noisy input's, writes run/eval.json
+    and, with record_path, the checkpoint's scalar metadata with these figures there."""
+    import torch
+    import image_unet
+    try:
+        ck = torch.load(path, map_location="cpu")
+        model = image_unet.ImageUNet(image_unet.base_width(ck["model"]))
+        model.load_state_dict(ck["model"])
+    except Exception as e:  # torch raises many kinds for a file that is not a checkpoint
+        raise DataError(f"{path}: not an image denoiser checkpoint ({type(e).__name__})") from None
+    val = Dataset([val_folder], with_reference=True)
+    if not val.keys:
+        raise DataError(f"{val_folder}: no view with a reference (make_denoise_data.py --validation)")
+    final = evaluate(model, val)
+    run.mkdir(parents=True, exist_ok=True)
+    record = {"checkpoint": path, "step": ck.get("step"), "val_views": len(val.keys),
+              "val_ref_spp": min(v.ref_spp for v in val.views.values()), **final}
+    (run / "eval.json").write_text(json.dumps(record, indent=1) + "\n")
+    if record_path:
+        meta = {k: v for k, v in ck.items() if isinstance(v, (int, float, str, bool)) and not k.startswith("val_")}
+        meta.pop("datasets", None), meta.pop("validation", None)  # this machine's paths
+        Path(record_path).write_text(json.dumps({**meta, "evaluation": {k: v for k, v in record.items()
+                                                                        if k != "checkpoint"}},
+                                                indent=1) + "\n")
+    for key in sorted((k for k in final if k.startswith("val_relmse_") and k.endswith("spp")),
+                      key=lambda k: int(k[len("val_relmse_"):-3])):
+        spp = key[len("val_relmse_"):-3]
+        print(f"train_denoiser.py: {spp} spp: relMSE {final[key]:.5f} (noisy input "
+              f"{final[f'val_noisy_relmse_{spp}spp']:.5f}), {len(val.keys)} views, reference "
+              f"{record['val_ref_spp']} spp", file=sys.stderr)
+    return 0
+
+
+def run_main(argv: list[str] | None = None) -> int:
+    """main() with the user's mistakes as one line and exit code 2."""
+    try:
+        return main(argv)
+    except DataError as e:
+        print(f"train_denoiser.py: {e}", file=sys.stderr)
+        return 2
+
+
+if __name__ == "__main__":
+    sys.exit(run_main())
