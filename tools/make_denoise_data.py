@@ -182,10 +182,11 @@ def main(argv: list[str] | None = None) -> int:
                      "validation": bool(args.validation)})
     views = manifest.setdefault("views", {})
     # Camera-major order: every interior's first view comes before any second view, so data
-    # stopped early still spans all the interiors it reached.
-    order = [(cam, seed) for cam in range(args.cameras) for seed in seeds]
-    start_all, done = time.monotonic(), 0
-    for n, (cam, seed) in enumerate(order):
+    # stopped early still spans all the interiors it reached. The references come after every
+    # view's inputs, one chunk of each view in turn, so a stopped run leaves every view with a
+    # reference of some samples rather than some views with none.
+    inputs, chunks = [], []
+    for cam, seed in [(cam, seed) for cam in range(args.cameras) for seed in seeds]:
         scene_dir = scenes / str(seed)
         if not (scene_dir / "scene.json").is_file():
             make_scene(seed, scene_dir, max(3, args.cameras))
@@ -193,25 +194,32 @@ def main(argv: list[str] | None = None) -> int:
         if cam >= info["cameras"]:
             continue
         name = f"{seed}_c{cam}"
-        view = out / name
-        view.mkdir(exist_ok=True)
-        entry = views.setdefault(name, {"seed": seed, "camera": cam, "seconds": 0.0})
-        for file, spp, render_seed in view_jobs(seed, cam, args.spp_list, args.target_spp):
-            if (view / file).is_file():
+        (out / name).mkdir(exist_ok=True)
+        views.setdefault(name, {"seed": seed, "camera": cam, "seconds": 0.0})
+        jobs = view_jobs(seed, cam, args.spp_list, args.target_spp)
+        inputs.append([(name, scene_dir, info, cam, job) for job in jobs[:len(args.spp_list)]])
+        chunks.append([(name, scene_dir, info, cam, job) for job in jobs[len(args.spp_list):]])
+    groups = inputs + [[c[k] for c in chunks if k < len(c)] for k in range(max(map(len, chunks), default=0))]
+    start_all, done = time.monotonic(), 0
+    for n, group in enumerate(groups):
+        for name, scene_dir, info, cam, (file, spp, render_seed) in group:
+            if (out / name / file).is_file():
                 continue
             try:
-                entry["seconds"] = round(entry["seconds"] + render(args.osr_vk, scene_dir, info.get("env"), cam,
-                                                                   args.size, spp, render_seed, view / file), 2)
+                seconds = render(args.osr_vk, scene_dir, info.get("env"), cam, args.size, spp, render_seed,
+                                 out / name / file)
             except DataError as e:
                 print(f"make_denoise_data.py: {e}", file=sys.stderr)
                 return 2
+            views[name]["seconds"] = round(views[name]["seconds"] + seconds, 2)
             done += spp
             tmp = manifest_path.with_suffix(".json.tmp")
             tmp.write_text(json.dumps(manifest, indent=1) + "\n")
             os.replace(tmp, manifest_path)
         elapsed = time.monotonic() - start_all
-        left = elapsed / (n + 1) * (len(order) - n - 1)
-        print(f"make_denoise_data.py: {name} done ({n + 1}/{len(order)}), {done} spp rendered in "
+        left = elapsed / (n + 1) * (len(groups) - n - 1)
+        what = group[0][0] if n < len(inputs) else f"reference chunk {n - len(inputs) + 1}"
+        print(f"make_denoise_data.py: {what} done ({n + 1}/{len(groups)}), {done} spp rendered in "
               f"{elapsed / 60:.1f} min, about {left / 60:.0f} min left", file=sys.stderr, flush=True)
     tmp = manifest_path.with_suffix(".json.tmp")
     tmp.write_text(json.dumps(manifest, indent=1) + "\n")

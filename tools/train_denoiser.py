@@ -84,7 +84,14 @@ class View:
     def __init__(self, folder: Path) -> None:
         self.name = folder.name
         inputs = sorted(folder.glob("in_*.npz"), key=lambda p: int(p.name.split("_")[1]))
-        refs = sorted(folder.glob("ref_*.npz"))
+        # One file per reference chunk: a chunk rendered again with more samples (a larger
+        # --target-spp) has the same seed, so only the larger of the two counts.
+        refs_by_chunk: dict[int, Path] = {}
+        for ref in folder.glob("ref_*.npz"):
+            k, n = (int(t) for t in ref.stem.split("_")[1:3])
+            if k not in refs_by_chunk or n > int(refs_by_chunk[k].stem.split("_")[2]):
+                refs_by_chunk[k] = ref
+        refs = [refs_by_chunk[k] for k in sorted(refs_by_chunk)]
         if not inputs:
             raise DataError(f"{folder}: no in_*.npz renders")
         renders = [self._load(p) for p in inputs]
