@@ -32,7 +32,9 @@ Loss: relative MSE on linear colour scaled by the exposure, mean over pixels and
 below zero still gets a gradient; the renderer clamps it), t the target and sg no gradient
 (Lehtinen et al. 2018: mean-seeking, so noisy targets train towards their expectation).
 Adam with a cosine learning-rate decay over the budget; gradient norm clipped at 1 (a noisy
-target's rare bright path still makes a large relative loss now and then).
+target's rare bright path still makes a large relative loss now and then). The noisy targets
+make single steps noisy too, so the weights validated and saved are a running average
+(--ema, 0.99 per step: about the last hundred steps).
 
 Validation: every view of VAL at each of its input sample counts, the whole image, relMSE
 (epsilon 0.01, linear colour, as `osr-vk compare`) of the network's output (as the renderer
@@ -329,6 +331,8 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--crop", type=positive_int, default=64, help="crop size, a multiple of 8 (default 64)")
     p.add_argument("--lr", type=positive_float, default=2e-3, help="initial Adam learning rate (default 2e-3)")
     p.add_argument("--threads", type=positive_int, default=2, help="PyTorch CPU threads (default 2)")
+    p.add_argument("--ema", type=float, default=0.99,
+                   help="decay of the weights' running average, which is validated and saved (default 0.99)")
     p.add_argument("--seed", type=int, default=1, help="seed of initialization and batches (default 1)")
     p.add_argument("--eval-s", type=positive_float, default=300.0, help="seconds between validations (default 300)")
     p.add_argument("--checkpoint-s", type=positive_float, default=60.0,
@@ -343,6 +347,8 @@ def main(argv: list[str] | None = None) -> int:
     args = p.parse_args(argv)
     if args.crop % 8:
         p.error(f"argument --crop: must be a multiple of 8, got {args.crop}")
+    if not 0 <= args.ema < 1:
+        p.error(f"argument --ema: must be in [0, 1), got {args.ema}")
 
     import torch
     import image_unet
@@ -367,6 +373,7 @@ def main(argv: list[str] | None = None) -> int:
         if args.steps is None:
             args.steps = 6
         args.k, args.batch, args.crop = min(args.k, 4), min(args.batch, 2), min(args.crop, 16)
+        args.ema = min(args.ema, 0.5)
     if not args.val or not (args.data or args.evaluate):
         p.error("DATA and --val are required (unless --quick; --evaluate needs only --val)")
     if args.evaluate:
@@ -390,6 +397,8 @@ def main(argv: list[str] | None = None) -> int:
         head.weight.mul_(0.1)
         head.bias.fill_(math.log1p(image_unet.EXPOSURE_KEY))
     opt = torch.optim.Adam(model.parameters(), lr=args.lr)
+    ema = image_unet.ImageUNet(args.k)
+    ema.load_state_dict(model.state_dict())
     state = {"step": 0, "crops": 0, "pixels": 0, "elapsed": 0.0, "best": math.inf}
     if args.resume:
         ck = torch.load(ckpt_path, map_location="cpu")
@@ -397,6 +406,10 @@ def main(argv: list[str] | None = None) -> int:
             raise DataError(f"{ckpt_path}: K={ck.get('base_width')} but --k {args.k}")
         model.load_state_dict(ck["model"])
         opt.load_state_dict(ck["optimizer"])
+        if "ema" in ck:
+            ema.load_state_dict(ck["ema"])
+        else:  # a checkpoint from before the average was kept
+            ema.load_state_dict(ck["model"])
         state = ck["state"]
         print(f"train_denoiser.py: resuming {ckpt_path} at step {state['step']} "
               f"({state['elapsed'] / 60:.1f} min)", file=sys.stderr)
@@ -420,12 +433,13 @@ def main(argv: list[str] | None = None) -> int:
 
     def checkpoint() -> None:
         state["elapsed"] = time.monotonic() - start
-        save_atomic({"model": model.state_dict(), "optimizer": opt.state_dict(), "state": state,
+        save_atomic({"model": model.state_dict(), "ema": ema.state_dict(), "optimizer": opt.state_dict(),
+                     "state": state,
                      "base_width": args.k, "architecture": image_unet.ARCHITECTURE}, ckpt_path)
 
     def validate() -> dict:
         nonlocal val_err
-        errors = evaluate(model, val)
+        errors = evaluate(ema, val)
         val_err = errors["val_relmse_geomean"]
         elapsed = time.monotonic() - start
         entry = {"step": state["step"], "crops": state["crops"], "epoch": round(epoch(), 3),
@@ -435,7 +449,7 @@ def main(argv: list[str] | None = None) -> int:
             f.write(json.dumps(entry) + "\n")
         if val_err < state["best"]:
             state["best"] = val_err
-            save_atomic({"model": model.state_dict(), **meta, "epoch": entry["epoch"], "step": state["step"],
+            save_atomic({"model": ema.state_dict(), **meta, "epoch": entry["epoch"], "step": state["step"],
                          "loss": running if running is not None else float("nan"), **errors,
                          "train_views": len(train.keys), "train_interiors": len(train.scenes()),
                          "val_views": len(val.keys), "val_ref_spp": min(v.ref_spp for v in val.views.values()),
@@ -460,6 +474,9 @@ def main(argv: list[str] | None = None) -> int:
         loss.backward()
         torch.nn.utils.clip_grad_norm_(model.parameters(), 1.0)
         opt.step()
+        with torch.no_grad():
+            for a, b in zip(ema.parameters(), model.parameters()):
+                a.lerp_(b, 1.0 - args.ema)
         state["step"] += 1
         state["crops"] += args.batch
         state["pixels"] += x.shape[0] * x.shape[2] * x.shape[3]
