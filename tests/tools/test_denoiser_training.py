@@ -3,8 +3,8 @@
 target together and leave the (world-space) normals' values alone; a Noise2Noise example's
 input and target are spp-weighted means of disjoint renders; train_denoiser.py --quick trains,
 validates, writes the checkpoint the packer reads and resumes; bad data and options are one
-line, exit 2; make_denoise_data.py --quick renders real interiors with osr-vk and a second run
-renders nothing.
+line, exit 2; tools/train_default_denoiser.sh --quick renders real interiors with osr-vk,
+trains and packs, and a second make_denoise_data.py run renders nothing.
 
 Run by CTest (tools/test_denoiser_training) with OSR_BINARY_DIR naming the build folder.
 """
@@ -144,18 +144,23 @@ class QuickTraining(unittest.TestCase):
 
 
 class RealRenders(unittest.TestCase):
-    def test_make_denoise_data_quick(self):
+    def test_default_pipeline_quick(self):
+        # tools/train_default_denoiser.sh --quick: real renders of generated interiors (training
+        # and validation with a reference), a quick training and the packed weights.
         osr_vk = Path(os.environ.get("OSR_BINARY_DIR", ROOT / "build")) / "osr-vk"
         if not osr_vk.is_file():
             self.skipTest(f"{osr_vk} not built")
         with tempfile.TemporaryDirectory() as tmp:
-            out = Path(tmp) / "data"
-            r = run([PY, TOOLS / "make_denoise_data.py", out, "--quick", "--osr-vk", osr_vk])
+            work = Path(tmp) / "work"
+            r = run(["bash", TOOLS / "train_default_denoiser.sh", "--quick", "--work", work, "--osr-vk", osr_vk])
             self.assertNotIn("osr-vk: validation", r.stderr)  # CTest sets OSR_VALIDATION=1
-            files = sorted(out.glob("*/in_*.npz"))
+            blob = (work / "run" / "model.osrw").read_bytes()
+            self.assertIn(b'"stage":"image_denoiser"', blob)
+            self.assertIn(b'"architecture":"osr_image_unet_v1"', blob)
+            files = sorted(work.glob("data/*/in_*.npz"))
             self.assertEqual(len(files), 6)  # 2 views x spp 1, 2, 4
-            stamps = [f.stat().st_mtime_ns for f in files]
-            data = td.Dataset([str(out)])
+            self.assertTrue(list(work.glob("val/9001_c0/ref_*.npz")))
+            data = td.Dataset([str(work / "data")])
             self.assertEqual(len(data.keys), 2)
             for view in data.views.values():
                 self.assertEqual(view.colour.shape, (3, 3, 32, 32))
@@ -163,10 +168,12 @@ class RealRenders(unittest.TestCase):
                 self.assertGreater(float(view.albedo.max()), 0)
                 lengths = np.linalg.norm(view.normal[0], axis=0)
                 self.assertGreater(float(np.mean(np.abs(lengths - 1) < 0.05)), 0.5)
-            r = run([PY, TOOLS / "make_denoise_data.py", out, "--quick", "--osr-vk", osr_vk])
+            # Resumable: a second run renders nothing that is already there.
+            stamps = [f.stat().st_mtime_ns for f in files]
+            r = run([PY, TOOLS / "make_denoise_data.py", work / "data", "--quick", "--osr-vk", osr_vk])
             self.assertEqual([f.stat().st_mtime_ns for f in files], stamps, "a finished render was redone")
             self.assertIn("0 spp rendered", r.stderr)
-            r = run([PY, TOOLS / "make_denoise_data.py", out, "--size", "30", "--seeds", "1",
+            r = run([PY, TOOLS / "make_denoise_data.py", work / "x", "--size", "30", "--seeds", "1",
                      "--osr-vk", osr_vk], expect=2)
             self.assertIn("--size", r.stderr.strip().splitlines()[-1])
 
