@@ -415,7 +415,8 @@ def main(argv: list[str] | None = None) -> int:
               f"({state['elapsed'] / 60:.1f} min)", file=sys.stderr)
     meta = {"architecture": image_unet.ARCHITECTURE, "stage": image_unet.STAGE, "base_width": args.k,
             "inputs": ",".join(image_unet.INPUTS), "input_transform": image_unet.INPUT_TRANSFORM,
-            "loss_kind": "relmse_exposed_n2n", "datasets": ",".join(args.data), "validation": args.val,
+            "loss_kind": "relmse_exposed_n2n", "datasets": ",".join(Path(d).name for d in args.data),
+            "validation": Path(args.val).name,
             "batch": args.batch, "crop": args.crop, "lr": args.lr, "git_commit": git_commit(),
             "quick": bool(args.quick)}
     print(f"train_denoiser.py: {len(train.keys)} views ({train.pixels() / 1e6:.1f} Mpixel) from "
@@ -533,7 +534,6 @@ def evaluate_checkpoint(path: str, val_folder: str, run: Path, record_path: str 
     (run / "eval.json").write_text(json.dumps(record, indent=1) + "\n")
     if record_path:
         meta = {k: v for k, v in ck.items() if isinstance(v, (int, float, str, bool)) and not k.startswith("val_")}
-        meta.pop("datasets", None), meta.pop("validation", None)  # this machine's paths
         Path(record_path).write_text(json.dumps({**meta, "evaluation": {k: v for k, v in record.items()
                                                                         if k != "checkpoint"}},
                                                 indent=1) + "\n")
