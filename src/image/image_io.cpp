@@ -18,6 +18,7 @@
 #include <thread>
 
 #define STB_IMAGE_WRITE_IMPLEMENTATION
+#include <stb/stb_image.h>
 #include <stb/stb_image_write.h>
 
 #include "common/error.h"
@@ -128,6 +129,29 @@ RgbImage readExrRgb(const std::string& path) {
   } catch (const std::exception& e) {
     throw InputError(path + ": cannot read OpenEXR (" + e.what() + ")");
   }
+}
+
+bool isCompleteImage(const std::string& path) {
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) return false;
+  std::string ext = std::filesystem::path(path).extension().string();
+  std::transform(ext.begin(), ext.end(), ext.begin(),
+                 [](unsigned char c) { return char(std::tolower(c)); });
+  if (ext == ".exr") {
+    try {
+      readExrRgb(path);  // every scanline block: a cut file fails here
+      return true;
+    } catch (const InputError&) {
+      return false;
+    }
+  }
+  if (ext == ".png") {
+    int w = 0, h = 0, n = 0;
+    unsigned char* pixels = stbi_load(path.c_str(), &w, &h, &n, 0);
+    stbi_image_free(pixels);
+    return pixels != nullptr;
+  }
+  return false;
 }
 
 double meteredLuminance(const RgbImage& image, const std::vector<float>& depth) {

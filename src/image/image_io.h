@@ -71,6 +71,11 @@ void writePng(const std::string& path, const RgbImage& image, std::optional<doub
 // PNG of interleaved 8-bit sRGB (width * height * 3 bytes), e.g. a viewer screenshot.
 void writePng8(const std::string& path, int width, int height, const std::vector<uint8_t>& rgb);
 
+// Whether `path` holds a whole image: an OpenEXR (.exr) whose pixels all read, or a PNG (.png)
+// that decodes; false for a missing, truncated or corrupt file (osr-vk --resume skips a frame
+// only when this holds for each of its outputs).
+bool isCompleteImage(const std::string& path);
+
 // Fails early (InputError) if `path` cannot be created: its directory is missing or not
 // writable, or the path is a directory. Leaves no file behind.
 void checkWritable(const std::string& path);
