@@ -14,6 +14,7 @@
 #include "app/args.h"
 #include "app/commands.h"
 #include "app/device_options.h"
+#include "app/frames.h"
 #include "app/output_paths.h"
 #include "app/scene_setup.h"
 #include "bvh/bvh.h"
@@ -136,6 +137,7 @@ int runRender(const std::vector<std::string>& args) {
   auto viewerScript = a.value("--viewer-script");
   auto saveDir = a.value("--save-dir");
   auto crop = a.integerList("--crop", 0, 16384);
+  const std::optional<FrameOptions> frames = readFrameOptions(a);
   vk::ContextOptions vkOptions = readDeviceOptions(a);
   auto files = a.positional();
   a.finish();
@@ -192,6 +194,12 @@ int runRender(const std::vector<std::string>& args) {
   if (live && crop) throw InputError("--crop: an option of --offline/--png renders");
   if (crop && (crop->size() != 4 || (*crop)[2] < 1 || (*crop)[3] < 1))
     throw InputError("--crop: expected X,Y,W,H (the window's corner and size, W and H >= 1)");
+  if (frames) {
+    if (live) throw InputError("--frames: an option of --offline/--png renders (give --offline)");
+    if (dumpMaps) throw InputError("--dump-maps: not with --frames (one frame's maps)");
+    if (exrPath) checkFrameField("--offline", *exrPath);
+    if (pngPath) checkFrameField("--png", *pngPath);
+  }
   if (live) {
     // Before any work: no display means one line suggesting --offline and exit 2.
     vkOptions.instanceExtensions = viewer::requireDisplay();
@@ -200,10 +208,16 @@ int runRender(const std::vector<std::string>& args) {
 
   HostScene host = loadHostScene(files[0], sceneOptions);
   if (crop) applyCrop(host, *crop);
+  if (frames && host.scene.animation.empty())
+    throw InputError(files[0] + ": --frames: the scene has no animation (no glTF animation " +
+                     "channel moves a node's translation, rotation or scale)");
   // Fail before the (long) render, not after it, and never write over what the render reads.
   std::vector<OutputFile> outputs;
-  if (exrPath) outputs.push_back({"--offline", *exrPath, ".exr", "OpenEXR"});
-  if (pngPath) outputs.push_back({"--png", *pngPath, ".png", "PNG"});
+  // A shot checks every frame's files.
+  for (int f = frames ? frames->first : 0; f <= (frames ? frames->last : 0); ++f) {
+    if (exrPath) outputs.push_back({"--offline", frames ? framePath(*exrPath, f) : *exrPath, ".exr", "OpenEXR"});
+    if (pngPath) outputs.push_back({"--png", frames ? framePath(*pngPath, f) : *pngPath, ".png", "PNG"});
+  }
   if (dumpMaps) {
     // The folder is made now, not after the render: a path that cannot be one (an existing
     // file, a file on the way) is bad input found in a second, not an error after minutes.
@@ -243,8 +257,10 @@ int runRender(const std::vector<std::string>& args) {
   const uint32_t renderSeed = seed ? uint32_t(*seed) : 0u;
 
   vk::Context ctx(vkOptions);
-  const DeviceScene dev(ctx, host);
-  ProgressPrinter progress(quiet, spp || passes || !timeLimit);
+  // Built at the first frame's pose for a shot, and again for each frame that moves geometry
+  // or lights: integrators bind it, so one is never kept across a rebuild.
+  std::optional<DeviceScene> dev;
+  if (!frames) dev.emplace(ctx, host);
   // One factory for --offline and the viewer (which makes a new integrator on a mode change
   // or a resize).
   auto makeIntegrator = [&](const std::string& m, uint32_t w, uint32_t h) {
@@ -252,11 +268,11 @@ int runRender(const std::vector<std::string>& args) {
     if (m == "osr") {
       osrSettings.keepAllMaps = bool(dumpMaps);
       c.integrator =
-          std::make_unique<oneshot::OsrIntegrator>(ctx, dev.gpu, dev.bvh, w, h, osrSettings);
+          std::make_unique<oneshot::OsrIntegrator>(ctx, dev->gpu, dev->bvh, w, h, osrSettings);
       c.defaultUnits = 32;
     } else {
       const pt::Mode pm = *pt::parseMode(m);
-      c.integrator = std::make_unique<pt::PathIntegrator>(ctx, dev.gpu, dev.bvh, w, h, pm);
+      c.integrator = std::make_unique<pt::PathIntegrator>(ctx, dev->gpu, dev->bvh, w, h, pm);
       c.defaultUnits = pm == pt::Mode::Preview ? 4u : 64u;
     }
     return c;
@@ -280,35 +296,51 @@ int runRender(const std::vector<std::string>& args) {
     return viewer::runViewer(ctx, vc);
   }
   osrSettings.resolveEverySubmission = false;  // nothing shows the film before the end
-  std::unique_ptr<render::Integrator> integrator =
-      makeIntegrator(mode, imageWidth, imageHeight).integrator;
-  auto* osr = dynamic_cast<oneshot::OsrIntegrator*>(integrator.get());
-  render::ProgressiveDriver driver(ctx, *integrator, ds);
-  driver.restart(host.camera, renderSeed);
-  const render::RenderStats& stats = driver.run([&](const render::Progress& p) { progress(p); });
-  render::FilmLayers film = integrator->resolve();
-  progress.finish();
-  // The driver never stops inside a unit, and an image needs one whole: say why --time ran over.
-  // (A quarter over: nearer, the budget's own rounding.)
-  if (!quiet && timeLimit && stats.units == 1 && stats.seconds > 1.25 * *timeLimit)
-    std::fprintf(stderr, "osr-vk: note: the image needs one whole %s, which took %.1f s, past --time %g\n",
-                 osrMode ? "pass" : "sample per pixel", stats.seconds, *timeLimit);
-  if (film.droppedSamples > 0)
-    std::fprintf(stderr, "osr-vk: warning: %llu non-finite samples dropped\n",
-                 static_cast<unsigned long long>(film.droppedSamples));
-  if (exrPath)
-    image::writeExr(*exrPath, render::toLayeredImage(film),
-                    exrFloat ? image::ExrPixelType::Float : image::ExrPixelType::Half);
-  if (pngPath)
-    image::writePng(*pngPath, {film.width, film.height, film.combined}, exposure, film.depth);
-  if (dumpMaps) writeMapDump(*dumpMaps, osr->downloadMaps(), film);
-  if (!quiet) {
-    std::fprintf(stderr, "osr-vk: %ux%u, %u %s in %.2f s", imageWidth, imageHeight, stats.units,
-                 unitWord(integrator->unitName(), stats.units), stats.seconds);
-    for (const auto& t : stats.gpuScopes)
-      std::fprintf(stderr, ", %s %.0f ms", t.name.c_str(), t.ms);
-    std::fputc('\n', stderr);
+  // One image through `camera` into the given files, with its progress and summary lines.
+  auto renderImage = [&](const scene::Camera& camera, const std::optional<std::string>& exrFile,
+                         const std::optional<std::string>& pngFile) {
+    ProgressPrinter progress(quiet, spp || passes || !timeLimit);
+    std::unique_ptr<render::Integrator> integrator =
+        makeIntegrator(mode, imageWidth, imageHeight).integrator;
+    auto* osr = dynamic_cast<oneshot::OsrIntegrator*>(integrator.get());
+    render::ProgressiveDriver driver(ctx, *integrator, ds);
+    driver.restart(camera, renderSeed);
+    const render::RenderStats& stats = driver.run([&](const render::Progress& p) { progress(p); });
+    render::FilmLayers film = integrator->resolve();
+    progress.finish();
+    // The driver never stops inside a unit, and an image needs one whole: say why --time ran
+    // over. (A quarter over: nearer, the budget's own rounding.)
+    if (!quiet && timeLimit && stats.units == 1 && stats.seconds > 1.25 * *timeLimit)
+      std::fprintf(stderr, "osr-vk: note: the image needs one whole %s, which took %.1f s, past --time %g\n",
+                   osrMode ? "pass" : "sample per pixel", stats.seconds, *timeLimit);
+    if (film.droppedSamples > 0)
+      std::fprintf(stderr, "osr-vk: warning: %llu non-finite samples dropped\n",
+                   static_cast<unsigned long long>(film.droppedSamples));
+    if (exrFile)
+      image::writeExr(*exrFile, render::toLayeredImage(film),
+                      exrFloat ? image::ExrPixelType::Float : image::ExrPixelType::Half);
+    if (pngFile)
+      image::writePng(*pngFile, {film.width, film.height, film.combined}, exposure, film.depth);
+    if (dumpMaps) writeMapDump(*dumpMaps, osr->downloadMaps(), film);
+    if (!quiet) {
+      std::fprintf(stderr, "osr-vk: %ux%u, %u %s in %.2f s", imageWidth, imageHeight, stats.units,
+                   unitWord(integrator->unitName(), stats.units), stats.seconds);
+      for (const auto& t : stats.gpuScopes)
+        std::fprintf(stderr, ", %s %.0f ms", t.name.c_str(), t.ms);
+      std::fputc('\n', stderr);
+    }
+  };
+  if (!frames) {
+    renderImage(host.camera, exrPath, pngPath);
+    return 0;
   }
+  renderShot(*frames, host, quiet, exrPath, pngPath, [&](const scene::PoseChange& change) {
+    // The BVH is rebuilt only when geometry moved; a light that moved needs the new upload too.
+    if (!dev || change.geometry || change.lights) {
+      dev.reset();
+      dev.emplace(ctx, host);
+    }
+  }, renderImage);
   return 0;
 }
 

@@ -1,0 +1,206 @@
+// Animation renders, `osr-vk --frames A-B [--fps N] [--resume]`: frame ranges and file names,
+// a camera-path shot killed mid-way and resumed (the same frames bit for bit as a shot run
+// through), and bad input (one line, exit 2).
+#include <gtest/gtest.h>
+#include <signal.h>
+#include <spawn.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <chrono>
+#include <filesystem>
+#include <fstream>
+#include <thread>
+
+#include "app/args.h"
+#include "app/cli_runner.h"
+#include "app/frames.h"
+#include "common/error.h"
+#include "common/test_paths.h"
+#include "image/image_io.h"
+
+extern char** environ;
+
+using namespace osr;
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string slurp(const std::string& path) {
+  std::ifstream f(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(f), {});
+}
+
+std::optional<app::FrameOptions> frames(std::vector<std::string> args) {
+  app::Args a(std::move(args), "render");
+  auto f = app::readFrameOptions(a);
+  a.finish();
+  return f;
+}
+
+void expectRefused(const std::vector<std::string>& args, const std::string& part) {
+  try {
+    frames(args);
+    ADD_FAILURE() << "accepted; expected an InputError containing '" << part << "'";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find(part), std::string::npos) << e.what();
+  }
+}
+
+// One line on stderr containing `part`, exit 2.
+void expectOneLineError(const std::string& args, const std::string& part) {
+  test::CliResult r = test::runOsrVk(args);
+  EXPECT_EQ(r.code, 2) << args << "\n" << r.out;
+  EXPECT_NE(r.out.find(part), std::string::npos) << args << "\n" << r.out;
+  EXPECT_EQ(std::count(r.out.begin(), r.out.end(), '\n'), 1) << args << "\n" << r.out;
+}
+
+const std::string kCameraPath = test::dataPath("scene/camera_path.gltf");
+const std::string kShotOptions = "--mode path --spp 1 --width 48 --height 48 --frames 0-3 ";
+
+std::string osrVk() {
+  const char* env = std::getenv("OSR_BINARY_DIR");
+  return std::string(env ? env : OSR_BINARY_DIR) + "/osr-vk";
+}
+
+}  // namespace
+
+TEST(Frames, RangesAndRates) {
+  auto f = frames({"--frames", "3-10", "--fps", "30"});
+  ASSERT_TRUE(f);
+  EXPECT_EQ(f->first, 3);
+  EXPECT_EQ(f->last, 10);
+  EXPECT_EQ(f->count(), 8);
+  EXPECT_DOUBLE_EQ(f->timeS(15), 0.5);
+  EXPECT_FALSE(f->resume);
+  f = frames({"--frames", "7", "--resume"});
+  ASSERT_TRUE(f);
+  EXPECT_EQ(f->count(), 1);
+  EXPECT_DOUBLE_EQ(f->timeS(12), 0.5);  // 24 frames per second by default
+  EXPECT_TRUE(f->resume);
+  EXPECT_FALSE(frames({}));
+}
+
+TEST(Frames, BadRangesAndRatesAreRefused) {
+  expectRefused({"--frames", "5-2"}, "ends before it starts");
+  expectRefused({"--frames", "a-b"}, "is not a frame range");
+  expectRefused({"--frames", "-3"}, "is not a frame range");
+  expectRefused({"--frames", "1-"}, "is not a frame range");
+  expectRefused({"--frames", "1-2-3"}, "is not a frame range");
+  expectRefused({"--frames", "1234567"}, "is not a frame range");
+  expectRefused({"--frames", "0-3", "--fps", "0"}, "--fps: must be above 0");
+  expectRefused({"--frames", "0-3", "--fps", "-24"}, "--fps: must be above 0");
+  expectRefused({"--fps", "24"}, "an option of --frames");
+  expectRefused({"--resume"}, "an option of --frames");
+}
+
+TEST(Frames, FileNamesNumberTheLastRunOfHashes) {
+  EXPECT_EQ(app::framePath("shot_####.exr", 12), "shot_0012.exr");
+  EXPECT_EQ(app::framePath("out/#_##.png", 7), "out/#_07.png");
+  EXPECT_EQ(app::framePath("s#.exr", 1234), "s1234.exr");  // wider than the field
+  EXPECT_NO_THROW(app::checkFrameField("--offline", "a/shot_#.exr"));
+  EXPECT_THROW(app::checkFrameField("--offline", "shot.exr"), InputError);
+  EXPECT_THROW(app::checkFrameField("--png", "dir#/shot.png"), InputError);  // not in the name
+}
+
+TEST(Frames, OnlyWholeImagesAreComplete) {
+  fs::path d = test::tempDir("frames_complete");
+  const std::string exr = (d / "a.exr").string(), png = (d / "a.png").string();
+  image::LayeredImage img;
+  img.width = 4;
+  img.height = 3;
+  img.layers.push_back({"", {"R", "G", "B"}, std::vector<float>(4 * 3 * 3, 0.5f)});
+  image::writeExr(exr, img, image::ExrPixelType::Half);
+  image::writePng(png, {4, 3, std::vector<float>(4 * 3 * 3, 0.5f)}, 0.0);
+  EXPECT_TRUE(app::frameComplete({exr, png}));
+  EXPECT_FALSE(app::frameComplete({exr, (d / "missing.png").string()}));
+  // Cut short, as a killed writer without the rename would leave it.
+  const std::string bytes = slurp(exr);
+  std::ofstream((d / "cut.exr").string(), std::ios::binary).write(bytes.data(), bytes.size() - 8);
+  EXPECT_FALSE(app::frameComplete({(d / "cut.exr").string()}));
+  fs::remove_all(d);
+}
+
+// The whole shot at once, then the same shot killed (SIGKILL) once its first frame is written
+// and rerun with --resume: the frames written before the kill are skipped, not rendered again,
+// and every frame equals the uninterrupted shot's byte for byte.
+TEST(Frames, KilledShotResumesToTheSameFrames) {
+  fs::path d = test::tempDir("frames_resume");
+  fs::create_directories(d / "whole");
+  fs::create_directories(d / "killed");
+  test::CliResult whole = test::runOsrVk(kShotOptions + "--offline " +
+                                         (d / "whole/shot_####.exr").string() + " " + kCameraPath);
+  ASSERT_EQ(whole.code, 0) << whole.out;
+  for (int f = 0; f < 4; ++f)
+    EXPECT_NE(whole.out.find("osr-vk: frame " + std::to_string(f + 1) + "/4"), std::string::npos)
+        << whole.out;
+  // The camera moves: no two frames alike.
+  EXPECT_NE(slurp((d / "whole/shot_0000.exr").string()), slurp((d / "whole/shot_0003.exr").string()));
+
+  const std::string killedPattern = (d / "killed/shot_####.exr").string();
+  const std::string first = app::framePath(killedPattern, 0);
+  std::vector<std::string> argv = {osrVk(), "--quiet"};
+  for (const char* a : {"--mode", "path", "--spp", "1", "--width", "48", "--height", "48",
+                        "--frames", "0-3", "--offline"})
+    argv.push_back(a);
+  argv.push_back(killedPattern);
+  argv.push_back(kCameraPath);
+  std::vector<char*> cargv;
+  for (std::string& a : argv) cargv.push_back(a.data());
+  cargv.push_back(nullptr);
+  pid_t pid;
+  ASSERT_EQ(posix_spawn(&pid, cargv[0], nullptr, nullptr, cargv.data(), environ), 0);
+  const auto start = std::chrono::steady_clock::now();
+  while (!fs::exists(first) && std::chrono::steady_clock::now() - start < std::chrono::seconds(120))
+    std::this_thread::sleep_for(std::chrono::milliseconds(1));
+  kill(pid, SIGKILL);
+  int status = 0;
+  waitpid(pid, &status, 0);
+  ASSERT_TRUE(fs::exists(first));
+  int written = 0;
+  for (int f = 0; f < 4; ++f) written += fs::exists(app::framePath(killedPattern, f));
+  // The kill must land mid-shot for the test to mean anything.
+  ASSERT_TRUE(WIFSIGNALED(status)) << "the shot ended before the kill";
+  ASSERT_LT(written, 4) << "every frame was written before the kill";
+  const auto firstWritten = fs::last_write_time(first);
+
+  test::CliResult resumed = test::runOsrVk(kShotOptions + "--resume --offline " + killedPattern +
+                                           " " + kCameraPath);
+  ASSERT_EQ(resumed.code, 0) << resumed.out;
+  size_t skipped = 0;
+  for (size_t at = 0; (at = resumed.out.find("complete, skipped (--resume)", at)) != std::string::npos; ++at)
+    ++skipped;
+  EXPECT_GE(skipped, 1u) << resumed.out;
+  EXPECT_LE(skipped, size_t(written)) << resumed.out;  // a cut frame is no frame
+  EXPECT_EQ(fs::last_write_time(first), firstWritten);
+  for (int f = 0; f < 4; ++f) {
+    const std::string a = app::framePath((d / "whole/shot_####.exr").string(), f);
+    const std::string b = app::framePath(killedPattern, f);
+    EXPECT_TRUE(slurp(a) == slurp(b)) << "frame " << f << " differs: " << a << " vs " << b;
+  }
+  // Nothing but the frames: no temporary files left behind by the resumed run.
+  int files = 0;
+  for (const auto& e : fs::directory_iterator(d / "killed")) files += e.is_regular_file();
+  EXPECT_GE(files, 4);
+  fs::remove_all(d);
+}
+
+TEST(Frames, BadShotsAreOneLineExitTwo) {
+  fs::path d = test::tempDir("frames_errors");
+  const std::string pattern = (d / "shot_####.exr").string();
+  const std::string cornell = test::referencePath("cornell/cornell.gltf");
+  expectOneLineError("--frames 0-3 --offline " + pattern + " " + cornell, "has no animation");
+  expectOneLineError("--frames 0-3 --offline " + (d / "shot.exr").string() + " " + kCameraPath,
+                     "frame field");
+  expectOneLineError("--frames 0-3 --offline " + pattern + " --png " + (d / "shot.png").string() +
+                         " " + kCameraPath,
+                     "frame field");
+  expectOneLineError("--frames 3-0 --offline " + pattern + " " + kCameraPath, "ends before");
+  expectOneLineError("--frames 0-x --offline " + pattern + " " + kCameraPath, "not a frame range");
+  expectOneLineError("--frames 0-3 --fps 0 --offline " + pattern + " " + kCameraPath,
+                     "--fps: must be above 0");
+  expectOneLineError("--resume --offline " + pattern + " " + kCameraPath, "an option of --frames");
+  expectOneLineError("--frames 0-3 " + kCameraPath, "--frames");
+  EXPECT_TRUE(fs::is_empty(d));
+  fs::remove_all(d);
+}
