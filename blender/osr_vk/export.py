@@ -113,6 +113,10 @@ def _run_gltf_exporter(depsgraph, path):
     settings = dict(filepath=path, export_format="GLTF_SEPARATE", export_cameras=True,
                     export_lights=True, use_renderable=True, use_active_scene=True,
                     export_apply=True, export_yup=True, export_animations=False,
+                    # The frame being rendered: by default the exporter poses the scene at
+                    # frame 0, so F12 at another frame and every frame of Render Animation
+                    # rendered frame 0's pose (measured: tests/blender, case animation).
+                    export_current_frame=True,
                     export_materials="EXPORT", export_colors=False, export_extras=False,
                     convert_lighting_mode="SPEC")
     props = bpy.ops.export_scene.gltf.get_rna_type().properties
@@ -127,6 +131,10 @@ def _run_gltf_exporter(depsgraph, path):
         override["window"] = window
     try:
         with bpy.context.temp_override(**override):
+            # Render Animation moves the scene's frame but leaves the view layer's evaluated
+            # state, which the exporter reads, at the last one evaluated: evaluate the frame
+            # being rendered.
+            scene.frame_set(depsgraph.scene.frame_current, subframe=depsgraph.scene.frame_subframe)
             result = bpy.ops.export_scene.gltf(**settings)
     except (RuntimeError, AttributeError) as e:
         raise ExportError("glTF export failed: %s" % str(e).strip().splitlines()[-1])

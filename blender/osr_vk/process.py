@@ -20,6 +20,9 @@ _REMAINING = re.compile(r"~?\s*([\d.]+)\s*s\s+remaining")
 _UNBOUNDED = re.compile(r"^osr-vk:\s*(\d+)\s+([A-Za-z]+)")
 # A unit running in slices: "osr-vk: 0/32 passes (+40% of the next), ...".
 _PARTIAL = re.compile(r"\(\+(\d+)%\s+of\s+the\s+next\)")
+# An animation render (--frames) announces each frame before its progress lines:
+# "osr-vk: frame 2/48 (frame 1 at 0.042 s)"; its N/M counts frames, not units.
+_FRAME = re.compile(r"^osr-vk:\s*frame\s+(\d+)\s*/\s*(\d+)")
 
 
 class Progress:
@@ -47,6 +50,8 @@ def parse_progress(line):
     """A Progress for an osr-vk progress line, None for any other line."""
     if not line.startswith("osr-vk:") or "warning" in line or "error" in line:
         return None
+    if _FRAME.search(line):
+        return None
     e, r, part = _ELAPSED.search(line), _REMAINING.search(line), _PARTIAL.search(line)
     m = _PROGRESS.search(line)
     if m:
@@ -59,6 +64,12 @@ def parse_progress(line):
     return Progress(done, total, unit, float(e.group(1)) if e else None,
                     float(r.group(1)) if r else None, line,
                     min(1.0, int(part.group(1)) / 100.0) if part else 0.0)
+
+
+def parse_frame(line):
+    """(frame index from 1, frames in the shot) for an --frames announcement, else None."""
+    m = _FRAME.search(line)
+    return (int(m.group(1)), int(m.group(2))) if m else None
 
 
 def find_executable(configured, addon_dir):

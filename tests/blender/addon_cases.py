@@ -12,6 +12,8 @@
 # CASE border: resolution percentage, render region and two view layers.
 # CASE world: the world colour and image as --env files (export only).
 # CASE cycles: the area light's direct light against Cycles' (light units).
+# CASE animation: Render Animation of two frames in which the sphere moves (a fresh export per
+#   frame), frame 2 compared with osr-vk run by hand on its export.
 # CASE failed: osr-vk exits with an error (a weights file that is not there): a report naming it;
 #   a scene with nothing to render and one whose only mesh has no faces: reports that name no
 #   temporary file.
@@ -133,6 +135,34 @@ def case_render(executable, work):
     up = got["ViewLayer.Normal.Z"][HEIGHT - 3, WIDTH // 2]  # floor near the bottom centre
     if not up > 0.9:
         raise AssertionError("the floor's normal is %g along +Z, expected 1" % up)
+
+
+def case_animation(executable, work):
+    """Render Animation: Blender calls the engine once per frame, and the add-on exports the
+    scene as posed at that frame. The sphere moves between frames 1 and 2: the two frames must
+    differ, and frame 2 must equal osr-vk run by hand on the export of frame 2."""
+    scene = blender_scene.build_scene(executable, WIDTH, HEIGHT)
+    scene.osr_vk.mode, scene.osr_vk.samples, scene.osr_vk.seed = "path", SAMPLES, SEED
+    scene.osr_vk.keep_directory = keep = os.path.join(work, "keep")
+    sphere = bpy.data.objects["sphere"]
+    for frame, x in ((1, -0.8), (2, 0.8)):
+        sphere.location.x = x
+        sphere.keyframe_insert("location", frame=frame)
+    scene.frame_start, scene.frame_end = 1, 2
+    scene.render.filepath = os.path.join(work, "frame_")
+    settings = scene.render.image_settings
+    settings.file_format, settings.color_depth = "OPEN_EXR", "32"
+    bpy.ops.render.render(animation=True)
+    frames = [os.path.join(work, "frame_%04d.exr" % f) for f in (1, 2)]
+    for f in frames:
+        if not os.path.isfile(f):
+            raise AssertionError("Render Animation wrote no %s" % f)
+    first, second = (_layers(f)["R"] for f in frames)
+    moved = float(np.mean(np.abs(first - second)))
+    print("osr-vk test: frames 1 and 2 differ by %g on average (red)" % moved)
+    if not moved > 1e-3:
+        raise AssertionError("frames 1 and 2 are alike: the sphere did not move")
+    check_against_reference(executable, work, keep, frames[1])
 
 
 def _children(name):
@@ -389,7 +419,8 @@ def main():
     os.makedirs(work, exist_ok=True)
     cases = {"render": case_render, "cancel": case_cancel, "missing": case_missing,
              "failed": case_failed, "install": case_install, "cycles": case_cycles,
-             "world": case_world, "border": case_border, "f12": case_f12}
+             "world": case_world, "border": case_border, "f12": case_f12,
+             "animation": case_animation}
     if cases[case](executable, work, *args[3:]) != "later":
         print("osr-vk test: case %s done" % case)
 

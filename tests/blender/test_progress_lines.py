@@ -41,7 +41,14 @@ def main() -> int:
     p = process.parse_progress("osr-vk: pass 3 / 32 (2.0 s elapsed)")
     check(p and (p.done, p.total) == (3, 32) and p.remaining_s is None, "reworded line")
     check(abs(p.fraction() - 3 / 32) < 1e-9, "fraction without remaining time")
-    for line in ["osr-vk: 96x72, 16 spp in 0.63 s, pt_trace 625 ms",
+    # An animation render announces each frame; that N/M counts frames, not progress units.
+    check(process.parse_frame("osr-vk: frame 2/48 (frame 1 at 0.042 s)") == (2, 48), "frame line")
+    check(process.parse_frame("osr-vk: 1/4 spp, 0.1 s elapsed, ~0.3 s remaining") is None,
+          "a progress line is no frame line")
+    for line in ["osr-vk: frame 2/48 (frame 1 at 0.042 s)",
+                 "osr-vk: frame 1/4 (frame 0): shot_0000.exr complete, skipped (--resume)",
+                 "osr-vk: 4 frames in 2.10 s, 1 skipped (--resume)",
+                 "osr-vk: 96x72, 16 spp in 0.63 s, pt_trace 625 ms",
                  "osr-vk: warning: scene.gltf: unsupported extension KHR_x ignored",
                  "osr-vk: scene.gltf: camera 1/2 error", "something 1/2 else"]:
         check(process.parse_progress(line) is None, "not progress: %r" % line)
