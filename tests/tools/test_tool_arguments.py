@@ -53,8 +53,48 @@ class BadNumbers(unittest.TestCase):
             self.refused("train.py", ["DATA", "--val", "VAL", "--out", "OUT", option, value],
                          f"argument {option}")
 
+    def test_add_camera_path(self):
+        scene = str(ROOT / "scenes" / "cornell" / "cornell.gltf")
+        for option, value in [("--frames", "0"), ("--fps", "-24"), ("--arc", "0"), ("--yfov", "4")]:
+            self.refused("add_camera_path.py", [scene, "OUT.gltf", option, value], option)
+        self.refused("add_camera_path.py", [scene, "OUT.glb"], ".gltf")
+
     def test_eval_maps(self):
         self.refused("eval_maps.py", ["VAL", "--out", "OUT", "--rows", "0"], "argument --rows")
+
+
+class CameraPath(unittest.TestCase):
+    """add_camera_path.py on the Cornell box: one key per frame, the new camera first in the
+    scene, unit rotations, a walk inside the bounds, buffer URIs valid from another folder."""
+
+    def test_walk(self):
+        import json
+        import math
+        scene = ROOT / "scenes" / "cornell" / "cornell.gltf"
+        with tempfile.TemporaryDirectory() as tmp:
+            out = Path(tmp) / "sub" / "walk.gltf"
+            out.parent.mkdir()
+            r = subprocess.run([PY, str(TOOLS / "add_camera_path.py"), str(scene), str(out),
+                                "--frames", "6"], capture_output=True, text=True, timeout=60)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            doc = json.loads(out.read_text())
+            anim = doc["animations"][-1]
+            self.assertEqual(len(anim["channels"]), 2)
+            node = anim["channels"][0]["target"]["node"]
+            self.assertEqual(doc["scenes"][doc.get("scene", 0)]["nodes"][0], node)
+            times = doc["accessors"][anim["samplers"][0]["input"]]
+            self.assertEqual((times["count"], times["max"]), (6, [5 / 24]))
+            for b in doc["buffers"]:
+                uri = b["uri"]
+                if not uri.startswith("data:"):
+                    self.assertTrue((out.parent / uri).is_file(), uri)
+            sys.path.insert(0, str(TOOLS))
+            import add_camera_path as acp
+            lo, hi = acp.scene_bounds(json.loads(scene.read_text()))
+            keys = acp.camera_keys(lo, hi, 6, False, 90.0)
+            for eye, q in keys:
+                self.assertAlmostEqual(math.sqrt(sum(v * v for v in q)), 1.0, places=6)
+                self.assertTrue(all(a < e < b for a, e, b in zip(lo, eye, hi)), eye)
 
 
 class Seeds(unittest.TestCase):
