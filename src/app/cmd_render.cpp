@@ -296,12 +296,14 @@ int runRender(const std::vector<std::string>& args) {
     return viewer::runViewer(ctx, vc);
   }
   osrSettings.resolveEverySubmission = false;  // nothing shows the film before the end
+  // A shot's frames share one integrator while the device scene stays: restart() clears every
+  // accumulated state, and making one costs seconds of pipeline builds on lavapipe.
+  std::unique_ptr<render::Integrator> integrator;
   // One image through `camera` into the given files, with its progress and summary lines.
   auto renderImage = [&](const scene::Camera& camera, const std::optional<std::string>& exrFile,
                          const std::optional<std::string>& pngFile) {
     ProgressPrinter progress(quiet, spp || passes || !timeLimit);
-    std::unique_ptr<render::Integrator> integrator =
-        makeIntegrator(mode, imageWidth, imageHeight).integrator;
+    if (!integrator) integrator = makeIntegrator(mode, imageWidth, imageHeight).integrator;
     auto* osr = dynamic_cast<oneshot::OsrIntegrator*>(integrator.get());
     render::ProgressiveDriver driver(ctx, *integrator, ds);
     driver.restart(camera, renderSeed);
@@ -337,6 +339,7 @@ int runRender(const std::vector<std::string>& args) {
   renderShot(*frames, host, quiet, exrPath, pngPath, [&](const scene::PoseChange& change) {
     // The BVH is rebuilt only when geometry moved; a light that moved needs the new upload too.
     if (!dev || change.geometry || change.lights) {
+      integrator.reset();  // it binds the old scene
       dev.reset();
       dev.emplace(ctx, host);
     }

@@ -56,7 +56,7 @@ void expectOneLineError(const std::string& args, const std::string& part) {
 }
 
 const std::string kCameraPath = test::dataPath("scene/camera_path.gltf");
-const std::string kShotOptions = "--mode path --spp 1 --width 48 --height 48 --frames 0-3 ";
+const std::string kShotOptions = "--mode path --spp 8 --width 48 --height 48 --frames 0-3 ";
 
 std::string osrVk() {
   const char* env = std::getenv("OSR_BINARY_DIR");
@@ -140,7 +140,7 @@ TEST(Frames, KilledShotResumesToTheSameFrames) {
   const std::string killedPattern = (d / "killed/shot_####.exr").string();
   const std::string first = app::framePath(killedPattern, 0);
   std::vector<std::string> argv = {osrVk(), "--quiet"};
-  for (const char* a : {"--mode", "path", "--spp", "1", "--width", "48", "--height", "48",
+  for (const char* a : {"--mode", "path", "--spp", "8", "--width", "48", "--height", "48",
                         "--frames", "0-3", "--offline"})
     argv.push_back(a);
   argv.push_back(killedPattern);
