@@ -2,6 +2,7 @@
 #pragma once
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <random>
@@ -12,6 +13,7 @@
 #include "bvh/ray_triangle.h"
 #include "bvh/synthetic_mesh.h"
 #include "shaders/shared/bvh_trace.h"
+#include "vk/buffer.h"
 
 namespace osr::test {
 
@@ -41,6 +43,12 @@ inline std::vector<NamedMesh> testMeshes() {
   out.push_back({"one_triangle", bvh::makeSoup(1, 5, {0, 0, 0}, 0.0f, 1.0f)});
   out.push_back({"three_triangles", bvh::makeSoup(3, 6, {0, 0, 0}, 1.0f, 0.5f)});
   return out;
+}
+
+// A device-local buffer of at least 16 bytes (a binding of size 0 is invalid).
+inline vk::Buffer deviceBuffer(const vk::Context& ctx, uint64_t bytes, const char* name,
+                               VkBufferUsageFlags extraUsage = 0) {
+  return vk::Buffer(ctx, std::max<uint64_t>(bytes, 16), vk::MemoryUse::DeviceLocal, name, extraUsage);
 }
 
 inline bvh::Aabb meshBounds(const bvh::SyntheticMesh& m) {

@@ -1,18 +1,15 @@
-// The GPU build's passes against CPU twins: centroid bounds and Morton codes (bvhMorton, shared
-// with the shader), the exclusive scan, and the radix sort (std::stable_sort), on sizes that hit
-// chunk and segment tails.
+// The first passes of the GPU build against CPU twins: the ordered-float encoding of the
+// centroid bounds, bvh_bounds and bvh_morton (bvhMorton, shared with the shader), on sizes that
+// hit workgroup tails.
 #include <gtest/gtest.h>
 
-#include <algorithm>
 #include <cstring>
-#include <numeric>
-#include <random>
+#include <string>
 
 #include "bvh/bounds.h"
 #include "bvh/morton.h"
-#include "bvh/radix_sort.h"
-#include "bvh/scan.h"
 #include "bvh/synthetic_mesh.h"
+#include "bvh_test_util.h"
 #include "common/vk_test.h"
 #include "vk/buffer_view.h"
 
@@ -20,9 +17,6 @@ using namespace osr;
 namespace bb = gpu::bvh_build;
 
 namespace {
-vk::Buffer deviceBuffer(const vk::Context& ctx, uint64_t bytes, const char* name, VkBufferUsageFlags extraUsage = 0) {
-  return vk::Buffer(ctx, std::max<uint64_t>(bytes, 16), vk::MemoryUse::DeviceLocal, name, extraUsage);
-}
 float decode(uint32_t o) {
   uint32_t bits = bb::bvhBitsFromOrdered(o);
   float f;
@@ -31,7 +25,7 @@ float decode(uint32_t o) {
 }
 }  // namespace
 
-TEST(BuildPasses, OrderedFloatEncodingOrdersLikeFloats) {
+TEST(Morton, OrderedFloatEncodingOrdersLikeFloats) {
   std::vector<float> v = {-3e38f, -1.0f, -1e-30f, -0.0f, 0.0f, 1e-30f, 2.5f, 3e38f};
   for (size_t i = 0; i + 1 < v.size(); ++i) {
     uint32_t a, b;
@@ -44,15 +38,15 @@ TEST(BuildPasses, OrderedFloatEncodingOrdersLikeFloats) {
 
 // Both ways of reaching the large arrays: bindings, and device addresses (scenes past one binding);
 // and both ways bvh_bounds reads the scene: its storage arrays, and texel views of them.
-TEST(BuildPasses, BoundsAndMortonMatchTheCpuTwin) {
+TEST(Morton, BoundsAndMortonMatchTheCpuTwin) {
   auto& ctx = test::context();
   for (bool byAddress : {false, true})
   for (bool sceneTexels : {false, true})
   for (uint32_t count : {1u, 63u, 1000u, 5001u}) {
     SCOPED_TRACE(std::string(byAddress ? "by address" : "bindings") + (sceneTexels ? ", scene texels" : ""));
     bvh::SyntheticMesh m = bvh::makeSoup(count, count, {3, -2, 1}, 5.0f, 0.5f, 7);
-    vk::Buffer verts = deviceBuffer(ctx, m.vertices.size() * 32, "verts", VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT);
-    vk::Buffer tris = deviceBuffer(ctx, m.triangles.size() * 16, "tris", VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT);
+    vk::Buffer verts = test::deviceBuffer(ctx, m.vertices.size() * 32, "verts", VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT);
+    vk::Buffer tris = test::deviceBuffer(ctx, m.triangles.size() * 16, "tris", VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT);
     vk::BufferView vertTexels = vk::BufferView::uintTexels(ctx, verts, "vert texels");
     vk::BufferView triTexels = vk::BufferView::uintTexels(ctx, tris, "tri texels");
     verts.uploadVector(m.vertices);
@@ -65,8 +59,8 @@ TEST(BuildPasses, BoundsAndMortonMatchTheCpuTwin) {
     bvh::BuildTexelViews texels;
     texels.prims = primTexels.handle();
     texels.interior = texels.leaves = noNodeTexels.handle();
-    vk::Buffer info = deviceBuffer(ctx, sizeof(bb::BvhBuildInfo), "info");
-    vk::Buffer keys = deviceBuffer(ctx, count * 4ull, "keys"), values = deviceBuffer(ctx, count * 4ull, "values");
+    vk::Buffer info = test::deviceBuffer(ctx, sizeof(bb::BvhBuildInfo), "info");
+    vk::Buffer keys = test::deviceBuffer(ctx, count * 4ull, "keys"), values = test::deviceBuffer(ctx, count * 4ull, "values");
     bb::BvhBuildInfo init{};
     float big = 3e38f, small = -3e38f;
     uint32_t bigBits, smallBits;
@@ -114,58 +108,5 @@ TEST(BuildPasses, BoundsAndMortonMatchTheCpuTwin) {
       mismatches += gotKeys[i] != bb::bvhMorton(u.x, u.y, u.z);
     }
     EXPECT_EQ(mismatches, 0u) << count;
-  }
-}
-
-TEST(BuildPasses, ExclusiveScanMatchesCpu) {
-  auto& ctx = test::context();
-  bvh::ExclusiveScan scan(ctx);
-  std::mt19937 rng(5);
-  for (uint32_t count : {1u, 1023u, 1024u, 1025u, 300001u}) {
-    std::vector<uint32_t> data(count);
-    for (auto& d : data) d = rng() % 100;
-    vk::Buffer buf = deviceBuffer(ctx, count * 4ull, "scan data");
-    vk::Buffer partials = deviceBuffer(ctx, bvh::ExclusiveScan::partialsBytes(count), "scan partials");
-    buf.uploadVector(data);
-    ctx.submitAndWait([&](VkCommandBuffer cmd) { scan.record(cmd, {buf, partials, count}); });
-    std::vector<uint32_t> expected(count);
-    std::exclusive_scan(data.begin(), data.end(), expected.begin(), 0u);
-    EXPECT_EQ(buf.downloadVector<uint32_t>(count), expected) << count;
-  }
-}
-
-TEST(BuildPasses, RadixSortIsAStableSortOf30BitKeys) {
-  auto& ctx = test::context();
-  bvh::RadixSort sort(ctx);
-  std::mt19937 rng(6);
-  for (uint32_t count : {1u, 7u, 511u, 513u, 100003u}) {
-    std::vector<uint32_t> keys(count), values(count);
-    for (uint32_t i = 0; i < count; ++i) {
-      // Few distinct keys in the low half of the sizes: many duplicates test stability.
-      keys[i] = (i % 2 ? rng() % 64 : rng()) & ((1u << bb::kRadixKeyBits) - 1);
-      values[i] = i;
-    }
-    uint64_t bytes = count * 4ull;
-    auto sortBuffer = [&](const char* name) {
-      return vk::Buffer(ctx, bytes, vk::MemoryUse::DeviceLocal, name, bvh::RadixSort::kUsage);
-    };
-    vk::Buffer k = sortBuffer("k"), v = sortBuffer("v"), kt = sortBuffer("kt"), vt = sortBuffer("vt");
-    vk::BufferView kView = vk::BufferView::uintWords(ctx, k, "k texels"), vView = vk::BufferView::uintWords(ctx, v, "v texels");
-    vk::BufferView ktView = vk::BufferView::uintWords(ctx, kt, "kt texels"), vtView = vk::BufferView::uintWords(ctx, vt, "vt texels");
-    uint64_t histBytes = bvh::RadixSort::histogramBytes(count);
-    vk::Buffer hist = deviceBuffer(ctx, histBytes, "hist");
-    vk::Buffer partials = deviceBuffer(ctx, bvh::ExclusiveScan::partialsBytes(uint32_t(histBytes / 4)), "partials");
-    k.uploadVector(keys);
-    v.uploadVector(values);
-    ctx.submitAndWait([&](VkCommandBuffer cmd) {
-      sort.record(cmd, {k, v, kt, vt, hist, partials, count, kView.handle(), vView.handle(), ktView.handle(), vtView.handle()});
-    });
-    std::vector<uint32_t> order(count);
-    std::iota(order.begin(), order.end(), 0u);
-    std::stable_sort(order.begin(), order.end(), [&](uint32_t a, uint32_t b) { return keys[a] < keys[b]; });
-    std::vector<uint32_t> sortedKeys(count);
-    for (uint32_t i = 0; i < count; ++i) sortedKeys[i] = keys[order[i]];
-    EXPECT_EQ(k.downloadVector<uint32_t>(count), sortedKeys) << count;
-    EXPECT_EQ(v.downloadVector<uint32_t>(count), order) << count;
   }
 }
