@@ -190,6 +190,12 @@ class Farm(unittest.TestCase):
                 procs.append(subprocess.Popen([PY, "-m", "distributed.cli.dask_worker", "--scheduler-file", sched,
                                                "--nthreads", "1", "--no-nanny"], env=env,
                                               stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL))
+            deadline = time.monotonic() + 120  # the cluster up: its file written, both workers in
+            while not sched.is_file() and time.monotonic() < deadline:
+                time.sleep(0.2)
+            from distributed import Client
+            with Client(scheduler_file=str(sched), timeout=60) as c:
+                c.wait_for_workers(2, timeout=120)
             r = farm("frames", "0-0", "--scheduler-file", sched, "--osr-vk", fake, *job, check=False)
             self.refused(r, "osr-vk 0.0.9 (commit 0000000")
             self.assertIn("not this build's osr-vk", r.stderr)
