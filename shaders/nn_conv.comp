@@ -7,7 +7,8 @@
 // Inputs: in (channel slice view), weights [cin / 4][kKernel^2][coutPadded] x 4 input channels
 // (ConvPass::packWeights) as a storage buffer and as texels, params (bias, scale, shift, each
 // coutPadded fp32).
-// Output: a channel slice view of out (skip concatenations cost no copy).
+// Output: a channel slice view of out (skip concatenations cost no copy); zero outside the
+// valid region, so that a tensor stored padded to the tile reads as zero-padded.
 //
 // Work split: each lane owns one output channel and a kTileH x kTileW pixel tile shared by the
 // whole workgroup, accumulated in registers; per input channel it needs the tile's footprint
@@ -158,6 +159,8 @@ void main() {
       if (kActivation == kActLeakyRelu) v = mix(v * kSlope, v, greaterThanEqual(v, vec4(0.0)));
       if (kActivation == kActRelu) v = max(v, vec4(0.0));
       if (kBatchNorm != 0) v = v * scale + shift;
+      const bvec4 valid = lessThan(uvec4(x0 + ox) + uvec4(0, 1, 2, 3), uvec4(gPush.validWidth));
+      v = uint(y0 + oy) < gPush.validHeight ? mix(vec4(0.0), v, valid) : vec4(0.0);
       storeOut4(outBase + uint(oy) * width + uint(ox), v);
     }
   }

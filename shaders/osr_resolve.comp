@@ -60,6 +60,12 @@ void main() {
   f.indirect = vec4(indirect, 0.0);
   f.albedo = vec4(a.albedo.rgb / passes, 0.0);
   f.normal = vec4(a.normal.rgb / passes, 0.0);
-  f.depth = a.depth;
+  // The second moment of one sample's worth: the estimate squared plus its variance, that of
+  // the blended residual's mean (film.h: what the denoisers' variance comes from).
+  const vec3 lumWeights = vec3(0.2126, 0.7152, 0.0722);
+  const float lum = dot(f.combined.rgb, lumWeights);
+  const vec3 residualVar = a.indirect.w > 0.0
+      ? blend * blend * residualVarianceOfMean(a.residual, a.residualSq, a.indirect.w) : vec3(0.0);
+  f.depth = vec4(a.depth.xy, lum * lum + dot(residualVar, lumWeights), 0.0);
   gFilm[local] = f;
 }

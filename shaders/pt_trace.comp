@@ -139,6 +139,8 @@ void accumulate(inout FilmPixel f, Sample s) {
   vec3 l = s.direct + s.indirect;
   bool finite = !any(isnan(l)) && !any(isinf(l));
   f.combined += vec4(finite ? l : vec3(0.0), 1.0);
+  const float lum = finite ? dot(l, vec3(0.2126, 0.7152, 0.0722)) : 0.0;
+  f.depth.z += lum * lum;
   f.direct.rgb += finite ? s.direct : vec3(0.0);
   f.indirect.rgb += finite ? s.indirect : vec3(0.0);
   f.normal.w += finite ? 0.0 : 1.0;

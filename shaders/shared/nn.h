@@ -56,20 +56,32 @@ struct ConvPush {
   uint cin;
   uint cout;
   uint coutPadded;  // weights/params row length (multiple of the workgroup size)
-  uint height;      // input = output size
+  uint height;      // input = output size as stored (multiples of the tile)
   uint width;
   uint tileCount;   // maps * (height / tileH) * (width / tileW)
   uint tileGroupsY; // tile index = groupId.y + groupId.z * tileGroupsY
+  // The valid top-left region of the stored size: outputs outside it are stored as zero, so
+  // a tensor padded to the tile holds exactly the zero padding its readers expect.
+  uint validHeight;
+  uint validWidth;
+  uint _pad0;
+  uint _pad1;
 };
 
-struct PoolPush {  // 2x2 max-pool, stride 2; also bilinear x2 upsample (outH = 2 * inH)
+// 2x2 max-pool, stride 2; also bilinear x2 upsample. Sizes as stored; the valid input region
+// (top left) maps to valid outputs (half or twice it); outputs outside theirs are stored as 0.
+struct PoolPush {
   View src;
   View dst;
   uint maps;
   uint channels;
   uint inHeight;
   uint inWidth;
-  uint pairCount;  // maps * channels * outH * outW / 2
+  uint outHeight;
+  uint outWidth;   // even
+  uint validInHeight;
+  uint validInWidth;
+  uint pairCount;  // maps * channels * outHeight * outWidth / 2
   uint groupsX;    // pair index = (groupId.x + groupId.y * groupsX) * workgroup + local id
   uint _pad0;
   uint _pad1;

@@ -94,7 +94,10 @@ std::vector<float> ConvPass::packParams(const ConvWeights& conv) const {
 void ConvPass::record(VkCommandBuffer cmd, const Args& a) const {
   if (a.src.half != config_.inHalf || a.dst.half != config_.outHalf)
     throw DeviceError("nn_conv: arguments do not match the pass's specialisation");
-  const uint32_t w = config_.width;
+  const uint32_t w = a.width ? a.width : config_.width, h = a.height ? a.height : config_.width;
+  if (w % tileW_ || h % tileH_)
+    throw DeviceError("nn_conv: " + std::to_string(w) + "x" + std::to_string(h) +
+                      " is not a multiple of the tile");
   g::ConvPush push{};
   push.src = {a.src.cTotal, a.src.c0, 0, 0};
   push.dst = {a.dst.cTotal, a.dst.c0, 0, 0};
@@ -102,9 +105,11 @@ void ConvPass::record(VkCommandBuffer cmd, const Args& a) const {
   push.cin = a.cin;
   push.cout = a.cout;
   push.coutPadded = coutPadded(a.cout);
-  push.height = w;
+  push.height = h;
   push.width = w;
-  const uint64_t tiles = uint64_t(a.maps) * (w / tileH_) * (w / tileW_);
+  push.validHeight = a.validHeight ? a.validHeight : h;
+  push.validWidth = a.validWidth ? a.validWidth : w;
+  const uint64_t tiles = uint64_t(a.maps) * (h / tileH_) * (w / tileW_);
   push.tileCount = uint32_t(tiles);
   uint32_t gy, gz;
   splitGroups(tiles, gy, gz);

@@ -37,6 +37,10 @@ class ConvPass {
     vk::BufferRange params;   // packParams() floats
     uint32_t maps = 0;
     uint32_t cin = 0, cout = 0;
+    // Size as stored, multiples of the tile (0: the config's square width), and the valid
+    // top-left region outside which outputs are stored as zero (0: all of it).
+    uint32_t height = 0, width = 0;
+    uint32_t validHeight = 0, validWidth = 0;
   };
   // Records the dispatch and a barrier after it. Ranges must fit maxStorageBufferRange.
   void record(VkCommandBuffer cmd, const Args& args) const;

@@ -18,6 +18,10 @@ class ResamplePass {
     TensorView src, dst;
     uint32_t maps = 0, channels = 0;
     uint32_t inWidth = 0;  // square maps; even for the pool
+    // Rectangular tensors stored padded: input height (0: inWidth), output size as stored
+    // (0: half or twice the input), valid input region (0: all of the input).
+    uint32_t inHeight = 0, outWidth = 0, outHeight = 0;
+    uint32_t validInWidth = 0, validInHeight = 0;
   };
   // Records the dispatch and a barrier after it.
   void record(VkCommandBuffer cmd, const Args& args) const;

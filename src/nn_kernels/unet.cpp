@@ -7,6 +7,7 @@
 #include <tuple>
 
 #include "common/error.h"
+#include "nn_kernels/net_plan.h"
 #include "nn_kernels/weights_format.h"
 
 namespace osr::nn {
@@ -20,17 +21,6 @@ constexpr uint32_t kScratchTimesK[kScratchCount] = {2, 1, 1, 1, 4, 2, 1, 2, 8, 4
 constexpr uint32_t kScratchWidth[kScratchCount] = {32, 32, 32, 16, 16, 16, 16, 8, 8, 8, 8, 4, 4, 4};
 constexpr int kExternal = -1;  // the caller's input or output buffer
 
-enum class Op { Conv, Pool, Up };
-// One pass: src/dst scratch id and first channel (times K), conv index for Op::Conv.
-struct Step {
-  Op op;
-  int conv;
-  int src;
-  uint32_t srcC0TimesK;
-  int dst;
-  uint32_t dstC0TimesK;
-  uint32_t channelsTimesK;  // pool/upsample channels
-};
 // The seed's forward() with every concatenation turned into channel-slice writes.
 constexpr Step kSteps[] = {
     {Op::Conv, 0, kExternal, 0, kT32, 0, 0},
@@ -56,10 +46,8 @@ constexpr Step kSteps[] = {
     {Op::Conv, 14, kB32, 0, kExternal, 0, 0},
 };
 constexpr uint32_t kConvWidth[kConvCount] = {32, 32, 16, 16, 8, 8, 4, 4, 8, 8, 16, 16, 32, 32, 32};
-constexpr VkDeviceSize kAlign = 256;  // >= minStorageBufferOffsetAlignment everywhere
 constexpr uint32_t kPlane = kMapSize * kMapSize;
 
-VkDeviceSize alignUp(VkDeviceSize v) { return (v + kAlign - 1) / kAlign * kAlign; }
 
 }  // namespace
 
@@ -110,9 +98,7 @@ UNet::UNet(const vk::Context& ctx, const UNetWeights& w, const UNetOptions& opti
     // Input texels for every layer reading the arena; the caller's maps (layer 0) may lack
     // the texel-buffer usage.
     cfg.inputTexels = inTexels && i != 0;
-    const uint32_t sub = std::max(ctx.caps().subgroupSize, 8u);
-    const uint32_t wgClass = std::min((c.cout + sub - 1) / sub * sub, 64u);  // as ConvPass picks
-    auto key = std::make_tuple(cfg.kernel, cfg.width, wgClass, int(cfg.activation),
+    auto key = std::make_tuple(cfg.kernel, cfg.width, convWorkgroupClass(ctx, c.cout), int(cfg.activation),
                                std::bit_cast<uint32_t>(cfg.slope), cfg.batchNorm, cfg.inHalf,
                                cfg.outHalf, cfg.inputTexels);
     auto it = passIndex.find(key);
@@ -120,19 +106,8 @@ UNet::UNet(const vk::Context& ctx, const UNetWeights& w, const UNetOptions& opti
       convPasses_.emplace_back(ctx, cfg);
       it = passIndex.insert_or_assign(key, convPasses_.size() - 1).first;
     }
-    const ConvPass& pass = convPasses_[it->second];
-    ConvLayer layer{it->second, c.cin, c.cout, 0, 0, 0, 0};
-    std::vector<uint32_t> words = pass.packWeights(c);
-    std::vector<float> p = pass.packParams(c);
-    layer.weightOffset = weightWords.size() * 4;
-    layer.weightBytes = words.size() * 4;
-    weightWords.insert(weightWords.end(), words.begin(), words.end());
-    weightWords.resize(alignUp(weightWords.size() * 4) / 4, 0);
-    layer.paramOffset = params.size() * 4;
-    layer.paramBytes = p.size() * 4;
-    params.insert(params.end(), p.begin(), p.end());
-    params.resize(alignUp(params.size() * 4) / 4, 0.0f);
-    layers_.push_back(layer);
+    const LayerSlot l = packLayer(convPasses_[it->second], it->second, c, weightWords, params);
+    layers_.push_back({l.pass, c.cin, c.cout, l.weightOffset, l.weightBytes, l.paramOffset, l.paramBytes});
   }
   weightBuffer_ = vk::Buffer(ctx, weightWords.size() * 4, vk::MemoryUse::DeviceLocal, "unet weights",
                              VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT);
@@ -163,7 +138,7 @@ UNet::UNet(const vk::Context& ctx, const UNetWeights& w, const UNetOptions& opti
   for (int s = 0; s < kScratchCount; ++s) {
     VkDeviceSize b = VkDeviceSize(kScratchTimesK[s]) * k_ * kScratchWidth[s] * kScratchWidth[s] * elem * chunk_;
     scratch_.push_back({kScratchTimesK[s] * k_, kScratchWidth[s], offset, b});
-    offset = alignUp(offset + b);
+    offset = alignTensor(offset + b);
   }
   arena_ = vk::Buffer(ctx, offset, vk::MemoryUse::DeviceLocal, "unet activations",
                       VK_BUFFER_USAGE_UNIFORM_TEXEL_BUFFER_BIT);
@@ -186,7 +161,7 @@ void UNet::record(VkCommandBuffer cmd, const vk::Buffer& in, VkDeviceSize inOffs
                   const vk::Buffer& out, VkDeviceSize outOffset, uint32_t maps,
                   vk::GpuTimer* timer) const {
   const VkDeviceSize inMap = kInChannels * kPlane * 4, outMap = kOutChannels * kPlane * 4;
-  if (inOffset % kAlign || outOffset % kAlign)
+  if (inOffset % kTensorAlign || outOffset % kTensorAlign)
     throw DeviceError("unet: buffer offsets must be multiples of 256 bytes");
   if (inOffset + inMap * maps > in.size() || outOffset + outMap * maps > out.size())
     throw DeviceError("unet: " + std::to_string(maps) + " maps do not fit the given buffers");

@@ -51,6 +51,7 @@ FilmLayers Film::resolve() const {
   for (auto* v : {&out.combined, &out.direct, &out.indirect, &out.albedo, &out.normal})
     v->resize(n * 3);
   out.depth.resize(n);
+  out.variance.resize(n);
   out.samples = n ? uint32_t(px[0].combined.w + 0.5f) : 0;
   for (size_t i = 0; i < n; ++i) {
     const gpu::film::FilmPixel& p = px[i];
@@ -63,6 +64,12 @@ FilmLayers Film::resolve() const {
       out.normal[i * 3 + c] = p.normal[c] * inv;
     }
     out.depth[i] = p.depth.y > 0.f ? p.depth.x / p.depth.y : 0.f;
+    const double samples = p.combined.w;
+    const double lum = 0.2126 * out.combined[i * 3] + 0.7152 * out.combined[i * 3 + 1] +
+                       0.0722 * out.combined[i * 3 + 2];
+    const double var = samples > 1.5 ? (p.depth.z - samples * lum * lum) / (samples * (samples - 1.0))
+                                     : p.depth.z - lum * lum;
+    out.variance[i] = float(std::max(var, 0.0));
     out.droppedSamples += uint64_t(p.normal.w);
   }
   return out;

@@ -22,6 +22,12 @@ struct FilmLayers {
   uint64_t droppedSamples = 0;  // non-finite path samples discarded (expected 0)
   std::vector<float> combined, direct, indirect, albedo, normal;  // RGB / XYZ
   std::vector<float> depth;  // view-axis distance of the first hit; 0 where no sample hit
+  // Variance of each pixel's luminance estimate: with n > 1 samples the sample variance over
+  // n, (sum L^2 - n mean^2) / (n (n - 1)); with one sample's worth (OSR) what its resolve
+  // stored (film.h); 0 where unknown.
+  std::vector<float> variance;
+  // The colour before denoising, when a denoiser replaced `combined` (render/denoiser.h).
+  std::vector<float> noisy;
 };
 
 // Pixel windows start at multiples of this many pixels, so that a window's byte offset is a

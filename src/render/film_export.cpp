@@ -29,6 +29,8 @@ image::LayeredImage toLayeredImage(const FilmLayers& f) {
   const std::vector<std::string> rgb = {"R", "G", "B"}, xyz = {"X", "Y", "Z"};
   img.layers = {{"", rgb, f.combined},     {"direct", rgb, f.direct}, {"indirect", rgb, f.indirect},
                 {"albedo", rgb, f.albedo}, {"normal", xyz, f.normal}, {"depth", {"Z"}, f.depth}};
+  // A denoised film keeps its raw colour beside the default (denoised) layer.
+  if (!f.noisy.empty()) img.layers.push_back({"noisy", rgb, f.noisy});
   return img;
 }
 

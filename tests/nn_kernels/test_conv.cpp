@@ -16,8 +16,8 @@ using namespace osr;
 
 // shaders/shared/nn.h is read by GLSL with std430 push-constant layout: no implicit padding.
 static_assert(sizeof(gpu::nn::View) == 16);
-static_assert(sizeof(gpu::nn::ConvPush) == 64 && offsetof(gpu::nn::ConvPush, maps) == 32);
-static_assert(sizeof(gpu::nn::PoolPush) == 64 && offsetof(gpu::nn::PoolPush, maps) == 32);
+static_assert(sizeof(gpu::nn::ConvPush) == 80 && offsetof(gpu::nn::ConvPush, maps) == 32);
+static_assert(sizeof(gpu::nn::PoolPush) == 80 && offsetof(gpu::nn::PoolPush, maps) == 32);
 
 namespace {
 

@@ -26,6 +26,7 @@
 #include "shaders/shared/bvh_build.h"
 #include "shaders/shared/bvh_trace.h"
 #include "shaders/shared/camera.h"
+#include "shaders/shared/denoise.h"
 #include "shaders/shared/film.h"
 #include "shaders/shared/hemisphere.h"
 #include "shaders/shared/nn.h"
@@ -122,9 +123,14 @@ const std::vector<Layout>& layouts() {
       STRUCT(bvh_trace, Push, F(rayCount), F(mode), F(raysPerLane), F(_pad0)),
       STRUCT(nn, View, F(cTotal), F(c0), F(_pad0), F(_pad1)),
       STRUCT(nn, ConvPush, F(src), F(dst), F(maps), F(cin), F(cout), F(coutPadded), F(height),
-             F(width), F(tileCount), F(tileGroupsY)),
+             F(width), F(tileCount), F(tileGroupsY), F(validHeight), F(validWidth), F(_pad0), F(_pad1)),
       STRUCT(nn, PoolPush, F(src), F(dst), F(maps), F(channels), F(inHeight), F(inWidth),
-             F(pairCount), F(groupsX), F(_pad0), F(_pad1)),
+             F(outHeight), F(outWidth), F(validInHeight), F(validInWidth), F(pairCount), F(groupsX),
+             F(_pad0), F(_pad1)),
+      STRUCT(denoise, ExposureSums, F(logSum), F(count), F(exposure), F(_pad0)),
+      STRUCT(denoise, DenoisePush, F(width), F(height), F(paddedWidth), F(paddedHeight), F(tileX),
+             F(tileY), F(tileWidth), F(tileHeight), F(coreX0), F(coreY0), F(coreX1), F(coreY1),
+             F(step), F(sigmaLuminance), F(sigmaNormal), F(sigmaDepth)),
       STRUCT(film, FilmPixel, F(combined), F(direct), F(indirect), F(albedo), F(normal), F(depth)),
       STRUCT(camera, CameraFrame, F(cameraRight), F(cameraUp), F(cameraBack), F(cameraOrigin),
              F(width), F(height), F(seed), F(pixelFilter), F(tanHalfFovY), F(aspect), F(_pad1),

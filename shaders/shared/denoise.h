@@ -1,0 +1,65 @@
+// The image denoisers (src/denoise, docs/denoise.md): the learned network's input and output
+// passes and exposure reduction, and the edge-aware a-trous filter, shared by GLSL and C++.
+// Their image layers are one vec4 per pixel, row-major, row 0 at the top:
+//   colour: rgb the film's combined colour; w: variance of the pixel's luminance estimate
+//   albedo: rgb the first-hit albedo; w: the first hit's view-axis depth (0: no hit)
+//   normal: xyz the first-hit normal (world, facing the camera); w: unused
+// Network tensors (src/nn_kernels/image_unet.h) are fp32 NCHW tiles of the padded image.
+#ifndef OSR_SHARED_DENOISE_H
+#define OSR_SHARED_DENOISE_H
+#include "shared/types.h"
+OSR_NAMESPACE_BEGIN(denoise)
+
+OSR_CONST(uint, kDenoiseWorkgroup, 64);  // exposure reduction: lanes per workgroup
+OSR_CONST(uint, kDenoiseTile, 8);        // per-pixel passes: 8 x 8 pixels per workgroup
+
+OSR_CONST(uint, kBindingColour, 0);
+OSR_CONST(uint, kBindingAlbedo, 1);
+OSR_CONST(uint, kBindingNormal, 2);
+OSR_CONST(uint, kBindingExposure, 3);  // ExposureSums (exposure: partial sums, then the total)
+OSR_CONST(uint, kBindingTensor, 4);    // input pass: writes the tile's input; output: reads y
+OSR_CONST(uint, kBindingOut, 5);       // output pass, a-trous: vec4 per pixel
+OSR_CONST(uint, kDenoiseBindingCount, 6);
+
+// Exposure (image_unet.image_exposure): sum of log(1e-4 + luminance) and the count over pixels
+// of the padded image with luminance > 0. Stage 0: one partial per workgroup; stage 1 (one
+// workgroup): the total and e = 0.18 / exp(sum / count), or 1 when count is 0.
+OSR_CONST(uint, kSpecExposureStage, 0);
+OSR_CONST(uint, kExposurePartials, 256);  // workgroups of stage 0
+OSR_CONST(float, kExposureKey, 0.18);
+struct ExposureSums {
+  float logSum;
+  uint count;
+  float exposure;  // e, valid after stage 1
+  uint _pad0;
+};
+
+// Geometry of one dispatch. Image: width x height, padded (repeating the last row and
+// column) to paddedWidth x paddedHeight, multiples of 8. Tile: tileWidth x tileHeight pixels
+// of the padded image at (tileX, tileY); core: the part of the tile the output pass writes,
+// [coreX0, coreX1) x [coreY0, coreY1) in image pixels.
+struct DenoisePush {
+  uint width;
+  uint height;
+  uint paddedWidth;
+  uint paddedHeight;
+  uint tileX;
+  uint tileY;
+  uint tileWidth;
+  uint tileHeight;
+  uint coreX0;
+  uint coreY0;
+  uint coreX1;
+  uint coreY1;
+  uint step;      // a-trous: the tap spacing of this iteration (1, 2, 4, 8, 16)
+  float sigmaLuminance;  // a-trous: luminance edge-stopping scale (SVGF sigma_l)
+  float sigmaNormal;     // a-trous: normal exponent (SVGF sigma_n)
+  float sigmaDepth;      // a-trous: depth edge-stopping scale (SVGF sigma_z)
+};
+
+// a-trous iterations: the first demodulates (colour / albedo), the last re-modulates.
+OSR_CONST(uint, kSpecAtrousFirst, 0);
+OSR_CONST(uint, kSpecAtrousLast, 1);
+
+OSR_NAMESPACE_END
+#endif

@@ -1,0 +1,61 @@
+// The image denoisers' compute passes (shaders/denoise_*.comp, shaders/shared/denoise.h), one
+// class per pass; render/denoiser.h puts them together. Every pass binds the same six slots
+// (DenoiseBindings); a pass's unused slots get any valid range.
+#pragma once
+#include <cstdint>
+
+#include "shaders/shared/denoise.h"
+#include "vk/buffer.h"
+#include "vk/pipeline.h"
+
+namespace osr::render {
+
+struct DenoiseBindings {
+  vk::BufferRange colour, albedo, normal;  // image layers (shared/denoise.h)
+  vk::BufferRange exposure;                // ExposureSums[kExposurePartials + 1]
+  vk::BufferRange tensor;                  // the network tile's input or output tensor
+  vk::BufferRange out;                     // vec4 per pixel
+};
+
+// The exposure scale e of the padded image (denoise_exposure.comp, both stages).
+class ExposurePass {
+ public:
+  explicit ExposurePass(const vk::Context& ctx);
+  void record(VkCommandBuffer cmd, const DenoiseBindings& b, const gpu::denoise::DenoisePush& push) const;
+
+ private:
+  vk::ComputePipeline partials_, total_;
+};
+
+// A tile's network input from the image layers (denoise_net_input.comp).
+class NetInputPass {
+ public:
+  explicit NetInputPass(const vk::Context& ctx);
+  void record(VkCommandBuffer cmd, const DenoiseBindings& b, const gpu::denoise::DenoisePush& push) const;
+
+ private:
+  vk::ComputePipeline pipeline_;
+};
+
+// A tile core's colour from the network output (denoise_net_output.comp).
+class NetOutputPass {
+ public:
+  explicit NetOutputPass(const vk::Context& ctx);
+  void record(VkCommandBuffer cmd, const DenoiseBindings& b, const gpu::denoise::DenoisePush& push) const;
+
+ private:
+  vk::ComputePipeline pipeline_;
+};
+
+// One a-trous iteration (denoise_atrous.comp) from b.colour into b.out; the first demodulates
+// the colour by the albedo, the last re-modulates.
+class AtrousPass {
+ public:
+  AtrousPass(const vk::Context& ctx, bool first, bool last);
+  void record(VkCommandBuffer cmd, const DenoiseBindings& b, const gpu::denoise::DenoisePush& push) const;
+
+ private:
+  vk::ComputePipeline pipeline_;
+};
+
+}  // namespace osr::render

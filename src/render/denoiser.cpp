@@ -1,0 +1,209 @@
+#include "render/denoiser.h"
+
+#include <algorithm>
+#include <chrono>
+
+#include "common/error.h"
+#include "nn_kernels/weights_format.h"
+#include "render/default_image_model.h"
+
+namespace osr::render {
+
+namespace g = gpu::denoise;
+
+namespace {
+
+uint32_t padded(uint32_t size) { return (size + nn::kImageMultiple - 1) / nn::kImageMultiple * nn::kImageMultiple; }
+
+g::DenoisePush imagePush(uint32_t width, uint32_t height) {
+  g::DenoisePush p{};
+  p.width = width;
+  p.height = height;
+  p.paddedWidth = padded(width);
+  p.paddedHeight = padded(height);
+  return p;
+}
+
+// Spans [start, end) of one axis and the core [core0, core1) each writes.
+struct Span {
+  uint32_t start, end, core0, core1;
+};
+std::vector<Span> spans(uint32_t size, uint32_t maxTile, uint32_t margin) {
+  const uint32_t full = padded(size);
+  if (full <= maxTile) return {{0, full, 0, size}};
+  const uint32_t core = maxTile - 2 * margin;
+  std::vector<Span> out;
+  for (uint32_t c = 0; c < size; c += core)
+    out.push_back({c > margin ? c - margin : 0, std::min(c + core + margin, full), c, std::min(c + core, size)});
+  return out;
+}
+
+}  // namespace
+
+DenoiseImage::DenoiseImage(const vk::Context& ctx, uint32_t width, uint32_t height)
+    : ctx_(ctx), width_(width), height_(height) {
+  const uint64_t bytes = uint64_t(width) * height * 16;
+  if (bytes > ctx.caps().maxStorageBufferRange)
+    throw DeviceError("denoiser: a " + std::to_string(width) + "x" + std::to_string(height) +
+                      " layer needs " + std::to_string(bytes >> 20) +
+                      " MiB, over the device's maxStorageBufferRange of " +
+                      std::to_string(ctx.caps().maxStorageBufferRange >> 20) + " MiB");
+  colour_ = vk::Buffer(ctx, bytes, vk::MemoryUse::DeviceLocal, "denoise colour");
+  albedo_ = vk::Buffer(ctx, bytes, vk::MemoryUse::DeviceLocal, "denoise albedo");
+  normal_ = vk::Buffer(ctx, bytes, vk::MemoryUse::DeviceLocal, "denoise normal");
+}
+
+void DenoiseImage::upload(const FilmLayers& film) {
+  if (film.width != int(width_) || film.height != int(height_))
+    throw DeviceError("denoiser: film size does not match the denoiser's");
+  const size_t n = size_t(width_) * height_;
+  const std::vector<float>& colour = film.noisy.empty() ? film.combined : film.noisy;
+  std::vector<float> c(n * 4), a(n * 4), nrm(n * 4);
+  for (size_t i = 0; i < n; ++i) {
+    for (int k = 0; k < 3; ++k) {
+      c[4 * i + k] = colour[3 * i + k];
+      a[4 * i + k] = film.albedo[3 * i + k];
+      nrm[4 * i + k] = film.normal[3 * i + k];
+    }
+    c[4 * i + 3] = film.variance.empty() ? 0.0f : film.variance[i];
+    a[4 * i + 3] = film.depth[i];
+  }
+  colour_.uploadVector(c);
+  albedo_.uploadVector(a);
+  normal_.uploadVector(nrm);
+}
+
+std::vector<float> DenoiseImage::download(const vk::Buffer& pixels) const {
+  const size_t n = size_t(width_) * height_;
+  auto v = pixels.downloadVector<float>(n * 4);
+  std::vector<float> rgb(n * 3);
+  for (size_t i = 0; i < n; ++i)
+    for (int k = 0; k < 3; ++k) rgb[3 * i + k] = v[4 * i + k];
+  return rgb;
+}
+
+DenoiseBindings DenoiseImage::bindings() const {
+  DenoiseBindings b;
+  b.colour = colour_;
+  b.albedo = albedo_;
+  b.normal = normal_;
+  return b;
+}
+
+std::vector<DenoiseTile> denoiseTiles(uint32_t width, uint32_t height, uint32_t maxTile, uint32_t margin) {
+  if (maxTile % nn::kImageMultiple || maxTile < 2 * margin + nn::kImageMultiple)
+    throw DeviceError("denoiser: tile side " + std::to_string(maxTile) + " leaves no core inside its " +
+                      std::to_string(margin) + " px margins");
+  std::vector<DenoiseTile> tiles;
+  for (const Span& y : spans(height, maxTile, margin))
+    for (const Span& x : spans(width, maxTile, margin))
+      tiles.push_back({x.start, y.start, x.end - x.start, y.end - y.start, x.core0, y.core0, x.core1, y.core1});
+  return tiles;
+}
+
+NetworkDenoiser::NetworkDenoiser(const vk::Context& ctx, const nn::ImageUNetWeights& weights,
+                                 uint32_t width, uint32_t height, uint32_t maxTile, uint64_t budget)
+    : width_(width), height_(height), exposure_(ctx), input_(ctx), output_(ctx) {
+  if (!maxTile) maxTile = nn::ImageUNet::maxTileFor(ctx, weights.k, budget);
+  tiles_ = denoiseTiles(width, height, maxTile, nn::kImageTileMargin);
+  uint32_t largest = 0;
+  for (const DenoiseTile& t : tiles_) largest = std::max({largest, t.width, t.height});
+  net_ = std::make_unique<nn::ImageUNet>(ctx, weights, largest);
+  sums_ = vk::Buffer(ctx, sizeof(g::ExposureSums) * (g::kExposurePartials + 1), vk::MemoryUse::DeviceLocal,
+                     "denoise exposure");
+}
+
+void NetworkDenoiser::record(VkCommandBuffer cmd, const DenoiseImage& image, const vk::Buffer& out,
+                             vk::GpuTimer* timer) const {
+  DenoiseBindings b = image.bindings();
+  b.exposure = sums_;
+  b.out = out;
+  g::DenoisePush push = imagePush(width_, height_);
+  {
+    vk::TimedScope scope(timer, cmd, "exposure");
+    exposure_.record(cmd, b, push);
+  }
+  for (const DenoiseTile& t : tiles_) {
+    push.tileX = t.x;
+    push.tileY = t.y;
+    push.tileWidth = t.width;
+    push.tileHeight = t.height;
+    push.coreX0 = t.coreX0;
+    push.coreY0 = t.coreY0;
+    push.coreX1 = t.coreX1;
+    push.coreY1 = t.coreY1;
+    b.tensor = net_->input(t.height, t.width);
+    {
+      vk::TimedScope scope(timer, cmd, "net input");
+      input_.record(cmd, b, push);
+    }
+    net_->record(cmd, t.height, t.width, timer);
+    b.tensor = net_->output(t.height, t.width);
+    vk::TimedScope scope(timer, cmd, "net output");
+    output_.record(cmd, b, push);
+  }
+}
+
+AtrousFilter::AtrousFilter(const vk::Context& ctx, uint32_t width, uint32_t height, const AtrousSettings& settings)
+    : width_(width), height_(height), settings_(settings), first_(ctx, true, false), middle_(ctx, false, false),
+      last_(ctx, false, true), only_(ctx, true, true) {
+  const VkDeviceSize bytes = VkDeviceSize(width) * height * 16;
+  ping_ = vk::Buffer(ctx, bytes, vk::MemoryUse::DeviceLocal, "atrous ping");
+  pong_ = vk::Buffer(ctx, bytes, vk::MemoryUse::DeviceLocal, "atrous pong");
+}
+
+void AtrousFilter::record(VkCommandBuffer cmd, const DenoiseImage& image, const vk::Buffer& out) const {
+  g::DenoisePush push = imagePush(width_, height_);
+  push.sigmaLuminance = settings_.sigmaLuminance;
+  push.sigmaNormal = settings_.sigmaNormal;
+  push.sigmaDepth = settings_.sigmaDepth;
+  DenoiseBindings b = image.bindings();
+  const uint32_t n = settings_.iterations;
+  for (uint32_t i = 0; i < n; ++i) {
+    const bool first = i == 0, last = i + 1 == n;
+    if (!first) b.colour = (i % 2) ? ping_ : pong_;  // the previous iteration's output
+    b.out = last ? out : (i % 2) ? pong_ : ping_;
+    push.step = 1u << i;
+    const AtrousPass& pass = first && last ? only_ : first ? first_ : last ? last_ : middle_;
+    pass.record(cmd, b, push);
+  }
+}
+
+std::optional<nn::ImageUNetWeights> defaultImageModel() {
+  const auto bytes = defaultImageModelBytes();
+  if (bytes.empty()) return std::nullopt;
+  return nn::ImageUNetWeights::parse(bytes, kDefaultImageModelName);
+}
+
+Denoiser::Denoiser(const vk::Context& ctx, const DenoiseSettings& settings, uint32_t width, uint32_t height)
+    : ctx_(ctx), settings_(settings), image_(ctx, width, height) {
+  if (settings.network == DenoiseSettings::Network::Default) {
+    auto model = defaultImageModel();
+    if (!model) throw InputError("--network default: no image denoiser model shipped in this build");
+    network_ = std::make_unique<NetworkDenoiser>(ctx, *model, width, height);
+  } else if (settings.network == DenoiseSettings::Network::File) {
+    network_ = std::make_unique<NetworkDenoiser>(ctx, nn::ImageUNetWeights::load(settings.networkFile), width, height);
+  } else if (settings.atrous) {
+    filter_ = std::make_unique<AtrousFilter>(ctx, width, height);
+  }
+  out_ = vk::Buffer(ctx, VkDeviceSize(width) * height * 16, vk::MemoryUse::DeviceLocal, "denoised colour");
+}
+
+const char* Denoiser::name() const { return network_ ? "network" : filter_ ? "atrous" : "none"; }
+
+void Denoiser::apply(FilmLayers& film) {
+  if (!network_ && !filter_) return;
+  const auto start = std::chrono::steady_clock::now();
+  image_.upload(film);
+  ctx_.submitAndWait([&](VkCommandBuffer cmd) {
+    if (network_)
+      network_->record(cmd, image_, out_);
+    else
+      filter_->record(cmd, image_, out_);
+  });
+  if (film.noisy.empty()) film.noisy = film.combined;
+  film.combined = image_.download(out_);
+  lastSeconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+}  // namespace osr::render

@@ -1,0 +1,195 @@
+// The image denoisers: the learned one against PyTorch (tools/weights_pack.py --golden: its
+// padding, exposure, network and output transform) on an image whose size is no multiple of
+// 8; tiled runs equal untiled ones everywhere (the margin covers the receptive field); the
+// a-trous filter keeps a constant image constant, keeps an edge, and removes noise.
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <random>
+
+#include "common/vk_test.h"
+#include "nn_kernels/weights_format.h"
+#include "render/denoiser.h"
+
+using namespace osr;
+
+namespace {
+
+std::vector<float> readFloats(const std::string& path) {
+  std::ifstream f(path, std::ios::binary);
+  EXPECT_TRUE(f.good()) << path;
+  std::vector<char> bytes((std::istreambuf_iterator<char>(f)), std::istreambuf_iterator<char>());
+  std::vector<float> v(bytes.size() / 4);
+  std::memcpy(v.data(), bytes.data(), v.size() * 4);
+  return v;
+}
+
+// Planar 3 x h x w (PyTorch) to interleaved rgb.
+std::vector<float> interleave(const std::vector<float>& planar, size_t pixels) {
+  std::vector<float> out(pixels * 3);
+  for (size_t i = 0; i < pixels; ++i)
+    for (int c = 0; c < 3; ++c) out[3 * i + c] = planar[c * pixels + i];
+  return out;
+}
+
+render::FilmLayers film(int w, int h) {
+  render::FilmLayers f;
+  f.width = w;
+  f.height = h;
+  const size_t n = size_t(w) * h;
+  f.combined.assign(n * 3, 0.0f);
+  f.albedo.assign(n * 3, 0.5f);
+  f.normal.assign(n * 3, 0.0f);
+  for (size_t i = 0; i < n; ++i) f.normal[3 * i + 2] = 1.0f;
+  f.depth.assign(n, 2.0f);
+  f.variance.assign(n, 0.0f);
+  return f;
+}
+
+// A random HDR image with random guides.
+render::FilmLayers randomFilm(int w, int h, uint32_t seed) {
+  render::FilmLayers f = film(w, h);
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<float> uni(0.0f, 1.0f);
+  for (float& v : f.combined) v = std::exp(4.0f * uni(rng) - 2.0f);
+  for (float& v : f.albedo) v = uni(rng);
+  for (float& v : f.normal) v = 2.0f * uni(rng) - 1.0f;
+  return f;
+}
+
+std::vector<float> runNetwork(const nn::ImageUNetWeights& w, const render::FilmLayers& f, uint32_t maxTile,
+                              size_t* tiles = nullptr) {
+  auto& ctx = test::context();
+  render::DenoiseImage image(ctx, f.width, f.height);
+  image.upload(f);
+  render::NetworkDenoiser net(ctx, w, f.width, f.height, maxTile);
+  if (tiles) *tiles = net.tiles().size();
+  vk::Buffer out(ctx, size_t(f.width) * f.height * 16, vk::MemoryUse::DeviceLocal, "test denoised");
+  ctx.submitAndWait([&](VkCommandBuffer cmd) { net.record(cmd, image, out); });
+  return image.download(out);
+}
+
+std::vector<float> runAtrous(const render::FilmLayers& f) {
+  auto& ctx = test::context();
+  render::DenoiseImage image(ctx, f.width, f.height);
+  image.upload(f);
+  render::AtrousFilter filter(ctx, f.width, f.height);
+  vk::Buffer out(ctx, size_t(f.width) * f.height * 16, vk::MemoryUse::DeviceLocal, "test filtered");
+  ctx.submitAndWait([&](VkCommandBuffer cmd) { filter.record(cmd, image, out); });
+  return image.download(out);
+}
+
+double maxAbs(const std::vector<float>& v) {
+  double m = 0;
+  for (float x : v) m = std::max(m, double(std::fabs(x)));
+  return m;
+}
+
+double maxAbsDiff(const std::vector<float>& a, const std::vector<float>& b) {
+  double m = 0;
+  for (size_t i = 0; i < a.size(); ++i) {
+    const double d = std::fabs(double(a[i]) - b[i]);
+    if (!(d <= m)) m = std::isnan(d) ? INFINITY : d;
+  }
+  return m;
+}
+
+}  // namespace
+
+// tests/data/image_unet_k8_golden: a 37 x 21 image (padded to 40 x 24) through PyTorch.
+TEST(Denoiser, NetworkMatchesPyTorchGolden) {
+  const nn::ImageUNetWeights w = nn::ImageUNetWeights::load(test::dataPath("image_unet_k8.osrw"));
+  const int width = 37, height = 21;
+  const size_t n = size_t(width) * height;
+  render::FilmLayers f = film(width, height);
+  f.combined = interleave(readFloats(test::dataPath("image_unet_k8_golden/colour.f32")), n);
+  f.albedo = interleave(readFloats(test::dataPath("image_unet_k8_golden/albedo.f32")), n);
+  f.normal = interleave(readFloats(test::dataPath("image_unet_k8_golden/normal.f32")), n);
+  const std::vector<float> want = interleave(readFloats(test::dataPath("image_unet_k8_golden/output.f32")), n);
+  const std::vector<float> got = runNetwork(w, f, 0);
+  const double err = maxAbsDiff(got, want);
+  std::printf("golden K=8 37x21: max abs err %.3g (max |out| %.3g)\n", err, maxAbs(want));
+  EXPECT_GT(maxAbs(want), 1.0);
+  EXPECT_LE(err, 2e-4 * maxAbs(want));
+}
+
+// Tiles of 96 px (16 px cores inside 40 px margins) against one tile: the same image.
+TEST(Denoiser, TiledEqualsUntiled) {
+  const nn::ImageUNetWeights w = nn::ImageUNetWeights::random(8, 77);
+  const render::FilmLayers f = randomFilm(123, 100, 5);
+  size_t tiles = 0, one = 0;
+  const std::vector<float> tiled = runNetwork(w, f, 96, &tiles);
+  const std::vector<float> whole = runNetwork(w, f, 0, &one);
+  EXPECT_EQ(one, 1u);
+  EXPECT_EQ(tiles, 8u * 7u);  // ceil(123 / 16) x ceil(100 / 16)
+  const double err = maxAbsDiff(tiled, whole);
+  std::printf("tiled (%zu tiles) vs whole: max abs err %.3g (max |out| %.3g)\n", tiles, err, maxAbs(whole));
+  EXPECT_GT(maxAbs(whole), 0.0);
+  EXPECT_LE(err, 1e-5 * maxAbs(whole));
+}
+
+TEST(Denoiser, TilesCoverTheImageOnce) {
+  for (auto [w, h, tile] : {std::tuple{3840u, 2160u, 512u}, {37u, 21u, 96u}, {1000u, 9u, 88u}}) {
+    std::vector<int> covered(size_t(w) * h, 0);
+    for (const render::DenoiseTile& t : render::denoiseTiles(w, h, tile, nn::kImageTileMargin)) {
+      EXPECT_EQ(t.x % 8, 0u);
+      EXPECT_EQ(t.y % 8, 0u);
+      EXPECT_LE(t.width, tile);
+      EXPECT_LE(t.height, tile);
+      EXPECT_EQ(t.width % 8, 0u);
+      // The core lies inside the tile with the margin on each side cut inside the image.
+      const uint32_t paddedW = (w + 7) / 8 * 8, paddedH = (h + 7) / 8 * 8;
+      EXPECT_TRUE(t.x == 0 || t.coreX0 >= t.x + nn::kImageTileMargin);
+      EXPECT_TRUE(t.x + t.width == paddedW || t.coreX1 + nn::kImageTileMargin <= t.x + t.width);
+      EXPECT_TRUE(t.y == 0 || t.coreY0 >= t.y + nn::kImageTileMargin);
+      EXPECT_TRUE(t.y + t.height == paddedH || t.coreY1 + nn::kImageTileMargin <= t.y + t.height);
+      for (uint32_t y = t.coreY0; y < t.coreY1; ++y)
+        for (uint32_t x = t.coreX0; x < t.coreX1; ++x) ++covered[size_t(y) * w + x];
+    }
+    EXPECT_EQ(std::count(covered.begin(), covered.end(), 1), ptrdiff_t(covered.size())) << w << "x" << h;
+  }
+}
+
+TEST(Denoiser, AtrousKeepsAConstantImage) {
+  render::FilmLayers f = film(64, 48);
+  for (size_t i = 0; i < f.combined.size(); ++i) f.combined[i] = 0.3f + 0.1f * float(i % 3);
+  f.variance.assign(f.variance.size(), 0.01f);
+  const std::vector<float> got = runAtrous(f);
+  EXPECT_LE(maxAbsDiff(got, f.combined), 1e-5);
+}
+
+// Two halves facing different ways, with noise: the filter smooths each half and keeps the
+// edge between them (no light crosses it).
+TEST(Denoiser, AtrousKeepsAnEdgeAndRemovesNoise) {
+  const int w = 64, h = 48;
+  render::FilmLayers f = film(w, h);
+  std::mt19937 rng(3);
+  std::normal_distribution<float> noise(0.0f, 0.1f);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const size_t i = size_t(y) * w + x;
+      const bool left = x < w / 2;
+      const float level = left ? 1.0f : 0.2f;
+      for (int c = 0; c < 3; ++c) f.combined[3 * i + c] = level * 0.5f * (1.0f + noise(rng));
+      f.normal[3 * i] = left ? 0.0f : 1.0f;
+      f.normal[3 * i + 2] = left ? 1.0f : 0.0f;
+      f.variance[i] = std::pow(level * 0.5f * 0.1f, 2.0f);
+    }
+  const std::vector<float> got = runAtrous(f);
+  double errIn = 0, errOut = 0;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const size_t i = size_t(y) * w + x;
+      const float want = (x < w / 2 ? 1.0f : 0.2f) * 0.5f;
+      for (int c = 0; c < 3; ++c) {
+        errIn += std::pow(f.combined[3 * i + c] - want, 2.0);
+        errOut += std::pow(got[3 * i + c] - want, 2.0);
+      }
+      // Next to the edge too: within 10% of its own side's level.
+      if (x == w / 2 - 1 || x == w / 2) EXPECT_NEAR(got[3 * i], want, 0.1 * want) << x << "," << y;
+    }
+  std::printf("a-trous on a noisy edge: squared error %.4g -> %.4g\n", errIn, errOut);
+  EXPECT_LT(errOut, 0.1 * errIn);
+}
