@@ -86,4 +86,15 @@ inline constexpr char kOsrUsage[] =
     "  --weights FILE     packed U-Net weights\n"
     "  --modes LIST       osr,path, osr or path (default osr,path)";
 int runOsr(const std::vector<std::string>& args);   // OSR vs path tracing at equal time
+inline constexpr char kDenoiseSummary[] = "image denoisers at equal time (denoise time in the budget)";
+inline constexpr char kDenoiseUsage[] =
+    "osr-bench denoise [--scene cornell|room|FILE.gltf] [--reference FILE.exr] [--size N]\n"
+    "                  [--budgets 5,10,30] [--network default|none|FILE]\n"
+    "  --scene NAME       a reference scene (default cornell) or a glTF file (needs --reference)\n"
+    "  --reference FILE   the reference EXR (default: the scene's 4096-spp Cycles render)\n"
+    "  --size N           image width and height, 8 to 4096 (default 256)\n"
+    "  --budgets LIST     time budgets in seconds, each 1 to 3600 (default 5,10,30)\n"
+    "  --network NAME     the image denoiser: default (the shipped model), none (the\n"
+    "                     network rows are left out) or a packed file";
+int runDenoise(const std::vector<std::string>& args);  // denoisers at equal time
 }  // namespace osr::bench

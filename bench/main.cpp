@@ -34,6 +34,7 @@ const Benchmark kBenchmarks[] = {
     {"trace", osr::bench::kTraceSummary, osr::bench::kTraceUsage, osr::bench::runTrace},
     {"unet", osr::bench::kUnetSummary, osr::bench::kUnetUsage, osr::bench::runUnet},
     {"osr", osr::bench::kOsrSummary, osr::bench::kOsrUsage, osr::bench::runOsr},
+    {"denoise", osr::bench::kDenoiseSummary, osr::bench::kDenoiseUsage, osr::bench::runDenoise},
 };
 
 // The worse of two exit codes: bad input, then any other failure, then success.

@@ -13,6 +13,7 @@
 
 #include "app/args.h"
 #include "app/commands.h"
+#include "app/denoise_options.h"
 #include "app/device_options.h"
 #include "app/frames.h"
 #include "app/output_paths.h"
@@ -138,6 +139,8 @@ int runRender(const std::vector<std::string>& args) {
   auto saveDir = a.value("--save-dir");
   auto crop = a.integerList("--crop", 0, 16384);
   const std::optional<FrameOptions> frames = readFrameOptions(a);
+  const render::DenoiseSettings denoise = readDenoiseOptions(a, mode);
+  denoise.check();  // a bad model: one line and exit 2 before any work
   vk::ContextOptions vkOptions = readDeviceOptions(a);
   auto files = a.positional();
   a.finish();
@@ -236,6 +239,7 @@ int runRender(const std::vector<std::string>& args) {
     inputs.push_back({f == files[0] ? "the scene" : "a file of the scene", f});
   if (host.env && !host.env->path.empty()) inputs.push_back({"the --env map", host.env->path});
   if (weights) inputs.push_back({"the --weights file", *weights});
+  if (!denoise.networkFile.empty()) inputs.push_back({"the --network file", denoise.networkFile});
   checkOutputs(outputs, inputs);
   warnIfNeutralSky(host);
   const uint32_t imageWidth = host.width, imageHeight = host.height;
@@ -293,9 +297,13 @@ int runRender(const std::vector<std::string>& args) {
     vc.exposureEv = exposure;
     vc.scriptPath = viewerScript.value_or("");
     vc.saveDir = saveDir.value_or(".");
+    vc.denoise = denoise;
     return viewer::runViewer(ctx, vc);
   }
   osrSettings.resolveEverySubmission = false;  // nothing shows the film before the end
+  // Made (and its model read) before the render: a bad --network file is refused at once.
+  std::unique_ptr<render::Denoiser> imageDenoiser;
+  if (denoise.active()) imageDenoiser = std::make_unique<render::Denoiser>(ctx, denoise, imageWidth, imageHeight);
   // A shot's frames share one integrator while the device scene stays: restart() clears every
   // accumulated state, and making one costs seconds of pipeline builds on lavapipe.
   std::unique_ptr<render::Integrator> integrator;
@@ -309,6 +317,7 @@ int runRender(const std::vector<std::string>& args) {
     driver.restart(camera, renderSeed);
     const render::RenderStats& stats = driver.run([&](const render::Progress& p) { progress(p); });
     render::FilmLayers film = integrator->resolve();
+    if (imageDenoiser) imageDenoiser->apply(film);
     progress.finish();
     // The driver never stops inside a unit, and an image needs one whole: say why --time ran
     // over. (A quarter over: nearer, the budget's own rounding.)
@@ -329,6 +338,8 @@ int runRender(const std::vector<std::string>& args) {
                    unitWord(integrator->unitName(), stats.units), stats.seconds);
       for (const auto& t : stats.gpuScopes)
         std::fprintf(stderr, ", %s %.0f ms", t.name.c_str(), t.ms);
+      if (imageDenoiser)
+        std::fprintf(stderr, ", denoise (%s) %.0f ms", imageDenoiser->name(), 1e3 * imageDenoiser->lastSeconds());
       std::fputc('\n', stderr);
     }
   };

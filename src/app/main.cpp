@@ -8,6 +8,7 @@
 
 #include "app/args.h"
 #include "app/commands.h"
+#include "app/denoise_options.h"
 #include "common/error.h"
 #include "nn_kernels/weights_format.h"
 #include "osr_git_version.h"
@@ -51,7 +52,9 @@ constexpr const char* kUsage =
     "                        gets a neutral sky unless --env none\n"
     "  --device N|name       Vulkan device (see --list-devices)\n"
     "  --validation          enable the Khronos validation layer\n"
-    "  --quiet               no progress output\n"
+    "  --quiet               no progress output\n";
+// After the denoiser's lines (app/denoise_options.h), which name each mode's default.
+constexpr const char* kUsageTail =
     "\n"
     "osr options (docs/osr.md):\n"
     "  --denoiser unet|blur|none  map denoiser (default blur, measured better at equal time\n"
@@ -87,13 +90,19 @@ const Command* findCommand(const std::string& name) {
   return nullptr;
 }
 
+void printUsage(FILE* f) {
+  std::fputs(kUsage, f);
+  std::fputs(osr::app::denoiseHelp().c_str(), f);
+  std::fputs(kUsageTail, f);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
   std::vector<std::string> args(argv + 1, argv + argc);
   try {
     if (args.empty()) {
-      std::fputs(kUsage, stderr);
+      printUsage(stderr);
       return osr::kExitBadInput;
     }
     if (args[0] == "--version") {
@@ -107,7 +116,8 @@ int main(int argc, char** argv) {
       if (args.size() > 1 && !c)  // a typo must not look like the answer
         throw osr::InputError("help: unknown command '" + args[1] +
                               "' (unet, compare, maps, --list-devices; osr-vk --help: render)");
-      std::fputs(c ? c->usage : kUsage, stdout);
+      if (c) std::fputs(c->usage, stdout);
+      if (!c) printUsage(stdout);
       if (!c) std::fputs(osr::viewer::kViewerHelp, stdout);
       return osr::kExitOk;
     }
@@ -120,7 +130,7 @@ int main(int argc, char** argv) {
       return c->run(rest);
     }
     if (osr::app::helpRequested(args)) {  // render options, e.g. `osr-vk scene.gltf --help`
-      std::fputs(kUsage, stdout);
+      printUsage(stdout);
       std::fputs(osr::viewer::kViewerHelp, stdout);
       return osr::kExitOk;
     }

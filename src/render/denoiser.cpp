@@ -175,14 +175,25 @@ std::optional<nn::ImageUNetWeights> defaultImageModel() {
   return nn::ImageUNetWeights::parse(bytes, kDefaultImageModelName);
 }
 
+namespace {
+
+nn::ImageUNetWeights loadModel(const DenoiseSettings& s) {
+  if (s.network == DenoiseSettings::Network::File) return nn::ImageUNetWeights::load(s.networkFile);
+  auto model = defaultImageModel();
+  if (!model) throw InputError("--network default: no image denoiser model shipped in this build");
+  return *model;
+}
+
+}  // namespace
+
+void DenoiseSettings::check() const {
+  if (network != Network::None) loadModel(*this);
+}
+
 Denoiser::Denoiser(const vk::Context& ctx, const DenoiseSettings& settings, uint32_t width, uint32_t height)
     : ctx_(ctx), settings_(settings), image_(ctx, width, height) {
-  if (settings.network == DenoiseSettings::Network::Default) {
-    auto model = defaultImageModel();
-    if (!model) throw InputError("--network default: no image denoiser model shipped in this build");
-    network_ = std::make_unique<NetworkDenoiser>(ctx, *model, width, height);
-  } else if (settings.network == DenoiseSettings::Network::File) {
-    network_ = std::make_unique<NetworkDenoiser>(ctx, nn::ImageUNetWeights::load(settings.networkFile), width, height);
+  if (settings.network != DenoiseSettings::Network::None) {
+    network_ = std::make_unique<NetworkDenoiser>(ctx, loadModel(settings), width, height);
   } else if (settings.atrous) {
     filter_ = std::make_unique<AtrousFilter>(ctx, width, height);
   }

@@ -98,6 +98,9 @@ struct DenoiseSettings {
   std::string networkFile;
   bool atrous = false;
   bool active() const { return network != Network::None || atrous; }
+  // Reads the model it names, so that a bad file or a missing shipped model is refused before
+  // any rendering: InputError "<file>: <problem>".
+  void check() const;
 };
 
 // The model the executable carries (models/osr_image_denoiser.osrw), or none.
@@ -113,6 +116,8 @@ class Denoiser {
   void apply(FilmLayers& film);
   double lastSeconds() const { return lastSeconds_; }
   const char* name() const;
+  uint32_t width() const { return image_.width(); }
+  uint32_t height() const { return image_.height(); }
 
  private:
   const vk::Context& ctx_;

@@ -44,6 +44,8 @@ constexpr int kMinRenderSize = 16;
 // costs about a UI frame on lavapipe); at once for the first slice and the first complete
 // unit after a restart, and for the last unit.
 constexpr double kResolveIntervalS = 0.5;
+// With --network or --filter, the shown image is denoised after at least this many more units.
+constexpr uint32_t kDenoiseEveryUnits = 4;
 // Submissions this long keep the window above 20 redraws a second with the UI's own work.
 constexpr double kStepTargetS = 0.015;
 
@@ -123,6 +125,8 @@ class Viewer {
   bool shownFinal_ = false;  // the image of a finished render
   bool filmChanged_ = false;
   Clock::time_point lastResolve_;
+  // --network / --filter: the shown film is denoised every kDenoiseEveryUnits units.
+  std::unique_ptr<render::Denoiser> denoiser_;
   render::Layer layer_ = render::Layer::Combined;
   bool autoExposure_ = true;
   float exposureEv_ = 0.f;  // manual EV, or the last automatic one for display
@@ -246,7 +250,17 @@ void Viewer::refreshImage() {
   const render::Progress p = driver_->progress();
   const bool first = (moveTime_ && !firstMoveShown_) || (p.units >= 1 && shownUnits_ == 0);
   if (!first && !driver_->finished() && secondsSince(lastResolve_) < kResolveIntervalS) return;
+  // Denoised progressively: a new image every few units rather than every resolve, since the
+  // network costs about a unit's time on lavapipe (docs/denoise.md).
+  if (config_.denoise.active() && !first && !driver_->finished() &&
+      p.units < shownUnits_ + kDenoiseEveryUnits)
+    return;
   film_ = integrator_->resolve();
+  if (config_.denoise.active()) {
+    if (!denoiser_ || denoiser_->width() != uint32_t(film_.width) || denoiser_->height() != uint32_t(film_.height))
+      denoiser_ = std::make_unique<render::Denoiser>(ctx_, config_.denoise, film_.width, film_.height);
+    denoiser_->apply(film_);
+  }
   lastResolve_ = Clock::now();
   filmChanged_ = false;
   shownUnits_ = p.units;

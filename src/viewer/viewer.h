@@ -13,6 +13,7 @@
 #include <vector>
 
 #include "image/image_io.h"
+#include "render/denoiser.h"
 #include "render/integrator.h"
 #include "scene/scene.h"
 #include "vk/context.h"
@@ -45,6 +46,7 @@ struct ViewerConfig {
   image::ToneMap toneMap = image::ToneMap::Clamp;
   std::string scriptPath;     // --viewer-script FILE (viewer_script.h); empty: none
   std::string saveDir = ".";  // S / the save buttons write here, never over a file
+  render::DenoiseSettings denoise;  // --network / --filter: applied to the shown image
 };
 
 // The context must have been made with requireDisplay()'s instance extensions and

@@ -1,0 +1,138 @@
+// denoise: the image denoisers at equal wall-clock time (docs/denoise.md). For a scene and
+// each time budget, one JSON line per row: path tracing raw, path + the a-trous filter, path
+// + the image network, OSR + the image network, each with relMSE against a reference EXR
+// and the denoiser's own time. A denoised row renders for the budget minus the denoiser's
+// time (measured once per denoiser at this size, after a warm-up run), so the denoise is
+// paid out of the budget.
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <memory>
+
+#include "app/args.h"
+#include "bench/benchmarks.h"
+#include "bench/json.h"
+#include "bvh/bvh.h"
+#include "common/error.h"
+#include "image/image_io.h"
+#include "image/image_metrics.h"
+#include "osr/osr_integrator.h"
+#include "pt/path_integrator.h"
+#include "render/denoiser.h"
+#include "render/progressive_driver.h"
+#include "scene/scene.h"
+#include "scene_gpu/gpu_scene.h"
+
+namespace osr::bench {
+
+namespace {
+
+render::FilmLayers renderFor(const vk::Context& ctx, render::Integrator& integrator,
+                             const scene::Camera& cam, double seconds, render::RenderStats& stats) {
+  render::DriverSettings ds;
+  ds.timeLimitS = std::max(seconds, 0.001);
+  ds.maxUnits = 1u << 24;
+  render::ProgressiveDriver driver(ctx, integrator, ds);
+  driver.restart(cam, 1);
+  stats = driver.run();
+  return integrator.resolve();
+}
+
+// The denoiser's wall time on a film of this size: the second of two runs (the first makes
+// pipelines and touches memory).
+double denoiseSeconds(render::Denoiser& d, const render::FilmLayers& film) {
+  render::FilmLayers f = film;
+  d.apply(f);
+  f = film;
+  d.apply(f);
+  return d.lastSeconds();
+}
+
+}  // namespace
+
+int runDenoise(const std::vector<std::string>& args) {
+  app::Args a(args, "denoise");
+  const std::string sceneArg = a.value("--scene").value_or("cornell");
+  auto referenceArg = a.value("--reference");
+  const uint32_t size = uint32_t(a.integer("--size", 8, 4096).value_or(256));
+  auto budgets = a.integerList("--budgets", 1, 3600).value_or(std::vector<long long>{5, 10, 30});
+  const std::string network = a.value("--network").value_or("default");
+  a.finish();
+  const bool named = sceneArg == "cornell" || sceneArg == "room";
+  const std::string dir = std::string(OSR_SOURCE_DIR) + "/scenes/" + sceneArg + "/";
+  const std::string scenePath = named ? dir + sceneArg + ".gltf" : sceneArg;
+  if (!named && !referenceArg)
+    throw InputError("--scene " + sceneArg + ": a scene other than cornell or room needs --reference FILE.exr");
+  const std::string refPath = referenceArg.value_or(dir + sceneArg + "_cycles_4096spp.exr");
+  image::RgbImage ref = image::readExrRgb(refPath);
+  if (ref.width != int(size) || ref.height != int(size))
+    throw InputError("--reference " + refPath + ": " + std::to_string(ref.width) + "x" +
+                     std::to_string(ref.height) + ", the render is " + std::to_string(size) + "x" +
+                     std::to_string(size) + " (--size)");
+  render::DenoiseSettings netSettings, filterSettings;
+  filterSettings.atrous = true;
+  if (network == "default") {
+    netSettings.network = render::DenoiseSettings::Network::Default;
+  } else if (network != "none") {
+    netSettings.network = render::DenoiseSettings::Network::File;
+    netSettings.networkFile = network;
+  }
+
+  vk::Context ctx;
+  scene::Scene sc = scene::loadScene(scenePath);
+  scene::Camera cam = scene::selectCamera(sc, "", 1.f);
+  scene::GpuScene gs(ctx, sc);
+  bvh::Bvh tree = bvh::buildGpu(ctx, gs.vertices, gs.triangles, gs.triangleCount);
+  oneshot::OsrSettings osrSettings;
+  osrSettings.resolveEverySubmission = false;  // as --offline
+  oneshot::OsrIntegrator osr(ctx, gs, tree, size, size, osrSettings);
+  pt::PathIntegrator path(ctx, gs, tree, size, size, pt::Mode::Path);
+  render::Denoiser filter(ctx, filterSettings, size, size);
+  std::unique_ptr<render::Denoiser> net;
+  if (netSettings.network != render::DenoiseSettings::Network::None)
+    net = std::make_unique<render::Denoiser>(ctx, netSettings, size, size);
+
+  // Denoiser times, on a short path render of this scene.
+  render::RenderStats warm;
+  const render::FilmLayers sample = renderFor(ctx, path, cam, 0.5, warm);
+  const double filterS = denoiseSeconds(filter, sample);
+  const double netS = net ? denoiseSeconds(*net, sample) : 0.0;
+
+  struct Row {
+    const char* name;
+    render::Integrator* integrator;
+    render::Denoiser* denoiser;
+    double denoiseS;
+  };
+  std::vector<Row> rows = {{"path", &path, nullptr, 0.0}, {"path+atrous", &path, &filter, filterS}};
+  if (net) {
+    rows.push_back({"path+network", &path, net.get(), netS});
+    rows.push_back({"osr+network", &osr, net.get(), netS});
+  }
+  for (long long budget : budgets) {
+    for (const Row& row : rows) {
+      render::RenderStats stats;
+      render::FilmLayers film = renderFor(ctx, *row.integrator, cam, double(budget) - row.denoiseS, stats);
+      const double raw = image::relMse({int(size), int(size), film.combined}, ref);
+      if (row.denoiser) row.denoiser->apply(film);
+      image::RgbImage img{int(size), int(size), film.combined};
+      JsonLine j;
+      j.str("bench", "denoise")
+          .str("scene", sceneArg)
+          .str("row", row.name)
+          .integer("size", size)
+          .integer("budget_s", budget)
+          .num("render_s", stats.seconds)
+          .num("denoise_s", row.denoiser ? row.denoiser->lastSeconds() : 0.0)
+          .num("relmse", image::relMse(img, ref))
+          .num("relmse_raw", raw)
+          .num("lum_ratio", image::meanLuminance(img) / image::meanLuminance(ref))
+          .integer(row.integrator == &osr ? "passes" : "spp", stats.units);
+      if (row.denoiser == net.get() && net) j.str("network", network);
+      j.str("device", ctx.caps().deviceName).print();
+    }
+  }
+  return kExitOk;
+}
+
+}  // namespace osr::bench

@@ -1,0 +1,57 @@
+#include "app/denoise_options.h"
+
+#include "common/error.h"
+
+namespace osr::app {
+
+namespace {
+
+// Each mode's default. No image model is shipped yet and the network has not been measured
+// against the filter in any mode, so every mode renders undenoised unless asked
+// (docs/denoise.md "Defaults").
+render::DenoiseSettings modeDefault(const std::string&) { return {}; }
+
+}  // namespace
+
+std::string denoiseHelp() {
+  auto defaults = [](bool network) {
+    std::string out;
+    for (const char* mode : {"osr", "path", "preview"}) {
+      const render::DenoiseSettings d = modeDefault(mode);
+      const char* value = network ? (d.network == render::DenoiseSettings::Network::Default ? "default" : "none")
+                                  : (d.atrous ? "atrous" : "none");
+      out += std::string(out.empty() ? "" : ", ") + mode + " " + value;
+    }
+    return out;
+  };
+  return "  --network default|none|FILE  learned image denoiser (docs/denoise.md) on the final\n"
+         "                        image, and in the viewer every few units: default = the\n"
+         "                        shipped model, FILE = a packed image denoiser\n"
+         "                        (default per mode: " + defaults(true) + ")\n"
+         "  --filter atrous|none  edge-aware a-trous filter (SVGF) where no network runs\n"
+         "                        (default per mode: " + defaults(false) + ")\n";
+}
+
+render::DenoiseSettings readDenoiseOptions(Args& args, const std::string& mode) {
+  render::DenoiseSettings s = modeDefault(mode);
+  if (auto network = args.value("--network")) {
+    if (*network == "none") {
+      s.network = render::DenoiseSettings::Network::None;
+    } else if (*network == "default") {
+      s.network = render::DenoiseSettings::Network::Default;
+    } else if (network->empty()) {
+      throw InputError("--network: expected default, none or a packed image denoiser file");
+    } else {
+      s.network = render::DenoiseSettings::Network::File;
+      s.networkFile = *network;
+    }
+  }
+  if (auto filter = args.value("--filter")) {
+    if (*filter != "atrous" && *filter != "none")
+      throw InputError("--filter: unknown filter '" + *filter + "' (atrous, none)");
+    s.atrous = *filter == "atrous";
+  }
+  return s;
+}
+
+}  // namespace osr::app
