@@ -1,6 +1,6 @@
 // denoise: the image denoisers at equal wall-clock time (docs/denoise.md). For a scene and
-// each time budget, one JSON line per row: path tracing raw, path + the a-trous filter, path
-// + the image network, OSR + the image network, each with relMSE against a reference EXR
+// each time budget, one JSON line per row: path tracing and OSR, each raw, + the a-trous
+// filter and + the image network, each with relMSE against a reference EXR
 // and the denoiser's own time. A denoised row renders for the budget minus the denoiser's
 // time (measured once per denoiser at this size, after a warm-up run), so the denoise is
 // paid out of the budget.
@@ -104,7 +104,8 @@ int runDenoise(const std::vector<std::string>& args) {
     render::Denoiser* denoiser;
     double denoiseS;
   };
-  std::vector<Row> rows = {{"path", &path, nullptr, 0.0}, {"path+atrous", &path, &filter, filterS}};
+  std::vector<Row> rows = {{"path", &path, nullptr, 0.0}, {"path+atrous", &path, &filter, filterS},
+                           {"osr", &osr, nullptr, 0.0}, {"osr+atrous", &osr, &filter, filterS}};
   if (net) {
     rows.push_back({"path+network", &path, net.get(), netS});
     rows.push_back({"osr+network", &osr, net.get(), netS});

@@ -47,6 +47,14 @@ class OsrVkSettings(bpy.types.PropertyGroup):
     weights: bpy.props.StringProperty(
         name="Weights", subtype="FILE_PATH", default="",
         description="Packed U-Net weights (.osrw) for the OSR denoiser; empty: osr-vk's default")
+    denoiser: bpy.props.EnumProperty(
+        name="Denoiser", default="mode",
+        description="Image denoiser on the Combined pass (docs/denoise.md); the raw colour "
+                    "stays in the EXR's 'noisy' layer",
+        items=(("mode", "Mode's default", "What osr-vk --help lists for the integrator"),
+               ("network", "Learned", "The shipped image denoiser (--network default)"),
+               ("atrous", "A-trous filter", "The edge-aware a-trous filter (--filter atrous)"),
+               ("none", "None", "No denoising")))
     device: bpy.props.StringProperty(
         name="Device", default="",
         description="Vulkan device index or name (osr-vk --list-devices); empty: the default")
@@ -78,6 +86,7 @@ class RENDER_PT_osr_vk(bpy.types.Panel):
         else:
             layout.prop(settings, "samples")
         layout.prop(settings, "time_limit")
+        layout.prop(settings, "denoiser")
         layout.prop(settings, "seed")
         layout.prop(settings, "device")
         prefs = engine.addon_preferences(context)

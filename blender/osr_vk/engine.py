@@ -62,6 +62,11 @@ def build_command(executable, settings, exr_path, png_path, width, height, scene
         cmd += ["--spp", str(settings.samples)]
     if settings.time_limit > 0:
         cmd += ["--time", "%g" % settings.time_limit]
+    denoiser = getattr(settings, "denoiser", "mode")
+    if denoiser == "network":
+        cmd += ["--network", "default"]
+    elif denoiser in ("atrous", "none"):
+        cmd += ["--network", "none", "--filter", denoiser]
     if settings.device.strip():
         cmd += ["--device", settings.device.strip()]
     if scene_export.env_path:

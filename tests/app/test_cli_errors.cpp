@@ -110,6 +110,28 @@ TEST(CliErrors, BadCameraAndEnvironment) {
 
 // --help or -h anywhere in a command's arguments, and `osr-vk help [COMMAND]`: that command's
 // usage on stdout, nothing on stderr, exit 0, whatever else is on the line.
+// The image denoiser switch (docs/denoise.md): a map denoiser's weights, a truncated file,
+// an unknown filter, and --network default while no image model is shipped, each refused
+// before rendering.
+TEST(CliErrors, BadDenoiserExitsTwoWithOneLine) {
+  const std::string cornell = osr::test::referencePath("cornell/cornell.gltf");
+  const std::string mapModel = osr::test::dataPath("unet_k8.osrw");
+  expectOneLine(renderScene(cornell, "--network '" + mapModel + "'"),
+                "osr-vk: " + mapModel + ": model of stage 'map_denoiser' (osr_unet_v1), this needs stage "
+                "'image_denoiser' (osr_image_unet_v1)");
+  const std::string cut = tempPrefix() + "cut.osrw";
+  {
+    std::ifstream in(osr::test::dataPath("image_unet_k8.osrw"), std::ios::binary);
+    std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    std::ofstream(cut, std::ios::binary) << bytes.substr(0, bytes.size() / 2);
+  }
+  expectOneLine(renderScene(cornell, "--network '" + cut + "'"), "osr-vk: " + cut + ": truncated");
+  expectOneLine(renderScene(cornell, "--filter bilateral"), "osr-vk: --filter: unknown filter 'bilateral'");
+  Outcome shipped = renderScene(cornell, "--network default --spp 1 --mode path --width 8 --height 8");
+  if (shipped.exitCode != 0)
+    expectOneLine(shipped, "osr-vk: --network default: no image denoiser model shipped");
+}
+
 TEST(CliErrors, HelpAnywherePrintsTheUsage) {
   const std::string cornell = osr::test::referencePath("cornell/cornell.gltf");
   const std::pair<std::string, std::string> cases[] = {
@@ -131,6 +153,8 @@ TEST(CliErrors, HelpAnywherePrintsTheUsage) {
       {"--help", "--passes N"},
       {"--help", "--env file.exr|.hdr|none"},
       {"--help", "--grid-start R"},
+      {"--help", "--network default|none|FILE"},
+      {"--help", "(default per mode: osr none, path none, preview none)"},
       {"--list-devices --help", "usage: osr-vk --list-devices"},
   };
   for (const auto& [args, usage] : cases) {
