@@ -9,8 +9,9 @@ CLUSTER: --workers N (a LocalCluster on this machine, the default, N = 2), --sch
 tcp://HOST:PORT or --scheduler-file F (a running cluster; workers see the same paths).
 
 OSR_VK_ARGS are those of one whole render (--offline OUT.exr, --png, the scene, the mode and
-its budget). frames A-B: frame N is the scene's glTF camera N (--camera N), written to
-OUT.NNNN.exr (and PNG.NNNN.png), one osr-vk process per frame. tiles RxC: R rows by C columns
+its budget). frames A-B: frame N is osr-vk --frames N-N of an animated glTF (its time N / fps),
+else the scene's glTF camera N (--camera N), written to OUT.NNNN.exr (or the name's run of #
+filled in, and PNG likewise), one osr-vk process per frame. tiles RxC: R rows by C columns
 of the image, each rendered with osr-vk --crop (the full image's samples) plus a margin that
 OSR's maps need (--margin, default 2 x --grid-start, 0 for path and preview) and assembled into
 OUT.exr with every layer: path mode equals a single render bit for bit. dataset SEEDS: one
@@ -46,7 +47,7 @@ RENDER_OPTIONS_WITH_VALUE = {
     "--offline", "--png", "--mode", "--spp", "--passes", "--time", "--seed", "--exposure", "--width",
     "--height", "--camera", "--env", "--device", "--denoiser", "--weights", "--grid-start", "--grid-min",
     "--map-share", "--direct-spp", "--residual-spp", "--residual-ramp", "--map-spp", "--dump-maps", "--crop",
-    "--viewer-script", "--save-dir"}
+    "--viewer-script", "--save-dir", "--frames", "--fps"}
 
 
 class BadInput(Exception):
@@ -159,9 +160,35 @@ def absolute_paths(args: list[str]) -> list[str]:
     return out
 
 
-def numbered(path: str, n: int) -> str:
+def frame_pattern(path: str) -> str:
+    """The name osr-vk --frames writes frames under: the last run of # is the frame number
+    (docs/animation.md); a name without one gets .#### before its extension."""
     p = Path(path)
-    return str(p.with_name(f"{p.stem}.{n:04d}{p.suffix}"))
+    return path if "#" in p.name else str(p.with_name(f"{p.stem}.####{p.suffix}"))
+
+
+def numbered(path: str, n: int) -> str:
+    """Frame n's file: frame_pattern's last run of # replaced by n, zero-padded to its length."""
+    p = Path(frame_pattern(path))
+    run = re.findall(r"#+", p.name)[-1]
+    i = p.name.rfind(run)
+    return str(p.with_name(p.name[:i] + f"{n:0{len(run)}d}" + p.name[i + len(run):]))
+
+
+def has_animation(scene: str) -> bool:
+    """Whether the glTF (.gltf or .glb) holds animations: its frames are then the times of
+    osr-vk --frames, else its cameras."""
+    import struct
+    if not Path(scene).is_file():
+        return False  # the workers' check names the missing file
+    try:
+        data = Path(scene).read_bytes()
+        if data[:4] == b"glTF":  # binary glTF: the JSON chunk follows the 12-byte header
+            size = struct.unpack_from("<I", data, 12)[0]
+            data = data[20:20 + size]
+        return bool(json.loads(data).get("animations"))
+    except (OSError, ValueError, struct.error) as e:
+        raise BadInput(f"{scene}: cannot read the glTF ({e})") from None
 
 
 def png_complete(path: str) -> bool:
@@ -212,19 +239,22 @@ def frame_tasks(spec: str, osr_vk: str, args: list[str]) -> tuple[list[Task], di
     m = re.fullmatch(r"(\d+)-(\d+)", spec)
     if not m or int(m.group(1)) > int(m.group(2)):
         raise BadInput(f"frames: '{spec}' is not a range A-B with A <= B")
-    if option_value(args, "--camera") is not None:
-        raise BadInput("frames: frame N is glTF camera N; leave --camera out of the osr-vk arguments")
+    scene = [a for a in positional(args) if Path(a).suffix in (".gltf", ".glb")][0]
+    animated = has_animation(scene)
+    if option_value(args, "--frames") is not None:
+        raise BadInput("frames: the farm gives each task its --frames; leave it out of the osr-vk arguments")
+    if not animated and option_value(args, "--camera") is not None:
+        raise BadInput("frames: the scene has no animation, so frame N is glTF camera N; leave --camera out")
     exr, png = option_value(args, "--offline"), option_value(args, "--png")
     tasks = []
     for n in range(int(m.group(1)), int(m.group(2)) + 1):
-        a = replace_option(args, "--camera", str(n))
+        # An animated scene: frame N of osr-vk --frames (its time N / fps). Otherwise camera N.
+        a = replace_option(args, "--frames", f"{n}-{n}") if animated else replace_option(args, "--camera", str(n))
         outs = []
-        if exr:
-            a = replace_option(a, "--offline", numbered(exr, n))
-            outs.append(numbered(exr, n))
-        if png:
-            a = replace_option(a, "--png", numbered(png, n))
-            outs.append(numbered(png, n))
+        for option, path in (("--offline", exr), ("--png", png)):
+            if path:
+                a = replace_option(a, option, frame_pattern(path) if animated else numbered(path, n))
+                outs.append(numbered(path, n))
         complete = (lambda outs=outs: all(exr_complete(o) if o.endswith(".exr") else png_complete(o) for o in outs))
         tasks.append(Task(f"frame {n}", [osr_vk] + a, outs, complete))
     return tasks, {}
