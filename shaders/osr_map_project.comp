@@ -30,9 +30,7 @@ void main() {
     shBasis(w, y);
     for (int i = 0; i < 9; ++i) sh[i] += l * (y[i] * dOmega);
   }
-  // Convolution with the clamped cosine: A0 = pi, A1 = 2 pi / 3, A2 = pi / 4.
-  const float kA[9] = float[9](kPi, 2.0 * kPi / 3.0, 2.0 * kPi / 3.0, 2.0 * kPi / 3.0,
-                               kPi / 4.0, kPi / 4.0, kPi / 4.0, kPi / 4.0, kPi / 4.0);
+  // Convolution with the clamped cosine (kShCosine: A0 = pi, A1 = 2 pi / 3, A2 = pi / 4).
   gMapProjections[map].mean = vec4(sum / float(kMapTexels), 0.0);
-  for (int i = 0; i < 9; ++i) gMapProjections[map].sh[i] = vec4(sh[i] * kA[i], 0.0);
+  for (int i = 0; i < 9; ++i) gMapProjections[map].sh[i] = vec4(sh[i] * kShCosine[i], 0.0);
 }

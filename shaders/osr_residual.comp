@@ -1,10 +1,13 @@
 #version 460
 // osr_residual: what makes OSR converge. At each pixel's G-buffer surface x, `pathsPerPixel`
 // directions wi drawn from the full BSDF, each followed by a path-traced estimate L_pt of the
-// light arriving after at least one bounce (lib/path.glsl). With L^ the interpolated maps and
-// g(wi) = rho_d / pi cos L^(wi) + [wide lobe] f_rest(wi) L^(wi) the function whose integral
-// osr_composite computed, the residual (f L_pt - g) / pdf is an unbiased estimate of the
-// composite's error (a control variate; two-level Monte Carlo, Dereviannykh et al. 2024).
+// light arriving after at least one bounce (lib/path.glsl). With g(wi) = rho_d / pi cos
+// L_sh(wi) + [wide lobe] f_rest(wi) L^(wi) the function whose integral osr_composite computed
+// (L_sh: the maps' SH radiance, lib/osr_maps.glsl gatherShRadiance, whose cosine integral is
+// the composite's closed-form irradiance exactly; L^: the interpolated texel lookups the
+// composite samples for glossy lobes), the residual (f L_pt - g) / pdf is an unbiased
+// estimate of the composite's error (a control variate; two-level Monte Carlo, Dereviannykh
+// et al. 2024), so composite + residual converges to the path tracer's answer.
 // Lobes the composite left out (narrow, transmission, delta) and pixels no map covers have
 // g = 0: their f L_pt / pdf is the path tracer's own answer, added to AccumPixel.indirect in
 // full; the control-variate part goes to AccumPixel.residual, which the resolve blends in.
@@ -29,6 +32,8 @@ void main() {
     bool covered = gather.total > 0.0;
     bool wide = ggxAlpha(sp.bsdf) >= kNarrowLobeAlpha;
     vec3 rho = bsdfDiffuseReflectance(sp.bsdf, sp.woLocal);
+    vec3 shWeights[9];
+    if (covered) gatherShWeights(gather, sp.ns, shWeights);
     Rng rng = pixelRng(gPush.pass, pixel, kSaltResidual);
     // One flat loop over the bounces of successive paths (see osr_maps.comp for why).
     uint i = 0u;
@@ -40,12 +45,18 @@ void main() {
       if (!live) {
         lpt = vec3(0.0);
         vec3 wi = vec3(0.0);
-        bool ok = bsdfSample(sp.bsdf, sp.woLocal, rngNext3(rng), bs);
+        bool sampled = bsdfSample(sp.bsdf, sp.woLocal, rngNext3(rng), bs);
+        bool ok = sampled;
         if (ok) {
           wi = toWorld(bs.wi, sp.t, sp.b, sp.ns);
           ok = (dot(wi, sp.ng) > 0.0) == (bs.wi.z > 0.0);
         }
         if (!ok) {
+          // Below the geometric surface no light arrives (as in the path tracer), but the
+          // composite's closed form integrates the diffuse control variate over the whole
+          // shading hemisphere: it is subtracted here too.
+          if (sampled && covered && !bs.delta && bs.wi.z > 0.0)
+            blended -= rho * kInvPi * bs.wi.z * gatherShRadiance(gather, shWeights, wi) / bs.pdf;
           i += 1u;
           continue;
         }
@@ -75,8 +86,8 @@ void main() {
       vec3 fRest = max(fcos - fd, vec3(0.0));
       bool restInMaps = wide && bs.wi.z > 0.0;
       vec3 dir = toWorld(bs.wi, sp.t, sp.b, sp.ns);
-      vec3 lhat = gatherRadiance(gather, dir);
-      vec3 cv = rho * kInvPi * max(bs.wi.z, 0.0) * lhat + (restInMaps ? fRest * lhat : vec3(0.0));
+      vec3 cv = rho * kInvPi * max(bs.wi.z, 0.0) * gatherShRadiance(gather, shWeights, dir);
+      if (restInMaps) cv += fRest * gatherRadiance(gather, dir);
       blended += ((fd + (restInMaps ? fRest : vec3(0.0))) * lpt - cv) / bs.pdf;
       if (!restInMaps) always += fRest * lpt / bs.pdf;
     }

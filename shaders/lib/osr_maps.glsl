@@ -38,6 +38,11 @@ void shBasis(vec3 d, out float y[9]) {
   y[8] = 0.546274 * (d.x * d.x - d.y * d.y);
 }
 
+// The clamped cosine's SH factors A_l (Ramamoorthi & Hanrahan 2001): irradiance coefficients
+// are radiance coefficients times A_l, for l = 0, 1, 1, 1, 2, 2, 2, 2, 2.
+const float kShCosine[9] = float[9](kPi, 2.0 * kPi / 3.0, 2.0 * kPi / 3.0, 2.0 * kPi / 3.0,
+                                    kPi / 4.0, kPi / 4.0, kPi / 4.0, kPi / 4.0, kPi / 4.0);
+
 // Irradiance SH coefficients already carry the clamped-cosine convolution (A_l), so the
 // irradiance at normal n is sum sh[i] Y_i(n).
 vec3 shIrradiance(MapProjection m, vec3 nLocal) {
@@ -49,10 +54,26 @@ vec3 shIrradiance(MapProjection m, vec3 nLocal) {
 }
 
 // Irradiance of map m's radiance at local normal nLocal: exact (pi x mean) at the map's own
-// normal, corrected by the SH difference elsewhere.
+// normal, corrected by the SH difference elsewhere; before the clamp at 0.
+vec3 mapIrradianceUnclamped(MapProjection m, vec3 nLocal) {
+  return kPi * m.mean.rgb + shIrradiance(m, nLocal) - shIrradiance(m, vec3(0.0, 0.0, 1.0));
+}
 vec3 mapIrradiance(MapProjection m, vec3 nLocal) {
-  vec3 e = kPi * m.mean.rgb + shIrradiance(m, nLocal) - shIrradiance(m, vec3(0.0, 0.0, 1.0));
-  return max(e, vec3(0.0));
+  return max(mapIrradianceUnclamped(m, nLocal), vec3(0.0));
+}
+
+// A radiance over the whole sphere of directions whose clamped-cosine integral about ANY
+// normal n is mapIrradianceUnclamped(m, n) exactly: the SH projection's own radiance
+// (coefficients sh / A_l; by Funk-Hecke the cosine integral of a radiance band-limited to
+// l <= 2 is sum A_l L_lm Y_lm(n)) plus the constant (pi mean - E_SH(z)) / pi that makes it
+// exact at the map's normal. The residual's control variate for the diffuse lobe, so that
+// it integrates the function whose integral the composite computes (docs/osr.md).
+vec3 mapShRadiance(MapProjection m, vec3 wLocal) {
+  float y[9];
+  shBasis(wLocal, y);
+  vec3 l = m.mean.rgb - shIrradiance(m, vec3(0.0, 0.0, 1.0)) * kInvPi;
+  for (int i = 0; i < 9; ++i) l += m.sh[i].rgb * (y[i] / kShCosine[i]);
+  return l;
 }
 
 // The maps a pixel draws on: the 3 x 3 cells around its own, with mapWeight weights.
@@ -101,6 +122,26 @@ vec3 gatherRadiance(MapGather g, vec3 dir) {
     if (w.z > 0.0) l += g.weights[i] * mapRadianceLocal(g.maps[i], g.cleanMapOffset, w);
   }
   return g.total > 0.0 ? l / g.total : vec3(0.0);
+}
+
+// The diffuse control variate of a pixel with world normal n (osr_residual): per gathered map
+// and channel, its normalized weight where gatherIrradiance(g, n) takes the map's irradiance
+// and 0 where the clamp makes it 0, so that the cosine integral of gatherShRadiance about n
+// is gatherIrradiance(g, n) exactly.
+void gatherShWeights(MapGather g, vec3 n, out vec3 weights[9]) {
+  for (uint i = 0u; i < g.count; ++i) {
+    vec3 nLocal = transpose(hemiFrame(gMapPoints[g.maps[i]].normal.xyz)) * n;
+    vec3 e = mapIrradianceUnclamped(gMapProjections[g.maps[i]], nLocal);
+    weights[i] = vec3(greaterThan(e, vec3(0.0))) * (g.weights[i] / g.total);
+  }
+}
+vec3 gatherShRadiance(MapGather g, vec3 weights[9], vec3 dir) {
+  vec3 l = vec3(0.0);
+  for (uint i = 0u; i < g.count; ++i) {
+    vec3 w = transpose(hemiFrame(gMapPoints[g.maps[i]].normal.xyz)) * dir;
+    l += weights[i] * mapShRadiance(gMapProjections[g.maps[i]], w);
+  }
+  return l;
 }
 
 // Interpolated irradiance at world normal n.

@@ -5,6 +5,7 @@
 #include "bvh/bvh.h"
 #include "common/vk_test.h"
 #include "osr/osr_integrator.h"
+#include "pt/path_integrator.h"
 #include "pt/gltf_writer.h"
 #include "scene/scene.h"
 #include "scene_gpu/gpu_scene.h"
@@ -45,6 +46,17 @@ inline std::string writeEmissiveFurnace(const std::string& tag) {
   std::string path = (tempDir(tag) / "furnace.gltf").string();
   g.write(path);
   return path;
+}
+
+// The path tracer's image of the scene's camera, size x size pixels (the reference OSR tests
+// compare against).
+inline render::FilmLayers pathTrace(const LoadedScene& s, uint32_t size, uint32_t spp,
+                                    uint32_t seed = 3) {
+  pt::RenderSettings rs;
+  rs.width = rs.height = size;
+  rs.spp = spp;
+  rs.seed = seed;
+  return pt::render(context(), *s.gpu, s.bvh, s.camera, rs);
 }
 
 // Renders `passes` OSR passes, one submission each, and resolves the film.

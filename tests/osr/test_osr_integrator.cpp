@@ -17,13 +17,7 @@ using namespace osr;
 
 namespace {
 
-render::FilmLayers pathTrace(const test::LoadedScene& s, uint32_t size, uint32_t spp) {
-  pt::RenderSettings rs;
-  rs.width = rs.height = size;
-  rs.spp = spp;
-  rs.seed = 3;
-  return pt::render(test::context(), *s.gpu, s.bvh, s.camera, rs);
-}
+using test::pathTrace;
 
 // Box-filters a layer into blocks of b x b pixels: a few jittered first hits per pixel and a
 // box-filtered reference then agree on geometry, so the comparison measures light.

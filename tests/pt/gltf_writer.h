@@ -76,23 +76,50 @@ class GltfWriter {
         {{"source", int(images_.size()) - 1}, {"sampler", int(samplers_.size()) - 1}});
     return int(textures_.size()) - 1;
   }
-  // A UV sphere with outward-facing triangles.
-  void sphere(glm::vec3 c, float r, int mat, int rings = 24, int segments = 48) {
+  // A surface of revolution about the +Y axis through `c`: the profile's points (radius from
+  // the axis, height), turned in `segments` steps. Its triangles face the side the profile's
+  // left-hand normal (-dy, dr) points to: outward for a profile that runs from top to bottom
+  // on the far side of the axis. Triangles at radius 0 that would collapse are left out.
+  void revolve(glm::vec3 c, const std::vector<glm::vec2>& profile, int mat, int segments = 48) {
     std::vector<glm::vec3> p;
     std::vector<uint32_t> idx;
-    for (int i = 0; i <= rings; ++i)
+    const int rows = int(profile.size());
+    for (const glm::vec2& q : profile)
       for (int j = 0; j <= segments; ++j) {
-        float th = float(M_PI) * i / rings, ph = 2 * float(M_PI) * j / segments;
-        p.push_back(c + r * glm::vec3(std::sin(th) * std::cos(ph), std::cos(th),
-                                      std::sin(th) * std::sin(ph)));
+        float ph = 2 * float(M_PI) * j / segments;
+        p.push_back(c + glm::vec3(q.x * std::cos(ph), q.y, q.x * std::sin(ph)));
       }
-    for (int i = 0; i < rings; ++i)
+    for (int i = 0; i + 1 < rows; ++i)
       for (int j = 0; j < segments; ++j) {
         uint32_t a = i * (segments + 1) + j, b = a + segments + 1;
-        if (i > 0) idx.insert(idx.end(), {a, a + 1, b});
-        if (i < rings - 1) idx.insert(idx.end(), {a + 1, b + 1, b});
+        if (profile[i].x != 0.f) idx.insert(idx.end(), {a, a + 1, b});
+        if (profile[i + 1].x != 0.f) idx.insert(idx.end(), {a + 1, b + 1, b});
       }
     mesh(p, idx, mat);
+  }
+  // A UV sphere with outward-facing triangles (inward: the inside of a closed room).
+  void sphere(glm::vec3 c, float r, int mat, int rings = 24, int segments = 48,
+              bool inward = false) {
+    std::vector<glm::vec2> profile;
+    for (int i = 0; i <= rings; ++i) {
+      float th = float(M_PI) * (inward ? rings - i : i) / rings;
+      // Exactly 0 at the poles (sin(pi) is not, in float).
+      profile.push_back({i == 0 || i == rings ? 0.f : r * std::sin(th), r * std::cos(th)});
+    }
+    revolve(c, profile, mat, segments);
+  }
+  // A closed cylinder of radius r from y = c.y to c.y + h.
+  void cylinder(glm::vec3 c, float r, float h, int mat, int segments = 48) {
+    revolve(c, {{0.f, h}, {r, h}, {r, 0.f}, {0.f, 0.f}}, mat, segments);
+  }
+  // A torus about the +Y axis through c: ring radius R, tube radius r.
+  void torus(glm::vec3 c, float R, float r, int mat, int rings = 24, int segments = 48) {
+    std::vector<glm::vec2> profile;
+    for (int i = 0; i <= rings; ++i) {
+      float ph = 2 * float(M_PI) * i / rings;
+      profile.push_back({R + r * std::sin(ph), r * std::cos(ph)});
+    }
+    revolve(c, profile, mat, segments);
   }
   void light(json l) {
     lights_.push_back(l);
