@@ -39,6 +39,8 @@ make single steps noisy too, so the weights validated and saved are a running av
 Validation: every view of VAL at each of its input sample counts, the whole image, relMSE
 (epsilon 0.01, linear colour, as `osr-vk compare`) of the network's output (as the renderer
 computes it: output_colour) against the reference, and of the noisy input for comparison.
+val_reference_noise estimates what the reference's own noise adds to each figure (from the
+highest-spp input, independent of the reference: v_in + v_ref with v_in = v_ref m / n).
 best.pt is chosen by the geometric mean over views and sample counts (val_relmse_geomean,
 so 1 spp does not drown the rest); val_relmse is the plain mean.
 
@@ -250,8 +252,13 @@ def evaluate(model, val: Dataset) -> dict:
     model.eval()
     net: dict[int, list[float]] = {}
     noisy: dict[int, list[float]] = {}
+    ref_noise = []
     for key in val.keys:
         view = val.views[key]
+        # The reference's own noise is in every figure: for the independent input of n
+        # samples against a reference of m, E[relMSE] ~ v_in + v_ref with v_in = v_ref m / n.
+        top = int(view.spp.argmax())
+        ref_noise.append(relmse(view.colour[top], view.ref) / (view.ref_spp / view.spp[top] + 1))
         for i, spp in enumerate(view.spp.tolist()):
             colour, albedo, normal = view.colour[i], view.albedo[i], view.normal[i]
             net.setdefault(spp, []).append(relmse(denoise(model, colour, albedo, normal), view.ref))
@@ -259,7 +266,8 @@ def evaluate(model, val: Dataset) -> dict:
     model.train()
     every = [v for vs in net.values() for v in vs]
     out = {"val_relmse": float(np.mean(every)),
-           "val_relmse_geomean": float(np.exp(np.mean(np.log(np.maximum(every, 1e-12)))))}
+           "val_relmse_geomean": float(np.exp(np.mean(np.log(np.maximum(every, 1e-12))))),
+           "val_reference_noise": float(np.mean(ref_noise))}
     for spp in sorted(net):
         out[f"val_relmse_{spp}spp"] = float(np.mean(net[spp]))
         out[f"val_noisy_relmse_{spp}spp"] = float(np.mean(noisy[spp]))
@@ -543,6 +551,8 @@ def evaluate_checkpoint(path: str, val_folder: str, run: Path, record_path: str 
         print(f"train_denoiser.py: {spp} spp: relMSE {final[key]:.5f} (noisy input "
               f"{final[f'val_noisy_relmse_{spp}spp']:.5f}), {len(val.keys)} views, reference "
               f"{record['val_ref_spp']} spp", file=sys.stderr)
+    print(f"train_denoiser.py: the reference's own noise adds about {final['val_reference_noise']:.5f} "
+          "to each figure", file=sys.stderr)
     return 0
 
 
