@@ -13,6 +13,7 @@
 #include <memory>
 
 #include "app/args.h"
+#include "app/integrators.h"
 #include "bench/benchmarks.h"
 #include "bench/json.h"
 #include "bvh/bvh.h"
@@ -20,7 +21,6 @@
 #include "image/image_io.h"
 #include "image/image_metrics.h"
 #include "osr/osr_integrator.h"
-#include "pt/path_integrator.h"
 #include "render/progressive_driver.h"
 #include "scene/scene.h"
 #include "scene_gpu/gpu_scene.h"
@@ -66,13 +66,12 @@ int runOsr(const std::vector<std::string>& args) {
   a.finish();
   if (modes != "osr,path" && modes != "osr" && modes != "path")
     throw InputError("--modes: expected osr,path, osr or path, got '" + modes + "'");
-  oneshot::OsrSettings settings;
-  settings.resolveEverySubmission = false;  // as --offline
-  if (denoiser) settings.denoiser = oneshot::parseDenoiser(*denoiser);
-  if (weights) {
-    settings.weightsPath = *weights;
-    if (!denoiser) settings.denoiser = oneshot::Denoiser::Unet;
-  }
+  // Settings as `osr-vk render --offline` builds them from the same options.
+  app::IntegratorOptions options;
+  options.osr.denoiser = denoiser;
+  options.osr.weights = weights;
+  app::IntegratorSettings settings = app::buildIntegratorSettings(options);
+  settings.offline = true;
   std::vector<std::string> names = sceneName ? std::vector<std::string>{*sceneName}
                                              : std::vector<std::string>{"cornell", "room"};
   vk::Context ctx;
@@ -82,9 +81,10 @@ int runOsr(const std::vector<std::string>& args) {
     scene::GpuScene gs(ctx, sc);
     bvh::Bvh tree = bvh::buildGpu(ctx, gs.vertices, gs.triangles, gs.triangleCount);
     image::RgbImage ref = image::readExrRgb(referencePath(name, name + "_cycles_4096spp.exr"));
+    const app::IntegratorScene onDevice{ctx, gs, tree};
     {
-      oneshot::OsrIntegrator check(ctx, gs, tree, 32, 32, settings);
-      Run r = runFor(ctx, check, cam, 0.0, 8);
+      auto check = app::makeIntegrator(onDevice, settings, "osr", 32, 32);
+      Run r = runFor(ctx, *check, cam, 0.0, 8);
       double ratio = image::meanLuminance({32, 32, r.film.combined}) / image::meanLuminance(ref);
       if (!std::isfinite(ratio) || std::abs(ratio - 1.0) > 0.15) {
         std::fprintf(stderr,
@@ -94,8 +94,9 @@ int runOsr(const std::vector<std::string>& args) {
         return kExitInternal;
       }
     }
-    oneshot::OsrIntegrator osr(ctx, gs, tree, size, size, settings);
-    pt::PathIntegrator path(ctx, gs, tree, size, size, pt::Mode::Path);
+    auto osrIntegrator = app::makeIntegrator(onDevice, settings, "osr", size, size);
+    auto& osr = dynamic_cast<oneshot::OsrIntegrator&>(*osrIntegrator);
+    auto path = app::makeIntegrator(onDevice, settings, "path", size, size);
     // The first image: one pass, wall time from restart to the resolved film on the host.
     double firstImageS;
     {
@@ -107,7 +108,7 @@ int runOsr(const std::vector<std::string>& args) {
       for (const char* mode : {"osr", "path"}) {
         if (modes.find(mode) == std::string::npos) continue;
         const bool isOsr = std::string(mode) == "osr";
-        render::Integrator& integrator = isOsr ? static_cast<render::Integrator&>(osr) : path;
+        render::Integrator& integrator = isOsr ? *osrIntegrator : *path;
         Run r = runFor(ctx, integrator, cam, double(budget), 1u << 24);
         image::RgbImage img{int(size), int(size), r.film.combined};
         JsonLine j;
@@ -121,7 +122,7 @@ int runOsr(const std::vector<std::string>& args) {
             .num("lum_ratio", image::meanLuminance(img) / image::meanLuminance(ref))
             .integer(isOsr ? "passes" : "spp", r.stats.units);
         if (isOsr) {
-          j.str("denoiser", oneshot::denoiserName(settings.denoiser))
+          j.str("denoiser", oneshot::denoiserName(settings.osr.denoiser))
               .num("first_image_s", firstImageS);
           const double mapMs = r.stats.gpuMs("maps");
           j.integer("maps", long(osr.mapsTraced()))

@@ -16,6 +16,7 @@
 #include <thread>
 
 #include "app/args.h"
+#include "app/integrators.h"
 #include "image/image_io.h"
 #include "image/image_metrics.h"
 #include "bench/benchmarks.h"
@@ -144,7 +145,8 @@ int runPathtrace(const std::vector<std::string>& args) {
   app::Args a(args, "pathtrace");
   auto sceneName = a.value("--scene");
   uint32_t size = uint32_t(a.integer("--size", 8, 4096).value_or(256));
-  uint32_t spp = uint32_t(a.integer("--spp", 1, 1 << 20).value_or(64));
+  uint32_t spp =
+      uint32_t(a.integer("--spp", 1, 1 << 20).value_or(app::integratorKind("path").defaultUnits));
   a.finish();
   std::vector<std::string> names = sceneName ? std::vector<std::string>{*sceneName}
                                              : std::vector<std::string>{"cornell", "room"};

@@ -16,13 +16,13 @@
 #include "app/denoise_options.h"
 #include "app/device_options.h"
 #include "app/frames.h"
+#include "app/integrators.h"
 #include "app/output_paths.h"
 #include "app/scene_setup.h"
 #include "bvh/bvh.h"
 #include "common/error.h"
 #include "image/image_io.h"
 #include "osr/osr_integrator.h"
-#include "pt/path_integrator.h"
 #include "render/film_export.h"
 #include "render/progressive_driver.h"
 #include "scene/scene.h"
@@ -110,251 +110,299 @@ void writeMapDump(const std::string& dir, const oneshot::OsrIntegrator::MapDump&
   image::writePng(dir + "/grid.png", frame, ev);
 }
 
-}  // namespace
+// The options of `osr-vk render`, as given.
+struct RenderOptions {
+  IntegratorOptions integrator;
+  std::optional<std::string> exrPath, pngPath;  // --offline, --png
+  std::optional<double> exposure, timeLimit;
+  std::optional<long long> seed;
+  SceneOptions scene;
+  bool exrFloat = false, quiet = false;
+  std::optional<std::string> dumpMaps, viewerScript, saveDir;
+  std::optional<std::vector<long long>> crop;  // --crop X,Y,W,H
+  std::optional<FrameOptions> frames;
+  render::DenoiseSettings denoise;  // --network, --filter
+  vk::ContextOptions device;
+  std::string scenePath;
+  bool live() const { return !exrPath && !pngPath; }  // no output file: the viewer
+};
 
-int runRender(const std::vector<std::string>& args) {
+RenderOptions parseRenderOptions(const std::vector<std::string>& args) {
   Args a(args, "render");
-  std::string mode = a.value("--mode").value_or("osr");
-  auto exrPath = a.value("--offline");
-  auto pngPath = a.value("--png");
-  auto exposure = a.number("--exposure", -64, 64);
-  auto spp = a.integer("--spp", 1, 1 << 24);
-  auto timeLimit = a.number("--time", 0.001, 1e7);
-  auto seed = a.integer("--seed", 0, 0xffffffffll);
-  SceneOptions sceneOptions = readSceneOptions(a);
-  bool exrFloat = a.flag("--exr-float");
-  bool quiet = a.flag("--quiet");
-  auto passes = a.integer("--passes", 1, 1 << 24);
-  auto denoiser = a.value("--denoiser");
-  auto weights = a.value("--weights");
-  auto gridStart = a.integer("--grid-start", 1, 256);
-  auto gridMin = a.integer("--grid-min", 1, 256);
-  auto directSpp = a.integer("--direct-spp", 1, 1024);
-  auto residualSpp = a.integer("--residual-spp", 0, 1024);
-  auto residualRamp = a.number("--residual-ramp", 0.0, 1e9);
-  auto mapSpp = a.integer("--map-spp", 1, 1 << 16);
-  auto mapShare = a.number("--map-share", 0.0, 1.0);
-  auto dumpMaps = a.value("--dump-maps");
-  auto viewerScript = a.value("--viewer-script");
-  auto saveDir = a.value("--save-dir");
-  auto crop = a.integerList("--crop", 0, 16384);
-  const std::optional<FrameOptions> frames = readFrameOptions(a);
-  const render::DenoiseSettings denoise = readDenoiseOptions(a, mode);
-  denoise.check();  // a bad model: one line and exit 2 before any work
-  vk::ContextOptions vkOptions = readDeviceOptions(a);
+  RenderOptions o;
+  o.exrPath = a.value("--offline");
+  o.pngPath = a.value("--png");
+  o.exposure = a.number("--exposure", -64, 64);
+  o.integrator = readIntegratorOptions(a);
+  o.timeLimit = a.number("--time", 0.001, 1e7);
+  o.seed = a.integer("--seed", 0, 0xffffffffll);
+  o.scene = readSceneOptions(a);
+  o.exrFloat = a.flag("--exr-float");
+  o.quiet = a.flag("--quiet");
+  o.dumpMaps = a.value("--dump-maps");
+  o.viewerScript = a.value("--viewer-script");
+  o.saveDir = a.value("--save-dir");
+  o.crop = a.integerList("--crop", 0, 16384);
+  o.frames = readFrameOptions(a);
+  o.denoise = readDenoiseOptions(a, o.integrator.mode);
+  o.denoise.check();  // a bad model: one line and exit 2 before any work
+  o.device = readDeviceOptions(a);
   auto files = a.positional();
   a.finish();
   if (files.size() != 1) throw InputError("render: expected exactly one scene file");
-  const bool osrMode = mode == "osr";
-  std::optional<pt::Mode> ptMode = pt::parseMode(mode);
-  if (!osrMode && !ptMode)
-    throw InputError("--mode: unknown integrator '" + mode + "' (osr, path, preview)");
-  if (!osrMode && (passes || denoiser || weights || gridStart || gridMin || directSpp ||
-                   residualSpp || residualRamp || mapSpp || mapShare))
-    throw InputError(
-        "render: --passes, --denoiser, --weights, --grid-*, --direct-spp, "
-        "--residual-*, --map-spp are options of --mode osr");
-  if (osrMode && spp)
-    throw InputError("--spp: --mode osr counts progressive passes; use --passes N");
-  oneshot::OsrSettings osrSettings;
-  if (denoiser) osrSettings.denoiser = oneshot::parseDenoiser(*denoiser);
-  if (weights) {
-    osrSettings.weightsPath = *weights;
-    if (!denoiser) osrSettings.denoiser = oneshot::Denoiser::Unet;
-  }
-  if (gridStart) osrSettings.gridStart = uint32_t(*gridStart);
-  if (gridMin)
-    osrSettings.gridMin = uint32_t(*gridMin);
-  else
-    osrSettings.gridMin = std::min(osrSettings.gridMin, osrSettings.gridStart);
-  // Given explicitly, a sample count holds for every pass.
-  if (directSpp) osrSettings.directSamples = osrSettings.directSamplesLate = uint32_t(*directSpp);
-  if (residualSpp)
-    osrSettings.residualSamples = osrSettings.residualSamplesLate = uint32_t(*residualSpp);
-  if (residualRamp) osrSettings.residualRamp = *residualRamp;
-  if (mapSpp) osrSettings.pathsPerTexel = uint32_t(*mapSpp);
-  if (mapShare) osrSettings.mapShare = *mapShare;
-  if (osrSettings.gridMin > osrSettings.gridStart)
-    throw InputError("--grid-min: " + std::to_string(osrSettings.gridMin) +
-                     " is coarser than --grid-start " + std::to_string(osrSettings.gridStart));
-  if (dumpMaps && !osrMode) throw InputError("--dump-maps: an option of --mode osr");
-  const bool live = !exrPath && !pngPath;  // no output file: the viewer
-  // Options that only shape a file which is not written would be ignored without a word.
-  if (exposure && !live && !pngPath)
+  o.scenePath = files[0];
+  return o;
+}
+
+// The cross-checks that need no file: the integrator's settings, and options that only shape
+// an output which is not written (they would be ignored without a word). The viewer's display
+// is required here, before any work: none means one line suggesting --offline and exit 2.
+IntegratorSettings validateRenderOptions(RenderOptions& o) {
+  IntegratorSettings settings = buildIntegratorSettings(o.integrator);
+  if (o.dumpMaps && o.integrator.mode != "osr")
+    throw InputError("--dump-maps: an option of --mode osr");
+  if (o.exposure && !o.live() && !o.pngPath)
     throw InputError(
         "--exposure: sets the exposure of the --png preview (the EXR holds radiance); "
         "give --png too");
-  if (exrFloat && !exrPath) throw InputError("--exr-float: an option of the --offline EXR");
-  if (live && dumpMaps)
+  if (o.exrFloat && !o.exrPath) throw InputError("--exr-float: an option of the --offline EXR");
+  if (o.live() && o.dumpMaps)
     throw InputError("--dump-maps: an option of --offline/--png renders (the viewer saves with S)");
-  if (!live && (viewerScript || saveDir))
+  if (!o.live() && (o.viewerScript || o.saveDir))
     throw InputError(
         "render: --viewer-script and --save-dir are options of the viewer "
         "(without --offline/--png)");
   // Checked now, not at the first save: every S in the window would fail with it.
-  if (saveDir && !std::filesystem::is_directory(*saveDir))
-    throw InputError("--save-dir: " + *saveDir + " is not a folder");
-  if (live && crop) throw InputError("--crop: an option of --offline/--png renders");
-  if (crop && (crop->size() != 4 || (*crop)[2] < 1 || (*crop)[3] < 1))
+  if (o.saveDir && !std::filesystem::is_directory(*o.saveDir))
+    throw InputError("--save-dir: " + *o.saveDir + " is not a folder");
+  if (o.live() && o.crop) throw InputError("--crop: an option of --offline/--png renders");
+  if (o.crop && (o.crop->size() != 4 || (*o.crop)[2] < 1 || (*o.crop)[3] < 1))
     throw InputError("--crop: expected X,Y,W,H (the window's corner and size, W and H >= 1)");
-  if (frames) {
-    if (live) throw InputError("--frames: an option of --offline/--png renders (give --offline)");
-    if (dumpMaps) throw InputError("--dump-maps: not with --frames (one frame's maps)");
-    if (exrPath) checkFrameField("--offline", *exrPath);
-    if (pngPath) checkFrameField("--png", *pngPath);
+  if (o.frames) {
+    if (o.live()) throw InputError("--frames: an option of --offline/--png renders (give --offline)");
+    if (o.dumpMaps) throw InputError("--dump-maps: not with --frames (one frame's maps)");
+    if (o.exrPath) checkFrameField("--offline", *o.exrPath);
+    if (o.pngPath) checkFrameField("--png", *o.pngPath);
   }
-  if (live) {
-    // Before any work: no display means one line suggesting --offline and exit 2.
-    vkOptions.instanceExtensions = viewer::requireDisplay();
-    vkOptions.swapchain = true;
+  if (o.live()) {
+    o.device.instanceExtensions = viewer::requireDisplay();
+    o.device.swapchain = true;
   }
+  settings.keepAllMaps = bool(o.dumpMaps);
+  return settings;
+}
 
-  HostScene host = loadHostScene(files[0], sceneOptions);
-  if (crop) applyCrop(host, *crop);
-  if (frames && host.scene.animation.empty())
-    throw InputError(files[0] + ": --frames: the scene has no animation (no glTF animation " +
+// The scene on the host, its film cropped to the --crop window; a shot needs an animation.
+HostScene loadRenderScene(const RenderOptions& o) {
+  HostScene host = loadHostScene(o.scenePath, o.scene);
+  if (o.crop) applyCrop(host, *o.crop);
+  if (o.frames && host.scene.animation.empty())
+    throw InputError(o.scenePath + ": --frames: the scene has no animation (no glTF animation " +
                      "channel moves a node's translation, rotation or scale)");
-  // Fail before the (long) render, not after it, and never write over what the render reads.
+  return host;
+}
+
+// Fail before the (long) render, not after it, and never write over what the render reads.
+void checkRenderFiles(const RenderOptions& o, const HostScene& host) {
   std::vector<OutputFile> outputs;
   // A shot checks every frame's files.
-  for (int f = frames ? frames->first : 0; f <= (frames ? frames->last : 0); ++f) {
-    if (exrPath) outputs.push_back({"--offline", frames ? framePath(*exrPath, f) : *exrPath, ".exr", "OpenEXR"});
-    if (pngPath) outputs.push_back({"--png", frames ? framePath(*pngPath, f) : *pngPath, ".png", "PNG"});
+  const auto& fr = o.frames;
+  for (int f = fr ? fr->first : 0; f <= (fr ? fr->last : 0); ++f) {
+    if (o.exrPath)
+      outputs.push_back({"--offline", fr ? framePath(*o.exrPath, f) : *o.exrPath, ".exr", "OpenEXR"});
+    if (o.pngPath)
+      outputs.push_back({"--png", fr ? framePath(*o.pngPath, f) : *o.pngPath, ".png", "PNG"});
   }
-  if (dumpMaps) {
+  if (o.dumpMaps) {
+    const std::string& dir = *o.dumpMaps;
     // The folder is made now, not after the render: a path that cannot be one (an existing
     // file, a file on the way) is bad input found in a second, not an error after minutes.
-    if (std::filesystem::exists(*dumpMaps) && !std::filesystem::is_directory(*dumpMaps))
-      throw InputError("--dump-maps: " + *dumpMaps + " exists and is not a folder");
+    if (std::filesystem::exists(dir) && !std::filesystem::is_directory(dir))
+      throw InputError("--dump-maps: " + dir + " exists and is not a folder");
     std::error_code ec;
-    std::filesystem::create_directories(*dumpMaps, ec);
+    std::filesystem::create_directories(dir, ec);
     if (ec)
-      throw InputError("--dump-maps: " + *dumpMaps + ": cannot create the folder (" + ec.message() +
+      throw InputError("--dump-maps: " + dir + ": cannot create the folder (" + ec.message() +
                        ")");
     for (const char* name : {"oneshot.png", "clean.png", "grid.png"})
-      outputs.push_back({"--dump-maps", *dumpMaps + "/" + name, ".png", "PNG"});
+      outputs.push_back({"--dump-maps", dir + "/" + name, ".png", "PNG"});
   }
   std::vector<NamedPath> inputs;
   for (const std::string& f : host.scene.files)
-    inputs.push_back({f == files[0] ? "the scene" : "a file of the scene", f});
+    inputs.push_back({f == o.scenePath ? "the scene" : "a file of the scene", f});
   if (host.env && !host.env->path.empty()) inputs.push_back({"the --env map", host.env->path});
-  if (weights) inputs.push_back({"the --weights file", *weights});
-  if (!denoise.networkFile.empty()) inputs.push_back({"the --network file", denoise.networkFile});
+  if (o.integrator.osr.weights) inputs.push_back({"the --weights file", *o.integrator.osr.weights});
+  if (!o.denoise.networkFile.empty())
+    inputs.push_back({"the --network file", o.denoise.networkFile});
   checkOutputs(outputs, inputs);
-  warnIfNeutralSky(host);
-  const uint32_t imageWidth = host.width, imageHeight = host.height;
-  // Units: samples per pixel (path, preview) or passes (osr). Preview is deterministic after
-  // one sample per pixel but antialiases with more; OSR's defaults give a converged-looking
-  // image in about the path tracer's default time.
+}
+
+// The stop rules: the unit count given or the mode's default, --time (alone: as many units as
+// fit). A unit longer than the batch target (an OSR pass at 4K takes minutes on lavapipe) runs
+// in slices, so progress lines keep coming during it. 16 for the first unit, before any is
+// timed: enough for progress, too few to cost a small render anything.
+render::DriverSettings driverSettings(const RenderOptions& o, const IntegratorSettings& settings) {
   render::DriverSettings ds;
-  ds.maxUnits = osrMode ? (passes ? uint32_t(*passes) : 32u)
-                        : (spp ? uint32_t(*spp) : (*ptMode == pt::Mode::Preview ? 4u : 64u));
-  if (timeLimit) {
-    ds.timeLimitS = *timeLimit;
-    if (!spp && !passes) ds.maxUnits = 1u << 24;  // --time alone: as many units as fit
+  ds.maxUnits = settings.unitsOrDefault();
+  if (o.timeLimit) {
+    ds.timeLimitS = *o.timeLimit;
+    if (!settings.units) ds.maxUnits = 1u << 24;
   }
-  // A unit longer than the batch target (an OSR pass at 4K takes minutes on lavapipe) runs in
-  // slices, so progress lines keep coming during it. 16 for the first unit, before any is
-  // timed: enough for progress, too few to cost a small render anything.
   ds.sliceUnits = true;
   ds.firstUnitSlices = 16;
-  const uint32_t renderSeed = seed ? uint32_t(*seed) : 0u;
+  return ds;
+}
 
-  vk::Context ctx(vkOptions);
-  // Built at the first frame's pose for a shot, and again for each frame that moves geometry
-  // or lights: integrators bind it, so one is never kept across a rebuild.
-  std::optional<DeviceScene> dev;
-  if (!frames) dev.emplace(ctx, host);
-  // One factory for --offline and the viewer (which makes a new integrator on a mode change
-  // or a resize).
-  auto makeIntegrator = [&](const std::string& m, uint32_t w, uint32_t h) {
-    viewer::IntegratorChoice c;
-    if (m == "osr") {
-      osrSettings.keepAllMaps = bool(dumpMaps);
-      c.integrator =
-          std::make_unique<oneshot::OsrIntegrator>(ctx, dev->gpu, dev->bvh, w, h, osrSettings);
-      c.defaultUnits = 32;
-    } else {
-      const pt::Mode pm = *pt::parseMode(m);
-      c.integrator = std::make_unique<pt::PathIntegrator>(ctx, dev->gpu, dev->bvh, w, h, pm);
-      c.defaultUnits = pm == pt::Mode::Preview ? 4u : 64u;
-    }
-    return c;
-  };
-  if (live) {
-    viewer::ViewerConfig vc;
-    vc.scenePath = files[0];
-    vc.scene = &host.scene;
-    vc.camera = host.camera;
-    vc.width = imageWidth;
-    vc.height = imageHeight;
-    vc.modes = {"path", "preview", "osr"};
-    vc.mode = mode;
-    vc.makeIntegrator = makeIntegrator;
-    vc.maxUnits = ds.maxUnits;
-    vc.timeLimitS = ds.timeLimitS;
-    vc.seed = renderSeed;
-    vc.exposureEv = exposure;
-    vc.scriptPath = viewerScript.value_or("");
-    vc.saveDir = saveDir.value_or(".");
-    vc.denoise = denoise;
-    return viewer::runViewer(ctx, vc);
+int runLive(const RenderOptions& o, const IntegratorSettings& settings, const HostScene& host,
+            const vk::Context& ctx) {
+  const DeviceScene dev(ctx, host);
+  const IntegratorScene scene{ctx, dev.gpu, dev.bvh};
+  const render::DriverSettings ds = driverSettings(o, settings);
+  viewer::ViewerConfig vc;
+  vc.scenePath = o.scenePath;
+  vc.scene = &host.scene;
+  vc.camera = host.camera;
+  vc.width = host.width;
+  vc.height = host.height;
+  vc.modes = integratorNames();
+  vc.mode = o.integrator.mode;
+  vc.makeIntegrator = viewerFactory(scene, settings);
+  vc.maxUnits = ds.maxUnits;
+  vc.timeLimitS = ds.timeLimitS;
+  vc.seed = uint32_t(o.seed.value_or(0));
+  vc.exposureEv = o.exposure;
+  vc.scriptPath = o.viewerScript.value_or("");
+  vc.saveDir = o.saveDir.value_or(".");
+  vc.denoise = o.denoise;
+  return viewer::runViewer(ctx, vc);
+}
+
+// Offline renders: one image, or a shot's frames. The device scene is built at the first
+// frame's pose for a shot, and again for each frame that moves geometry or lights: integrators
+// bind it, so one is never kept across a rebuild. Otherwise a shot's frames share one
+// integrator: restart() clears every accumulated state, and making one costs seconds of
+// pipeline builds on lavapipe.
+class OfflineRenderer {
+ public:
+  OfflineRenderer(const RenderOptions& o, const IntegratorSettings& settings, HostScene& host,
+                  const vk::Context& ctx)
+      : o_(o), settings_(settings), host_(host), ctx_(ctx) {
+    settings_.offline = true;  // nothing shows the film before the end
+    // Made (and its model read) before the render: a bad --network file is refused at once.
+    if (o.denoise.active())
+      imageDenoiser_ = std::make_unique<render::Denoiser>(ctx, o.denoise, host.width, host.height);
   }
-  osrSettings.resolveEverySubmission = false;  // nothing shows the film before the end
-  // Made (and its model read) before the render: a bad --network file is refused at once.
-  std::unique_ptr<render::Denoiser> imageDenoiser;
-  if (denoise.active()) imageDenoiser = std::make_unique<render::Denoiser>(ctx, denoise, imageWidth, imageHeight);
-  // A shot's frames share one integrator while the device scene stays: restart() clears every
-  // accumulated state, and making one costs seconds of pipeline builds on lavapipe.
-  std::unique_ptr<render::Integrator> integrator;
   // One image through `camera` into the given files, with its progress and summary lines.
-  auto renderImage = [&](const scene::Camera& camera, const std::optional<std::string>& exrFile,
-                         const std::optional<std::string>& pngFile) {
-    ProgressPrinter progress(quiet, spp || passes || !timeLimit);
-    if (!integrator) integrator = makeIntegrator(mode, imageWidth, imageHeight).integrator;
-    auto* osr = dynamic_cast<oneshot::OsrIntegrator*>(integrator.get());
-    render::ProgressiveDriver driver(ctx, *integrator, ds);
-    driver.restart(camera, renderSeed);
-    const render::RenderStats& stats = driver.run([&](const render::Progress& p) { progress(p); });
-    render::FilmLayers film = integrator->resolve();
-    if (imageDenoiser) imageDenoiser->apply(film);
-    progress.finish();
-    // The driver never stops inside a unit, and an image needs one whole: say why --time ran
-    // over. (A quarter over: nearer, the budget's own rounding.)
-    if (!quiet && timeLimit && stats.units == 1 && stats.seconds > 1.25 * *timeLimit)
-      std::fprintf(stderr, "osr-vk: note: the image needs one whole %s, which took %.1f s, past --time %g\n",
-                   osrMode ? "pass" : "sample per pixel", stats.seconds, *timeLimit);
-    if (film.droppedSamples > 0)
-      std::fprintf(stderr, "osr-vk: warning: %llu non-finite samples dropped\n",
-                   static_cast<unsigned long long>(film.droppedSamples));
-    if (exrFile)
-      image::writeExr(*exrFile, render::toLayeredImage(film),
-                      exrFloat ? image::ExrPixelType::Float : image::ExrPixelType::Half);
-    if (pngFile)
-      image::writePng(*pngFile, {film.width, film.height, film.combined}, exposure, film.depth);
-    if (dumpMaps) writeMapDump(*dumpMaps, osr->downloadMaps(), film);
-    if (!quiet) {
-      std::fprintf(stderr, "osr-vk: %ux%u, %u %s in %.2f s", imageWidth, imageHeight, stats.units,
-                   unitWord(integrator->unitName(), stats.units), stats.seconds);
-      for (const auto& t : stats.gpuScopes)
-        std::fprintf(stderr, ", %s %.0f ms", t.name.c_str(), t.ms);
-      if (imageDenoiser)
-        std::fprintf(stderr, ", denoise (%s) %.0f ms", imageDenoiser->name(), 1e3 * imageDenoiser->lastSeconds());
-      std::fputc('\n', stderr);
+  void renderImage(const scene::Camera& camera, const std::optional<std::string>& exrFile,
+                   const std::optional<std::string>& pngFile);
+  // The shot of --frames, each frame by renderImage.
+  void renderFrames();
+
+ private:
+  // The film's render: progress lines, a note when --time ran over, dropped samples.
+  render::RenderStats render(const scene::Camera& camera, render::FilmLayers& film);
+  void write(const render::FilmLayers& film, const std::optional<std::string>& exrFile,
+             const std::optional<std::string>& pngFile) const;
+  void printSummary(const render::RenderStats& stats) const;
+
+  const RenderOptions& o_;
+  IntegratorSettings settings_;
+  HostScene& host_;
+  const vk::Context& ctx_;
+  std::optional<DeviceScene> dev_;
+  std::unique_ptr<render::Integrator> integrator_;
+  std::unique_ptr<render::Denoiser> imageDenoiser_;
+};
+
+void OfflineRenderer::renderImage(const scene::Camera& camera,
+                                  const std::optional<std::string>& exrFile,
+                                  const std::optional<std::string>& pngFile) {
+  if (!dev_) dev_.emplace(ctx_, host_);
+  if (!integrator_)
+    integrator_ = makeIntegrator({ctx_, dev_->gpu, dev_->bvh}, settings_, o_.integrator.mode,
+                                 host_.width, host_.height);
+  render::FilmLayers film;
+  const render::RenderStats stats = render(camera, film);
+  write(film, exrFile, pngFile);
+  printSummary(stats);
+}
+
+void OfflineRenderer::renderFrames() {
+  auto prepare = [&](const scene::PoseChange& change) {
+    // The BVH is rebuilt only when geometry moved; a light that moved needs the new upload too.
+    if (!dev_ || change.geometry || change.lights) {
+      integrator_.reset();  // it binds the old scene
+      dev_.reset();
+      dev_.emplace(ctx_, host_);
     }
   };
-  if (!frames) {
-    renderImage(host.camera, exrPath, pngPath);
-    return 0;
-  }
-  renderShot(*frames, host, quiet, exrPath, pngPath, [&](const scene::PoseChange& change) {
-    // The BVH is rebuilt only when geometry moved; a light that moved needs the new upload too.
-    if (!dev || change.geometry || change.lights) {
-      integrator.reset();  // it binds the old scene
-      dev.reset();
-      dev.emplace(ctx, host);
-    }
-  }, renderImage);
+  renderShot(*o_.frames, host_, o_.quiet, o_.exrPath, o_.pngPath, prepare,
+             [&](const scene::Camera& camera, const std::optional<std::string>& exrFile,
+                 const std::optional<std::string>& pngFile) {
+               renderImage(camera, exrFile, pngFile);
+             });
+}
+
+render::RenderStats OfflineRenderer::render(const scene::Camera& camera,
+                                            render::FilmLayers& film) {
+  ProgressPrinter progress(o_.quiet, settings_.units || !o_.timeLimit);
+  render::ProgressiveDriver driver(ctx_, *integrator_, driverSettings(o_, settings_));
+  driver.restart(camera, uint32_t(o_.seed.value_or(0)));
+  const render::RenderStats stats = driver.run([&](const render::Progress& p) { progress(p); });
+  film = integrator_->resolve();
+  if (imageDenoiser_) imageDenoiser_->apply(film);
+  progress.finish();
+  // The driver never stops inside a unit, and an image needs one whole: say why --time ran
+  // over. (A quarter over: nearer, the budget's own rounding.)
+  if (!o_.quiet && o_.timeLimit && stats.units == 1 && stats.seconds > 1.25 * *o_.timeLimit)
+    std::fprintf(stderr, "osr-vk: note: the image needs one whole %s, which took %.1f s, past --time %g\n",
+                 settings_.kind->oneUnit, stats.seconds, *o_.timeLimit);
+  if (film.droppedSamples > 0)
+    std::fprintf(stderr, "osr-vk: warning: %llu non-finite samples dropped\n",
+                 static_cast<unsigned long long>(film.droppedSamples));
+  return stats;
+}
+
+void OfflineRenderer::write(const render::FilmLayers& film,
+                            const std::optional<std::string>& exrFile,
+                            const std::optional<std::string>& pngFile) const {
+  if (exrFile)
+    image::writeExr(*exrFile, render::toLayeredImage(film),
+                    o_.exrFloat ? image::ExrPixelType::Float : image::ExrPixelType::Half);
+  if (pngFile)
+    image::writePng(*pngFile, {film.width, film.height, film.combined}, o_.exposure, film.depth);
+  if (o_.dumpMaps)
+    writeMapDump(*o_.dumpMaps,
+                 dynamic_cast<const oneshot::OsrIntegrator&>(*integrator_).downloadMaps(), film);
+}
+
+void OfflineRenderer::printSummary(const render::RenderStats& stats) const {
+  if (o_.quiet) return;
+  std::fprintf(stderr, "osr-vk: %ux%u, %u %s in %.2f s", host_.width, host_.height, stats.units,
+               unitWord(integrator_->unitName(), stats.units), stats.seconds);
+  for (const auto& t : stats.gpuScopes)
+    std::fprintf(stderr, ", %s %.0f ms", t.name.c_str(), t.ms);
+  if (imageDenoiser_)
+    std::fprintf(stderr, ", denoise (%s) %.0f ms", imageDenoiser_->name(),
+                 1e3 * imageDenoiser_->lastSeconds());
+  std::fputc('\n', stderr);
+}
+
+}  // namespace
+
+int runRender(const std::vector<std::string>& args) {
+  RenderOptions options = parseRenderOptions(args);
+  const IntegratorSettings settings = validateRenderOptions(options);
+  HostScene host = loadRenderScene(options);
+  checkRenderFiles(options, host);
+  warnIfNeutralSky(host);
+  vk::Context ctx(options.device);
+  if (options.live()) return runLive(options, settings, host, ctx);
+  OfflineRenderer renderer(options, settings, host, ctx);
+  if (options.frames)
+    renderer.renderFrames();
+  else
+    renderer.renderImage(host.camera, options.exrPath, options.pngPath);
   return 0;
 }
 

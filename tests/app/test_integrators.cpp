@@ -1,0 +1,70 @@
+// app's integrator registry (integrators.h), the one place the CLI, the benchmarks and the
+// viewer take an integrator's name, default units and settings from: the rules it holds, on
+// the options alone (no device).
+#include "app/integrators.h"
+
+#include <gtest/gtest.h>
+
+#include "common/error.h"
+
+using namespace osr;
+using app::IntegratorSettings;
+
+namespace {
+
+IntegratorSettings settingsOf(std::vector<std::string> args) {
+  app::Args a(std::move(args), "render");
+  app::IntegratorOptions o = app::readIntegratorOptions(a);
+  a.finish();
+  return app::buildIntegratorSettings(o);
+}
+
+std::string errorOf(std::vector<std::string> args) {
+  try {
+    settingsOf(std::move(args));
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
+TEST(Integrators, KindsAndDefaultUnits) {
+  EXPECT_EQ(app::integratorNames(), (std::vector<std::string>{"path", "preview", "osr"}));
+  EXPECT_EQ(app::integratorKind("path").defaultUnits, 64u);
+  EXPECT_EQ(app::integratorKind("preview").defaultUnits, 4u);
+  EXPECT_EQ(app::integratorKind("osr").defaultUnits, 32u);
+  EXPECT_EQ(settingsOf({}).kind->name, std::string("osr"));  // the default mode
+  EXPECT_EQ(settingsOf({"--mode", "preview"}).unitsOrDefault(), 4u);
+  EXPECT_EQ(settingsOf({"--mode", "path", "--spp", "7"}).unitsOrDefault(), 7u);
+  EXPECT_EQ(settingsOf({"--passes", "3"}).unitsOrDefault(), 3u);
+  EXPECT_FALSE(settingsOf({"--mode", "path"}).units);
+  EXPECT_EQ(errorOf({"--mode", "bogus"}), "--mode: unknown integrator 'bogus' (osr, path, preview)");
+}
+
+TEST(Integrators, WeightsImplyTheUnetUnlessADenoiserIsGiven) {
+  EXPECT_EQ(settingsOf({}).osr.denoiser, oneshot::Denoiser::Blur);
+  IntegratorSettings s = settingsOf({"--weights", "w.osrw"});
+  EXPECT_EQ(s.osr.denoiser, oneshot::Denoiser::Unet);
+  EXPECT_EQ(s.osr.weightsPath, "w.osrw");
+  EXPECT_EQ(settingsOf({"--weights", "w.osrw", "--denoiser", "none"}).osr.denoiser,
+            oneshot::Denoiser::None);
+}
+
+TEST(Integrators, AnOptionOfAnotherModeIsRefused) {
+  for (const char* option : {"--passes", "--grid-start", "--direct-spp", "--map-spp"})
+    EXPECT_NE(errorOf({"--mode", "path", option, "2"}).find("are options of --mode osr"),
+              std::string::npos)
+        << option;
+  EXPECT_NE(errorOf({"--mode", "preview", "--denoiser", "unet"}).find("options of --mode osr"),
+            std::string::npos);
+  EXPECT_EQ(errorOf({"--spp", "3"}), "--spp: --mode osr counts progressive passes; use --passes N");
+}
+
+TEST(Integrators, GridOptions) {
+  EXPECT_EQ(settingsOf({"--grid-start", "4"}).osr.gridMin, 4u);  // never coarser than the start
+  EXPECT_EQ(settingsOf({"--grid-start", "32", "--grid-min", "8"}).osr.gridMin, 8u);
+  EXPECT_EQ(errorOf({"--grid-start", "8", "--grid-min", "16"}),
+            "--grid-min: 16 is coarser than --grid-start 8");
+}
