@@ -8,7 +8,7 @@
 #include <cstdio>
 
 #include "common/vk_test.h"
-#include "pt/bsdf_probe.h"
+#include "support/bsdf_probe.h"
 
 using namespace osr;
 namespace probe = osr::gpu::bsdf;

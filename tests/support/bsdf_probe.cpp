@@ -1,4 +1,4 @@
-#include "pt/bsdf_probe.h"
+#include "support/bsdf_probe.h"
 
 #include <algorithm>
 
