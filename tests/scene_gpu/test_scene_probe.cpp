@@ -10,7 +10,7 @@
 #include "common/vk_test.h"
 #include "scene/environment.h"
 #include "scene/scene_test_util.h"
-#include "scene_gpu/scene_probe.h"
+#include "support/scene_probe.h"
 #include "scene/surface.h"
 
 using namespace osr;

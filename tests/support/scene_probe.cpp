@@ -1,4 +1,4 @@
-#include "scene_gpu/scene_probe.h"
+#include "support/scene_probe.h"
 
 #include "vk/binder.h"
 
