@@ -1,6 +1,6 @@
 // Hemisphere maps and the per-map passes: an emissive furnace gives its analytic constant map;
 // the device's normalize, denoise (blur, none, U-Net) and projection agree with their CPU twins
-// (src/osr/map_cpu.h) on maps traced in a real scene, the U-Net inside OSR included; the
+// (tests/support/map_cpu.h) on maps traced in a real scene, the U-Net inside OSR included; the
 // composite's closed-form irradiance equals the brute-force sum over texels at the map's
 // normal and stays close to it at tilted normals.
 #include <gtest/gtest.h>
@@ -13,7 +13,7 @@
 #include "nn_kernels/unet_cpu.h"
 #include "nn_kernels/weights.h"
 #include "nn_kernels/weights_format.h"
-#include "osr/map_cpu.h"
+#include "support/map_cpu.h"
 #include "osr/map_tracer.h"
 #include "osr/osr_test_util.h"
 

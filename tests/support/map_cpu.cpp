@@ -1,4 +1,4 @@
-#include "osr/map_cpu.h"
+#include "support/map_cpu.h"
 
 #include <algorithm>
 #include <cmath>
