@@ -25,7 +25,9 @@ std::string denoiseHelp() {
   };
   return "  --network default|none|FILE  learned image denoiser (docs/denoise.md) on the final\n"
          "                        image, and in the viewer every few units: default = the\n"
-         "                        shipped model, FILE = a packed image denoiser\n"
+         "                        shipped model (not yet better than --filter atrous:\n"
+         "                        colour casts and blur, docs/denoise.md), FILE = a\n"
+         "                        packed image denoiser\n"
          "                        (default per mode: " + defaults(true) + ")\n"
          "  --filter atrous|none  edge-aware a-trous filter (SVGF) where no network runs\n"
          "                        (default per mode: " + defaults(false) + ")\n";
