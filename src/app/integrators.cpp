@@ -78,6 +78,32 @@ const IntegratorKind& integratorKind(const std::string& mode) {
   throw InputError("--mode: unknown integrator '" + mode + "' (" + known + ")");
 }
 
+std::string unitOptionsHelp() {
+  // One line per unit option, naming the kinds it counts for, the first one's default and
+  // each other kind's where it differs: the defaults are the registry's, written once.
+  const std::vector<std::pair<std::string, std::string>> meaning = {
+      {"--spp", "samples per pixel"}, {"--passes", "progressive passes"}};
+  std::string help;
+  for (const auto& [option, what] : meaning) {
+    std::string names, defaults;
+    const IntegratorKind* first = nullptr;
+    for (const IntegratorKind& k : integratorKinds()) {
+      if (option != k.unitOption) continue;
+      names += std::string(names.empty() ? "" : ", ") + k.name;
+      if (!first) {
+        first = &k;
+        defaults = "default " + std::to_string(k.defaultUnits);
+      } else if (k.defaultUnits != first->defaultUnits) {
+        defaults += std::string("; ") + k.name + " " + std::to_string(k.defaultUnits);
+      }
+    }
+    std::string flag = "  " + option + " N";
+    flag.resize(24, ' ');
+    help += flag + names + ": " + what + " (" + defaults + ")\n";
+  }
+  return help;
+}
+
 std::vector<std::string> integratorNames() {
   std::vector<std::string> names;
   for (const IntegratorKind& k : integratorKinds()) names.push_back(k.name);

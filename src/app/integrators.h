@@ -43,6 +43,8 @@ inline constexpr char kDefaultMode[] = "osr";
 // The kind named `mode`; InputError naming --mode and the known kinds otherwise.
 const IntegratorKind& integratorKind(const std::string& mode);
 std::vector<std::string> integratorNames();
+// The --spp and --passes lines of osr-vk --help, with the registry's defaults.
+std::string unitOptionsHelp();
 
 // Options valid in every mode. To add one: a field here and one line reading it in
 // readEveryModeOptions (integrators.cpp); makeIntegrator hands it to every kind it makes.

@@ -9,6 +9,7 @@
 #include "app/args.h"
 #include "app/commands.h"
 #include "app/denoise_options.h"
+#include "app/integrators.h"
 #include "common/error.h"
 #include "nn_kernels/weights_format.h"
 #include "osr_git_version.h"
@@ -31,9 +32,9 @@ constexpr const char* kUsage =
     "                        (an output may not be an input or the other output: exit 2)\n"
     "  --mode osr|path|preview  integrator (default osr): osr (One Shot Radiance: noise-free\n"
     "                        early, converges to path), path tracing (the reference) or\n"
-    "                        preview (albedo x headlight cosine, instant)\n"
-    "  --spp N               path, preview: samples per pixel (default 64; preview 4)\n"
-    "  --passes N            osr: progressive passes (default 32)\n"
+    "                        preview (albedo x headlight cosine, instant)\n";
+// Then osr::app::unitOptionsHelp(): --spp and --passes with the registry's defaults.
+constexpr const char* kUsageOptions =
     "  --time SECONDS        stop after this long (with --spp/--passes: whichever ends first)\n"
     "  --seed N              random seed (same seed, same image)\n"
     "  --exposure EV         PNG exposure (default: automatic, metered on what was hit or lit)\n"
@@ -92,6 +93,8 @@ const Command* findCommand(const std::string& name) {
 
 void printUsage(FILE* f) {
   std::fputs(kUsage, f);
+  std::fputs(osr::app::unitOptionsHelp().c_str(), f);
+  std::fputs(kUsageOptions, f);
   std::fputs(osr::app::denoiseHelp().c_str(), f);
   std::fputs(kUsageTail, f);
 }

@@ -68,3 +68,16 @@ TEST(Integrators, GridOptions) {
   EXPECT_EQ(errorOf({"--grid-start", "8", "--grid-min", "16"}),
             "--grid-min: 16 is coarser than --grid-start 8");
 }
+
+// --help's unit lines come from the registry, so every kind's default appears there.
+TEST(Integrators, HelpStatesTheRegistryDefaults) {
+  const std::string help = app::unitOptionsHelp();
+  for (const app::IntegratorKind& k : app::integratorKinds()) {
+    EXPECT_NE(help.find(k.unitOption), std::string::npos) << k.name;
+    EXPECT_NE(help.find(std::to_string(k.defaultUnits)), std::string::npos) << k.name;
+    EXPECT_NE(help.find(k.name), std::string::npos) << k.name;
+  }
+  EXPECT_EQ(help,
+            "  --spp N               path, preview: samples per pixel (default 64; preview 4)\n"
+            "  --passes N            osr: progressive passes (default 32)\n");
+}
