@@ -13,7 +13,6 @@
 
 #include "app/args.h"
 #include "app/commands.h"
-#include "app/denoise_options.h"
 #include "app/device_options.h"
 #include "app/frames.h"
 #include "app/integrators.h"
@@ -121,7 +120,6 @@ struct RenderOptions {
   std::optional<std::string> dumpMaps, viewerScript, saveDir;
   std::optional<std::vector<long long>> crop;  // --crop X,Y,W,H
   std::optional<FrameOptions> frames;
-  render::DenoiseSettings denoise;  // --network, --filter
   vk::ContextOptions device;
   std::string scenePath;
   bool live() const { return !exrPath && !pngPath; }  // no output file: the viewer
@@ -144,8 +142,7 @@ RenderOptions parseRenderOptions(const std::vector<std::string>& args) {
   o.saveDir = a.value("--save-dir");
   o.crop = a.integerList("--crop", 0, 16384);
   o.frames = readFrameOptions(a);
-  o.denoise = readDenoiseOptions(a, o.integrator.mode);
-  o.denoise.check();  // a bad model: one line and exit 2 before any work
+  o.integrator.everyMode.denoise.check();  // a bad model: one line and exit 2 before any work
   o.device = readDeviceOptions(a);
   auto files = a.positional();
   a.finish();
@@ -232,8 +229,8 @@ void checkRenderFiles(const RenderOptions& o, const HostScene& host) {
     inputs.push_back({f == o.scenePath ? "the scene" : "a file of the scene", f});
   if (host.env && !host.env->path.empty()) inputs.push_back({"the --env map", host.env->path});
   if (o.integrator.osr.weights) inputs.push_back({"the --weights file", *o.integrator.osr.weights});
-  if (!o.denoise.networkFile.empty())
-    inputs.push_back({"the --network file", o.denoise.networkFile});
+  if (!o.integrator.everyMode.denoise.networkFile.empty())
+    inputs.push_back({"the --network file", o.integrator.everyMode.denoise.networkFile});
   checkOutputs(outputs, inputs);
 }
 
@@ -273,7 +270,7 @@ int runLive(const RenderOptions& o, const IntegratorSettings& settings, const Ho
   vc.exposureEv = o.exposure;
   vc.scriptPath = o.viewerScript.value_or("");
   vc.saveDir = o.saveDir.value_or(".");
-  vc.denoise = o.denoise;
+  vc.denoise = o.integrator.everyMode.denoise;
   return viewer::runViewer(ctx, vc);
 }
 
@@ -289,8 +286,9 @@ class OfflineRenderer {
       : o_(o), settings_(settings), host_(host), ctx_(ctx) {
     settings_.offline = true;  // nothing shows the film before the end
     // Made (and its model read) before the render: a bad --network file is refused at once.
-    if (o.denoise.active())
-      imageDenoiser_ = std::make_unique<render::Denoiser>(ctx, o.denoise, host.width, host.height);
+    if (o.integrator.everyMode.denoise.active())
+      imageDenoiser_ = std::make_unique<render::Denoiser>(ctx, o.integrator.everyMode.denoise,
+                                                          host.width, host.height);
   }
   // One image through `camera` into the given files, with its progress and summary lines.
   void renderImage(const scene::Camera& camera, const std::optional<std::string>& exrFile,

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 
+#include "app/denoise_options.h"
 #include "common/error.h"
 #include "osr/osr_integrator.h"
 #include "pt/path_integrator.h"
@@ -27,7 +28,11 @@ std::unique_ptr<render::Integrator> makeOsr(const IntegratorScene& s,
 }
 
 // Options valid in every mode (see EveryModeOptions).
-EveryModeOptions readEveryModeOptions(Args&) { return {}; }
+EveryModeOptions readEveryModeOptions(Args& a, const std::string& mode) {
+  EveryModeOptions o;
+  o.denoise = readDenoiseOptions(a, mode);
+  return o;
+}
 
 // The OSR settings of the options given; the defaults (OsrSettings) for the rest.
 oneshot::OsrSettings osrSettings(const OsrOptions& o) {
@@ -118,7 +123,7 @@ bool OsrOptions::any() const {
 IntegratorOptions readIntegratorOptions(Args& a) {
   IntegratorOptions o;
   o.mode = a.value("--mode").value_or(kDefaultMode);
-  o.everyMode = readEveryModeOptions(a);
+  o.everyMode = readEveryModeOptions(a, o.mode);
   o.pt.spp = a.integer("--spp", 1, 1 << 24);
   o.osr.passes = a.integer("--passes", 1, 1 << 24);
   o.osr.denoiser = a.value("--denoiser");

@@ -17,6 +17,7 @@
 #include "app/args.h"
 #include "bvh/bvh.h"
 #include "osr/osr_settings.h"
+#include "render/denoiser.h"
 #include "render/integrator.h"
 #include "scene_gpu/gpu_scene.h"
 #include "viewer/viewer.h"
@@ -48,7 +49,9 @@ std::string unitOptionsHelp();
 
 // Options valid in every mode. To add one: a field here and one line reading it in
 // readEveryModeOptions (integrators.cpp); makeIntegrator hands it to every kind it makes.
-struct EveryModeOptions {};
+struct EveryModeOptions {
+  render::DenoiseSettings denoise;  // --network, --filter, or the mode's default (docs/denoise.md)
+};
 
 // Options of --mode path and preview, as given.
 struct PtOptions {
