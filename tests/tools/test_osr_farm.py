@@ -215,10 +215,16 @@ class Farm(unittest.TestCase):
             self.refused(r, f"{self.tmp / 'elsewhere.gltf'}: no such file")
             self.assertIn("worker tcp://", r.stderr)
         finally:
+            # Shutting down is not under test: a Dask process that does not leave within 30 s
+            # of SIGTERM on a loaded machine is killed rather than failing the test.
             for p in procs:
                 p.terminate()
             for p in procs:
-                p.wait(timeout=30)
+                try:
+                    p.wait(timeout=30)
+                except subprocess.TimeoutExpired:
+                    p.kill()
+                    p.wait(timeout=30)
         self.assertEqual(out.read_bytes(), b"not overwritten")
         self.assertFalse((self.tmp / "keep.0000.exr").exists())
 
