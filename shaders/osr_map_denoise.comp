@@ -7,7 +7,8 @@
 //  - kDenoiserBlur: a fixed Gaussian (sigma 1 texel, 5 x 5, clamped at the square's edges)
 //    of the one-shot radiance, renormalized to keep each channel's mean;
 //  - kDenoiserNone: the one-shot radiance as traced.
-// One invocation per map. In: one-shot maps, MapStats, U-Net output. Out: clean maps.
+// One invocation per map; none for the maps the cache gave (MapCacheRef kMapCacheReuse).
+// In: one-shot maps, MapStats, U-Net output, MapCacheRef. Out: clean maps.
 #extension GL_GOOGLE_include_directive : require
 #include "shared/osr.h"
 
@@ -18,6 +19,7 @@ layout(std430, binding = kOsrBindingMapClean) writeonly buffer OsrMapClean { flo
 layout(std430, binding = kOsrBindingMapOneShot) readonly buffer OsrOneShot { float gOneShot[]; };
 layout(std430, binding = kOsrBindingMapStats) readonly buffer OsrStats { MapStats gStats[]; };
 layout(std430, binding = kOsrBindingNetOut) readonly buffer OsrNetOut { float gNetOut[]; };
+layout(std430, binding = kOsrBindingCacheRefs) readonly buffer OsrCacheRefs { MapCacheRef gCacheRefs[]; };
 layout(push_constant) uniform OsrPushBlock { MapDenoisePush gPush; };
 
 float sourceValue(uint local, uint c, uint t) {
@@ -45,6 +47,8 @@ float blurred(uint local, uint c, uint t) {
 void main() {
   uint local = gl_GlobalInvocationID.x;
   if (local >= gPush.mapCount) return;
+  // A map the cache gave was not traced: osr_cache_lookup wrote its clean map.
+  if (gCacheRefs[gPush.mapOffset + local].action == kMapCacheReuse) return;
   uint out0 = local * 3u * kMapTexels;  // gMapClean's window starts at map mapOffset
   vec3 target = gStats[local].meanRadiance.rgb;
   for (uint c = 0u; c < 3u; ++c) {

@@ -7,10 +7,12 @@
 // surface hit is excluded (it is the direct pass's), full depth with Russian roulette. Also
 // writes the first hit's shading normal in the map frame (0 on a miss) and its distance (-1 on
 // a miss). Texel 0 of each map writes its MapPoint (position, normal, pixel, footprint).
+// Maps the cache gives (MapCacheRef kMapCacheReuse) are not traced.
 // In: GBufferPixel, scene, BVH. Out: one-shot maps [chunk][7][32][32], MapPoint.
 #extension GL_GOOGLE_include_directive : require
 #include "lib/osr_common.glsl"
 #include "lib/osr_maps.glsl"
+#include "lib/osr_map_cache.glsl"
 
 layout(local_size_x = kOsrWorkgroupSize) in;
 layout(push_constant) uniform OsrPushBlock { MapsPush gPush; };
@@ -33,6 +35,8 @@ void main() {
   if (local >= gPush.mapCount) return;
   uint texel = id % kMapTexels;
   uint map = gPush.mapOffset + local;
+  // The map cache's lookup gave this point a cached map (its MapPoint is written).
+  if (gCacheRefs[map].action == kMapCacheReuse) return;
   uvec2 pixel = mapPixel(gPush.grid, map);
   GBufferPixel g = gGBuffer[pixel.y * gFrame.width + pixel.x - gPush.gbufferWindowOffset];
   bool valid = g.position.w > 0.5;
@@ -40,8 +44,7 @@ void main() {
     MapPoint point;
     point.position = vec4(g.position.xyz, valid ? 1.0 : 0.0);
     // World size of one pixel at the point: the interpolation's plane-distance scale.
-    float footprint = g.wo.w * 2.0 * gFrame.tanHalfFovY / float(gFrame.imageHeight);
-    point.normal = vec4(g.normal.xyz, footprint);
+    point.normal = vec4(g.normal.xyz, pixelFootprint(g));
     point.pixel = uvec4(pixel, 0u, 0u);
     gMapPoints[map] = point;
   }

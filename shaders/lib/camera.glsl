@@ -27,6 +27,20 @@ void cameraRay(CameraFrame f, uint x, uint y, vec2 u, out vec3 origin, out vec3 
                   local.z * f.cameraBack.xyz);
 }
 
+// Where world point p lies on the film, in pixels (pixel (x, y) covers [x, x + 1) x [y, y + 1));
+// the inverse of cameraRay's pixel mapping. Points behind the camera return false.
+bool cameraProject(CameraFrame f, vec3 p, out vec2 pixel) {
+  vec3 d = p - f.cameraOrigin.xyz;
+  float z = -dot(d, f.cameraBack.xyz);
+  pixel = vec2(0.0);
+  if (z <= 0.0) return false;
+  vec2 ndc = vec2(dot(d, f.cameraRight.xyz) / (z * f.tanHalfFovY * f.aspect),
+                  dot(d, f.cameraUp.xyz) / (z * f.tanHalfFovY));
+  pixel = vec2((ndc.x + 1.0) * 0.5 * float(f.imageWidth) - float(f.originX),
+               (1.0 - ndc.y) * 0.5 * float(f.imageHeight) - float(f.originY));
+  return true;
+}
+
 // Distance of `p` along the camera's view axis (the depth AOV).
 float cameraDepth(CameraFrame f, vec3 p) {
   return dot(p - f.cameraOrigin.xyz, -f.cameraBack.xyz);

@@ -4,6 +4,12 @@
 #ifndef OSR_LIB_OSR_MAPS_GLSL
 #define OSR_LIB_OSR_MAPS_GLSL
 
+// World size of one pixel at a G-buffer surface (the ray length from the camera, through
+// mirrors): the scale of the interpolation's plane distance.
+float pixelFootprint(GBufferPixel g) {
+  return g.wo.w * 2.0 * gFrame.tanHalfFovY / float(gFrame.imageHeight);
+}
+
 // The grid point of map `map` (cell map % cellsX, map / cellsX): a pixel of its cell, jittered
 // per pass so that successive passes sample different points.
 // With grid radius 0 the maps are at the pixels the host wrote into their points (MapTracer).
@@ -76,6 +82,17 @@ vec3 mapShRadiance(MapProjection m, vec3 wLocal) {
   return l;
 }
 
+// A map read from the cache was taken elsewhere, maybe in another view: its screen point is
+// where its position projects in this one, or, nearer (through a mirror the projection is
+// not where the surface shows), its world distance from x in pixel footprints at its grid
+// point, laid off from p.
+vec2 cachedMapScreenPoint(vec2 p, vec3 x, MapPoint m) {
+  vec2 world = p + vec2(length(x - m.position.xyz) / max(m.normal.w, 1e-12), 0.0);
+  vec2 projected;
+  if (!cameraProject(gFrame, m.position.xyz, projected)) return world;
+  return length(projected - p) < world.x - p.x ? projected : world;
+}
+
 // The maps a pixel draws on: the 3 x 3 cells around its own, with mapWeight weights.
 struct MapGather {
   uint maps[9];
@@ -100,8 +117,10 @@ MapGather gatherMaps(MapGrid grid, uint cleanMapOffset, uvec2 pixel, vec3 x, vec
       uint map = uint(c.y) * grid.cellsX + uint(c.x);
       MapPoint m = gMapPoints[map];
       if (m.position.w < 0.5) continue;
-      float w = mapWeight(p, vec2(m.pixel.xy) + 0.5, float(r), x, n, m.position.xyz,
-                          m.normal.xyz, m.normal.w * float(r));
+      vec2 pg = vec2(m.pixel.xy) + 0.5;
+      if (m.pixel.z != 0u) pg = cachedMapScreenPoint(p, x, m);
+      float w = mapWeight(p, pg, float(r), x, n, m.position.xyz, m.normal.xyz,
+                          m.normal.w * float(r));
       if (w <= 1e-6) continue;
       g.maps[g.count] = map;
       g.weights[g.count] = w;

@@ -54,7 +54,12 @@ OSR_CONST(uint, kOsrBindingFilm, 10u);       // film::FilmPixel[pixel window] (r
 OSR_CONST(uint, kOsrBvhBinding, 11u);        // + kBvhBindingCount
 OSR_CONST(uint, kOsrSceneBinding, 15u);      // + kSceneBindingCount
 OSR_CONST(uint, kOsrSceneTexelBinding, 25u);  // + kSceneTexelBindingCount
-OSR_CONST(uint, kOsrBindingCount, 28u);
+// The world-space map cache (src/osr/map_cache.h, docs/osr.md "The map cache").
+OSR_CONST(uint, kOsrBindingCacheEntries, 28u);  // MapCacheEntry[slots]
+OSR_CONST(uint, kOsrBindingCacheClean, 29u);    // float[slots][3][32][32]: the cached clean maps
+OSR_CONST(uint, kOsrBindingCacheClaims, 30u);   // uint[slots]: the store's claims (kMapCacheNone)
+OSR_CONST(uint, kOsrBindingCacheRefs, 31u);     // MapCacheRef[maps of the pass]
+OSR_CONST(uint, kOsrBindingCount, 32u);
 
 // Specialization constants.
 OSR_CONST(uint, kOsrSpecSceneFeatures, 0u);  // the scene's kSceneFeature* bits
@@ -102,7 +107,8 @@ struct AccumPixel {
 struct MapPoint {
   vec4 position;  // xyz: the grid point's surface position; w: 1 valid map, 0 none
   vec4 normal;    // xyz: its shading normal (the map frame's z); w: pixel footprint (world)
-  uvec4 pixel;    // x, y: the pixel it was taken at
+  uvec4 pixel;    // x, y: the pixel it was taken at; z: 1 read from the map cache (taken
+                  // elsewhere: interpolated by world distance, lib/osr_maps.glsl gatherMaps)
 };
 
 // What osr_map_project makes of one clean map: its irradiance at its own normal and elsewhere.
@@ -126,6 +132,38 @@ struct MapGrid {
   uint cellsX;  // cells (= maps) across and down
   uint cellsY;
   uint seed;    // jitter of the grid points
+};
+
+// ---- The world-space map cache (docs/osr.md "The map cache") -------------------------------
+// A set-associative hash table of clean maps keyed by a world cell (a grid of the size of the
+// pass's grid spacing at the point, quantized to a power of two) and the normal's dominant
+// axis: slots = sets x kMapCacheWays; a set's ways are replaced least recently used first.
+OSR_CONST(uint, kMapCacheWays, 4u);
+OSR_CONST(uint, kMapCacheNone, 0xffffffffu);
+// A cached map serves a grid point whose shading normal is this close to the map's own (its
+// frame), and whose grid is at most kMapCacheSparse times finer than the map's grid was.
+OSR_CONST(float, kMapCacheMinCos, 0.95f);
+OSR_CONST(float, kMapCacheSparse, 1.2f);
+
+// What a map pass does at each grid point (MapCacheRef.action). 0 is the no-cache default.
+OSR_CONST(uint, kMapCacheTrace, 0u);   // traced, not stored (no cache, no slot, or lost its slot)
+OSR_CONST(uint, kMapCacheReuse, 1u);   // read from the cache, not traced
+OSR_CONST(uint, kMapCacheRefine, 2u);  // traced and averaged into the cached map it hit
+OSR_CONST(uint, kMapCacheInsert, 3u);  // traced and stored in a free or least recently used slot
+
+struct MapCacheEntry {
+  vec4 position;  // xyz: where the map was first traced; w: the grid spacing it served (world)
+  vec4 normal;    // xyz: its shading normal (the map frame's z)
+  uvec4 state;    // x: cell key (0: empty); y: clock of its last use; z: map passes averaged
+                  // in it; w: scene generation it was traced in
+};
+
+// One per map of the pass: osr_cache_lookup writes it, the map passes and the store read it.
+struct MapCacheRef {
+  uint action;  // kMapCache*
+  uint slot;    // the slot read, refined or claimed (kMapCacheNone: a victim is chosen later)
+  uint key;     // the grid point's cell key
+  uint passes;  // map passes in the slot before this one (kMapCacheRefine)
 };
 
 // Push constants, one struct per pass. `pass` is the progressive pass index (it selects the
@@ -159,7 +197,8 @@ struct MapNormalizePush {
 };
 
 struct MapDenoisePush {
-  uint mapCount;  // maps in this chunk
+  uint mapOffset;  // first map of this chunk (gMapClean's element 0)
+  uint mapCount;   // maps in this chunk
 };
 
 struct MapProjectPush {
@@ -185,6 +224,22 @@ struct ResidualPush {
   uint cleanMapOffset;  // the map gMapClean's element 0 is
   uint pathsPerPixel;
   float passWeight;     // w_k of this pass
+};
+
+// The cache's passes (osr_cache_lookup, osr_cache_claim, osr_cache_store) share one struct:
+// they must agree on every field for one chunk of maps.
+struct MapCachePush {
+  MapGrid grid;
+  uint mapOffset;            // first map of this dispatch (gMapClean's element 0)
+  uint mapCount;
+  uint gbufferWindowOffset;  // the pixel gGBuffer's element 0 is
+  uint sets;                 // slots / kMapCacheWays
+  uint generation;           // entries of another generation are stale (a scene change)
+  uint clock;                // map passes recorded since the cache was made (LRU time)
+  uint mapPass;              // map passes since the restart: slots averaging fewer are refined
+  uint phase;                // osr_cache_claim: 0 claim a slot, 1 keep only the claims won
+  float cellScale;           // hash cell size in grid spacings (before rounding up to 2^k)
+  uint _pad0, _pad1, _pad2;
 };
 
 struct ResolvePush {

@@ -156,6 +156,9 @@ RenderOptions parseRenderOptions(const std::vector<std::string>& args) {
 // is required here, before any work: none means one line suggesting --offline and exit 2.
 IntegratorSettings validateRenderOptions(RenderOptions& o) {
   IntegratorSettings settings = buildIntegratorSettings(o.integrator);
+  // The map cache pays where views follow each other: camera moves, a shot's frames.
+  if (!o.integrator.osr.mapCache && (o.live() || o.frames))
+    settings.osr.mapCacheMaps = oneshot::kDefaultMapCacheMaps;
   if (o.dumpMaps && o.integrator.mode != "osr")
     throw InputError("--dump-maps: an option of --mode osr");
   if (o.exposure && !o.live() && !o.pngPath)

@@ -53,6 +53,7 @@ oneshot::OsrSettings osrSettings(const OsrOptions& o) {
   if (o.residualRamp) s.residualRamp = *o.residualRamp;
   if (o.mapSpp) s.pathsPerTexel = uint32_t(*o.mapSpp);
   if (o.mapShare) s.mapShare = *o.mapShare;
+  if (o.mapCache) s.mapCacheMaps = uint32_t(*o.mapCache);
   if (s.gridMin > s.gridStart)
     throw InputError("--grid-min: " + std::to_string(s.gridMin) + " is coarser than --grid-start " +
                      std::to_string(s.gridStart));
@@ -117,7 +118,7 @@ std::vector<std::string> integratorNames() {
 
 bool OsrOptions::any() const {
   return passes || denoiser || weights || gridStart || gridMin || directSpp || residualSpp ||
-         residualRamp || mapSpp || mapShare;
+         residualRamp || mapSpp || mapShare || mapCache;
 }
 
 IntegratorOptions readIntegratorOptions(Args& a) {
@@ -135,6 +136,7 @@ IntegratorOptions readIntegratorOptions(Args& a) {
   o.osr.residualRamp = a.number("--residual-ramp", 0.0, 1e9);
   o.osr.mapSpp = a.integer("--map-spp", 1, 1 << 16);
   o.osr.mapShare = a.number("--map-share", 0.0, 1.0);
+  o.osr.mapCache = a.integer("--map-cache", 0, 1 << 20);
   return o;
 }
 
@@ -146,7 +148,7 @@ IntegratorSettings buildIntegratorSettings(const IntegratorOptions& o) {
   if (!osrMode && o.osr.any())
     throw InputError(
         "render: --passes, --denoiser, --weights, --grid-*, --direct-spp, "
-        "--residual-*, --map-spp are options of --mode osr");
+        "--residual-*, --map-spp, --map-share, --map-cache are options of --mode osr");
   if (osrMode && o.pt.any())
     throw InputError("--spp: --mode osr counts progressive passes; use --passes N");
   const std::optional<long long> units = osrMode ? o.osr.passes : o.pt.spp;

@@ -63,7 +63,7 @@ struct PtOptions {
 struct OsrOptions {
   std::optional<long long> passes;
   std::optional<std::string> denoiser, weights;
-  std::optional<long long> gridStart, gridMin, directSpp, residualSpp, mapSpp;
+  std::optional<long long> gridStart, gridMin, directSpp, residualSpp, mapSpp, mapCache;
   std::optional<double> residualRamp, mapShare;
   bool any() const;
 };

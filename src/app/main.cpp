@@ -63,6 +63,8 @@ constexpr const char* kUsageTail =
     "  --weights FILE        other packed U-Net weights (implies --denoiser unet)\n"
     "  --grid-start R --grid-min R  grid spacing in pixels, first and finest (16, 16)\n"
     "  --map-share F         largest share of the work map passes may take, 0 to 1 (0.25)\n"
+    "  --map-cache N         world-space map cache of N maps (12 KiB each), kept across camera\n"
+    "                        moves and frames; 0: none (viewer and --frames 4096, else 0)\n"
     "  --direct-spp N        direct-light samples per pixel and pass (16, then 4)\n"
     "  --residual-spp N      residual paths per pixel and pass (1, then 4)\n"
     "  --residual-ramp N0    blend the residual in by k / (k + N0) after k passes (default:\n"

@@ -40,6 +40,7 @@ OsrBuffers::OsrBuffers(const vk::Context& ctx, uint32_t width, uint32_t height, 
   mapStats = make(chunkMaps * sizeof(o::MapStats), "map statistics", Whole);
   netIn = make(chunkMaps * o::kMapChannels * kMapFloats * sizeof(float), "network input", Whole);
   netOut = make(chunkMaps * 3 * kMapFloats * sizeof(float), "network output", Whole);
+  mapCacheRefs = make(maxMaps * sizeof(o::MapCacheRef), "map cache refs", Whole);
 }
 
 std::vector<VkDescriptorType> osrDescriptorTypes() {
@@ -69,7 +70,11 @@ void OsrBindings::fill(vk::Binder& b, const OsrWindow& w) const {
       .set(o::kOsrBindingMapStats, buffers->mapStats)
       .set(o::kOsrBindingNetIn, buffers->netIn)
       .set(o::kOsrBindingNetOut, buffers->netOut)
-      .set(o::kOsrBindingFilm, film->window(w.pixelFirst, w.pixelCount));
+      .set(o::kOsrBindingFilm, film->window(w.pixelFirst, w.pixelCount))
+      .set(o::kOsrBindingCacheEntries, cache->entries)
+      .set(o::kOsrBindingCacheClean, cache->clean)
+      .set(o::kOsrBindingCacheClaims, cache->claims)
+      .set(o::kOsrBindingCacheRefs, buffers->mapCacheRefs);
   bvh->bind(b, o::kOsrBvhBinding);
   scene->bind(b, o::kOsrSceneBinding);
   scene->bindTexels(b, o::kOsrSceneTexelBinding);

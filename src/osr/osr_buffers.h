@@ -6,6 +6,7 @@
 #include <vector>
 
 #include "bvh/bvh.h"
+#include "osr/map_cache.h"
 #include "common/error.h"
 #include "render/film.h"
 #include "scene_gpu/gpu_scene.h"
@@ -40,6 +41,7 @@ struct OsrBuffers {
   vk::Buffer mapStats;    // MapStats[chunkMaps]
   vk::Buffer netIn;       // float[chunkMaps][7][32][32]
   vk::Buffer netOut;      // float[chunkMaps][3][32][32]
+  vk::Buffer mapCacheRefs;  // MapCacheRef[maxMaps]: zero (kMapCacheTrace) without a cache
 };
 
 // The parts of the windowed buffers one dispatch binds (shared/osr.h): pixels
@@ -57,6 +59,7 @@ struct OsrBindings {
   const render::Film* film = nullptr;
   const bvh::Bvh* bvh = nullptr;
   const scene::GpuScene* scene = nullptr;
+  const MapCache* cache = nullptr;  // the world-space map cache (a one-set one when off)
   // Fills every slot of the OSR layout by name (a pass's shader declares the ones it reads),
   // the windowed buffers with `window`.
   void fill(vk::Binder& binder, const OsrWindow& window) const;

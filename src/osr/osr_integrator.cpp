@@ -75,19 +75,32 @@ OsrIntegrator::OsrIntegrator(const vk::Context& ctx, const scene::GpuScene& scen
       normalize_(ctx, scene.features, scene.texelFetch),
       denoise_(ctx, scene.features, scene.texelFetch, uint32_t(settings.denoiser), netOutput_),
       project_(ctx, scene.features, scene.texelFetch),
+      cacheLookup_(ctx, scene.features, scene.texelFetch),
+      cacheClaim_(ctx, scene.features, scene.texelFetch),
+      cacheStore_(ctx, scene.features, scene.texelFetch),
+      cache_(std::make_unique<MapCache>(ctx, std::max(settings.mapCacheMaps, o::kMapCacheWays))),
       composite_(ctx, scene.features, scene.texelFetch),
       residual_(ctx, scene.features, scene.texelFetch),
       resolve_(ctx, scene.features, scene.texelFetch) {
   const uint32_t maxMaps = schedule_.maxMaps();
   const uint32_t chunk = settings.keepAllMaps ? maxMaps : settings.maxChunkMaps;
   buffers_ = std::make_unique<OsrBuffers>(ctx, width, height, maxMaps, chunk);
-  bindings_ = OsrBindings{buffers_.get(), &film_, &bvh_, &scene_};
+  bindings_ = OsrBindings{buffers_.get(), &film_, &bvh_, &scene_, cache_.get()};
+  // Without a cache every point is traced (kMapCacheTrace is 0) and no cache pass runs.
+  ctx.submitAndWait([&](VkCommandBuffer cmd) {
+    vkCmdFillBuffer(cmd, buffers_->mapCacheRefs.handle(), 0, VK_WHOLE_SIZE, o::kMapCacheTrace);
+  });
   gbuffer_.prepare(bvh_);
   direct_.prepare(bvh_);
   maps_.prepare(bvh_);
   normalize_.prepare(bvh_);
   denoise_.prepare(bvh_);
   project_.prepare(bvh_);
+  if (settings.mapCacheMaps) {
+    cacheLookup_.prepare(bvh_);
+    cacheClaim_.prepare(bvh_);
+    cacheStore_.prepare(bvh_);
+  }
   composite_.prepare(bvh_);
   residual_.prepare(bvh_);
   resolve_.prepare(bvh_);
@@ -129,6 +142,8 @@ void OsrIntegrator::beginPass(uint32_t k) {
   const GridPass gp = schedule_.pass(k);
   if (!gp.traceMaps) return;
   current_ = gridOf(gp.radius, gp.mapPass);
+  currentMapPass_ = gp.mapPass;
+  if (settings_.mapCacheMaps) cacheClock_ = cache_->tick();
   mapsTraced_ += current_.cellsX * current_.cellsY;
 }
 
@@ -187,6 +202,13 @@ void OsrIntegrator::recordStep(VkCommandBuffer cmd, uint32_t k, const Step& step
     }
     case K::Maps: {
       const MapChunk chunk{step.begin, step.end - step.begin};
+      const MapCacheArgs cache{current_,        chunk,           cache_->sets(),
+                               cache_->generation(), cacheClock_, currentMapPass_,
+                               settings_.mapCacheCellScale};
+      if (settings_.mapCacheMaps) {
+        vk::TimedScope scope(timer, cmd, "cache lookup");
+        cacheLookup_.record(cmd, bindings_, cache);
+      }
       {
         vk::TimedScope scope(timer, cmd, "maps");
         maps_.record(cmd, bindings_, {current_, k, chunk, settings_.pathsPerTexel});
@@ -203,6 +225,11 @@ void OsrIntegrator::recordStep(VkCommandBuffer cmd, uint32_t k, const Step& step
       {
         vk::TimedScope scope(timer, cmd, "denoise");
         denoise_.record(cmd, bindings_, chunk);
+      }
+      if (settings_.mapCacheMaps) {
+        vk::TimedScope scope(timer, cmd, "cache store");
+        cacheClaim_.record(cmd, bindings_, cache);
+        cacheStore_.record(cmd, bindings_, cache);
       }
       vk::TimedScope scope(timer, cmd, "project");
       project_.record(cmd, bindings_, chunk);
@@ -292,6 +319,14 @@ void OsrIntegrator::recordSlice(VkCommandBuffer cmd, uint32_t unit, uint32_t sli
   } else if (firstPassPreview) {
     recordResolve(cmd, unit, timer);
   }
+}
+
+std::array<uint32_t, 4> OsrIntegrator::mapCacheActions() const {
+  std::array<uint32_t, 4> counts{};
+  const uint32_t maps = current_.cellsX * current_.cellsY;
+  for (const o::MapCacheRef& r : buffers_->mapCacheRefs.downloadVector<o::MapCacheRef>(maps))
+    if (r.action < counts.size()) ++counts[r.action];
+  return counts;
 }
 
 OsrIntegrator::MapDump OsrIntegrator::downloadMaps() const {

@@ -4,6 +4,7 @@
 // all recorded in one command buffer, no host round trip. The estimator and schedule are
 // documented in docs/osr.md; the grid schedule in grid_schedule.h.
 #pragma once
+#include <array>
 #include <memory>
 #include <optional>
 #include <vector>
@@ -53,8 +54,14 @@ class OsrIntegrator : public render::Integrator {
     std::vector<gpu::osr::MapProjection> projections;
   };
   MapDump downloadMaps() const;
-  // Maps traced since restart() (recorded, i.e. after the submissions complete).
+  // Maps of the grids since restart() (recorded, i.e. after the submissions complete), the
+  // cache's hits included.
   uint64_t mapsTraced() const { return mapsTraced_; }
+  // What the map cache did at each grid point of the last map pass (after the last
+  // submission): counts by MapCacheRef action (index gpu::osr::kMapCache*).
+  std::array<uint32_t, 4> mapCacheActions() const;
+  // The cache, when settings().mapCacheMaps > 0 (scene changes call invalidate()).
+  MapCache* mapCache() { return settings_.mapCacheMaps ? cache_.get() : nullptr; }
 
  private:
   using Grid = gpu::osr::MapGrid;
@@ -89,12 +96,18 @@ class OsrIntegrator : public render::Integrator {
   MapNormalizePass normalize_;
   MapDenoisePass denoise_;
   MapProjectPass project_;
+  MapCacheLookupPass cacheLookup_;
+  MapCacheClaimPass cacheClaim_;
+  MapCacheStorePass cacheStore_;
+  std::unique_ptr<MapCache> cache_;  // a one-set dummy (never recorded) without the cache
   CompositePass composite_;
   ResidualPass residual_;
   ResolvePass resolve_;
   OsrBindings bindings_;
   uint32_t seed_ = 0;
   Grid current_{};  // maps in mapPoints / mapProjections / mapClean
+  uint32_t currentMapPass_ = 0;  // the schedule's map pass of current_
+  uint32_t cacheClock_ = 0;      // the cache's tick of current_
   uint64_t mapsTraced_ = 0;
   uint32_t passesDone_ = 0;  // by the last record() or last slice of a pass
   mutable bool filmBehind_ = false;  // record() or recordSlice() skipped the resolve

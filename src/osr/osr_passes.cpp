@@ -13,6 +13,20 @@ template <class Push>
 Push mapPixelPush(const MapPixelArgs& a, const OsrWindow& w) {
   return Push{a.grid, a.pass, w.pixelFirst, w.pixelCount, w.mapFirst, a.samples, a.passWeight};
 }
+o::MapCachePush mapCachePush(const MapCacheArgs& a, const OsrWindow& w, uint32_t phase) {
+  o::MapCachePush p{};
+  p.grid = a.grid;
+  p.mapOffset = w.mapFirst;
+  p.mapCount = w.mapCount;
+  p.gbufferWindowOffset = w.pixelFirst;
+  p.sets = a.sets;
+  p.generation = a.generation;
+  p.clock = a.clock;
+  p.mapPass = a.mapPass;
+  p.phase = phase;
+  p.cellScale = a.cellScale;
+  return p;
+}
 }  // namespace
 
 GBufferPass::GBufferPass(const vk::Context& ctx, uint32_t features, bool texelFetch)
@@ -58,7 +72,7 @@ MapDenoisePass::MapDenoisePass(const vk::Context& ctx, uint32_t features, bool t
                     vk::specUint(o::kOsrSpecNetOutput, netOutput)}) {}
 
 void MapDenoisePass::record(VkCommandBuffer cmd, const OsrBindings& b, MapChunk maps) const {
-  recordMaps(cmd, b, kNoMaps, maps, [](const OsrWindow& w) { return o::MapDenoisePush{w.mapCount}; });
+  recordMaps(cmd, b, kNoMaps, maps, [](const OsrWindow& w) { return o::MapDenoisePush{w.mapFirst, w.mapCount}; });
 }
 
 MapProjectPass::MapProjectPass(const vk::Context& ctx, uint32_t features, bool texelFetch)
@@ -67,6 +81,34 @@ MapProjectPass::MapProjectPass(const vk::Context& ctx, uint32_t features, bool t
 void MapProjectPass::record(VkCommandBuffer cmd, const OsrBindings& b, MapChunk maps) const {
   recordMaps(cmd, b, kNoMaps, maps,
              [](const OsrWindow& w) { return o::MapProjectPush{w.mapFirst, w.mapCount}; });
+}
+
+MapCacheLookupPass::MapCacheLookupPass(const vk::Context& ctx, uint32_t features, bool texelFetch)
+    : PassWithPush(ctx, Id::osr_cache_lookup, Domain::MapTexels, features, texelFetch) {}
+
+void MapCacheLookupPass::record(VkCommandBuffer cmd, const OsrBindings& b,
+                                const MapCacheArgs& a) const {
+  recordMaps(cmd, b, a.grid, a.maps,
+             [&](const OsrWindow& w) { return mapCachePush(a, w, 0); });
+}
+
+MapCacheClaimPass::MapCacheClaimPass(const vk::Context& ctx, uint32_t features, bool texelFetch)
+    : PassWithPush(ctx, Id::osr_cache_claim, Domain::Maps, features, texelFetch) {}
+
+void MapCacheClaimPass::record(VkCommandBuffer cmd, const OsrBindings& b,
+                               const MapCacheArgs& a) const {
+  for (uint32_t phase = 0; phase < 2; ++phase)
+    recordMaps(cmd, b, a.grid, a.maps,
+               [&](const OsrWindow& w) { return mapCachePush(a, w, phase); });
+}
+
+MapCacheStorePass::MapCacheStorePass(const vk::Context& ctx, uint32_t features, bool texelFetch)
+    : PassWithPush(ctx, Id::osr_cache_store, Domain::MapTexels, features, texelFetch) {}
+
+void MapCacheStorePass::record(VkCommandBuffer cmd, const OsrBindings& b,
+                               const MapCacheArgs& a) const {
+  recordMaps(cmd, b, a.grid, a.maps,
+             [&](const OsrWindow& w) { return mapCachePush(a, w, 0); });
 }
 
 CompositePass::CompositePass(const vk::Context& ctx, uint32_t features, bool texelFetch)

@@ -58,6 +58,35 @@ class MapProjectPass : public PassWithPush<gpu::osr::MapProjectPush> {
   void record(VkCommandBuffer cmd, const OsrBindings& bindings, MapChunk maps) const;
 };
 
+// The map cache's passes around one chunk of maps (docs/osr.md "The map cache"): lookup before
+// tracing, claim (two phases) and store after the denoiser. They share one push struct.
+struct MapCacheArgs {
+  gpu::osr::MapGrid grid;
+  MapChunk maps;
+  uint32_t sets, generation, clock;
+  uint32_t mapPass;  // map passes since the restart
+  float cellScale;   // hash cell size in grid spacings
+};
+
+class MapCacheLookupPass : public PassWithPush<gpu::osr::MapCachePush> {
+ public:
+  MapCacheLookupPass(const vk::Context& ctx, uint32_t sceneFeatures, bool sceneTexelFetch);
+  void record(VkCommandBuffer cmd, const OsrBindings& bindings, const MapCacheArgs& args) const;
+};
+
+class MapCacheClaimPass : public PassWithPush<gpu::osr::MapCachePush> {
+ public:
+  MapCacheClaimPass(const vk::Context& ctx, uint32_t sceneFeatures, bool sceneTexelFetch);
+  // Both phases: claim, then keep the claims won.
+  void record(VkCommandBuffer cmd, const OsrBindings& bindings, const MapCacheArgs& args) const;
+};
+
+class MapCacheStorePass : public PassWithPush<gpu::osr::MapCachePush> {
+ public:
+  MapCacheStorePass(const vk::Context& ctx, uint32_t sceneFeatures, bool sceneTexelFetch);
+  void record(VkCommandBuffer cmd, const OsrBindings& bindings, const MapCacheArgs& args) const;
+};
+
 // The two passes that read the maps at each pixel (grid: the current maps').
 struct MapPixelArgs {
   gpu::osr::MapGrid grid;

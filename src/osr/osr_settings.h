@@ -22,6 +22,10 @@ struct PassSamples {
   uint32_t camera;  // camera rays per pixel for the emission seen directly (osr_gbuffer)
 };
 
+// The map cache's size where it is on by default (the viewer, --frames): 48 MiB of maps, four
+// times the maps of a 512 x 512 pass at the default grid.
+inline constexpr uint32_t kDefaultMapCacheMaps = 4096;
+
 struct OsrSettings {
   // Measured (docs/training.md): at equal time the shipped U-Net's better maps do not yet pay
   // for its cost per pass on lavapipe (better on room at 10 s, worse on cornell and at 30 s),
@@ -47,6 +51,12 @@ struct OsrSettings {
   // How the residual is blended in: < 0 (default) per pixel by the measured shrinkage of
   // shared/osr.h residualShrinkBlend; n0 >= 0 a fixed ramp k / (k + n0) after k passes.
   double residualRamp = -1.0;
+  // The world-space map cache (docs/osr.md "The map cache"): room for this many maps (12 KiB
+  // each on the device); 0: none, every pass traces all its maps. It outlives restart(), so
+  // camera moves (the viewer) and camera-only animations (--frames) reuse it.
+  uint32_t mapCacheMaps = 0;
+  // Side of the cache's world cells in grid spacings at the point (rounded up to 2^k).
+  float mapCacheCellScale = 0.5f;
   uint32_t maxChunkMaps = 512;   // maps traced and denoised per chunk (memory bound)
   bool keepAllMaps = false;      // one chunk for all maps of a pass (for --dump-maps)
   // Resolve the film after every submission (a front end that shows it, the viewer); false:

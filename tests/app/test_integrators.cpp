@@ -53,7 +53,7 @@ TEST(Integrators, WeightsImplyTheUnetUnlessADenoiserIsGiven) {
 }
 
 TEST(Integrators, AnOptionOfAnotherModeIsRefused) {
-  for (const char* option : {"--passes", "--grid-start", "--direct-spp", "--map-spp"})
+  for (const char* option : {"--passes", "--grid-start", "--direct-spp", "--map-spp", "--map-cache"})
     EXPECT_NE(errorOf({"--mode", "path", option, "2"}).find("are options of --mode osr"),
               std::string::npos)
         << option;
