@@ -1,4 +1,5 @@
-"""The image denoiser (architecture "osr_image_unet_v1") as a PyTorch module for any base width K.
+"""The image denoisers (architectures "osr_image_kpn_v1" and "osr_image_unet_v1") as PyTorch
+modules for any base width K.
 
 The single definition that training (train_denoiser.py), packing (weights_pack.py) and the
 golden tests share; the compute-shader twin runs it from packed weights (src/nn_kernels).
@@ -7,7 +8,16 @@ out, with an HDR-aware input transform (docs/weights_format.md, "Image denoiser"
 
   input  N x 9 x H x W: log1p(e * colour) (3), albedo (3, [0, 1]), normal (3, [-1, 1] world);
          e = the image's exposure scale (image_exposure below), H and W multiples of 8
-  output N x 3 x H x W: y, colour = expm1(max(y, 0)) / e
+  output, by architecture:
+    osr_image_unet_v1  N x 3 x H x W: y, colour = expm1(max(y, 0)) / e (direct prediction)
+    osr_image_kpn_v1   N x 100 x H x W: the logits of four 5 x 5 kernels per pixel, applied in
+                       turn with taps 1, 2, 4 and 8 pixels apart to the colour demodulated by
+                       the albedo, then remodulated (apply_kernels below)
+
+The kernel-predicting variant (Bako et al. 2017's KPCN, with Vogels et al. 2018's dilated
+kernels in sequence) is the shipped one: its output is a convex combination of neighbouring
+noisy pixels, so it cannot invent a colour or a level, which a direct predictor trained on
+the few thousand crops 2 CPU cores afford does (docs/denoise.md).
 
 Layers (3 x 3 convolutions, zero padding, ReLU; 2 x 2 max-pool; bilinear x2 upsample with
 align_corners=False; skip connections concatenated as cat(upsampled, skip)):
@@ -18,7 +28,7 @@ align_corners=False; skip connections concatenated as cat(upsampled, skip)):
   mid   pool, conv 2K -> 4K, up             (1/8 -> 1/4)
   dec2  conv (4K + 2K) -> 2K, up            (cat with s2; 1/4 -> 1/2)
   dec1  conv (2K + 2K) -> 2K, up            (cat with s1; 1/2 -> 1)
-  dec0  conv (2K + K) -> K, conv K -> K, conv 1x1 K -> 3 (no activation)
+  dec0  conv (2K + K) -> K, conv K -> K, conv 1x1 K -> 3 or 100 (no activation)
 """
 from __future__ import annotations
 
@@ -26,9 +36,16 @@ import torch
 from torch import nn
 
 ARCHITECTURE = "osr_image_unet_v1"
+KPN_ARCHITECTURE = "osr_image_kpn_v1"
+ARCHITECTURES = (KPN_ARCHITECTURE, ARCHITECTURE)
 STAGE = "image_denoiser"
 IN_CHANNELS = 9
 OUT_CHANNELS = 3
+KERNEL_SIZE = 5
+KERNEL_LEVELS = 4  # taps 1, 2, 4, 8 apart: the kernels reach 2 (1 + 2 + 4 + 8) = 30 pixels
+KERNEL_RADIUS = (KERNEL_SIZE // 2) * ((1 << KERNEL_LEVELS) - 1)
+KPN_OUT_CHANNELS = KERNEL_LEVELS * KERNEL_SIZE * KERNEL_SIZE
+DEMODULATE_MIN = 0.01  # albedo below this (luminance) is not divided out; channels floored at it
 INPUTS = ["colour", "albedo", "normal"]
 INPUT_TRANSFORM = "exposure_log1p"  # colour only; albedo and normal as they are
 MULTIPLE = 8  # H and W must be multiples of this (three 2 x 2 pools)
@@ -61,6 +78,54 @@ def output_colour(y: torch.Tensor, e: torch.Tensor) -> torch.Tensor:
     return torch.expm1(y.clamp(min=0)) / e.view(-1, 1, 1, 1)
 
 
+def demodulator(albedo: torch.Tensor) -> torch.Tensor:
+    """What colour is divided by before filtering: the albedo, each channel at least
+    DEMODULATE_MIN, or 1 where the albedo's luminance is below it (misses, black surfaces),
+    whose light is filtered as it is. As the a-trous filter does (docs/denoise.md)."""
+    lum = 0.2126 * albedo[:, 0:1] + 0.7152 * albedo[:, 1:2] + 0.0722 * albedo[:, 2:3]
+    return torch.where(lum < DEMODULATE_MIN, torch.ones_like(albedo), albedo.clamp(min=DEMODULATE_MIN))
+
+
+def _luminance(c: torch.Tensor) -> torch.Tensor:
+    return 0.2126 * c[:, 0:1] + 0.7152 * c[:, 1:2] + 0.0722 * c[:, 2:3]
+
+
+def apply_kernels(logits: torch.Tensor, colour: torch.Tensor, albedo: torch.Tensor,
+                  e: torch.Tensor) -> torch.Tensor:
+    """The kernel-predicting network's colour (N x 3 x H x W) from its logits. Per level, each
+    pixel's 25 logits are a softmax over the taps inside the image (taps outside get no weight,
+    as the shader's tile edge does), applied to the previous level's colour. The kernels
+    average the demodulated colour d, exposed and compressed as t = e d / (1 + lum(e d)): a lamp
+    or firefly beside a pixel then adds at most its weight to it, however bright (averaging
+    linear colour, a weight of 0.001 on a lamp 1000 times brighter doubles a wall pixel). The
+    compression is inverted exactly after the last level (lum(t) < 1 for any average)."""
+    n, _, h, w = colour.shape
+    scale = demodulator(albedo)
+    x = colour.clamp(min=0) / scale * e.view(-1, 1, 1, 1)
+    d = x / (1 + _luminance(x))
+    taps = KERNEL_SIZE * KERNEL_SIZE
+    ones = torch.ones(1, 1, h, w, dtype=d.dtype)
+    for level in range(KERNEL_LEVELS):
+        step = 1 << level
+        pad = (KERNEL_SIZE // 2) * step
+        shifted = nn.functional.unfold(d, KERNEL_SIZE, dilation=step, padding=pad).view(n, 3, taps, h, w)
+        inside = nn.functional.unfold(ones, KERNEL_SIZE, dilation=step, padding=pad).view(1, taps, h, w)
+        lg = logits[:, level * taps:(level + 1) * taps].masked_fill(inside == 0, -torch.inf)
+        d = (shifted * torch.softmax(lg, 1).unsqueeze(1)).sum(2)
+    x = d / (1 - _luminance(d)).clamp(min=1e-6)
+    return x / e.view(-1, 1, 1, 1) * scale
+
+
+def denoise(model: "ImageUNet", colour: torch.Tensor, albedo: torch.Tensor, normal: torch.Tensor,
+            e: torch.Tensor | None = None) -> torch.Tensor:
+    """The denoised colour (N x 3 x H x W, H and W multiples of 8) by either architecture."""
+    x, e = make_input(colour, albedo, normal, e)
+    y = model(x)
+    if model.architecture == KPN_ARCHITECTURE:
+        return apply_kernels(y, colour, albedo, e)
+    return output_colour(y, e)
+
+
 def _conv(cin: int, cout: int) -> nn.Conv2d:
     return nn.Conv2d(cin, cout, 3, stride=1, padding=1)
 
@@ -70,9 +135,13 @@ def _up() -> nn.Module:
 
 
 class ImageUNet(nn.Module):
-    def __init__(self, k: int = 16) -> None:
+    def __init__(self, k: int = 16, architecture: str = KPN_ARCHITECTURE) -> None:
         super().__init__()
+        if architecture not in ARCHITECTURES:
+            raise ValueError(f"unknown image denoiser architecture '{architecture}'")
         self.k = k
+        self.architecture = architecture
+        out = KPN_OUT_CHANNELS if architecture == KPN_ARCHITECTURE else OUT_CHANNELS
         relu = lambda: nn.ReLU()  # noqa: E731
         self.enc0 = nn.Sequential(_conv(IN_CHANNELS, k), relu(), _conv(k, k), relu())
         self.enc1 = nn.Sequential(nn.MaxPool2d(2), _conv(k, 2 * k), relu())
@@ -81,7 +150,7 @@ class ImageUNet(nn.Module):
         self.dec2 = nn.Sequential(_conv(4 * k + 2 * k, 2 * k), relu(), _up())
         self.dec1 = nn.Sequential(_conv(2 * k + 2 * k, 2 * k), relu(), _up())
         self.dec0 = nn.Sequential(_conv(2 * k + k, k), relu(), _conv(k, k), relu(),
-                                  nn.Conv2d(k, OUT_CHANNELS, 1, stride=1, padding=0))
+                                  nn.Conv2d(k, out, 1, stride=1, padding=0))
 
     def forward(self, x: torch.Tensor) -> torch.Tensor:
         s0 = self.enc0(x)
@@ -111,6 +180,15 @@ def base_width(state_dict: dict[str, torch.Tensor]) -> int:
     if w is None or w.dim() != 4:
         raise ValueError("missing key enc0.0.weight (not an image U-Net state_dict)")
     return int(w.shape[0])
+
+
+def architecture_of(state_dict: dict[str, torch.Tensor]) -> str:
+    """Which variant a state_dict is, from its head's output channels."""
+    w = state_dict.get("dec0.4.weight")
+    outs = {OUT_CHANNELS: ARCHITECTURE, KPN_OUT_CHANNELS: KPN_ARCHITECTURE}
+    if w is None or w.dim() != 4 or int(w.shape[0]) not in outs:
+        raise ValueError("no dec0.4.weight with 3 or 100 outputs (not an image U-Net state_dict)")
+    return outs[int(w.shape[0])]
 
 
 def randomize(model: ImageUNet, seed: int) -> None:

@@ -1,7 +1,9 @@
 #!/usr/bin/python3
-"""Trains the image denoiser (tools/image_unet.py, "osr_image_unet_v1") on noisy renders.
+"""Trains the image denoiser (tools/image_unet.py: "osr_image_kpn_v1", the kernel-predicting
+variant, or with --arch unet the direct "osr_image_unet_v1") on noisy renders.
 
-usage: train_denoiser.py DATA [DATA ...] --val VAL --out RUN [--k 16] [--steps N | --minutes M]
+usage: train_denoiser.py DATA [DATA ...] --val VAL --out RUN [--arch kpn|unet] [--k 16]
+                         [--steps N | --minutes M]
                          [--resume] [--batch 8] [--crop 64] [--lr 2e-3] [--threads 2] [--quick]
 
 DATA and VAL are make_denoise_data.py folders; VAL holds other interiors than DATA, with
@@ -10,7 +12,7 @@ references (make_denoise_data.py VAL --validation). The run folder RUN gets:
   --checkpoint-s seconds; `--resume` continues from it (without --resume an existing one is
   refused, so a run is never overwritten by accident);
 - best.pt: the weights with the lowest validation error, as a dict {"model": state_dict,
-  "architecture": "osr_image_unet_v1", "base_width": K, "epoch", "step", "loss",
+  "architecture": "osr_image_kpn_v1", "base_width": K, "epoch", "step", "loss",
   "val_relmse", ...} with the training metadata (the packer's input);
 - train.log: one JSON object per validation (step, epoch, losses, relMSE per input spp,
   crops/s); eval.json: the last validation of best.pt.
@@ -28,8 +30,9 @@ turning or mirroring the image does not turn them, so their values are moved wit
 pixels but not changed.
 
 Loss: relative MSE on linear colour scaled by the exposure, mean over pixels and channels of
-(y - t)^2 / (sg(y)^2 + 0.01) with y = expm1(out) / e unclamped (so a pixel whose output starts
-below zero still gets a gradient; the renderer clamps it), t the target and sg no gradient
+(y - t)^2 / (sg(y)^2 + 0.01) with y the denoised colour times e (for the direct variant
+y = expm1(out) unclamped, so a pixel whose output starts below zero still gets a gradient;
+the renderer clamps it), t the target times e and sg no gradient
 (Lehtinen et al. 2018: mean-seeking, so noisy targets train towards their expectation).
 Adam with a cosine learning-rate decay over the budget; gradient norm clipped at 1 (a noisy
 target's rare bright path still makes a large relative loss now and then). The noisy targets
@@ -38,7 +41,7 @@ make single steps noisy too, so the weights validated and saved are a running av
 
 Validation: every view of VAL at each of its input sample counts, the whole image, relMSE
 (epsilon 0.01, linear colour, as `osr-vk compare`) of the network's output (as the renderer
-computes it: output_colour) against the reference, and of the noisy input for comparison.
+computes it: image_unet.denoise) against the reference, and of the noisy input for comparison.
 val_reference_noise estimates what the reference's own noise adds to each figure (from the
 highest-spp input, independent of the reference: v_in + v_ref with v_in = v_ref m / n).
 best.pt is chosen by the geometric mean over views and sample counts (val_relmse_geomean,
@@ -204,9 +207,9 @@ def symmetry(a: np.ndarray, k: int) -> np.ndarray:
 
 
 def make_batch(data: Dataset, rng: np.random.Generator, batch: int, crop: int):
-    """(x, e, target) tensors of `batch` random crops, and the mean input spp."""
+    """(colour, albedo, normal, e, target) tensors of `batch` random crops, and the mean input spp."""
     import torch
-    from image_unet import image_exposure, make_input
+    from image_unet import image_exposure
     colours, albedos, normals, targets, es, spps = [], [], [], [], [], []
     for _ in range(batch):
         view = data.views[data.keys[int(rng.integers(len(data.keys)))]]
@@ -221,15 +224,19 @@ def make_batch(data: Dataset, rng: np.random.Generator, batch: int, crop: int):
             out.append(np.ascontiguousarray(symmetry(a[window], k)))
         spps.append(spp)
     e = torch.cat(es)
-    x, _ = make_input(torch.from_numpy(np.stack(colours)), torch.from_numpy(np.stack(albedos)),
-                      torch.from_numpy(np.stack(normals)), e)
-    return x, e, torch.from_numpy(np.stack(targets)), float(np.mean(spps))
+    tensors = [torch.from_numpy(np.stack(a)) for a in (colours, albedos, normals)]
+    return (*tensors, e, torch.from_numpy(np.stack(targets)), float(np.mean(spps)))
 
 
-def loss_fn(out, e, target):
+def loss_fn(model, colour, albedo, normal, e, target):
     import torch
+    import image_unet
     scale = e.view(-1, 1, 1, 1)
-    y = torch.expm1(out)  # exposure-scaled colour, unclamped (see the docstring)
+    if model.architecture == image_unet.KPN_ARCHITECTURE:
+        y = image_unet.denoise(model, colour, albedo, normal, e) * scale
+    else:
+        x, _ = image_unet.make_input(colour, albedo, normal, e)
+        y = torch.expm1(model(x))  # exposure-scaled colour, unclamped (see the docstring)
     t = target * scale
     return ((y - t) ** 2 / (y.detach() ** 2 + RELMSE_EPSILON)).mean()
 
@@ -241,10 +248,10 @@ def relmse(a: np.ndarray, ref: np.ndarray) -> float:
 def denoise(model, colour: np.ndarray, albedo: np.ndarray, normal: np.ndarray) -> np.ndarray:
     """The network's colour for one whole image (3 x H x W, H and W multiples of 8)."""
     import torch
-    from image_unet import make_input, output_colour
+    import image_unet
     with torch.no_grad():
-        x, e = make_input(*(torch.from_numpy(np.ascontiguousarray(a))[None] for a in (colour, albedo, normal)))
-        return output_colour(model(x), e)[0].numpy()
+        tensors = (torch.from_numpy(np.ascontiguousarray(a))[None] for a in (colour, albedo, normal))
+        return image_unet.denoise(model, *tensors)[0].numpy()
 
 
 def evaluate(model, val: Dataset) -> dict:
@@ -332,6 +339,8 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--val", help="validation folder (other interiors, with references)")
     p.add_argument("--out", required=True, help="run folder")
     p.add_argument("--resume", action="store_true", help="continue the run in --out from its checkpoint.pt")
+    p.add_argument("--arch", choices=("kpn", "unet"), default="kpn",
+                   help="kpn: the network predicts filter kernels (shipped); unet: it predicts the colour")
     p.add_argument("--k", type=positive_int, default=16, help="base width K of the U-Net (default 16)")
     p.add_argument("--minutes", type=positive_float, default=30.0, help="training time budget (default 30)")
     p.add_argument("--steps", type=positive_int, help="a budget in steps instead of time")
@@ -397,21 +406,29 @@ def main(argv: list[str] | None = None) -> int:
                         "(validation must be other interiors)")
     run.mkdir(parents=True, exist_ok=True)
     torch.manual_seed(args.seed)
-    model = image_unet.ImageUNet(args.k)
-    # Start as a mild blur of the input's level: the head's bias at log1p(0.18), the exposure
-    # key, so the first steps do not spend themselves lifting a dark output.
+    architecture = image_unet.KPN_ARCHITECTURE if args.arch == "kpn" else image_unet.ARCHITECTURE
+    model = image_unet.ImageUNet(args.k, architecture)
+    # Start as a mild blur: the direct variant's head at log1p(0.18), the exposure key, so the
+    # first steps do not spend themselves lifting a dark output; each kernel's centre tap at
+    # about 0.7 of its weight.
     with torch.no_grad():
         head = model.dec0[-1]
         head.weight.mul_(0.1)
-        head.bias.fill_(math.log1p(image_unet.EXPOSURE_KEY))
+        if args.arch == "unet":
+            head.bias.fill_(math.log1p(image_unet.EXPOSURE_KEY))
+        else:
+            taps = image_unet.KERNEL_SIZE ** 2
+            head.bias.copy_(torch.tensor([4.0 if i % taps == taps // 2 else 0.0
+                                          for i in range(image_unet.KPN_OUT_CHANNELS)]))
     opt = torch.optim.Adam(model.parameters(), lr=args.lr)
-    ema = image_unet.ImageUNet(args.k)
+    ema = image_unet.ImageUNet(args.k, architecture)
     ema.load_state_dict(model.state_dict())
     state = {"step": 0, "crops": 0, "pixels": 0, "elapsed": 0.0, "best": math.inf}
     if args.resume:
         ck = torch.load(ckpt_path, map_location="cpu")
-        if ck.get("base_width") != args.k:
-            raise DataError(f"{ckpt_path}: K={ck.get('base_width')} but --k {args.k}")
+        if ck.get("base_width") != args.k or ck.get("architecture") != architecture:
+            raise DataError(f"{ckpt_path}: {ck.get('architecture')} K={ck.get('base_width')} but "
+                            f"--arch {args.arch} --k {args.k}")
         model.load_state_dict(ck["model"])
         opt.load_state_dict(ck["optimizer"])
         if "ema" in ck:
@@ -421,7 +438,7 @@ def main(argv: list[str] | None = None) -> int:
         state = ck["state"]
         print(f"train_denoiser.py: resuming {ckpt_path} at step {state['step']} "
               f"({state['elapsed'] / 60:.1f} min)", file=sys.stderr)
-    meta = {"architecture": image_unet.ARCHITECTURE, "stage": image_unet.STAGE, "base_width": args.k,
+    meta = {"architecture": architecture, "stage": image_unet.STAGE, "base_width": args.k,
             "inputs": ",".join(image_unet.INPUTS), "input_transform": image_unet.INPUT_TRANSFORM,
             "loss_kind": "relmse_exposed_n2n", "datasets": ",".join(Path(d).name for d in args.data),
             "validation": Path(args.val).name,
@@ -444,7 +461,7 @@ def main(argv: list[str] | None = None) -> int:
         state["elapsed"] = time.monotonic() - start
         save_atomic({"model": model.state_dict(), "ema": ema.state_dict(), "optimizer": opt.state_dict(),
                      "state": state,
-                     "base_width": args.k, "architecture": image_unet.ARCHITECTURE}, ckpt_path)
+                     "base_width": args.k, "architecture": architecture}, ckpt_path)
 
     def validate() -> dict:
         nonlocal val_err
@@ -477,8 +494,8 @@ def main(argv: list[str] | None = None) -> int:
             break
         for group in opt.param_groups:  # cosine decay over the budget
             group["lr"] = args.lr * 0.5 * (1 + math.cos(math.pi * frac))
-        x, e, target, _ = make_batch(train, rng, args.batch, args.crop)
-        loss = loss_fn(model(x), e, target)
+        colour, albedo, normal, e, target, _ = make_batch(train, rng, args.batch, args.crop)
+        loss = loss_fn(model, colour, albedo, normal, e, target)
         opt.zero_grad()
         loss.backward()
         torch.nn.utils.clip_grad_norm_(model.parameters(), 1.0)
@@ -488,7 +505,7 @@ def main(argv: list[str] | None = None) -> int:
                 a.lerp_(b, 1.0 - args.ema)
         state["step"] += 1
         state["crops"] += args.batch
-        state["pixels"] += x.shape[0] * x.shape[2] * x.shape[3]
+        state["pixels"] += colour.shape[0] * colour.shape[2] * colour.shape[3]
         window_n += args.batch
         running = float(loss) if running is None else 0.98 * running + 0.02 * float(loss)
         now = time.monotonic()
@@ -528,7 +545,8 @@ def evaluate_checkpoint(path: str, val_folder: str, run: Path, record_path: str 
     import image_unet
     try:
         ck = torch.load(path, map_location="cpu")
-        model = image_unet.ImageUNet(image_unet.base_width(ck["model"]))
+        model = image_unet.ImageUNet(image_unet.base_width(ck["model"]),
+                                     image_unet.architecture_of(ck["model"]))
         model.load_state_dict(ck["model"])
     except Exception as e:  # torch raises many kinds for a file that is not a checkpoint
         raise DataError(f"{path}: not an image denoiser checkpoint ({type(e).__name__})") from None

@@ -8,8 +8,9 @@ module) of one of two architectures, told apart by its keys (and by the checkpoi
 "architecture" entry, which must then agree):
 - tools/unet.py's UNet ("osr_unet_v1", stage "map_denoiser"), the seed's attribute names
   (encoder0..encoder3, decoder0..decoder2);
-- tools/image_unet.py's ImageUNet ("osr_image_unet_v1", stage "image_denoiser": colour,
-  albedo, normal in with the exposure_log1p transform, layers in image_unet.LAYERS order).
+- tools/image_unet.py's ImageUNet (stage "image_denoiser": colour, albedo, normal in with the
+  exposure_log1p transform, layers in image_unet.LAYERS order), "osr_image_kpn_v1" (kernel
+  logits out) or "osr_image_unet_v1" (colour out), told apart by its head's output channels.
 Either for any base width K. For the map U-Net, each BatchNorm (eval statistics) becomes the
 per-channel scale and shift that the preceding convolution's epilogue applies after its
 activation; each stride-1 ConvTranspose2d becomes the equivalent plain convolution (kernel
@@ -25,7 +26,7 @@ With --golden DIR it also writes DIR/input.f32 (N x 7 x 32 x 32 random maps), DI
 image denoiser, a random HDR image (colour.f32, albedo.f32, normal.f32, each 3 x H x W with H
 and W from --golden-size, any size) and output.f32, the denoised colour as the renderer must
 compute it: the image padded to multiples of 8 by repeating its last row and column, exposure,
-network, output transform, cropped back (golden_image_denoise below).
+network, output transform or kernels, cropped back (golden_image_denoise below).
 Errors (unreadable file, missing or extra keys, wrong shapes) are one line on stderr, exit 2.
 """
 from __future__ import annotations
@@ -92,13 +93,18 @@ def detect_architecture(path: str, state: dict, declared) -> str:
     """The architecture of a state_dict, from its first convolution's key; a checkpoint's own
     "architecture" entry must agree."""
     import image_unet
-    known = (MAP_ARCHITECTURE, image_unet.ARCHITECTURE)
+    known = (MAP_ARCHITECTURE, *image_unet.ARCHITECTURES)
     if declared is not None and declared not in known:
         raise PackError(f"{path}: architecture '{declared}' is not one this packer knows ({', '.join(known)})")
-    found = (image_unet.ARCHITECTURE if "enc0.0.weight" in state
+    found = ("image" if "enc0.0.weight" in state
              else MAP_ARCHITECTURE if "encoder0.0.weight" in state else None)
     if found is None:
         raise PackError(f"{path}: neither U-Net (no enc0.0.weight or encoder0.0.weight key)")
+    if found == "image":
+        try:
+            found = image_unet.architecture_of(state)
+        except ValueError as e:
+            raise PackError(f"{path}: {e}") from None
     if declared is not None and declared != found:
         raise PackError(f"{path}: checkpoint says architecture '{declared}' but its keys are {found}'s")
     return found
@@ -107,12 +113,12 @@ def detect_architecture(path: str, state: dict, declared) -> str:
 def build_model(path: str, state: dict, architecture: str = MAP_ARCHITECTURE):
     import image_unet
     import unet
-    module = image_unet if architecture == image_unet.ARCHITECTURE else unet
+    module = image_unet if architecture in image_unet.ARCHITECTURES else unet
     try:
         k = module.base_width(state)
     except ValueError as e:
         raise PackError(f"{path}: {e}")
-    model = image_unet.ImageUNet(k) if module is image_unet else unet.UNet(k)
+    model = image_unet.ImageUNet(k, architecture) if module is image_unet else unet.UNet(k)
     expected = model.state_dict()
     missing = [n for n in expected if n not in state]
     extra = [n for n in state if n not in expected]
@@ -184,9 +190,12 @@ def header_fields(model, k: int, fmt: dict, metadata: dict) -> dict:
     if isinstance(model, image_unet.ImageUNet):
         for key in ("inputs", "input_transform"):
             metadata.pop(key, None)
-        return {"stage": fmt["kStageImageDenoiser"], "architecture": fmt["kImageArchitecture"],
+        kpn = model.architecture == image_unet.KPN_ARCHITECTURE
+        return {"stage": fmt["kStageImageDenoiser"],
+                "architecture": fmt["kImageKpnArchitecture" if kpn else "kImageArchitecture"],
                 "base_width": k, "in_channels": fmt["kImageInChannels"],
-                "out_channels": fmt["kOutChannels"], "multiple": fmt["kImageMultiple"],
+                "out_channels": fmt["kImageKpnOutChannels" if kpn else "kOutChannels"],
+                "multiple": fmt["kImageMultiple"],
                 "inputs": list(image_unet.INPUTS), "input_transform": image_unet.INPUT_TRANSFORM}
     return {"stage": fmt["kStageMapDenoiser"], "architecture": fmt["kArchitecture"],
             "base_width": k, "map_size": fmt["kMapSize"], "in_channels": fmt["kInChannels"],
@@ -259,15 +268,14 @@ def checkpoint_metadata(path: str, obj) -> dict:
 def golden_image_denoise(model, colour, albedo, normal):
     """The renderer's image denoising in PyTorch (1 x 3 x H x W each, any H, W): pad to
     multiples of 8 by repeating the last row and column, exposure over the padded image, the
-    network, the output transform, crop."""
+    network, the output transform or the predicted kernels, crop."""
     import image_unet
     import torch.nn.functional as F
     h, w = colour.shape[2], colour.shape[3]
     m = image_unet.MULTIPLE
     pad = (0, -w % m, 0, -h % m)
     padded = [F.pad(t, pad, mode="replicate") for t in (colour, albedo, normal)]
-    x, e = image_unet.make_input(*padded)
-    return image_unet.output_colour(model(x), e)[:, :, :h, :w]
+    return image_unet.denoise(model, *padded)[:, :, :h, :w]
 
 
 def write_image_golden(model, directory: str, size: tuple[int, int], seed: int, k: int) -> None:

@@ -51,7 +51,7 @@ struct DenoisePush {
   uint coreY0;
   uint coreX1;
   uint coreY1;
-  uint step;      // a-trous: the tap spacing of this iteration (1, 2, 4, 8, 16)
+  uint step;      // a-trous, kernels: the tap spacing of this iteration (1, 2, 4, 8, 16)
   float sigmaLuminance;  // a-trous: luminance edge-stopping scale (SVGF sigma_l)
   float sigmaNormal;     // a-trous: normal exponent (SVGF sigma_n)
   float sigmaDepth;      // a-trous: depth edge-stopping scale (SVGF sigma_z)
@@ -60,6 +60,17 @@ struct DenoisePush {
 // a-trous iterations: the first demodulates (colour / albedo), the last re-modulates.
 OSR_CONST(uint, kSpecAtrousFirst, 0);
 OSR_CONST(uint, kSpecAtrousLast, 1);
+
+// The kernel-predicting network's kernels (tools/image_unet.py apply_kernels): kKernelLevels
+// levels of kKernelSize x kKernelSize taps, 1, 2, 4, 8 pixels apart, on colour demodulated by
+// the albedo (floored at kKernelDemodulateMin, or 1 where its luminance is below that). The
+// first level demodulates, the last re-modulates.
+OSR_CONST(uint, kKernelLevels, 4);
+OSR_CONST(uint, kKernelSize, 5);
+OSR_CONST(uint, kKernelTaps, 25);
+OSR_CONST(float, kKernelDemodulateMin, 0.01);
+OSR_CONST(uint, kSpecKernelFirst, 0);
+OSR_CONST(uint, kSpecKernelLast, 1);
 
 OSR_NAMESPACE_END
 #endif

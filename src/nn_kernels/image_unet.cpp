@@ -17,12 +17,12 @@ namespace {
 // channel ranges, cat(upsampled, skip) as image_unet.py's forward() does.
 enum TensorId { kIn, kA0, kCat0, kB0, kOut, kP1, kCat1, kD1, kP2, kCat2, kD2, kP3, kM, kTensorCount };
 struct TensorSpec {
-  uint32_t timesK;  // channels = timesK * K, or `fixed` when 0
+  uint32_t timesK;  // channels = timesK * K, or `fixed` when 0, or the model's outputs when both are
   uint32_t fixed;
   uint32_t scale;
 };
 constexpr TensorSpec kTensors[kTensorCount] = {
-    {0, kImageInChannels, 0}, {1, 0, 0}, {3, 0, 0}, {1, 0, 0}, {0, kOutChannels, 0},
+    {0, kImageInChannels, 0}, {1, 0, 0}, {3, 0, 0}, {1, 0, 0}, {0, 0, 0},
     {1, 0, 1}, {4, 0, 1}, {2, 0, 1}, {2, 0, 2}, {6, 0, 2}, {2, 0, 2}, {2, 0, 3}, {4, 0, 3},
 };
 
@@ -50,20 +50,22 @@ constexpr uint32_t kStoreMultiple = 8;  // the convolution's pixel tile divides 
 uint32_t stored(uint32_t size, uint32_t scale) {
   return ((size >> scale) + kStoreMultiple - 1) / kStoreMultiple * kStoreMultiple;
 }
-uint32_t channelsOf(const TensorSpec& t, uint32_t k) { return t.timesK ? t.timesK * k : t.fixed; }
-VkDeviceSize tensorBytes(const TensorSpec& t, uint32_t k, uint32_t tile) {
+uint32_t channelsOf(const TensorSpec& t, uint32_t k, uint32_t outs) {
+  return t.timesK ? t.timesK * k : t.fixed ? t.fixed : outs;
+}
+VkDeviceSize tensorBytes(const TensorSpec& t, uint32_t k, uint32_t outs, uint32_t tile) {
   const VkDeviceSize side = stored(tile, t.scale);
-  return VkDeviceSize(channelsOf(t, k)) * side * side * 4;
+  return VkDeviceSize(channelsOf(t, k, outs)) * side * side * 4;
 }
 
 }  // namespace
 
-uint32_t ImageUNet::maxTileFor(const vk::Context& ctx, uint32_t k, uint64_t budget) {
+uint32_t ImageUNet::maxTileFor(const vk::Context& ctx, uint32_t k, uint32_t outs, uint64_t budget) {
   const uint64_t range = std::min<uint64_t>(ctx.caps().maxStorageBufferRange, 1ull << 32);
   for (uint32_t tile = 2048; tile >= kImageMultiple; tile -= kImageMultiple) {
     uint64_t total = 0, largest = 0;
     for (const TensorSpec& t : kTensors) {
-      const VkDeviceSize b = tensorBytes(t, k, tile);
+      const VkDeviceSize b = tensorBytes(t, k, outs, tile);
       total += alignTensor(b);
       largest = std::max<uint64_t>(largest, b);
     }
@@ -73,7 +75,8 @@ uint32_t ImageUNet::maxTileFor(const vk::Context& ctx, uint32_t k, uint64_t budg
 }
 
 ImageUNet::ImageUNet(const vk::Context& ctx, const ImageUNetWeights& w, uint32_t maxTile)
-    : ctx_(ctx), k_(w.k), maxTile_(maxTile), flopsPerPixel_(w.flopsPerPixel()), convs_(w.convs) {
+    : ctx_(ctx), k_(w.k), outs_(w.outChannels()), maxTile_(maxTile), flopsPerPixel_(w.flopsPerPixel()),
+      convs_(w.convs) {
   if (w.convs.size() != size_t(kImageConvCount)) throw InputError(w.source + ": incomplete weights");
   if (maxTile % kImageMultiple || maxTile == 0)
     throw DeviceError("image denoiser: tile side " + std::to_string(maxTile) + " is not a multiple of 8");
@@ -87,7 +90,7 @@ ImageUNet::ImageUNet(const vk::Context& ctx, const ImageUNetWeights& w, uint32_t
                            props.limits.maxTexelBufferElements;
   bool inTexels = ctx.caps().isCpu();
   for (const TensorSpec& t : kTensors)
-    inTexels = inTexels && tensorBytes(t, k_, maxTile) / 16 <= props.limits.maxTexelBufferElements;
+    inTexels = inTexels && tensorBytes(t, k_, outs_, maxTile) / 16 <= props.limits.maxTexelBufferElements;
 
   std::map<std::tuple<uint32_t, uint32_t, int>, size_t> passIndex;
   std::vector<uint32_t> weightWords;
@@ -122,8 +125,8 @@ ImageUNet::ImageUNet(const vk::Context& ctx, const ImageUNetWeights& w, uint32_t
 
   VkDeviceSize offset = 0;
   for (const TensorSpec& t : kTensors) {
-    const VkDeviceSize b = tensorBytes(t, k_, maxTile);
-    tensors_.push_back({channelsOf(t, k_), t.scale, offset, b});
+    const VkDeviceSize b = tensorBytes(t, k_, outs_, maxTile);
+    tensors_.push_back({channelsOf(t, k_, outs_), t.scale, offset, b});
     offset = alignTensor(offset + b);
   }
   arena_ = vk::Buffer(ctx, offset, vk::MemoryUse::DeviceLocal, "image unet activations",
@@ -148,7 +151,7 @@ vk::BufferRange ImageUNet::input(uint32_t th, uint32_t tw) const {
 }
 
 vk::BufferRange ImageUNet::output(uint32_t th, uint32_t tw) const {
-  return vk::BufferRange(arena_, tensors_[kOut].offset, VkDeviceSize(kOutChannels) * th * tw * 4);
+  return vk::BufferRange(arena_, tensors_[kOut].offset, VkDeviceSize(outs_) * th * tw * 4);
 }
 
 void ImageUNet::record(VkCommandBuffer cmd, uint32_t th, uint32_t tw, vk::GpuTimer* timer) const {

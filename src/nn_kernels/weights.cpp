@@ -160,14 +160,15 @@ UNetWeights UNetWeights::random(uint32_t k, uint32_t seed, bool half) {
   return w;
 }
 
-ImageUNetWeights ImageUNetWeights::random(uint32_t k, uint32_t seed) {
+ImageUNetWeights ImageUNetWeights::random(uint32_t k, uint32_t seed, const std::string& architecture) {
   ImageUNetWeights w;
   w.k = k;
-  w.source = "random image U-Net (K=" + std::to_string(k) + ")";
+  w.architecture = architecture;
+  w.source = "random image U-Net (" + architecture + ", K=" + std::to_string(k) + ")";
   std::mt19937 rng(seed);
   for (const ImageConvSpec& s : kImageConvSpecs)
     w.convs.push_back(randomConv(channels(s.cinTimesK, k, kImageInChannels),
-                                 channels(s.coutTimesK, k, kOutChannels), s.kernel, s.activation, rng,
+                                 channels(s.coutTimesK, k, w.outChannels()), s.kernel, s.activation, rng,
                                  [](float v) { return v; }));
   return w;
 }
@@ -393,7 +394,9 @@ ImageUNetWeights ImageUNetWeights::load(const std::string& path) {
 ImageUNetWeights ImageUNetWeights::parse(std::span<const uint8_t> file, const std::string& path) {
   return parseWith<ImageUNetWeights>(file, path, [&](const Packed& p, ImageUNetWeights& w) {
     const nlohmann::json& header = p.header;
-    requireStage(path, header, kStageImageDenoiser, kImageArchitecture);
+    const bool kpn = header.value("architecture", std::string()) == kImageKpnArchitecture;
+    requireStage(path, header, kStageImageDenoiser, kpn ? kImageKpnArchitecture : kImageArchitecture);
+    w.architecture = kpn ? kImageKpnArchitecture : kImageArchitecture;
     w.k = readBaseWidth(path, header);
     // The renderer feeds the first-hit colour, albedo and normal; a model asking for anything
     // else (or another order or transform) cannot be fed by any mode.
@@ -409,14 +412,14 @@ ImageUNetWeights ImageUNetWeights::parse(std::span<const uint8_t> file, const st
       fail(path, "input transform '" + transform + "', this renderer implements '" +
                      kInputTransformExposureLog1p + "'");
     if (header.at("in_channels").get<uint32_t>() != kImageInChannels ||
-        header.at("out_channels").get<uint32_t>() != kOutChannels)
+        header.at("out_channels").get<uint32_t>() != w.outChannels())
       fail(path, "channels " + header["in_channels"].dump() + " -> " + header["out_channels"].dump() +
-                     ", expected " + std::to_string(kImageInChannels) + " -> " + std::to_string(kOutChannels));
+                     ", expected " + std::to_string(kImageInChannels) + " -> " + std::to_string(w.outChannels()));
     requireLayerCount(path, header, kImageConvCount);
     for (int i = 0; i < kImageConvCount; ++i) {
       const ImageConvSpec& s = kImageConvSpecs[i];
       w.convs.push_back(readConv(path, file, p, i, s.name, channels(s.cinTimesK, w.k, kImageInChannels),
-                                 channels(s.coutTimesK, w.k, kOutChannels), s.kernel, s.activation, false));
+                                 channels(s.coutTimesK, w.k, w.outChannels()), s.kernel, s.activation, false));
     }
   });
 }

@@ -9,6 +9,8 @@
 #include <string_view>
 #include <vector>
 
+#include "nn_kernels/weights_format.h"
+
 namespace osr::nn {
 
 enum class Activation : uint32_t { None = 0, LeakyRelu = 1, Relu = 2 };
@@ -63,13 +65,13 @@ struct UNetWeights {
   double flopsPerMap() const;
 };
 
-// The image denoiser (stage "image_denoiser", architecture "osr_image_unet_v1",
-// tools/image_unet.py LAYERS) in execution order: plain convolutions with ReLU, the last a 1x1
+// The image denoiser (stage "image_denoiser", architecture "osr_image_kpn_v1" or
+// "osr_image_unet_v1", tools/image_unet.py LAYERS) in execution order: plain convolutions with ReLU, the last a 1x1
 // without activation. `scale` is the resolution it runs at as a power of two (0 full, 3 1/8).
 struct ImageConvSpec {
   const char* name;
   uint32_t cinTimesK;   // input channels = cinTimesK * K, or kImageInChannels when 0
-  uint32_t coutTimesK;  // output channels = coutTimesK * K, or kOutChannels when 0
+  uint32_t coutTimesK;  // output channels = coutTimesK * K, or the model's outputs when 0
   uint32_t kernel;
   Activation activation;
   uint32_t scale;
@@ -79,11 +81,16 @@ extern const ImageConvSpec kImageConvSpecs[kImageConvCount];
 
 struct ImageUNetWeights {
   uint32_t k = 0;
+  // kImageKpnArchitecture (kernel logits out) or kImageArchitecture (colour out).
+  std::string architecture = kImageKpnArchitecture;
   std::string source;
   std::vector<ConvWeights> convs;  // kImageConvSpecs order, no BatchNorm
 
+  bool predictsKernels() const { return architecture == kImageKpnArchitecture; }
+  uint32_t outChannels() const { return predictsKernels() ? kImageKpnOutChannels : kOutChannels; }
   // Random weights (uniform, variance 2 / fan_in; biases in +-0.1) for tests and benchmarks.
-  static ImageUNetWeights random(uint32_t k, uint32_t seed);
+  static ImageUNetWeights random(uint32_t k, uint32_t seed,
+                                 const std::string& architecture = kImageKpnArchitecture);
   // Throw InputError "<source>: <problem>": a file of another stage or architecture, inputs
   // other than colour, albedo, normal with the exposure_log1p transform, or any mismatch
   // with weights_format.h.

@@ -46,6 +46,10 @@ inline constexpr char kNormalizationLogMean10Absolute[] = "log1p_mean10_abs_v1";
 // this order), colour out; the colour goes in as log1p(e * colour), e the image's exposure
 // scale, and comes out as expm1(max(y, 0)) / e. Images are padded to multiples of 8.
 inline constexpr char kImageArchitecture[] = "osr_image_unet_v1";
+// The kernel-predicting image denoiser: the same network and input, 100 outputs, the logits of
+// four 5 x 5 kernels applied in turn to the albedo-demodulated colour (shared/denoise.h).
+inline constexpr char kImageKpnArchitecture[] = "osr_image_kpn_v1";
+inline constexpr uint32_t kImageKpnOutChannels = 100;
 inline constexpr uint32_t kImageInChannels = 9;
 inline constexpr uint32_t kImageMultiple = 8;
 inline constexpr char kInputTransformExposureLog1p[] = "exposure_log1p";

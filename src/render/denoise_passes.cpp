@@ -60,6 +60,20 @@ void NetOutputPass::record(VkCommandBuffer cmd, const DenoiseBindings& b, const 
   vk::computeBarrier(cmd);
 }
 
+KernelApplyPass::KernelApplyPass(const vk::Context& ctx, bool first, bool last)
+    : last_(last),
+      pipeline_(makePipeline(ctx, shaders::Id::denoise_kernel_apply,
+                             {vk::specUint(g::kSpecKernelFirst, first), vk::specUint(g::kSpecKernelLast, last)})) {}
+
+void KernelApplyPass::record(VkCommandBuffer cmd, const DenoiseBindings& b, const g::DenoisePush& push) const {
+  bindAll(cmd, pipeline_, b, push);
+  if (last_)
+    pipeline_.dispatch(cmd, groups(push.coreX1 - push.coreX0), groups(push.coreY1 - push.coreY0));
+  else
+    pipeline_.dispatch(cmd, groups(push.tileWidth), groups(push.tileHeight));
+  vk::computeBarrier(cmd);
+}
+
 AtrousPass::AtrousPass(const vk::Context& ctx, bool first, bool last)
     : pipeline_(makePipeline(ctx, shaders::Id::denoise_atrous,
                              {vk::specUint(g::kSpecAtrousFirst, first), vk::specUint(g::kSpecAtrousLast, last)})) {}

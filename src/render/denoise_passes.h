@@ -47,6 +47,20 @@ class NetOutputPass {
   vk::ComputePipeline pipeline_;
 };
 
+// One level of the kernel-predicting network's kernels on a tile (denoise_kernel_apply.comp):
+// the first reads the image colour (b.colour) and demodulates it, the others the previous
+// level's tile buffer (b.colour); the last writes the core's re-modulated colour to the image
+// (b.out), the others the whole tile to a tile buffer (b.out). b.tensor: the logits.
+class KernelApplyPass {
+ public:
+  KernelApplyPass(const vk::Context& ctx, bool first, bool last);
+  void record(VkCommandBuffer cmd, const DenoiseBindings& b, const gpu::denoise::DenoisePush& push) const;
+
+ private:
+  bool last_;
+  vk::ComputePipeline pipeline_;
+};
+
 // One a-trous iteration (denoise_atrous.comp) from b.colour into b.out; the first demodulates
 // the colour by the albedo, the last re-modulates.
 class AtrousPass {

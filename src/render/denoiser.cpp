@@ -104,13 +104,33 @@ std::vector<DenoiseTile> denoiseTiles(uint32_t width, uint32_t height, uint32_t 
 NetworkDenoiser::NetworkDenoiser(const vk::Context& ctx, const nn::ImageUNetWeights& weights,
                                  uint32_t width, uint32_t height, uint32_t maxTile, uint64_t budget)
     : width_(width), height_(height), exposure_(ctx), input_(ctx), output_(ctx) {
-  if (!maxTile) maxTile = nn::ImageUNet::maxTileFor(ctx, weights.k, budget);
-  tiles_ = denoiseTiles(width, height, maxTile, nn::kImageTileMargin);
+  if (!maxTile) maxTile = nn::ImageUNet::maxTileFor(ctx, weights.k, weights.outChannels(), budget);
+  const bool kernels = weights.predictsKernels();
+  tiles_ = denoiseTiles(width, height, maxTile, kernels ? nn::kImageKpnTileMargin : nn::kImageTileMargin);
   uint32_t largest = 0;
   for (const DenoiseTile& t : tiles_) largest = std::max({largest, t.width, t.height});
   net_ = std::make_unique<nn::ImageUNet>(ctx, weights, largest);
   sums_ = vk::Buffer(ctx, sizeof(g::ExposureSums) * (g::kExposurePartials + 1), vk::MemoryUse::DeviceLocal,
                      "denoise exposure");
+  if (kernels) {
+    firstKernel_.emplace(ctx, true, false);
+    middleKernel_.emplace(ctx, false, false);
+    lastKernel_.emplace(ctx, false, true);
+    const VkDeviceSize bytes = VkDeviceSize(largest) * largest * 16;
+    kernelPing_ = vk::Buffer(ctx, bytes, vk::MemoryUse::DeviceLocal, "denoise kernel ping");
+    kernelPong_ = vk::Buffer(ctx, bytes, vk::MemoryUse::DeviceLocal, "denoise kernel pong");
+  }
+}
+
+void NetworkDenoiser::recordKernels(VkCommandBuffer cmd, DenoiseBindings b, g::DenoisePush push) const {
+  const vk::BufferRange image = b.out;
+  for (uint32_t level = 0; level < g::kKernelLevels; ++level) {
+    const bool first = level == 0, last = level + 1 == g::kKernelLevels;
+    if (!first) b.colour = (level % 2) ? kernelPing_ : kernelPong_;  // the previous level's output
+    b.out = last ? image : vk::BufferRange((level % 2) ? kernelPong_ : kernelPing_);
+    push.step = 1u << level;
+    (first ? *firstKernel_ : last ? *lastKernel_ : *middleKernel_).record(cmd, b, push);
+  }
 }
 
 void NetworkDenoiser::record(VkCommandBuffer cmd, const DenoiseImage& image, const vk::Buffer& out,
@@ -140,7 +160,10 @@ void NetworkDenoiser::record(VkCommandBuffer cmd, const DenoiseImage& image, con
     net_->record(cmd, t.height, t.width, timer);
     b.tensor = net_->output(t.height, t.width);
     vk::TimedScope scope(timer, cmd, "net output");
-    output_.record(cmd, b, push);
+    if (firstKernel_)
+      recordKernels(cmd, b, push);
+    else
+      output_.record(cmd, b, push);
   }
 }
 

@@ -49,6 +49,8 @@ struct DenoiseTile {
 // each side (clipped at the image), origins multiples of 8.
 std::vector<DenoiseTile> denoiseTiles(uint32_t width, uint32_t height, uint32_t maxTile, uint32_t margin);
 
+// The network's tiles: its input from the image, the network, and its output back into the
+// image, by colour (osr_image_unet_v1) or by the predicted kernels (osr_image_kpn_v1).
 class NetworkDenoiser {
  public:
   // maxTile 0: the largest tile the device and `budget` allow (ImageUNet::maxTileFor), capped
@@ -67,7 +69,10 @@ class NetworkDenoiser {
   ExposurePass exposure_;
   NetInputPass input_;
   NetOutputPass output_;
-  vk::Buffer sums_;
+  std::optional<KernelApplyPass> firstKernel_, middleKernel_, lastKernel_;
+  vk::Buffer sums_, kernelPing_, kernelPong_;  // kernel levels' colour, one tile each
+
+  void recordKernels(VkCommandBuffer cmd, DenoiseBindings b, gpu::denoise::DenoisePush push) const;
 };
 
 // SVGF's edge-aware a-trous wavelet filter: 5 iterations, steps 1, 2, 4, 8, 16.

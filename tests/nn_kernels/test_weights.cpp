@@ -255,7 +255,7 @@ TEST(Weights, ImageDenoiserRefusesBadFiles) {
                       "tensor enc0.0.weight has shape 8x9x3x3, expected 6x9x3x3");
 }
 
-// A fresh checkpoint of either architecture packs, and the packer refuses one whose declared
+// A fresh checkpoint of each image architecture packs, and the packer refuses one whose declared
 // architecture disagrees with its keys (one line, exit 2).
 TEST(Weights, PackerDetectsTheArchitecture) {
   const char* py = "/usr/bin/python3";
@@ -265,17 +265,25 @@ TEST(Weights, PackerDetectsTheArchitecture) {
   const fs::path dir = test::tempDir("weights_stages");
   const std::string tools = std::string(OSR_SOURCE_DIR) + "/tools";
   const std::string image = (dir / "image.pt").string(), liar = (dir / "liar.pt").string();
+  const std::string kpn = (dir / "kpn.pt").string();
   const std::string make =
       std::string(py) + " -c \"import sys; sys.path.insert(0, '" + tools + "'); import image_unet, torch; " +
-      "m = image_unet.ImageUNet(4); image_unet.randomize(m, 3); " +
+      "m = image_unet.ImageUNet(4, 'osr_image_unet_v1'); image_unet.randomize(m, 3); " +
       "torch.save({'model': m.state_dict(), 'architecture': 'osr_image_unet_v1', 'base_width': 4, 'epoch': 7}, '" +
-      image + "'); torch.save({'model': m.state_dict(), 'architecture': 'osr_unet_v1'}, '" + liar + "')\"";
+      image + "'); torch.save({'model': m.state_dict(), 'architecture': 'osr_unet_v1'}, '" + liar + "'); " +
+      "torch.save({'model': image_unet.ImageUNet(4).state_dict()}, '" + kpn + "')\"";
   ASSERT_EQ(std::system(make.c_str()), 0);
   const std::string packed = (dir / "image.osrw").string();
   ASSERT_EQ(std::system((std::string(py) + " " + tools + "/weights_pack.py " + image + " " + packed).c_str()), 0);
   nn::ImageUNetWeights w = nn::ImageUNetWeights::load(packed);
   EXPECT_EQ(w.k, 4u);
   EXPECT_EQ(w.convs[6].cin, 16u);
+  EXPECT_FALSE(w.predictsKernels());
+  const std::string packedKpn = (dir / "kpn.osrw").string();
+  ASSERT_EQ(std::system((std::string(py) + " " + tools + "/weights_pack.py " + kpn + " " + packedKpn).c_str()), 0);
+  const nn::ImageUNetWeights k = nn::ImageUNetWeights::load(packedKpn);
+  EXPECT_TRUE(k.predictsKernels());
+  EXPECT_EQ(k.convs.back().cout, nn::kImageKpnOutChannels);
   auto text = readFile(packed);
   EXPECT_NE(std::string(text.begin(), text.end()).find("\"epoch\":7"), std::string::npos);
   const std::string err = (dir / "err.txt").string();

@@ -98,36 +98,51 @@ double maxAbsDiff(const std::vector<float>& a, const std::vector<float>& b) {
 
 }  // namespace
 
-// tests/data/image_unet_k8_golden: a 37 x 21 image (padded to 40 x 24) through PyTorch.
-TEST(Denoiser, NetworkMatchesPyTorchGolden) {
-  const nn::ImageUNetWeights w = nn::ImageUNetWeights::load(test::dataPath("image_unet_k8.osrw"));
+// tests/data/image_{unet,kpn}_k8_golden: a 37 x 21 image (padded to 40 x 24) through PyTorch,
+// by a direct model and a kernel-predicting one (random weights, tools/weights_pack.py --golden).
+void expectGolden(const std::string& name) {
+  const nn::ImageUNetWeights w = nn::ImageUNetWeights::load(test::dataPath(name + ".osrw"));
   const int width = 37, height = 21;
   const size_t n = size_t(width) * height;
   render::FilmLayers f = film(width, height);
-  f.combined = interleave(readFloats(test::dataPath("image_unet_k8_golden/colour.f32")), n);
-  f.albedo = interleave(readFloats(test::dataPath("image_unet_k8_golden/albedo.f32")), n);
-  f.normal = interleave(readFloats(test::dataPath("image_unet_k8_golden/normal.f32")), n);
-  const std::vector<float> want = interleave(readFloats(test::dataPath("image_unet_k8_golden/output.f32")), n);
+  f.combined = interleave(readFloats(test::dataPath(name + "_golden/colour.f32")), n);
+  f.albedo = interleave(readFloats(test::dataPath(name + "_golden/albedo.f32")), n);
+  f.normal = interleave(readFloats(test::dataPath(name + "_golden/normal.f32")), n);
+  const std::vector<float> want = interleave(readFloats(test::dataPath(name + "_golden/output.f32")), n);
   const std::vector<float> got = runNetwork(w, f, 0);
   const double err = maxAbsDiff(got, want);
-  std::printf("golden K=8 37x21: max abs err %.3g (max |out| %.3g)\n", err, maxAbs(want));
+  std::printf("golden %s 37x21: max abs err %.3g (max |out| %.3g)\n", name.c_str(), err, maxAbs(want));
   EXPECT_GT(maxAbs(want), 1.0);
   EXPECT_LE(err, 2e-4 * maxAbs(want));
 }
 
-// Tiles of 96 px (16 px cores inside 40 px margins) against one tile: the same image.
-TEST(Denoiser, TiledEqualsUntiled) {
-  const nn::ImageUNetWeights w = nn::ImageUNetWeights::random(8, 77);
-  const render::FilmLayers f = randomFilm(123, 100, 5);
+TEST(Denoiser, NetworkMatchesPyTorchGolden) { expectGolden("image_unet_k8"); }
+TEST(Denoiser, KernelNetworkMatchesPyTorchGolden) { expectGolden("image_kpn_k8"); }
+
+// Tiles against one tile: the same image, when every margin holds the receptive field.
+void expectTiledEqualsUntiled(const std::string& architecture, int width, int height, uint32_t tile,
+                              size_t wantTiles) {
+  const nn::ImageUNetWeights w = nn::ImageUNetWeights::random(8, 77, architecture);
+  const render::FilmLayers f = randomFilm(width, height, 5);
   size_t tiles = 0, one = 0;
-  const std::vector<float> tiled = runNetwork(w, f, 96, &tiles);
+  const std::vector<float> tiled = runNetwork(w, f, tile, &tiles);
   const std::vector<float> whole = runNetwork(w, f, 0, &one);
   EXPECT_EQ(one, 1u);
-  EXPECT_EQ(tiles, 8u * 7u);  // ceil(123 / 16) x ceil(100 / 16)
+  EXPECT_EQ(tiles, wantTiles);
   const double err = maxAbsDiff(tiled, whole);
-  std::printf("tiled (%zu tiles) vs whole: max abs err %.3g (max |out| %.3g)\n", tiles, err, maxAbs(whole));
+  std::printf("%s tiled (%zu tiles) vs whole: max abs err %.3g (max |out| %.3g)\n", architecture.c_str(), tiles,
+              err, maxAbs(whole));
   EXPECT_GT(maxAbs(whole), 0.0);
   EXPECT_LE(err, 1e-5 * maxAbs(whole));
+}
+
+// 96 px tiles: 16 px cores inside 40 px margins, ceil(123 / 16) x ceil(100 / 16).
+TEST(Denoiser, TiledEqualsUntiled) { expectTiledEqualsUntiled(nn::kImageArchitecture, 123, 100, 96, 8u * 7u); }
+
+// 200 px tiles: 56 px cores inside 72 px margins (receptive field and kernels),
+// ceil(250 / 56) x ceil(220 / 56).
+TEST(Denoiser, KernelTiledEqualsUntiled) {
+  expectTiledEqualsUntiled(nn::kImageKpnArchitecture, 250, 220, 200, 5u * 4u);
 }
 
 TEST(Denoiser, TilesCoverTheImageOnce) {
@@ -188,7 +203,9 @@ TEST(Denoiser, AtrousKeepsAnEdgeAndRemovesNoise) {
         errOut += std::pow(got[3 * i + c] - want, 2.0);
       }
       // Next to the edge too: within 10% of its own side's level.
-      if (x == w / 2 - 1 || x == w / 2) EXPECT_NEAR(got[3 * i], want, 0.1 * want) << x << "," << y;
+      if (x == w / 2 - 1 || x == w / 2) {
+        EXPECT_NEAR(got[3 * i], want, 0.1 * want) << x << "," << y;
+      }
     }
   std::printf("a-trous on a noisy edge: squared error %.4g -> %.4g\n", errIn, errOut);
   EXPECT_LT(errOut, 0.1 * errIn);

@@ -60,12 +60,11 @@ class Examples(unittest.TestCase):
         rng = np.random.default_rng(3)
         moved = 0
         for _ in range(12):
-            x, e, target, _ = td.make_batch(data, rng, 2, 24)
-            colour = np.expm1(x[:, 0:3].numpy()) / e.numpy()[:, None, None, None]
-            np.testing.assert_allclose(colour, x[:, 3:6].numpy(), rtol=2e-3, atol=1e-4)
-            np.testing.assert_allclose(target.numpy(), x[:, 3:6].numpy(), rtol=2e-3, atol=1e-4)
-            n = x[:, 6:9].numpy()
-            is_red = x[:, 3].numpy() > 0.5
+            colour, albedo, normal, e, target, _ = td.make_batch(data, rng, 2, 24)
+            np.testing.assert_allclose(colour.numpy(), albedo.numpy(), rtol=2e-3, atol=1e-4)
+            np.testing.assert_allclose(target.numpy(), albedo.numpy(), rtol=2e-3, atol=1e-4)
+            n = normal.numpy()
+            is_red = albedo[:, 0].numpy() > 0.5
             np.testing.assert_array_equal(n[:, 0] > 0.999, is_red)
             np.testing.assert_array_equal(n[:, 2] > 0.999, ~is_red)
             np.testing.assert_allclose(np.linalg.norm(n, axis=1), 1.0, atol=1e-3)
@@ -100,16 +99,16 @@ class Examples(unittest.TestCase):
 class QuickTraining(unittest.TestCase):
     def test_quick_run_checkpoint_resume(self):
         import torch
-        from image_unet import ARCHITECTURE, ImageUNet
+        from image_unet import KPN_ARCHITECTURE, ImageUNet
         with tempfile.TemporaryDirectory() as tmp:
             out = Path(tmp) / "run"
             r = run([PY, TOOLS / "train_denoiser.py", "--out", out, "--quick"])
             self.assertIn("1 spp: relMSE", r.stderr)
             best = torch.load(out / "best.pt", map_location="cpu")
-            self.assertEqual(best["architecture"], ARCHITECTURE)
+            self.assertEqual(best["architecture"], KPN_ARCHITECTURE)
             for key in ("epoch", "step", "loss", "val_relmse", "val_relmse_1spp", "val_noisy_relmse_1spp"):
                 self.assertIn(key, best)
-            model = ImageUNet(best["base_width"])
+            model = ImageUNet(best["base_width"], best["architecture"])
             model.load_state_dict(best["model"])
             self.assertTrue(all(np.isfinite(v.numpy()).all() for v in best["model"].values()))
             self.assertEqual(len((out / "train.log").read_text().splitlines()), 1)
@@ -156,7 +155,7 @@ class RealRenders(unittest.TestCase):
             self.assertNotIn("osr-vk: validation", r.stderr)  # CTest sets OSR_VALIDATION=1
             blob = (work / "run" / "model.osrw").read_bytes()
             self.assertIn(b'"stage":"image_denoiser"', blob)
-            self.assertIn(b'"architecture":"osr_image_unet_v1"', blob)
+            self.assertIn(b'"architecture":"osr_image_kpn_v1"', blob)
             files = sorted(work.glob("data/*/in_*.npz"))
             self.assertEqual(len(files), 6)  # 2 views x spp 1, 2, 4
             self.assertTrue(list(work.glob("val/9001_c0/ref_*.npz")))

@@ -1,0 +1,79 @@
+#version 460
+// denoise_kernel_apply: one level of the kernel-predicting denoiser (tools/image_unet.py
+// apply_kernels) on one tile. Each pixel's 25 logits of this level (channels level x 25 on, of
+// the network's output tensor) are a softmax over the taps inside the tile, `step` pixels
+// apart, that average the previous level's colour. The first level (kFirst) reads the image
+// colour demodulated by the albedo (image_unet.demodulator), exposed by e and compressed to
+// t = x / (1 + lum(x)), repeating the last row and column as the network's input does; the
+// last (kLast) inverts that, re-modulates and writes the tile's core pixels into the image.
+// Between levels the colour lives in tile-sized vec4 buffers.
+#extension GL_GOOGLE_include_directive : require
+#include "shared/denoise.h"
+
+layout(local_size_x = kDenoiseTile, local_size_y = kDenoiseTile) in;
+layout(constant_id = kSpecKernelFirst) const uint kFirst = 0;
+layout(constant_id = kSpecKernelLast) const uint kLast = 0;
+layout(std430, binding = kBindingColour) readonly buffer Colour { vec4 gColour[]; };
+layout(std430, binding = kBindingAlbedo) readonly buffer Albedo { vec4 gAlbedo[]; };
+layout(std430, binding = kBindingExposure) readonly buffer Sums { ExposureSums gSums[]; };
+layout(std430, binding = kBindingTensor) readonly buffer Tensor { float gTensor[]; };
+layout(std430, binding = kBindingOut) writeonly buffer Out { vec4 gOut[]; };
+layout(push_constant) uniform PushBlock { DenoisePush gPush; };
+
+// The image pixel behind tile pixel t (the padding repeats the last row and column).
+uint imagePixel(ivec2 t) {
+  const uint x = min(gPush.tileX + uint(t.x), gPush.width - 1u);
+  const uint y = min(gPush.tileY + uint(t.y), gPush.height - 1u);
+  return y * gPush.width + x;
+}
+
+// image_unet.demodulator: the albedo, floored, or 1 where there is (almost) none.
+float luminance(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)); }
+
+vec3 modulator(uint p) {
+  const vec3 a = gAlbedo[p].rgb;
+  return luminance(a) < kKernelDemodulateMin ? vec3(1.0) : max(a, vec3(kKernelDemodulateMin));
+}
+
+vec3 levelInput(ivec2 t) {
+  if (kFirst != 0u) {
+    const uint p = imagePixel(t);
+    const vec3 x = max(gColour[p].rgb, vec3(0.0)) / modulator(p) * gSums[kExposurePartials].exposure;
+    return x / (1.0 + luminance(x));
+  }
+  return gColour[uint(t.y) * gPush.tileWidth + uint(t.x)].rgb;
+}
+
+void main() {
+  const ivec2 size = ivec2(gPush.tileWidth, gPush.tileHeight);
+  // The last level runs over the core only; the others over the whole tile.
+  const ivec2 origin = kLast != 0u ? ivec2(gPush.coreX0 - gPush.tileX, gPush.coreY0 - gPush.tileY) : ivec2(0);
+  const ivec2 end = kLast != 0u ? ivec2(gPush.coreX1 - gPush.tileX, gPush.coreY1 - gPush.tileY) : size;
+  const ivec2 t = origin + ivec2(gl_GlobalInvocationID.xy);
+  if (t.x >= end.x || t.y >= end.y) return;
+  const uint plane = gPush.tileWidth * gPush.tileHeight;
+  const uint base = uint(findLSB(gPush.step)) * kKernelTaps * plane + uint(t.y) * gPush.tileWidth + uint(t.x);
+  const int radius = int(kKernelSize / 2u);
+  float top = -3.0e38;
+  for (uint i = 0u; i < kKernelTaps; ++i) {
+    const ivec2 q = t + (ivec2(i % kKernelSize, i / kKernelSize) - radius) * int(gPush.step);
+    if (all(greaterThanEqual(q, ivec2(0))) && all(lessThan(q, size))) top = max(top, gTensor[base + i * plane]);
+  }
+  vec3 sum = vec3(0.0);
+  float weights = 0.0;
+  for (uint i = 0u; i < kKernelTaps; ++i) {
+    const ivec2 q = t + (ivec2(i % kKernelSize, i / kKernelSize) - radius) * int(gPush.step);
+    if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, size))) continue;
+    const float w = exp(gTensor[base + i * plane] - top);
+    sum += w * levelInput(q);
+    weights += w;
+  }
+  const vec3 d = sum / weights;
+  if (kLast != 0u) {
+    const uint p = imagePixel(t);
+    const vec3 x = d / max(1.0 - luminance(d), 1e-6);
+    gOut[p] = vec4(x / gSums[kExposurePartials].exposure * modulator(p), 0.0);
+  } else {
+    gOut[uint(t.y) * gPush.tileWidth + uint(t.x)] = vec4(d, 0.0);
+  }
+}
