@@ -8,6 +8,7 @@
 
 #include "common/error.h"
 #include "vk/check.h"
+#include "vk/debug_labels.h"
 
 namespace osr::vk {
 namespace {
@@ -47,15 +48,16 @@ std::string lower(std::string s) {
   return s;
 }
 
-bool hasInstanceLayer(const char* name) {
+// The layer's spec version, 0 when it is not installed.
+uint32_t instanceLayerVersion(const char* name) {
   uint32_t count = 0;
   check(vkEnumerateInstanceLayerProperties(&count, nullptr), "vkEnumerateInstanceLayerProperties");
   std::vector<VkLayerProperties> layers(count);
   check(vkEnumerateInstanceLayerProperties(&count, layers.data()),
         "vkEnumerateInstanceLayerProperties");
   for (auto& l : layers)
-    if (std::strcmp(l.layerName, name) == 0) return true;
-  return false;
+    if (std::strcmp(l.layerName, name) == 0) return l.specVersion;
+  return 0;
 }
 
 bool hasInstanceExtension(const char* name) {
@@ -111,6 +113,12 @@ std::vector<VkPhysicalDevice> physicalDevices(VkInstance instance) {
 }
 
 }  // namespace
+
+bool commandLabelsSafe(uint32_t validationLayerSpecVersion) {
+  // Upstream's fix (2a430d9d3, "layers: Fix debug label race conditions") is in 1.3.243.
+  return validationLayerSpecVersion == 0 ||
+         validationLayerSpecVersion >= VK_MAKE_API_VERSION(0, 1, 3, 243);
+}
 
 SubgroupPlan planSubgroups(const std::string& deviceName, uint32_t size, uint32_t minSize,
                            uint32_t maxSize, bool canRequireFull, bool forceRequireFull) {
@@ -200,8 +208,10 @@ void Context::createInstance(bool wantValidation, const std::vector<std::string>
       throw DeviceError("vulkan: the Vulkan loader lacks instance extension " + e);
     extensions.push_back(e.c_str());
   }
+  uint32_t layerVersion = 0;
   if (wantValidation) {
-    if (!hasInstanceLayer(kValidationLayer))
+    layerVersion = instanceLayerVersion(kValidationLayer);
+    if (layerVersion == 0)
       throw DeviceError(std::string("vulkan: validation requested but ") + kValidationLayer +
                         " is not installed (Debian package vulkan-validationlayers)");
     layers.push_back(kValidationLayer);
@@ -214,6 +224,16 @@ void Context::createInstance(bool wantValidation, const std::vector<std::string>
   if (debugUtils_) {
     setObjectName_ = reinterpret_cast<PFN_vkSetDebugUtilsObjectNameEXT>(
         vkGetInstanceProcAddr(instance_, "vkSetDebugUtilsObjectNameEXT"));
+  }
+  // The layer may also be switched on from outside (vkconfig's variables): labels follow the
+  // installed layer's version then too.
+  const char* outside[] = {"VK_INSTANCE_LAYERS", "VK_LOADER_LAYERS_ENABLE"};
+  for (const char* var : outside) {
+    const char* v = std::getenv(var);
+    if (layerVersion == 0 && v && lower(v).find("validation") != std::string::npos)
+      layerVersion = instanceLayerVersion(kValidationLayer);
+  }
+  if (debugUtils_ && commandLabelsSafe(layerVersion)) {
     cmdBeginLabel_ = reinterpret_cast<PFN_vkCmdBeginDebugUtilsLabelEXT>(
         vkGetInstanceProcAddr(instance_, "vkCmdBeginDebugUtilsLabelEXT"));
     cmdEndLabel_ = reinterpret_cast<PFN_vkCmdEndDebugUtilsLabelEXT>(

@@ -1,11 +1,16 @@
 // The Vulkan core: a pass dispatched through ComputePipeline writes what its CPU twin expects,
 // buffers round-trip through staging, oversize bindings are refused, timestamps are recorded.
 #include <gtest/gtest.h>
+#include <sched.h>
+
+#include <chrono>
+#include <stdexcept>
 
 #include "common/error.h"
 #include "shaders/shared/util_fill.h"
 #include "vk/binder.h"
 #include "vk/buffer.h"
+#include "vk/debug_labels.h"
 #include "vk/pipeline.h"
 #include "vk/timer.h"
 #include "common/vk_test.h"
@@ -19,6 +24,50 @@ TEST(Context, ChoosesADeviceWithCompute) {
   EXPECT_GE(ctx.caps().subgroupSize, 1u);
   EXPECT_GE(ctx.caps().maxStorageBufferRange, 1u << 27);
   EXPECT_FALSE(vk::listDevices().empty());
+}
+
+TEST(Context, CommandLabelsOnlyUnderALayerThatLocksThem) {
+  EXPECT_TRUE(vk::commandLabelsSafe(0));  // no validation layer
+  EXPECT_FALSE(vk::commandLabelsSafe(VK_MAKE_API_VERSION(0, 1, 3, 239)));  // Debian 12's
+  EXPECT_FALSE(vk::commandLabelsSafe(VK_MAKE_API_VERSION(0, 1, 3, 242)));
+  EXPECT_TRUE(vk::commandLabelsSafe(VK_MAKE_API_VERSION(0, 1, 3, 243)));
+  EXPECT_TRUE(vk::commandLabelsSafe(VK_MAKE_API_VERSION(0, 1, 4, 300)));
+}
+
+// The pattern that corrupted the heap inside validation layer 1.3.239 (docs/testing.md): many
+// one-shot submissions with a label each, on one CPU so that the layer's queue thread is
+// preempted between signalling the fence and dropping its last reference to the freed command
+// buffer. With labels recorded under that layer this test fails (std::bad_alloc or abort)
+// within seconds; tools/repro/vvl_label_race.cpp does the same without osr-vk.
+TEST(Context, ManyLabelledOneShotSubmissionsOnOneCpu) {
+  struct Pinned {  // the process on its first allowed CPU, restored whatever happens
+    cpu_set_t saved;
+    Pinned() {
+      if (sched_getaffinity(0, sizeof(saved), &saved) != 0) throw std::runtime_error("affinity");
+      cpu_set_t one;
+      CPU_ZERO(&one);
+      for (int cpu = 0; cpu < CPU_SETSIZE; ++cpu)
+        if (CPU_ISSET(cpu, &saved)) {
+          CPU_SET(cpu, &one);
+          break;
+        }
+      if (sched_setaffinity(0, sizeof(one), &one) != 0) throw std::runtime_error("affinity");
+    }
+    ~Pinned() { sched_setaffinity(0, sizeof(saved), &saved); }
+  } pinned;
+  // Its own context, so that the layer's queue thread starts on the one CPU too.
+  vk::ContextOptions options;
+  options.validation = true;
+  vk::Context ctx(options);
+  // 100 000 rounds take about 5 s on an idle core; on a busy one each hand-over between the
+  // threads waits for the scheduler, so the loop also stops after 20 s.
+  const auto stop = std::chrono::steady_clock::now() + std::chrono::seconds(20);
+  for (int i = 0; i < 100000 && std::chrono::steady_clock::now() < stop; ++i)
+    ctx.submitAndWait([&](VkCommandBuffer cmd) {
+      ctx.beginLabel(cmd, "one-shot");
+      ctx.endLabel(cmd);
+    });
+  EXPECT_EQ(ctx.validationMessages(), 0u);
 }
 
 TEST(Context, FillPassWritesExactlyCountWords) {
