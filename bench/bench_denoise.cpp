@@ -8,6 +8,7 @@
 #include <chrono>
 #include <cstdio>
 #include <memory>
+#include <optional>
 
 #include "app/args.h"
 #include "bench/benchmarks.h"
@@ -57,6 +58,8 @@ int runDenoise(const std::vector<std::string>& args) {
   const uint32_t size = uint32_t(a.integer("--size", 8, 4096).value_or(256));
   auto budgets = a.integerList("--budgets", 1, 3600).value_or(std::vector<long long>{5, 10, 30});
   const std::string network = a.value("--network").value_or("default");
+  const auto envArg = a.value("--env");  // generated interiors light through their windows
+  const std::string cameraArg = a.value("--camera").value_or("");
   a.finish();
   const bool named = sceneArg == "cornell" || sceneArg == "room";
   const std::string dir = std::string(OSR_SOURCE_DIR) + "/scenes/" + sceneArg + "/";
@@ -80,8 +83,10 @@ int runDenoise(const std::vector<std::string>& args) {
 
   vk::Context ctx;
   scene::Scene sc = scene::loadScene(scenePath);
-  scene::Camera cam = scene::selectCamera(sc, "", 1.f);
-  scene::GpuScene gs(ctx, sc);
+  scene::Camera cam = scene::selectCamera(sc, cameraArg, 1.f);
+  std::optional<scene::Environment> env;
+  if (envArg) env = scene::loadEnvironment(*envArg);
+  scene::GpuScene gs(ctx, sc, env ? &*env : nullptr);
   bvh::Bvh tree = bvh::buildGpu(ctx, gs.vertices, gs.triangles, gs.triangleCount);
   oneshot::OsrSettings osrSettings;
   osrSettings.resolveEverySubmission = false;  // as --offline

@@ -89,8 +89,10 @@ int runOsr(const std::vector<std::string>& args);   // OSR vs path tracing at eq
 inline constexpr char kDenoiseSummary[] = "image denoisers at equal time (denoise time in the budget)";
 inline constexpr char kDenoiseUsage[] =
     "osr-bench denoise [--scene cornell|room|FILE.gltf] [--reference FILE.exr] [--size N]\n"
-    "                  [--budgets 5,10,30] [--network default|none|FILE]\n"
+    "                  [--budgets 5,10,30] [--network default|none|FILE] [--env FILE] [--camera NAME]\n"
     "  --scene NAME       a reference scene (default cornell) or a glTF file (needs --reference)\n"
+    "  --env FILE         an environment map (.hdr, .exr) lighting the scene, as osr-vk --env\n"
+    "  --camera NAME      the glTF camera (name or index) the reference was rendered from\n"
     "  --reference FILE   the reference EXR (default: the scene's 4096-spp Cycles render)\n"
     "  --size N           image width and height, 8 to 4096 (default 256)\n"
     "  --budgets LIST     time budgets in seconds, each 1 to 3600 (default 5,10,30)\n"

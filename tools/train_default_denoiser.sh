@@ -9,7 +9,7 @@
 #                  is not for shipping
 #   --work DIR     where renders and the run go (default: work/denoise in the repository)
 #   --osr-vk PATH  the osr-vk executable (default: build/osr-vk)
-#   --minutes M    training budget (default 72)
+#   --minutes M    training budget (default 45)
 #   --install      copy the packed model to models/osr_image_denoiser.osrw and its record to
 #                  models/osr_image_denoiser.json
 #
@@ -17,7 +17,7 @@
 set -euo pipefail
 root="$(cd "$(dirname "$0")/.." && pwd)"
 py=/usr/bin/python3
-quick=0 install=0 work="$root/work/denoise" osrvk="$root/build/osr-vk" minutes=72
+quick=0 install=0 work="$root/work/denoise" osrvk="$root/build/osr-vk" minutes=45
 while (($#)); do
   case "$1" in
     --quick) quick=1 ;;
@@ -42,8 +42,8 @@ if ((quick)); then
   $py "$t/train_denoiser.py" "$work/data" --val "$work/val" --out "$work/run" --quick "${resume[@]}"
 else
   $py "$t/make_denoise_data.py" "$work/val" --validation --osr-vk "$osrvk"
-  $py "$t/make_denoise_data.py" "$work/data" --seeds 1-22 --cameras 1 --osr-vk "$osrvk"
-  $py "$t/train_denoiser.py" "$work/data" --val "$work/val" --out "$work/run" --k 16 --minutes "$minutes" \
+  $py "$t/make_denoise_data.py" "$work/data" --seeds 1-28 --cameras 1 --osr-vk "$osrvk"
+  $py "$t/train_denoiser.py" "$work/data" --val "$work/val" --out "$work/run" --arch kpn --k 8 --minutes "$minutes" \
     "${resume[@]}"
 fi
 $py "$t/weights_pack.py" "$work/run/best.pt" "$work/run/model.osrw"
