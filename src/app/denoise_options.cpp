@@ -6,8 +6,9 @@ namespace osr::app {
 
 namespace {
 
-// Each mode's default: undenoised everywhere for now, since the shipped image model measures
-// worse than the raw image and the filter darkens (docs/denoise.md, "The switch").
+// Each mode's default: undenoised everywhere for now: the shipped model wins on room but
+// leaves a halo at lamps that loses to raw OSR on cornell, and the filter darkens
+// (docs/denoise.md, "The switch").
 render::DenoiseSettings modeDefault(const std::string&) { return {}; }
 
 }  // namespace
@@ -25,9 +26,9 @@ std::string denoiseHelp() {
   };
   return "  --network default|none|FILE  learned image denoiser (docs/denoise.md) on the final\n"
          "                        image, and in the viewer every few units: default = the\n"
-         "                        shipped model (not yet better than --filter atrous:\n"
-         "                        colour casts and blur, docs/denoise.md), FILE = a\n"
-         "                        packed image denoiser\n"
+         "                        shipped model (beats --filter atrous in interiors; a thin\n"
+         "                        halo beside lamps, docs/denoise.md), FILE = a packed\n"
+         "                        image denoiser\n"
          "                        (default per mode: " + defaults(true) + ")\n"
          "  --filter atrous|none  edge-aware a-trous filter (SVGF) where no network runs\n"
          "                        (default per mode: " + defaults(false) + ")\n";

@@ -1,0 +1,60 @@
+#!/usr/bin/python3
+"""Images side by side in one PNG, for looking at renders against each other (docs/images).
+
+usage: side_by_side.py OUT.png A.exr B.exr ... [--exposure EV] [--gap 4]
+
+Each EXR's default RGB layer, scaled by 2^EV, clamped to [0, 1] and sRGB-encoded as
+`osr-vk --png --tonemap clamp` does, left to right in the order given, with a black gap
+between them. All images must have the same height.
+"""
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+import numpy as np
+
+HERE = Path(__file__).resolve().parent
+sys.path.insert(0, str(HERE))
+sys.path.insert(0, str(HERE.parent / "blender" / "osr_vk"))  # exr.py: numpy only, no bpy
+import exr  # noqa: E402
+from gltf_build import png  # noqa: E402
+
+
+def srgb8(x: np.ndarray) -> np.ndarray:
+    x = np.clip(np.nan_to_num(x, nan=0.0, posinf=1.0, neginf=0.0), 0.0, 1.0)
+    s = np.where(x <= 0.0031308, 12.92 * x, 1.055 * np.power(x, 1 / 2.4) - 0.055)
+    return np.round(s * 255).astype(np.uint8)
+
+
+def main(argv: list[str] | None = None) -> int:
+    p = argparse.ArgumentParser(prog="side_by_side.py", description=__doc__.split("\n", 2)[2],
+                                formatter_class=argparse.RawDescriptionHelpFormatter)
+    p.add_argument("out")
+    p.add_argument("images", nargs="+")
+    p.add_argument("--exposure", type=float, default=0.0, help="EV applied to every image (default 0)")
+    p.add_argument("--gap", type=int, default=4, help="pixels between images (default 4)")
+    args = p.parse_args(argv)
+    panels = []
+    for path in args.images:
+        try:
+            _, _, planes = exr.read_layers(path)
+            rgb = np.stack([planes[c] for c in "RGB"], -1).astype(np.float64)
+        except (exr.ExrError, KeyError, OSError) as e:
+            print(f"side_by_side.py: {path}: not an RGB EXR ({e})", file=sys.stderr)
+            return 2
+        panels.append(srgb8(rgb * 2.0 ** args.exposure))
+    height = panels[0].shape[0]
+    if any(q.shape[0] != height for q in panels):
+        print("side_by_side.py: the images differ in height", file=sys.stderr)
+        return 2
+    gap = np.zeros((height, max(args.gap, 0), 3), np.uint8)
+    row = np.concatenate([x for q in panels for x in (q, gap)][:-1], 1)
+    texels = [(int(r), int(g), int(b), 255) for r, g, b in row.reshape(-1, 3)]
+    Path(args.out).write_bytes(png(row.shape[1], height, texels))
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
