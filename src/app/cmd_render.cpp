@@ -159,6 +159,8 @@ IntegratorSettings validateRenderOptions(RenderOptions& o) {
   // The map cache pays where views follow each other: camera moves, a shot's frames.
   if (!o.integrator.osr.mapCache && (o.live() || o.frames))
     settings.osr.mapCacheMaps = oneshot::kDefaultMapCacheMaps;
+  // The viewer shows an image soon after a move: light first passes (docs/viewer.md).
+  if (o.live()) settings.osr.quickPasses = oneshot::kViewerQuickPasses;
   if (o.dumpMaps && o.integrator.mode != "osr")
     throw InputError("--dump-maps: an option of --mode osr");
   if (o.exposure && !o.live() && !o.pngPath)

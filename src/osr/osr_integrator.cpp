@@ -155,7 +155,7 @@ std::vector<OsrIntegrator::Step> OsrIntegrator::stepsOfPass(uint32_t k, uint32_t
   const uint32_t pixels = width_ * height_;
   std::vector<Step> steps;
   // Per-pixel costs in path units (as OsrSettings::pixelCost splits them).
-  auto banded = [&](K kind, double perPixel) {
+  auto banded = [&](std::vector<Step>& out, K kind, double perPixel) {
     if (perPixel <= 0.0) return;
     for (uint32_t b = 0; b < bands; ++b) {
       // Band edges on window-aligned pixels (OsrPass binds from there).
@@ -164,11 +164,10 @@ std::vector<OsrIntegrator::Step> OsrIntegrator::stepsOfPass(uint32_t k, uint32_t
                           : uint32_t(uint64_t(pixels) * i / bands) / render::kWindowAlignPixels *
                                 render::kWindowAlignPixels;
       };
-      if (edge(b + 1) > edge(b)) steps.push_back({kind, edge(b), edge(b + 1), perPixel * (edge(b + 1) - edge(b))});
+      if (edge(b + 1) > edge(b)) out.push_back({kind, edge(b), edge(b + 1), perPixel * (edge(b + 1) - edge(b))});
     }
   };
-  banded(K::Gbuffer, settings_.gbufferCost(k));
-  banded(K::Direct, 0.5 * samples.direct);
+  banded(steps, K::Gbuffer, settings_.gbufferCost(k));
   if (gp.traceMaps) {
     const uint32_t maps = current_.cellsX * current_.cellsY;
     const double perMap = schedule_.mapWork(gp) / std::max(maps, 1u);
@@ -176,8 +175,16 @@ std::vector<OsrIntegrator::Step> OsrIntegrator::stepsOfPass(uint32_t k, uint32_t
       steps.push_back({K::Maps, first, std::min(maps, first + chunkMaps),
                        perMap * (std::min(maps, first + chunkMaps) - first)});
   }
-  banded(K::Composite, 0.25);
-  banded(K::Residual, double(samples.residual));
+  // Direct light and the maps' indirect light band by band, so that the bands the viewer shows
+  // during a first pass are lit by both (with the map cache the maps come at once).
+  std::vector<Step> direct, composite;
+  banded(direct, K::Direct, 0.5 * samples.direct);
+  banded(composite, K::Composite, 0.25);
+  for (size_t b = 0; b < std::max(direct.size(), composite.size()); ++b) {
+    if (b < direct.size()) steps.push_back(direct[b]);
+    if (b < composite.size()) steps.push_back(composite[b]);
+  }
+  banded(steps, K::Residual, double(samples.residual));
   return steps;
 }
 

@@ -1,6 +1,6 @@
 // One Shot Radiance as an Integrator (render/integrator.h); one unit = one progressive pass:
-//   gbuffer -> direct -> [maps -> normalize -> U-Net -> denoise -> project, per chunk]
-//   -> composite -> residual -> resolve
+//   gbuffer -> [cache lookup -> maps -> normalize -> U-Net -> denoise -> cache store ->
+//   project, per chunk] -> direct and composite, band by band -> residual -> resolve
 // all recorded in one command buffer, no host round trip. The estimator and schedule are
 // documented in docs/osr.md; the grid schedule in grid_schedule.h.
 #pragma once

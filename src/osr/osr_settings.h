@@ -26,6 +26,9 @@ struct PassSamples {
 // times the maps of a 512 x 512 pass at the default grid.
 inline constexpr uint32_t kDefaultMapCacheMaps = 4096;
 
+// Light passes after each restart in the viewer (OsrSettings::quickPasses).
+inline constexpr uint32_t kViewerQuickPasses = 1;
+
 struct OsrSettings {
   // Measured (docs/training.md): at equal time the shipped U-Net's better maps do not yet pay
   // for its cost per pass on lavapipe (better on room at 10 s, worse on cornell and at 30 s),
@@ -64,7 +67,15 @@ struct OsrSettings {
   // a 256 x 256 pass on lavapipe).
   bool resolveEverySubmission = true;
 
+  // Passes after a restart that take few samples, so that an image is on screen soon after a
+  // camera move (the viewer; docs/viewer.md): the late passes' light samples, the first
+  // passes' residual paths, quickCameraSamples camera rays. 0: none (offline renders start with the settle passes).
+  uint32_t quickPasses = 0;
+  uint32_t quickCameraSamples = 2;
+
   PassSamples samplesOfPass(uint32_t pass) const {
+    if (pass < quickPasses)
+      return PassSamples{directSamplesLate, residualSamples, quickCameraSamples};
     return pass < settlePasses ? PassSamples{directSamples, residualSamples, cameraSamples}
                                : PassSamples{directSamplesLate, residualSamplesLate,
                                              cameraSamplesLate};
