@@ -1,14 +1,19 @@
 // osr-vk [options] scene.gltf: loads the scene, builds the BVH, renders progressively with
 // the chosen integrator and writes the multi-layer OpenEXR (--offline) and a PNG preview.
 // Output paths are checked before any work, and files are written through a temporary name,
-// so a failed render leaves existing files untouched.
+// so a failed render leaves existing files untouched. --time and Ctrl-C stop a render within
+// about a submission, even inside an OSR pass (DriverSettings::stopInUnit), and what was
+// rendered is written (README "Stopping a render").
+#include <signal.h>
 #include <unistd.h>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <memory>
+#include <new>
 #include <optional>
 
 #include "app/args.h"
@@ -16,6 +21,7 @@
 #include "app/device_options.h"
 #include "app/frames.h"
 #include "app/integrators.h"
+#include "app/interrupt.h"
 #include "app/output_paths.h"
 #include "app/scene_setup.h"
 #include "bvh/bvh.h"
@@ -122,6 +128,7 @@ struct RenderOptions {
   std::optional<FrameOptions> frames;
   vk::ContextOptions device;
   std::string scenePath;
+  std::chrono::steady_clock::time_point started = std::chrono::steady_clock::now();
   bool live() const { return !exrPath && !pngPath; }  // no output file: the viewer
 };
 
@@ -241,9 +248,12 @@ void checkRenderFiles(const RenderOptions& o, const HostScene& host) {
 
 // The stop rules: the unit count given or the mode's default, --time (alone: as many units as
 // fit). A unit longer than the batch target (an OSR pass at 4K takes minutes on lavapipe) runs
-// in slices, so progress lines keep coming during it. 16 for the first unit, before any is
-// timed: enough for progress, too few to cost a small render anything.
-render::DriverSettings driverSettings(const RenderOptions& o, const IntegratorSettings& settings) {
+// in slices, so progress lines keep coming during it. Offline, --time or Ctrl-C stops even a
+// unit part-way, so slices are many where pixels are (about 2048 pixels a slice, recorded in
+// groups of about the batch target: a first OSR pass at 4K in 4096 slices, at 512 x 512 in
+// 128, whose extra dispatches cost little). The viewer finishes a unit it started.
+render::DriverSettings driverSettings(const RenderOptions& o, const IntegratorSettings& settings,
+                                      uint64_t pixels) {
   render::DriverSettings ds;
   ds.maxUnits = settings.unitsOrDefault();
   if (o.timeLimit) {
@@ -251,7 +261,10 @@ render::DriverSettings driverSettings(const RenderOptions& o, const IntegratorSe
     if (!settings.units) ds.maxUnits = 1u << 24;
   }
   ds.sliceUnits = true;
-  ds.firstUnitSlices = 16;
+  if (!o.live()) {
+    ds.stopInUnit = true;
+    ds.maxSlices = uint32_t(std::clamp<uint64_t>(pixels / 2048, 16, 4096));
+  }
   return ds;
 }
 
@@ -259,7 +272,7 @@ int runLive(const RenderOptions& o, const IntegratorSettings& settings, const Ho
             const vk::Context& ctx) {
   const DeviceScene dev(ctx, host);
   const IntegratorScene scene{ctx, dev.gpu, dev.bvh};
-  const render::DriverSettings ds = driverSettings(o, settings);
+  const render::DriverSettings ds = driverSettings(o, settings, uint64_t(host.width) * host.height);
   viewer::ViewerConfig vc;
   vc.scenePath = o.scenePath;
   vc.scene = &host.scene;
@@ -284,6 +297,12 @@ int runLive(const RenderOptions& o, const IntegratorSettings& settings, const Ho
 // bind it, so one is never kept across a rebuild. Otherwise a shot's frames share one
 // integrator: restart() clears every accumulated state, and making one costs seconds of
 // pipeline builds on lavapipe.
+// Thrown when Ctrl-C or SIGTERM stopped the render (after writing what was rendered, for one
+// image); runRender exits 128 + the signal.
+struct Interrupted {
+  int signal;
+};
+
 class OfflineRenderer {
  public:
   OfflineRenderer(const RenderOptions& o, const IntegratorSettings& settings, HostScene& host,
@@ -302,9 +321,11 @@ class OfflineRenderer {
   void renderFrames();
 
  private:
-  // The film's render: progress lines, a note when --time ran over, dropped samples.
+  // The film's render: progress lines, notes on a render stopped part-way, dropped samples.
   render::RenderStats render(const scene::Camera& camera, render::FilmLayers& film);
-  void write(const render::FilmLayers& film, const std::optional<std::string>& exrFile,
+  void notePartialUnit(const render::RenderStats& stats) const;
+  void write(const render::FilmLayers& film, const render::RenderStats& stats,
+             const std::optional<std::string>& exrFile,
              const std::optional<std::string>& pngFile) const;
   void printSummary(const render::RenderStats& stats) const;
 
@@ -326,8 +347,12 @@ void OfflineRenderer::renderImage(const scene::Camera& camera,
                                  host_.width, host_.height);
   render::FilmLayers film;
   const render::RenderStats stats = render(camera, film);
-  write(film, exrFile, pngFile);
+  // A shot's frame stopped by a signal is not written: --resume would take it for complete.
+  if (o_.frames && stats.stoppedBy == render::StopReason::Cancelled)
+    throw Interrupted{interrupt::stopSignal()};
+  write(film, stats, exrFile, pngFile);
   printSummary(stats);
+  if (stats.stoppedBy == render::StopReason::Cancelled) throw Interrupted{interrupt::stopSignal()};
 }
 
 void OfflineRenderer::renderFrames() {
@@ -349,29 +374,72 @@ void OfflineRenderer::renderFrames() {
 render::RenderStats OfflineRenderer::render(const scene::Camera& camera,
                                             render::FilmLayers& film) {
   ProgressPrinter progress(o_.quiet, settings_.units || !o_.timeLimit);
-  render::ProgressiveDriver driver(ctx_, *integrator_, driverSettings(o_, settings_));
+  render::DriverSettings ds = driverSettings(o_, settings_, uint64_t(host_.width) * host_.height);
+  // One image: --time counts from the start of osr-vk, set-up included (a frame of a shot: from
+  // its own start); the first submission runs whatever is left.
+  if (!o_.frames) ds.budgetStart = o_.started;
+  render::ProgressiveDriver driver(ctx_, *integrator_, ds);
   driver.restart(camera, uint32_t(o_.seed.value_or(0)));
-  const render::RenderStats stats = driver.run([&](const render::Progress& p) { progress(p); });
+  interrupt::renderLoopStarts();
+  const render::RenderStats stats =
+      driver.run([&](const render::Progress& p) { progress(p); }, interrupt::stopFlag());
   film = integrator_->resolve();
   if (imageDenoiser_) imageDenoiser_->apply(film);
   progress.finish();
-  // The driver never stops inside a unit, and an image needs one whole: say why --time ran
-  // over. (A quarter over: nearer, the budget's own rounding.)
-  if (!o_.quiet && o_.timeLimit && stats.units == 1 && stats.seconds > 1.25 * *o_.timeLimit)
-    std::fprintf(stderr, "osr-vk: note: the image needs one whole %s, which took %.1f s, past --time %g\n",
-                 settings_.kind->oneUnit, stats.seconds, *o_.timeLimit);
+  notePartialUnit(stats);
   if (film.droppedSamples > 0)
     std::fprintf(stderr, "osr-vk: warning: %llu non-finite samples dropped\n",
                  static_cast<unsigned long long>(film.droppedSamples));
   return stats;
 }
 
-void OfflineRenderer::write(const render::FilmLayers& film,
+// A render that --time or a signal stopped inside a unit: what the unit left in the image.
+// Without a complete unit the image is unfinished, which a warning says even with --quiet.
+void OfflineRenderer::notePartialUnit(const render::RenderStats& stats) const {
+  if (stats.abandonedFraction <= 0.0) return;
+  const char* by = stats.stoppedBy != render::StopReason::Cancelled ? "--time"
+                   : interrupt::stopSignal() == SIGTERM          ? "SIGTERM"
+                                                                 : "Ctrl-C";
+  const double percent = 100.0 * stats.abandonedFraction;
+  if (stats.units == 0)
+    std::fprintf(stderr,
+                 "osr-vk: warning: %s stopped the first %s at %.0f%% after %.1f s: the image is "
+                 "unfinished (black where it did not reach)\n",
+                 by, settings_.kind->oneUnit, percent, stats.seconds);
+  else if (!o_.quiet)
+    std::fprintf(stderr, "osr-vk: note: %s stopped %.0f%% into the %s after %u; %s\n", by,
+                 percent, settings_.kind->oneUnit, stats.units,
+                 settings_.kind->dropsPartialUnit
+                     ? "it is dropped: the image is of the complete ones"
+                     : "the pixels it reached have one sample more than the others");
+}
+
+// How the image was made, in the EXR header: the mode, the complete units under the unit
+// option's name (osr-vk:passes, osr-vk:spp), the share of a unit stopped part-way that the
+// image holds (0 when none or dropped), what stopped the render and its seconds.
+std::vector<image::ExrAttribute> renderAttributes(const IntegratorSettings& settings,
+                                                  const render::RenderStats& stats) {
+  const std::string unit = std::string("osr-vk:") + (settings.kind->unitOption + 2);
+  const bool keptPartial = stats.units == 0 || !settings.kind->dropsPartialUnit;
+  const char* stop = stats.stoppedBy == render::StopReason::Cancelled ? "signal"
+                     : stats.stoppedBy == render::StopReason::Time    ? "time"
+                                                                      : "units";
+  return {{"osr-vk:mode", std::string(settings.kind->name)},
+          {unit, int(stats.units)},
+          {"osr-vk:partial", float(keptPartial ? stats.abandonedFraction : 0.0)},
+          {"osr-vk:stopped-by", std::string(stop)},
+          {"osr-vk:seconds", float(stats.seconds)}};
+}
+
+void OfflineRenderer::write(const render::FilmLayers& film, const render::RenderStats& stats,
                             const std::optional<std::string>& exrFile,
                             const std::optional<std::string>& pngFile) const {
-  if (exrFile)
-    image::writeExr(*exrFile, render::toLayeredImage(film),
+  if (exrFile) {
+    image::LayeredImage img = render::toLayeredImage(film);
+    img.attributes = renderAttributes(settings_, stats);
+    image::writeExr(*exrFile, img,
                     o_.exrFloat ? image::ExrPixelType::Float : image::ExrPixelType::Half);
+  }
   if (pngFile)
     image::writePng(*pngFile, {film.width, film.height, film.combined}, o_.exposure, film.depth);
   if (o_.dumpMaps)
@@ -399,13 +467,28 @@ int runRender(const std::vector<std::string>& args) {
   HostScene host = loadRenderScene(options);
   checkRenderFiles(options, host);
   warnIfNeutralSky(host);
+  if (!options.live()) interrupt::install();
   vk::Context ctx(options.device);
   if (options.live()) return runLive(options, settings, host, ctx);
-  OfflineRenderer renderer(options, settings, host, ctx);
-  if (options.frames)
-    renderer.renderFrames();
-  else
-    renderer.renderImage(host.camera, options.exrPath, options.pngPath);
+  // Device loss and running out of memory: one line naming the failure and the image size;
+  // the outputs are written only after a whole render, so none is changed.
+  const std::string image = std::to_string(host.width) + "x" + std::to_string(host.height) +
+                            " " + options.integrator.mode + " render";
+  try {
+    OfflineRenderer renderer(options, settings, host, ctx);
+    if (options.frames)
+      renderer.renderFrames();
+    else
+      renderer.renderImage(host.camera, options.exrPath, options.pngPath);
+  } catch (const Interrupted& i) {
+    std::fprintf(stderr, "osr-vk: interrupted (%s)%s\n", i.signal == SIGTERM ? "SIGTERM" : "SIGINT",
+                 options.frames ? ": the frame in progress is not written" : "");
+    return 128 + i.signal;
+  } catch (const DeviceError& e) {
+    throw DeviceError(image + " failed: " + e.what() + "; no output written");
+  } catch (const std::bad_alloc&) {
+    throw DeviceError(image + " failed: out of host memory; no output written");
+  }
   return 0;
 }
 

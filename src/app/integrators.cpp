@@ -67,9 +67,9 @@ oneshot::OsrSettings osrSettings(const OsrOptions& o) {
 // about the path tracer's default time.
 const std::vector<IntegratorKind>& integratorKinds() {
   static const std::vector<IntegratorKind> kinds = {
-      {"path", "--spp", "sample per pixel", 64, makePathTracer},
-      {"preview", "--spp", "sample per pixel", 4, makePathTracer},
-      {"osr", "--passes", "pass", 32, makeOsr},
+      {"path", "--spp", "sample per pixel", 64, false, makePathTracer},
+      {"preview", "--spp", "sample per pixel", 4, false, makePathTracer},
+      {"osr", "--passes", "pass", 32, true, makeOsr},
   };
   return kinds;
 }

@@ -34,6 +34,9 @@ struct IntegratorKind {
   const char* unitOption;  // the option that counts its units
   const char* oneUnit;     // one unit in words ("pass"), for messages
   uint32_t defaultUnits;   // units without a count or --time
+  // Whether a unit that --time or Ctrl-C stopped part-way is dropped from the image (after a
+  // complete one; Integrator::abandonUnit does it) rather than kept where it reached.
+  bool dropsPartialUnit;
   std::unique_ptr<render::Integrator> (*make)(const IntegratorScene& scene,
                                               const IntegratorSettings& settings,
                                               uint32_t width, uint32_t height);

@@ -1,6 +1,10 @@
 #include "image/image_io.h"
 
+#include <ImfAttribute.h>
 #include <ImfChannelList.h>
+#include <ImfFloatAttribute.h>
+#include <ImfIntAttribute.h>
+#include <ImfStringAttribute.h>
 #include <ImfFrameBuffer.h>
 #include <ImfHeader.h>
 #include <ImfInputFile.h>
@@ -10,6 +14,7 @@
 #include <unistd.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cerrno>
 #include <cmath>
 #include <cstdio>
@@ -33,10 +38,34 @@ std::string tempNameFor(const std::string& path) {
   return path + ".tmp" + std::to_string(::getpid());
 }
 
-// Renames the finished temporary over the target; on failure removes the temporary.
+// pendingTempFile(): the name is complete before `pendingReady` says so, so a handler never
+// reads half a name (which could be a prefix such as the output's own name).
+char pendingName[4096];
+std::atomic<bool> pendingReady{false};
+static_assert(std::atomic<bool>::is_always_lock_free);
+
+// Marks `tmp` as the temporary being written (until commit or discard).
+void markPending(const std::string& tmp) {
+  pendingReady = false;
+  if (tmp.size() >= sizeof pendingName) return;  // not removable by a handler; still renamed
+  std::memcpy(pendingName, tmp.c_str(), tmp.size() + 1);
+  pendingReady = true;
+}
+
+// Removes a temporary that will not become the output.
+void discard(const std::string& tmp) {
+  pendingReady = false;
+  std::error_code ec;
+  fs::remove(tmp, ec);
+}
+
+// Renames the finished temporary over the target; on failure removes the temporary. A
+// handler that unlinks the pending name during the rename leaves either the old output or
+// the new complete one.
 void commit(const std::string& tmp, const std::string& path) {
   std::error_code ec;
   fs::rename(tmp, path, ec);
+  pendingReady = false;
   if (ec) {
     fs::remove(tmp, ec);
     throw InputError(path + ": cannot write (" + ec.message() + ")");
@@ -44,6 +73,8 @@ void commit(const std::string& tmp, const std::string& path) {
 }
 
 }  // namespace
+
+const char* pendingTempFile() { return pendingReady ? pendingName : nullptr; }
 
 void checkWritable(const std::string& path) {
   std::error_code ec;
@@ -85,15 +116,23 @@ void writeExr(const std::string& path, const LayeredImage& image, ExrPixelType t
       }
     }
   }
+  for (const ExrAttribute& a : image.attributes) {
+    if (const int* i = std::get_if<int>(&a.value))
+      header.insert(a.name, Imf::IntAttribute(*i));
+    else if (const float* f = std::get_if<float>(&a.value))
+      header.insert(a.name, Imf::FloatAttribute(*f));
+    else
+      header.insert(a.name, Imf::StringAttribute(std::get<std::string>(a.value)));
+  }
   const std::string tmp = tempNameFor(path);
+  markPending(tmp);
   try {
     // ZIP compression of a 4K multi-layer image takes seconds per core: use them all.
     Imf::OutputFile file(tmp.c_str(), header, int(std::max(1u, std::thread::hardware_concurrency())));
     file.setFrameBuffer(fb);
     file.writePixels(h);
   } catch (const std::exception& e) {
-    std::error_code ec;
-    fs::remove(tmp, ec);
+    discard(tmp);
     throw InputError(path + ": cannot write OpenEXR (" + e.what() + ")");
   }
   commit(tmp, path);
@@ -126,6 +165,25 @@ RgbImage readExrRgb(const std::string& path) {
     return img;
   } catch (const InputError&) {
     throw;
+  } catch (const std::exception& e) {
+    throw InputError(path + ": cannot read OpenEXR (" + e.what() + ")");
+  }
+}
+
+std::vector<ExrAttribute> readExrAttributes(const std::string& path) {
+  try {
+    Imf::InputFile file(path.c_str());
+    std::vector<ExrAttribute> out;
+    for (auto it = file.header().begin(); it != file.header().end(); ++it) {
+      const Imf::Attribute& a = it.attribute();
+      if (auto* i = dynamic_cast<const Imf::IntAttribute*>(&a))
+        out.push_back({it.name(), i->value()});
+      else if (auto* f = dynamic_cast<const Imf::FloatAttribute*>(&a))
+        out.push_back({it.name(), f->value()});
+      else if (auto* s = dynamic_cast<const Imf::StringAttribute*>(&a))
+        out.push_back({it.name(), s->value()});
+    }
+    return out;
   } catch (const std::exception& e) {
     throw InputError(path + ": cannot read OpenEXR (" + e.what() + ")");
   }
@@ -217,9 +275,9 @@ std::vector<uint8_t> toneMapSrgb8(const RgbImage& image, double exposureEv, Tone
 
 void writePng8(const std::string& path, int width, int height, const std::vector<uint8_t>& rgb) {
   const std::string tmp = tempNameFor(path);
+  markPending(tmp);
   if (!stbi_write_png(tmp.c_str(), width, height, 3, rgb.data(), width * 3)) {
-    std::error_code ec;
-    fs::remove(tmp, ec);
+    discard(tmp);
     throw InputError(path + ": cannot write PNG");
   }
   commit(tmp, path);

@@ -5,6 +5,7 @@
 #pragma once
 #include <optional>
 #include <string>
+#include <variant>
 #include <vector>
 
 namespace osr::image {
@@ -18,10 +19,17 @@ struct ImageLayer {
   std::vector<float> data;
 };
 
+// A header attribute of an OpenEXR file (written as OpenEXR's int, float or string type).
+struct ExrAttribute {
+  std::string name;
+  std::variant<int, float, std::string> value;
+};
+
 struct LayeredImage {
   int width = 0;
   int height = 0;
   std::vector<ImageLayer> layers;
+  std::vector<ExrAttribute> attributes;  // extra header attributes (how it was rendered)
 };
 
 // RGB float image, interleaved, top row first.
@@ -41,6 +49,14 @@ enum class ExrPixelType { Half, Float };
 void writeExr(const std::string& path, const LayeredImage& image, ExrPixelType type);
 // Reads the default layer's R, G, B (or Y as grey). Throws InputError naming the file.
 RgbImage readExrRgb(const std::string& path);
+// The header's int, float and string attributes (others are left out), in the header's order.
+// Throws InputError naming the file.
+std::vector<ExrAttribute> readExrAttributes(const std::string& path);
+
+// The temporary file a writer of this module has open (it becomes the output by a rename
+// when complete), or null: a signal handler that exits at once unlinks it, so no half file
+// is left behind. Async-signal-safe.
+const char* pendingTempFile();
 
 // Automatic exposure (EV). It meters the pixels that saw a surface (depth[i] > 0, where a
 // depth layer is given; e.g. render::FilmLayers::depth) or carry light (luminance > 0), so a

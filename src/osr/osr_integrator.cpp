@@ -291,7 +291,13 @@ render::FilmLayers OsrIntegrator::resolve() const {
 
 void OsrIntegrator::recordSlice(VkCommandBuffer cmd, uint32_t unit, uint32_t slice,
                                 uint32_t slices, vk::GpuTimer* timer) {
-  if (slice == 0) beginPass(unit);
+  if (slice == 0) {
+    // The film is resolved for the passes before this one, so that it can be dropped when
+    // the driver stops part-way (abandonUnit): one pixel pass per sliced pass.
+    if (filmBehind_ && unit > 0) recordResolve(cmd, unit, timer);
+    filmBehind_ = false;
+    beginPass(unit);
+  }
   const uint32_t maps = current_.cellsX * current_.cellsY;
   // At least 16 maps a chunk: smaller ones cost more in dispatches and barriers than they
   // save in submission length (about 30 ms of map paths on lavapipe). keepAllMaps keeps the
@@ -334,6 +340,12 @@ std::array<uint32_t, 4> OsrIntegrator::mapCacheActions() const {
   for (const o::MapCacheRef& r : buffers_->mapCacheRefs.downloadVector<o::MapCacheRef>(maps))
     if (r.action < counts.size()) ++counts[r.action];
   return counts;
+}
+
+void OsrIntegrator::abandonUnit(uint32_t unit, uint32_t /*slicesDone*/, uint32_t /*slices*/) {
+  passesDone_ = unit;
+  // After complete passes the film already holds them; the first pass is resolved as it is.
+  filmBehind_ = unit == 0;
 }
 
 OsrIntegrator::MapDump OsrIntegrator::downloadMaps() const {

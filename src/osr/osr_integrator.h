@@ -37,9 +37,14 @@ class OsrIntegrator : public render::Integrator {
   void record(VkCommandBuffer cmd, uint32_t first, uint32_t count, vk::GpuTimer* timer) override;
   // A pass in slices for the viewer: bands of the pixel passes and small chunks of maps, in
   // the order a whole pass records them, split by the cost model.
-  uint32_t maxSlicesPerUnit() const override { return 256; }
+  uint32_t maxSlicesPerUnit() const override { return 4096; }
   void recordSlice(VkCommandBuffer cmd, uint32_t unit, uint32_t slice, uint32_t slices,
                    vk::GpuTimer* timer) override;
+  // A pass left unfinished is dropped: the film keeps the image of the complete passes
+  // (recordSlice resolves it before a sliced pass begins). The first pass has none before it,
+  // so what it recorded is resolved as the viewer shows it: the bands of direct light and
+  // indirect light done so far, black where no band reached.
+  void abandonUnit(uint32_t unit, uint32_t slicesDone, uint32_t slices) override;
   const render::Film& film() const override { return film_; }
   // Resolves first when record() left the film behind (resolveEverySubmission false).
   render::FilmLayers resolve() const override;

@@ -49,6 +49,13 @@ class Integrator {
   virtual void recordSlice(VkCommandBuffer /*cmd*/, uint32_t /*unit*/, uint32_t /*slice*/,
                            uint32_t /*slices*/, vk::GpuTimer* /*timer*/) {}
 
+  // The driver stopped after slice `slicesDone` - 1 of `slices` of unit `unit` and will not
+  // finish it (--time or Ctrl-C in the CLI, DriverSettings::stopInUnit): what resolve() gives
+  // from now on. The default keeps the film as it is, which suits an integrator whose film
+  // holds per-pixel averages (the path tracer: pixels in the finished bands have one more
+  // sample). Until the next restart() nothing more is recorded.
+  virtual void abandonUnit(uint32_t /*unit*/, uint32_t /*slicesDone*/, uint32_t /*slices*/) {}
+
   // The film the passes accumulate into (the viewer displays it; resolve() downloads it).
   virtual const Film& film() const = 0;
   // Downloads the film as averaged layers (after the last submission has completed).

@@ -36,6 +36,12 @@ double ProgressiveDriver::elapsed() const {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - start_).count();
 }
 
+double ProgressiveDriver::budgetElapsed() const {
+  if (settings_.budgetStart == std::chrono::steady_clock::time_point{}) return elapsed();
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - settings_.budgetStart)
+      .count();
+}
+
 void ProgressiveDriver::restart(const scene::Camera& camera, uint32_t seed) {
   integrator_.restart(camera, seed);
   done_ = 0;
@@ -44,25 +50,35 @@ void ProgressiveDriver::restart(const scene::Camera& camera, uint32_t seed) {
   secondsPerCost_ = 0.0;
   slice_ = slices_ = 0;
   sliceSeconds_ = 0.0;
+  abandoned_ = false;
   stats_ = {};
   started_ = true;
   start_ = std::chrono::steady_clock::now();
 }
 
+bool ProgressiveDriver::overBudget(double nextSubmissionS) const {
+  return settings_.timeLimitS > 0.0 &&
+         budgetElapsed() + 0.5 * nextSubmissionS >= settings_.timeLimitS;
+}
+
 bool ProgressiveDriver::finished() const {
-  if (!started_) return true;
+  if (!started_ || abandoned_) return true;
   if (done_ >= settings_.maxUnits) return true;
-  if (slices_ > 0) return false;  // a unit in slices is finished before any stop rule
-  // Stop when one more unit would end further past the budget than we are before it.
-  return settings_.timeLimitS > 0.0 && done_ > 0 &&
-         elapsed() + 0.5 * secondsPerCost_ * integrator_.unitCost(done_) >= settings_.timeLimitS;
+  if (slices_ > 0) {  // a unit in slices: stopped part-way only with stopInUnit
+    if (!settings_.stopInUnit || slice_ == 0) return false;
+    return overBudget(sliceGroup() * sliceSeconds_ / slice_);
+  }
+  // Stop when one more unit would end further past the budget than we are before it. The
+  // first submission always runs: an image needs something in it.
+  if (stats_.submissions == 0 || (done_ == 0 && !settings_.stopInUnit)) return false;
+  return overBudget(secondsPerCost_ * integrator_.unitCost(done_));
 }
 
 uint32_t ProgressiveDriver::nextBatch() const {
   uint32_t n = std::min(batch_, settings_.maxUnits - done_);
   if (settings_.timeLimitS > 0.0 && secondsPerCost_ > 0.0) {
     // Do not plan past the time budget (at least one unit per submission).
-    const double left = settings_.timeLimitS - elapsed();
+    const double left = settings_.timeLimitS - budgetElapsed();
     double planned = 0.0;
     uint32_t fit = 0;
     while (fit < n) {
@@ -76,15 +92,38 @@ uint32_t ProgressiveDriver::nextBatch() const {
 }
 
 uint32_t ProgressiveDriver::slicesFor(double unitSeconds) const {
-  const uint32_t most = std::max(1u, integrator_.maxSlicesPerUnit());
+  const uint32_t most = std::max(1u, std::min(integrator_.maxSlicesPerUnit(), settings_.maxSlices));
   if (!settings_.sliceUnits || most == 1) return 1;
-  // Nothing measured yet: as many slices as allowed (or asked for), since a whole unit may
-  // take seconds.
-  if (unitSeconds <= 0.0)
-    return settings_.firstUnitSlices ? std::clamp(settings_.firstUnitSlices, 1u, most) : most;
+  // Nothing measured yet: as many slices as allowed, since a whole unit may take minutes
+  // (with stopInUnit they are recorded in groups, so many cost little).
+  if (unitSeconds <= 0.0) return most;
   if (unitSeconds <= settings_.batchTargetS) return 1;
   return uint32_t(
       std::min<double>(most, std::ceil(unitSeconds / std::max(settings_.batchTargetS, 1e-6))));
+}
+
+// The next unit's seconds: by the cost model once a submission is timed (an OSR map pass
+// costs more than the pass before it), else the last unit's before a restart (the viewer).
+double ProgressiveDriver::predictedUnitSeconds() const {
+  if (secondsPerCost_ > 0.0) return secondsPerCost_ * integrator_.unitCost(done_);
+  return lastUnitSeconds_;
+}
+
+// Slices of the unit in progress for the next submission: one without stopInUnit; with it as
+// many as fit batchTargetS at the seconds per slice measured in this unit (one to start).
+uint32_t ProgressiveDriver::sliceGroup() const {
+  if (!settings_.stopInUnit || slice_ == 0) return 1;
+  const double perSlice = sliceSeconds_ / slice_;
+  const double fit = settings_.batchTargetS / std::max(perSlice, 1e-9);
+  return uint32_t(std::clamp<double>(std::floor(fit), 1.0, double(slices_ - slice_)));
+}
+
+void ProgressiveDriver::abandon(StopReason why) {
+  integrator_.abandonUnit(done_, slice_, slices_);
+  stats_.abandonedFraction = double(slice_) / slices_;
+  stats_.stoppedBy = why;
+  slices_ = slice_ = 0;
+  abandoned_ = true;
 }
 
 void ProgressiveDriver::addTimes() {
@@ -99,26 +138,33 @@ void ProgressiveDriver::addTimes() {
 }
 
 bool ProgressiveDriver::step() {
-  if (finished()) return false;
+  if (finished()) {
+    if (slices_ > 0 && !abandoned_ && started_ && done_ < settings_.maxUnits)
+      abandon(StopReason::Time);
+    return false;
+  }
   const double t0 = elapsed();
   uint32_t n = 0;  // units completed by this submission
   if (slices_ == 0) {
     n = nextBatch();
     if (n == 1) {
-      const uint32_t s = slicesFor(secondsPerUnit_ > 0.0 ? secondsPerUnit_ : lastUnitSeconds_);
+      const uint32_t s = slicesFor(predictedUnitSeconds());
       if (s > 1) slices_ = s, slice_ = 0, sliceSeconds_ = 0.0;
     }
   }
   if (slices_ > 0) {
+    const uint32_t group = sliceGroup();
     ctx_.submitAndWait([&](VkCommandBuffer cmd) {
       timer_.reset(cmd);
-      integrator_.recordSlice(cmd, done_, slice_, slices_, &timer_);
+      for (uint32_t s = slice_; s < slice_ + group; ++s)
+        integrator_.recordSlice(cmd, done_, s, slices_, &timer_);
     });
     addTimes();
     sliceSeconds_ += elapsed() - t0;
     stats_.submissions++;
     stats_.seconds = elapsed();
-    if (++slice_ < slices_) return true;
+    slice_ += group;
+    if (slice_ < slices_) return true;
     slices_ = 0;
     n = 1;
   } else {
@@ -149,6 +195,12 @@ const RenderStats& ProgressiveDriver::run(const std::function<void(const Progres
                                           const std::atomic<bool>* cancel) {
   while (!(cancel && cancel->load(std::memory_order_relaxed)) && step())
     if (onProgress) onProgress(progress());
+  if (cancel && cancel->load(std::memory_order_relaxed)) {
+    stats_.stoppedBy = StopReason::Cancelled;
+    if (slices_ > 0 && settings_.stopInUnit) abandon(StopReason::Cancelled);
+  } else if (!abandoned_ && done_ < settings_.maxUnits) {
+    stats_.stoppedBy = StopReason::Time;
+  }
   stats_.seconds = elapsed();
   return stats_;
 }
@@ -165,7 +217,7 @@ Progress ProgressiveDriver::progress() const {
   if (perUnit <= 0.0 && slices_ > 0 && slice_ > 0) perUnit = sliceSeconds_ * slices_ / slice_;
   const double byUnits = (settings_.maxUnits - done_ - p.unitFraction) * perUnit;
   p.remainingS = settings_.timeLimitS > 0.0
-                     ? std::max(0.0, std::min(byUnits, settings_.timeLimitS - p.elapsedS))
+                     ? std::max(0.0, std::min(byUnits, settings_.timeLimitS - budgetElapsed()))
                      : byUnits;
   return p;
 }

@@ -29,10 +29,19 @@ struct DriverSettings {
   // viewer's submissions must stay short while the window redraws, and the CLI prints progress
   // during a unit that takes minutes. Off: whole units only (tests that count submissions).
   bool sliceUnits = false;
-  // With sliceUnits, the slices of a unit when no unit has been timed yet; 0: the integrator's
-  // most. The viewer needs short submissions from the first frame; the CLI only needs progress
-  // lines during a first pass that may take minutes, and few slices cost it nothing.
-  uint32_t firstUnitSlices = 0;
+  // With sliceUnits, the CLI's stop rules: --time and Ctrl-C stop within about one submission,
+  // even during an OSR pass that takes minutes. A unit in slices may be left unfinished (when
+  // the time budget runs out, or run() is cancelled; Integrator::abandonUnit says what the
+  // film keeps), and a unit's slices are recorded in groups sized to batchTargetS from the
+  // slices timed so far, so the untimed first unit can use the integrator's most slices at
+  // little cost. Off (the viewer): one slice per submission, and a unit always finishes.
+  bool stopInUnit = false;
+  // With sliceUnits, at most this many slices a unit (and the integrator's most): the viewer
+  // shows one slice a frame; the CLI, which groups them, allows more for a large image.
+  uint32_t maxSlices = 256;
+  // Where the clock of timeLimitS starts; unset (the epoch): at restart(). The CLI counts
+  // --time from its own start, set-up included.
+  std::chrono::steady_clock::time_point budgetStart{};
 };
 
 struct Progress {
@@ -44,10 +53,17 @@ struct Progress {
   double remainingS = 0.0;  // estimate (from the slices done while no unit has ended yet)
 };
 
+// Why a render ended.
+enum class StopReason { Units, Time, Cancelled };
+
 struct RenderStats {
   uint32_t units = 0;
   uint32_t submissions = 0;
   double seconds = 0.0;  // wall time since restart (excludes setup and resolve)
+  // With stopInUnit: the share of the unit after the last complete one that was recorded when
+  // the render stopped part-way through it (0: it stopped between units), and why it stopped.
+  double abandonedFraction = 0.0;
+  StopReason stoppedBy = StopReason::Units;
   // GPU time of each named timer scope, summed over the render, in first-recorded order
   // (empty where the device has no timestamps).
   std::vector<vk::PassTime> gpuScopes;
@@ -62,13 +78,15 @@ class ProgressiveDriver {
 
   // Starts a new image (Integrator::restart) and resets units, clock and stats.
   void restart(const scene::Camera& camera, uint32_t seed);
-  // Whether a stop rule holds: every unit done, or the time budget used up (one more unit
-  // would end further past the budget than we are before it).
+  // Whether a stop rule holds: every unit done, or the time budget used up (one more unit, or
+  // with stopInUnit one more submission, would end further past the budget than we are
+  // before it).
   bool finished() const;
   // Records, submits and waits for one submission unless finished(); returns whether it did.
   bool step();
   // step() until finished() or *cancel (checked between submissions) becomes true; onProgress
-  // (optional) after each submission. Returns the stats.
+  // (optional) after each submission. With stopInUnit a unit in slices is then abandoned
+  // (Integrator::abandonUnit); without, it is finished first. Returns the stats.
   const RenderStats& run(const std::function<void(const Progress&)>& onProgress = {},
                          const std::atomic<bool>* cancel = nullptr);
 
@@ -79,8 +97,13 @@ class ProgressiveDriver {
 
  private:
   double elapsed() const;
+  double budgetElapsed() const;  // seconds on the clock of timeLimitS
   uint32_t nextBatch() const;
   uint32_t slicesFor(double unitSeconds) const;
+  double predictedUnitSeconds() const;
+  uint32_t sliceGroup() const;
+  bool overBudget(double nextSubmissionS) const;
+  void abandon(StopReason why);
   void addTimes();
 
   const vk::Context& ctx_;
@@ -96,6 +119,7 @@ class ProgressiveDriver {
   // The unit being recorded in slices: slice_ of slices_ done (slices_ 0 between units).
   uint32_t slice_ = 0, slices_ = 0;
   double sliceSeconds_ = 0.0;  // wall time of the current unit's slices so far
+  bool abandoned_ = false;     // stopInUnit: the render stopped inside a unit
   // Seconds of the last complete unit, kept across restart(): the same integrator after a
   // camera move costs about the same, so its first unit gets fitting slices (the viewer).
   double lastUnitSeconds_ = 0.0;

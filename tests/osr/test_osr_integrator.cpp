@@ -257,3 +257,34 @@ TEST(OsrIntegrator, SlicesWithoutPreviewsGiveTheSameBits) {
     EXPECT_EQ(a.depth, b.depth) << slices << " slices";
   }
 }
+
+// --time or Ctrl-C stopping the CLI inside a pass (Integrator::abandonUnit): the unfinished
+// pass is dropped, the image is the complete passes' to the bit; stopped inside the first
+// pass, the image holds what it reached (direct light of the bands done), not nothing.
+TEST(OsrIntegrator, AnAbandonedPassIsDropped) {
+  auto s = test::loadForTest(test::referencePath("cornell/cornell.gltf"));
+  auto& ctx = test::context();
+  oneshot::OsrSettings set;
+  set.resolveEverySubmission = false;
+  oneshot::OsrIntegrator whole(ctx, *s.gpu, s.bvh, 64, 48, set);
+  const render::FilmLayers one = test::renderOsrPasses(whole, s, 1);
+  oneshot::OsrIntegrator sliced(ctx, *s.gpu, s.bvh, 64, 48, set);
+  sliced.restart(s.camera, 1);
+  auto slice = [&](uint32_t k, uint32_t i) {
+    ctx.submitAndWait([&](VkCommandBuffer cmd) { sliced.recordSlice(cmd, k, i, 8, nullptr); });
+  };
+  for (uint32_t i = 0; i < 8; ++i) slice(0, i);
+  for (uint32_t i = 0; i < 5; ++i) slice(1, i);
+  sliced.abandonUnit(1, 5, 8);
+  const render::FilmLayers b = sliced.resolve();
+  EXPECT_EQ(one.combined, b.combined);
+  EXPECT_EQ(one.depth, b.depth);
+
+  sliced.restart(s.camera, 1);
+  for (uint32_t i = 0; i < 3; ++i) slice(0, i);
+  sliced.abandonUnit(0, 3, 8);
+  const render::FilmLayers first = sliced.resolve();
+  double lit = 0.0;
+  for (float v : first.direct) lit += v;
+  EXPECT_GT(lit, 0.0) << "the direct light of the bands done";
+}

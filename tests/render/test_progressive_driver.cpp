@@ -191,25 +191,65 @@ TEST(ProgressiveDriver, LongUnitsAreSlicedForTheViewer) {
   EXPECT_EQ(whole.ranges.size(), 3u);
 }
 
-// The CLI's setting: the first unit, untimed, in firstUnitSlices slices, and progress during it
-// predicts the remaining time from the slices done (nothing else is timed yet).
-TEST(ProgressiveDriver, FirstUnitSlicesAndTheEstimateDuringIt) {
+// The CLI's setting (stopInUnit): the untimed first unit in the most slices, recorded in
+// groups of about the target; progress during it predicts the remaining time from the slices
+// done; the time budget stops it part-way and the integrator is told (abandonUnit).
+class AbandoningIntegrator : public SlicedIntegrator {
+ public:
+  using SlicedIntegrator::SlicedIntegrator;
+  uint32_t maxSlicesPerUnit() const override { return 64; }
+  void abandonUnit(uint32_t unit, uint32_t slicesDone, uint32_t slices) override {
+    abandoned.push_back({unit, slicesDone, slices});
+  }
+  std::vector<Slice> abandoned;
+};
+
+TEST(ProgressiveDriver, StopInUnitGroupsSlicesAndStopsPartWay) {
   auto& ctx = test::context();
-  SlicedIntegrator integ(ctx, 0.08);
-  render::DriverSettings settings{2, 0.0, 0.02, true};
-  settings.firstUnitSlices = 4;
+  AbandoningIntegrator integ(ctx, 0.64);  // 10 ms a slice
+  render::DriverSettings settings{4, 0.25, 0.05, true};
+  settings.stopInUnit = true;
   render::ProgressiveDriver driver(ctx, integ, settings);
   driver.restart({}, 0);
   std::vector<render::Progress> seen;
-  driver.run([&](const render::Progress& p) { seen.push_back(p); });
+  const render::RenderStats& stats =
+      driver.run([&](const render::Progress& p) { seen.push_back(p); });
   ASSERT_FALSE(integ.slicesSeen.empty());
-  EXPECT_EQ(integ.slicesSeen[0].slices, 4u);
+  EXPECT_EQ(integ.slicesSeen[0].slices, 64u);
+  EXPECT_EQ(stats.units, 0u);
+  // Stopped by the budget, within half a submission of it, inside unit 0.
+  EXPECT_LT(stats.seconds, 0.25 + 0.1);
+  EXPECT_EQ(stats.stoppedBy, render::StopReason::Time);
+  ASSERT_EQ(integ.abandoned.size(), 1u);
+  EXPECT_EQ(integ.abandoned[0].unit, 0u);
+  EXPECT_EQ(integ.abandoned[0].slice, integ.slicesSeen.size());
+  EXPECT_DOUBLE_EQ(stats.abandonedFraction, integ.slicesSeen.size() / 64.0);
+  // Grouped: after the first (timed) slice, several slices per submission.
+  EXPECT_LT(stats.submissions, integ.slicesSeen.size());
+  EXPECT_TRUE(driver.finished());
+  EXPECT_FALSE(driver.step());
+  // Progress after the first slice: 1/64 of the unit, the rest predicted from it.
   ASSERT_GE(seen.size(), 2u);
-  EXPECT_EQ(seen[0].units, 0u);
-  EXPECT_DOUBLE_EQ(seen[0].unitFraction, 0.25);
-  // 1.75 units left at about 0.08 s each (sleeps only overrun).
-  EXPECT_GT(seen[0].remainingS, 0.13);
-  EXPECT_LT(seen[0].remainingS, 1.0);
+  EXPECT_DOUBLE_EQ(seen[0].unitFraction, 1.0 / 64);
+  EXPECT_GT(seen[0].remainingS, 0.0);
+  EXPECT_LE(seen[0].remainingS, 0.25);
+}
+
+// A cancel (Ctrl-C) inside a unit abandons it too, and says so in the stats.
+TEST(ProgressiveDriver, CancelInsideAUnitAbandonsIt) {
+  auto& ctx = test::context();
+  AbandoningIntegrator integ(ctx, 0.64);
+  render::DriverSettings settings{4, 0.0, 0.05, true};
+  settings.stopInUnit = true;
+  render::ProgressiveDriver driver(ctx, integ, settings);
+  driver.restart({}, 0);
+  std::atomic<bool> cancel{false};
+  const render::RenderStats& stats =
+      driver.run([&](const render::Progress& p) { cancel = p.unitFraction >= 0.25; }, &cancel);
+  EXPECT_EQ(stats.stoppedBy, render::StopReason::Cancelled);
+  ASSERT_EQ(integ.abandoned.size(), 1u);
+  EXPECT_GE(stats.abandonedFraction, 0.25);
+  EXPECT_LT(stats.abandonedFraction, 1.0);
 }
 
 TEST(ProgressiveDriver, RefusesAZeroUnitBudget) {
