@@ -251,7 +251,8 @@ void checkRenderFiles(const RenderOptions& o, const HostScene& host) {
 // in slices, so progress lines keep coming during it. Offline, --time or Ctrl-C stops even a
 // unit part-way, so slices are many where pixels are (about 2048 pixels a slice, recorded in
 // groups of about the batch target: a first OSR pass at 4K in 4096 slices, at 512 x 512 in
-// 128, whose extra dispatches cost little). The viewer finishes a unit it started.
+// 128, whose extra dispatches cost little; under 4096 pixels none). The viewer finishes a
+// unit it started.
 render::DriverSettings driverSettings(const RenderOptions& o, const IntegratorSettings& settings,
                                       uint64_t pixels) {
   render::DriverSettings ds;
@@ -263,7 +264,7 @@ render::DriverSettings driverSettings(const RenderOptions& o, const IntegratorSe
   ds.sliceUnits = true;
   if (!o.live()) {
     ds.stopInUnit = true;
-    ds.maxSlices = uint32_t(std::clamp<uint64_t>(pixels / 2048, 16, 4096));
+    ds.maxSlices = uint32_t(std::clamp<uint64_t>(pixels / 2048, 1, 4096));
   }
   return ds;
 }
@@ -292,17 +293,17 @@ int runLive(const RenderOptions& o, const IntegratorSettings& settings, const Ho
   return viewer::runViewer(ctx, vc);
 }
 
-// Offline renders: one image, or a shot's frames. The device scene is built at the first
-// frame's pose for a shot, and again for each frame that moves geometry or lights: integrators
-// bind it, so one is never kept across a rebuild. Otherwise a shot's frames share one
-// integrator: restart() clears every accumulated state, and making one costs seconds of
-// pipeline builds on lavapipe.
 // Thrown when Ctrl-C or SIGTERM stopped the render (after writing what was rendered, for one
 // image); runRender exits 128 + the signal.
 struct Interrupted {
   int signal;
 };
 
+// Offline renders: one image, or a shot's frames. The device scene is built at the first
+// frame's pose for a shot, and again for each frame that moves geometry or lights: integrators
+// bind it, so one is never kept across a rebuild. Otherwise a shot's frames share one
+// integrator: restart() clears every accumulated state, and making one costs seconds of
+// pipeline builds on lavapipe.
 class OfflineRenderer {
  public:
   OfflineRenderer(const RenderOptions& o, const IntegratorSettings& settings, HostScene& host,
@@ -348,11 +349,11 @@ void OfflineRenderer::renderImage(const scene::Camera& camera,
   render::FilmLayers film;
   const render::RenderStats stats = render(camera, film);
   // A shot's frame stopped by a signal is not written: --resume would take it for complete.
-  if (o_.frames && stats.stoppedBy == render::StopReason::Cancelled)
-    throw Interrupted{interrupt::stopSignal()};
+  if (o_.frames && interrupt::stopSignal()) throw Interrupted{interrupt::stopSignal()};
   write(film, stats, exrFile, pngFile);
   printSummary(stats);
-  if (stats.stoppedBy == render::StopReason::Cancelled) throw Interrupted{interrupt::stopSignal()};
+  // A signal while writing lets the write finish, then exits as one during the render.
+  if (interrupt::stopSignal()) throw Interrupted{interrupt::stopSignal()};
 }
 
 void OfflineRenderer::renderFrames() {

@@ -27,7 +27,7 @@ void onSignal(int sig) {
   if (inRenderLoop.load() && !stop.load()) {
     stopSig.store(sig);
     stop.store(true);
-    say("\nosr-vk: stopping: writing what was rendered (again to quit at once)\n");
+    say("\nosr-vk: stopping after the current submission (again to quit at once)\n");
     return;
   }
   if (const char* tmp = image::pendingTempFile()) ::unlink(tmp);

@@ -35,7 +35,9 @@ constexpr const char* kUsage =
     "                        preview (albedo x headlight cosine, instant)\n";
 // Then osr::app::unitOptionsHelp(): --spp and --passes with the registry's defaults.
 constexpr const char* kUsageOptions =
-    "  --time SECONDS        stop after this long (with --spp/--passes: whichever ends first)\n"
+    "  --time SECONDS        stop after this long from the start, even inside a pass, and\n"
+    "                        write what was rendered (with --spp/--passes: whichever ends\n"
+    "                        first); Ctrl-C does the same, twice exits at once\n"
     "  --seed N              random seed (same seed, same image)\n"
     "  --exposure EV         PNG exposure (default: automatic, metered on what was hit or lit)\n"
     "  --exr-float           32-bit float EXR channels (default half)\n"
