@@ -462,6 +462,7 @@ bool Viewer::runScript() {
       requestRestart();
     }
     if (c.name == "reset") camera_.set(config_.camera), requestRestart();
+    if (c.name == "mode" && c.text != mode_) makeIntegrator(c.text, renderWidth_, renderHeight_);
     if (c.name == "stats") printStats();
     if (c.name == "quit") quit_ = true;
     scriptMark_ = Clock::now();
@@ -746,7 +747,7 @@ void Viewer::drawPanel() {
 int runViewer(const vk::Context& ctx, const ViewerConfig& config) {
   // A bad script is bad input: refused before the window opens.
   std::vector<ScriptCommand> script;
-  if (!config.scriptPath.empty()) script = readViewerScript(config.scriptPath);
+  if (!config.scriptPath.empty()) script = readViewerScript(config.scriptPath, config.modes);
   Viewer viewer(ctx, config, std::move(script));
   return viewer.run();
 }

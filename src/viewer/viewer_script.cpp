@@ -1,5 +1,6 @@
 #include "viewer/viewer_script.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
@@ -21,12 +22,14 @@ constexpr Syntax kSyntax[] = {
     {"pan", 2, false},       {"zoom", 1, false},  {"fly", 3, false},
     {"camera", 1, false},    {"reset", 0, false}, {"resize", 2, false},
     {"screenshot", 0, true}, {"stats", 0, false}, {"quit", 0, false},
+    {"mode", 0, true},
 };
 constexpr const char* kKeys[] = {"s", "space", "1",    "2",     "3", "4",
                                  "5", "6",     "plus", "minus", "f", "escape"};
 }  // namespace
 
-std::vector<ScriptCommand> readViewerScript(const std::string& path) {
+std::vector<ScriptCommand> readViewerScript(const std::string& path,
+                                            const std::vector<std::string>& modes) {
   std::ifstream in(path);
   if (!in) throw InputError(path + ": cannot open the viewer script");
   std::vector<ScriptCommand> out;
@@ -61,6 +64,11 @@ std::vector<ScriptCommand> readViewerScript(const std::string& path) {
       if (!known)
         throw InputError(where + "unknown key '" + c.text +
                          "' (s, space, 1-6, plus, minus, f, escape)");
+    }
+    if (c.name == "mode" && std::find(modes.begin(), modes.end(), c.text) == modes.end()) {
+      std::string known;
+      for (const std::string& m : modes) known += (known.empty() ? "" : ", ") + m;
+      throw InputError(where + "unknown mode '" + c.text + "' (" + known + ")");
     }
     if ((c.name == "wait" || c.name == "at") && c.numbers[0] < 0)
       throw InputError(where + c.name + " needs a time >= 0");

@@ -30,7 +30,9 @@ struct ScriptCommand {
 };
 
 // Reads and checks the whole script first: InputError "FILE:LINE: problem" for an unknown
-// command, a missing or malformed argument, or an unreadable file.
-std::vector<ScriptCommand> readViewerScript(const std::string& path);
+// command, a missing or malformed argument, a `mode` not in `modes` (the viewer's
+// integrators), or an unreadable file.
+std::vector<ScriptCommand> readViewerScript(const std::string& path,
+                                            const std::vector<std::string>& modes = {});
 
 }  // namespace osr::viewer

@@ -60,3 +60,20 @@ TEST(ViewerScript, MistakesNameTheLine) {
   EXPECT_NE(errorOf("screenshot\n").find("needs an argument"), std::string::npos);
   EXPECT_THROW(viewer::readViewerScript("/nonexistent/s.txt"), InputError);
 }
+
+// `mode NAME` switches the integrator; the names are the viewer's (ViewerConfig::modes).
+TEST(ViewerScript, ModeNamesAreTheViewers) {
+  const std::vector<std::string> modes = {"path", "preview", "osr"};
+  const auto cmds = viewer::readViewerScript(write("mode path\nmode osr\n"), modes);
+  ASSERT_EQ(cmds.size(), 2u);
+  EXPECT_EQ(cmds[0].name, "mode");
+  EXPECT_EQ(cmds[1].text, "osr");
+  try {
+    viewer::readViewerScript(write("wait 1\nmode fast\n"), modes);
+    ADD_FAILURE() << "an unknown mode was accepted";
+  } catch (const InputError& e) {
+    EXPECT_NE(std::string(e.what()).find("s.txt:2: unknown mode 'fast' (path, preview, osr)"),
+              std::string::npos)
+        << e.what();
+  }
+}
