@@ -99,4 +99,15 @@ inline constexpr char kDenoiseUsage[] =
     "  --network NAME     the image denoiser: default (the shipped model), none (the\n"
     "                     network rows are left out) or a packed file";
 int runDenoise(const std::vector<std::string>& args);  // denoisers at equal time
+inline constexpr char kSoakSummary[] =
+    "the viewer scripted for 20 minutes under Xvfb: memory growth, validation, saved files";
+inline constexpr char kSoakUsage[] =
+    "osr-bench soak [--minutes M] [--scene cornell|room|FILE.gltf]\n"
+    "  --minutes M   length of the run, 1 to 600 (default 20): one-minute cycles of camera\n"
+    "                moves, mode and layer changes, resizes, saves (S) and a screenshot\n"
+    "  --scene NAME  a reference scene or a glTF file (default room)\n"
+    "  Runs osr-vk's viewer under xvfb-run with the validation layer on; passes when resident\n"
+    "  memory grows < 5 % from the end of the first cycle to the end of the last, no\n"
+    "  validation message appears, every saved file is a whole image and osr-vk exits 0.";
+int runSoak(const std::vector<std::string>& args);  // the viewer for many minutes
 }  // namespace osr::bench
