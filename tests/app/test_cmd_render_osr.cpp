@@ -224,12 +224,12 @@ TEST(CmdRenderOsr, ImagesLargerThanOneBindingRenderInWindows) {
 TEST(CmdRenderOsr, TheFirstPassShowsProgressAndTimeStopsInsideIt) {
   fs::path dir = osr::test::tempDir("cmd_render_osr");
   fs::path exr = dir / "first_pass.exr";
-  // 256 x 192 pixels: the first pass in 24 slices.
+  // 256 x 256 pixels: the first pass in 32 slices.
   Outcome r = run("--mode osr --time 0.001 --width 256 --offline '" + exr.string() + "' " + cornell());
   ASSERT_EQ(r.exitCode, 0) << r.err;
   EXPECT_TRUE(fs::exists(exr));
-  EXPECT_NE(r.err.find("osr-vk: 0 passes (+4% of the next), "), std::string::npos) << r.err;
-  EXPECT_NE(r.err.find("osr-vk: warning: --time stopped the first pass at 4% after "),
+  EXPECT_NE(r.err.find("osr-vk: 0 passes (+3% of the next), "), std::string::npos) << r.err;
+  EXPECT_NE(r.err.find("osr-vk: warning: --time stopped the first pass at 3% after "),
             std::string::npos)
       << r.err;
   EXPECT_NE(r.err.find(", 0 passes in"), std::string::npos) << r.err;

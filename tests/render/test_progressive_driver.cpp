@@ -206,8 +206,8 @@ class AbandoningIntegrator : public SlicedIntegrator {
 
 TEST(ProgressiveDriver, StopInUnitGroupsSlicesAndStopsPartWay) {
   auto& ctx = test::context();
-  AbandoningIntegrator integ(ctx, 0.64);  // 10 ms a slice
-  render::DriverSettings settings{4, 0.25, 0.05, true};
+  AbandoningIntegrator integ(ctx, 0.64);  // 10 ms a slice, more on a loaded machine
+  render::DriverSettings settings{4, 0.5, 0.15, true};
   settings.stopInUnit = true;
   render::ProgressiveDriver driver(ctx, integ, settings);
   driver.restart({}, 0);
@@ -218,7 +218,7 @@ TEST(ProgressiveDriver, StopInUnitGroupsSlicesAndStopsPartWay) {
   EXPECT_EQ(integ.slicesSeen[0].slices, 64u);
   EXPECT_EQ(stats.units, 0u);
   // Stopped by the budget, within half a submission of it, inside unit 0.
-  EXPECT_LT(stats.seconds, 0.25 + 0.1);
+  EXPECT_LT(stats.seconds, 0.5 + 0.15);
   EXPECT_EQ(stats.stoppedBy, render::StopReason::Time);
   ASSERT_EQ(integ.abandoned.size(), 1u);
   EXPECT_EQ(integ.abandoned[0].unit, 0u);
@@ -232,7 +232,7 @@ TEST(ProgressiveDriver, StopInUnitGroupsSlicesAndStopsPartWay) {
   ASSERT_GE(seen.size(), 2u);
   EXPECT_DOUBLE_EQ(seen[0].unitFraction, 1.0 / 64);
   EXPECT_GT(seen[0].remainingS, 0.0);
-  EXPECT_LE(seen[0].remainingS, 0.25);
+  EXPECT_LE(seen[0].remainingS, 0.5);
 }
 
 // A cancel (Ctrl-C) inside a unit abandons it too, and says so in the stats.
