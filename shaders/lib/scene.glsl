@@ -100,7 +100,12 @@ Material sceneMaterial(uint i) {
     // Layout from shared/scene.h: the field at word w is lane w % 4 of texel w / 4.
     int base = int(kMaterialTexels * i);
     uvec4 t[kMaterialTexels];
-    for (int k = 0; k < int(kMaterialTexels); ++k) t[k] = texelFetch(gMaterialTexels, base + k);
+    for (int k = 0; k < int(kMaterialBaseTexels); ++k) t[k] = texelFetch(gMaterialTexels, base + k);
+    // The layered lobes' words: fetched only where some material has one (evaluateMaterial
+    // reads none of them otherwise).
+    bool layers = sceneHas(kSceneFeatureLayers);
+    for (int k = int(kMaterialBaseTexels); k < int(kMaterialTexels); ++k)
+      t[k] = layers ? texelFetch(gMaterialTexels, base + k) : uvec4(0u);
 #define OSR_MW(w) t[(w) / 4u][(w) % 4u]
 #define OSR_MW3(w) uvec3(OSR_MW(w), OSR_MW((w) + 1u), OSR_MW((w) + 2u))
     Material m;
@@ -122,11 +127,29 @@ Material sceneMaterial(uint i) {
     m.specularColorTexture = int(OSR_MW(kMaterialWordSpecularColorTexture));
     m.flags = OSR_MW(kMaterialWordFlags);
     m.normalScale = uintBitsToFloat(OSR_MW(kMaterialWordNormalScale));
+    m.clearcoat = uintBitsToFloat(OSR_MW(kMaterialWordClearcoat));
+    m.clearcoatRoughness = uintBitsToFloat(OSR_MW(kMaterialWordClearcoatRoughness));
+    m.clearcoatNormalScale = uintBitsToFloat(OSR_MW(kMaterialWordClearcoatNormalScale));
+    m.sheenColor = uintBitsToFloat(OSR_MW3(kMaterialWordSheenColor));
+    m.sheenRoughness = uintBitsToFloat(OSR_MW(kMaterialWordSheenRoughness));
+    m.attenuationColor = uintBitsToFloat(OSR_MW3(kMaterialWordAttenuationColor));
+    m.attenuationDistance = uintBitsToFloat(OSR_MW(kMaterialWordAttenuationDistance));
+    m.diffuseTransmissionColor = uintBitsToFloat(OSR_MW3(kMaterialWordDiffuseTransmissionColor));
+    m.diffuseTransmission = uintBitsToFloat(OSR_MW(kMaterialWordDiffuseTransmission));
+    m.clearcoatTexture = int(OSR_MW(kMaterialWordClearcoatTexture));
+    m.clearcoatRoughnessTexture = int(OSR_MW(kMaterialWordClearcoatRoughnessTexture));
+    m.clearcoatNormalTexture = int(OSR_MW(kMaterialWordClearcoatNormalTexture));
+    m.sheenColorTexture = int(OSR_MW(kMaterialWordSheenColorTexture));
+    m.sheenRoughnessTexture = int(OSR_MW(kMaterialWordSheenRoughnessTexture));
+    m.diffuseTransmissionTexture = int(OSR_MW(kMaterialWordDiffuseTransmissionTexture));
+    m.diffuseTransmissionColorTexture = int(OSR_MW(kMaterialWordDiffuseTransmissionColorTexture));
+    m.anisotropyTexture = int(OSR_MW(kMaterialWordAnisotropyTexture));
+    m.anisotropyStrength = uintBitsToFloat(OSR_MW(kMaterialWordAnisotropyStrength));
+    m.anisotropyRotation = uintBitsToFloat(OSR_MW(kMaterialWordAnisotropyRotation));
+    m.thickness = uintBitsToFloat(OSR_MW(kMaterialWordThickness));
 #undef OSR_MW3
 #undef OSR_MW
     m._pad0 = 0.0;
-    m._pad1 = 0.0;
-    m._pad2 = 0.0;
     return m;
   }
 #endif
@@ -201,6 +224,16 @@ struct SurfaceMaterial {
   float ior;
   float transmission;
   bool doubleSided;
+  // Layered lobes (zero where the scene has none: kSceneFeatureLayers).
+  float clearcoat;
+  float clearcoatRoughness;  // perceptual
+  vec3 sheenColor;
+  float sheenRoughness;      // perceptual
+  vec3 diffuseTransmissionColor;
+  float diffuseTransmission;
+  vec3 absorption;           // KHR_materials_volume sigma_a = -log(attenuationColor) / distance, per metre
+  float anisotropy;          // strength
+  vec2 anisotropyDirection;  // unit, in the uv tangent frame (tangent, bitangent)
 };
 
 struct SurfaceSample {
@@ -210,6 +243,8 @@ struct SurfaceSample {
   vec2 uv;
   uint material;  // index into gMaterials
   SurfaceMaterial m;
+  vec3 clearcoatNormal;  // unit: the coat's normal (interpolated normal, then its own map)
+  vec3 anisotropyTangent;  // unit world direction of increased roughness (0: isotropic)
 };
 
 // Barycentrics (b1, b2) weight v1 and v2; v0 gets 1 - b1 - b2.
@@ -232,7 +267,43 @@ SurfaceMaterial evaluateMaterial(Material mat, vec2 uv) {
   m.ior = mat.ior;
   m.transmission = mat.transmission * sampleTexture(mat.transmissionTexture, uv).r;
   m.doubleSided = (mat.flags & kMaterialDoubleSided) != 0u;
+  m.clearcoat = 0.0;
+  m.clearcoatRoughness = 0.0;
+  m.sheenColor = vec3(0.0);
+  m.sheenRoughness = 0.0;
+  m.diffuseTransmissionColor = vec3(1.0);
+  m.diffuseTransmission = 0.0;
+  m.absorption = vec3(0.0);
+  m.anisotropy = 0.0;
+  m.anisotropyDirection = vec2(1.0, 0.0);
+  if (sceneHas(kSceneFeatureLayers)) {
+    m.clearcoat = mat.clearcoat * sampleTexture(mat.clearcoatTexture, uv).r;
+    m.clearcoatRoughness = mat.clearcoatRoughness * sampleTexture(mat.clearcoatRoughnessTexture, uv).g;
+    m.sheenColor = mat.sheenColor * srgbToLinear(sampleTexture(mat.sheenColorTexture, uv).rgb);
+    m.sheenRoughness = mat.sheenRoughness * sampleTexture(mat.sheenRoughnessTexture, uv).a;
+    m.diffuseTransmission = mat.diffuseTransmission * sampleTexture(mat.diffuseTransmissionTexture, uv).a;
+    m.diffuseTransmissionColor =
+        mat.diffuseTransmissionColor * srgbToLinear(sampleTexture(mat.diffuseTransmissionColorTexture, uv).rgb);
+    // thickness 0 is thin-walled (no medium inside); attenuationDistance 0 stands for infinity.
+    if (mat.thickness > 0.0 && mat.attenuationDistance > 0.0)
+      m.absorption = -log(max(mat.attenuationColor, vec3(1e-6))) / mat.attenuationDistance;
+    vec4 an = sampleTexture(mat.anisotropyTexture, uv);
+    m.anisotropy = mat.anisotropyStrength * (mat.anisotropyTexture >= 0 ? an.b : 1.0);
+    vec2 d = mat.anisotropyTexture >= 0 ? an.rg * 2.0 - 1.0 : vec2(1.0, 0.0);
+    d = length(d) > 1e-6 ? normalize(d) : vec2(1.0, 0.0);
+    float c = cos(mat.anisotropyRotation), sn = sin(mat.anisotropyRotation);
+    m.anisotropyDirection = vec2(c * d.x - sn * d.y, sn * d.x + c * d.y);
+  }
   return m;
+}
+
+// A tangent-space normal map applied around nn, with the uv tangent frame (tangent, bitangent).
+vec3 sceneNormalMap(int texture, float scale, vec2 uv, vec3 nn, vec3 tangent, vec3 bitangent) {
+  vec3 tn = sampleTexture(texture, uv).xyz * 2.0 - 1.0;
+  tn.xy *= scale;
+  vec3 mapped = tangent * tn.x + bitangent * tn.y + nn * tn.z;
+  float mLength = length(mapped);
+  return mLength > 1e-12 ? mapped / mLength : nn;
 }
 
 // Full surface description at a hit. The shading normal is not flipped towards the viewer:
@@ -256,7 +327,11 @@ SurfaceSample surfaceAt(uint triangle, vec2 b) {
   s.material = t.material;
   Material mat = sceneMaterial(t.material);
   s.m = evaluateMaterial(mat, s.uv);
-  if (mat.normalTexture >= 0) {
+  s.clearcoatNormal = s.shadingNormal;
+  s.anisotropyTangent = vec3(0.0);
+  bool layered = sceneHas(kSceneFeatureLayers) &&
+                 (mat.clearcoatNormalTexture >= 0 || s.m.anisotropy > 0.0);
+  if (mat.normalTexture >= 0 || layered) {
     // Tangent frame from the triangle's uv parameterization (the file's TANGENT attribute is
     // not loaded; for well-behaved uvs this is the per-face MikkTSpace result).
     vec2 d1 = uv1 - uv0, d2 = uv2 - uv0;
@@ -270,11 +345,14 @@ SurfaceSample surfaceAt(uint triangle, vec2 b) {
       if (tLength > 1e-20) {
         tangent /= tLength;
         vec3 bitangent = cross(nn, tangent) * (dot(cross(nn, tangent), dpdv) < 0.0 ? -1.0 : 1.0);
-        vec3 tn = sampleTexture(mat.normalTexture, s.uv).xyz * 2.0 - 1.0;
-        tn.xy *= mat.normalScale;
-        vec3 mapped = tangent * tn.x + bitangent * tn.y + nn * tn.z;
-        float mLength = length(mapped);
-        if (mLength > 1e-12) s.shadingNormal = mapped / mLength;
+        if (mat.normalTexture >= 0)
+          s.shadingNormal = sceneNormalMap(mat.normalTexture, mat.normalScale, s.uv, nn, tangent, bitangent);
+        if (layered && mat.clearcoatNormalTexture >= 0)
+          s.clearcoatNormal = sceneNormalMap(mat.clearcoatNormalTexture, mat.clearcoatNormalScale,
+                                             s.uv, nn, tangent, bitangent);
+        if (layered && s.m.anisotropy > 0.0)
+          s.anisotropyTangent = normalize(tangent * s.m.anisotropyDirection.x +
+                                          bitangent * s.m.anisotropyDirection.y);
       }
     }
   }

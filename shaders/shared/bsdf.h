@@ -14,6 +14,16 @@ struct BsdfParams {
   float eta;           // ior of the side wo is not on over the side it is on (1/ior when leaving)
   float transmission;  // KHR_materials_transmission
   float _pad0;
+  // Layered lobes (all zero: the plain metallic-roughness BSDF above).
+  vec3 clearcoatNormal;  // local frame (z = shading normal), on wo's side
+  float clearcoat;       // KHR_materials_clearcoat weight
+  vec3 sheenColor;       // KHR_materials_sheen
+  float sheenRoughness;  // perceptual
+  vec3 diffuseTransmissionColor;  // KHR_materials_diffuse_transmission
+  float diffuseTransmission;
+  vec2 anisotropyDirection;  // local frame xy, unit: direction of increased roughness
+  float anisotropy;          // KHR_materials_anisotropy strength
+  float clearcoatRoughness;  // perceptual
 };
 
 // pt_bsdf_probe.comp: for each case, either evaluates f*cos and pdf on a (theta, phi) grid

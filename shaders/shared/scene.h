@@ -47,9 +47,28 @@ struct Material {
   int specularColorTexture;      // RGB; sRGB
   uint flags;
   float normalScale;
+  // Layered lobes (shaders/lib/bsdf.glsl); a zero factor disables the lobe.
+  float clearcoat;           // KHR_materials_clearcoat clearcoatFactor
+  float clearcoatRoughness;  // clearcoatRoughnessFactor (perceptual)
+  float clearcoatNormalScale;
+  vec3 sheenColor;           // KHR_materials_sheen sheenColorFactor
+  float sheenRoughness;      // sheenRoughnessFactor (perceptual)
+  vec3 attenuationColor;     // KHR_materials_volume (default 1: no absorption)
+  float attenuationDistance; // metres; 0 = infinite (no absorption)
+  vec3 diffuseTransmissionColor;  // KHR_materials_diffuse_transmission colour (default 1)
+  float diffuseTransmission;      // diffuseTransmissionFactor
+  int clearcoatTexture;           // R; linear
+  int clearcoatRoughnessTexture;  // G; linear
+  int clearcoatNormalTexture;     // tangent-space normal map of the coat; linear
+  int sheenColorTexture;          // RGB; sRGB
+  int sheenRoughnessTexture;      // A; linear
+  int diffuseTransmissionTexture;       // A; linear
+  int diffuseTransmissionColorTexture;  // RGB; sRGB
+  int anisotropyTexture;  // RG: direction in [-1, 1] (tangent, bitangent), B: strength; linear
+  float anisotropyStrength;  // KHR_materials_anisotropy
+  float anisotropyRotation;  // radians, counter-clockwise from the uv tangent
+  float thickness;           // KHR_materials_volume thicknessFactor; 0 = thin-walled
   float _pad0;
-  float _pad1;
-  float _pad2;
 };
 
 // Material read as RGBA32UI texels (lib/scene.glsl sceneMaterial with texel fetch): element i
@@ -57,7 +76,10 @@ struct Material {
 // word is w sits in texel w / 4, lane w % 4 (vec3/vec4 fields continue in the next lanes).
 // The word offsets are the std430 offsets of Material / 4; C++ static_asserts them against
 // offsetof (src/scene_gpu/gpu_scene.cpp, tests/vk/test_shared_layout.cpp).
-OSR_CONST(uint, kMaterialTexels, 7u);  // sizeof(Material) / 16
+OSR_CONST(uint, kMaterialTexels, 13u);  // sizeof(Material) / 16
+// Texels of the base material alone (words 0-24): passes that know the scene uses no layered
+// lobe (kSceneFeatureLayers) fetch only these.
+OSR_CONST(uint, kMaterialBaseTexels, 7u);
 OSR_CONST(uint, kMaterialWordBaseColor, 0u);
 OSR_CONST(uint, kMaterialWordEmission, 4u);
 OSR_CONST(uint, kMaterialWordRoughness, 7u);
@@ -76,6 +98,26 @@ OSR_CONST(uint, kMaterialWordSpecularTexture, 21u);
 OSR_CONST(uint, kMaterialWordSpecularColorTexture, 22u);
 OSR_CONST(uint, kMaterialWordFlags, 23u);
 OSR_CONST(uint, kMaterialWordNormalScale, 24u);
+OSR_CONST(uint, kMaterialWordClearcoat, 25u);
+OSR_CONST(uint, kMaterialWordClearcoatRoughness, 26u);
+OSR_CONST(uint, kMaterialWordClearcoatNormalScale, 27u);
+OSR_CONST(uint, kMaterialWordSheenColor, 28u);
+OSR_CONST(uint, kMaterialWordSheenRoughness, 31u);
+OSR_CONST(uint, kMaterialWordAttenuationColor, 32u);
+OSR_CONST(uint, kMaterialWordAttenuationDistance, 35u);
+OSR_CONST(uint, kMaterialWordDiffuseTransmissionColor, 36u);
+OSR_CONST(uint, kMaterialWordDiffuseTransmission, 39u);
+OSR_CONST(uint, kMaterialWordClearcoatTexture, 40u);
+OSR_CONST(uint, kMaterialWordClearcoatRoughnessTexture, 41u);
+OSR_CONST(uint, kMaterialWordClearcoatNormalTexture, 42u);
+OSR_CONST(uint, kMaterialWordSheenColorTexture, 43u);
+OSR_CONST(uint, kMaterialWordSheenRoughnessTexture, 44u);
+OSR_CONST(uint, kMaterialWordDiffuseTransmissionTexture, 45u);
+OSR_CONST(uint, kMaterialWordDiffuseTransmissionColorTexture, 46u);
+OSR_CONST(uint, kMaterialWordAnisotropyTexture, 47u);
+OSR_CONST(uint, kMaterialWordAnisotropyStrength, 48u);
+OSR_CONST(uint, kMaterialWordAnisotropyRotation, 49u);
+OSR_CONST(uint, kMaterialWordThickness, 50u);
 
 #ifdef __cplusplus
 // The texel layout above is Material's: a field moved or added without its constant fails here.
@@ -100,6 +142,26 @@ OSR_MATERIAL_WORD(specularTexture, kMaterialWordSpecularTexture);
 OSR_MATERIAL_WORD(specularColorTexture, kMaterialWordSpecularColorTexture);
 OSR_MATERIAL_WORD(flags, kMaterialWordFlags);
 OSR_MATERIAL_WORD(normalScale, kMaterialWordNormalScale);
+OSR_MATERIAL_WORD(clearcoat, kMaterialWordClearcoat);
+OSR_MATERIAL_WORD(clearcoatRoughness, kMaterialWordClearcoatRoughness);
+OSR_MATERIAL_WORD(clearcoatNormalScale, kMaterialWordClearcoatNormalScale);
+OSR_MATERIAL_WORD(sheenColor, kMaterialWordSheenColor);
+OSR_MATERIAL_WORD(sheenRoughness, kMaterialWordSheenRoughness);
+OSR_MATERIAL_WORD(attenuationColor, kMaterialWordAttenuationColor);
+OSR_MATERIAL_WORD(attenuationDistance, kMaterialWordAttenuationDistance);
+OSR_MATERIAL_WORD(diffuseTransmissionColor, kMaterialWordDiffuseTransmissionColor);
+OSR_MATERIAL_WORD(diffuseTransmission, kMaterialWordDiffuseTransmission);
+OSR_MATERIAL_WORD(clearcoatTexture, kMaterialWordClearcoatTexture);
+OSR_MATERIAL_WORD(clearcoatRoughnessTexture, kMaterialWordClearcoatRoughnessTexture);
+OSR_MATERIAL_WORD(clearcoatNormalTexture, kMaterialWordClearcoatNormalTexture);
+OSR_MATERIAL_WORD(sheenColorTexture, kMaterialWordSheenColorTexture);
+OSR_MATERIAL_WORD(sheenRoughnessTexture, kMaterialWordSheenRoughnessTexture);
+OSR_MATERIAL_WORD(diffuseTransmissionTexture, kMaterialWordDiffuseTransmissionTexture);
+OSR_MATERIAL_WORD(diffuseTransmissionColorTexture, kMaterialWordDiffuseTransmissionColorTexture);
+OSR_MATERIAL_WORD(anisotropyTexture, kMaterialWordAnisotropyTexture);
+OSR_MATERIAL_WORD(anisotropyStrength, kMaterialWordAnisotropyStrength);
+OSR_MATERIAL_WORD(anisotropyRotation, kMaterialWordAnisotropyRotation);
+OSR_MATERIAL_WORD(thickness, kMaterialWordThickness);
 #undef OSR_MATERIAL_WORD
 static_assert(sizeof(Material) == 16 * kMaterialTexels, "kMaterialTexels");
 #endif
@@ -167,7 +229,10 @@ OSR_CONST(uint, kSceneFeatureTextures, 2u);     // some texture
 OSR_CONST(uint, kSceneFeaturePunctual, 4u);     // some KHR_lights_punctual light
 OSR_CONST(uint, kSceneFeatureEnvironment, 8u);  // an environment map
 OSR_CONST(uint, kSceneFeatureTransmission, 16u);  // some material with transmission > 0
-OSR_CONST(uint, kSceneFeatureAll, 31u);
+// Some material with a layered lobe: clearcoat, sheen, diffuse transmission, anisotropy or an
+// absorbing volume (KHR_materials_*; the material words past kMaterialBaseTexels).
+OSR_CONST(uint, kSceneFeatureLayers, 32u);
+OSR_CONST(uint, kSceneFeatureAll, 63u);
 
 // Binding slots of the scene buffers, relative to the first slot a pass gives them
 // (OSR_SCENE_BINDING in GLSL); GpuScene::bindings() returns the buffers in this order.

@@ -45,6 +45,13 @@ gpu::Material defaultMaterial() {
   m.specularColorTexture = gpu::kNoTexture;
   m.flags = 0;
   m.normalScale = 1.0f;
+  m.clearcoatNormalScale = 1.0f;
+  m.attenuationColor = glm::vec3(1.0f);
+  m.diffuseTransmissionColor = glm::vec3(1.0f);
+  m.clearcoatTexture = m.clearcoatRoughnessTexture = m.clearcoatNormalTexture = gpu::kNoTexture;
+  m.sheenColorTexture = m.sheenRoughnessTexture = gpu::kNoTexture;
+  m.diffuseTransmissionTexture = m.diffuseTransmissionColorTexture = gpu::kNoTexture;
+  m.anisotropyTexture = gpu::kNoTexture;
   return m;
 }
 
@@ -70,7 +77,9 @@ bool readRegularFile(std::vector<unsigned char>* out, std::string* err, const st
 // Extensions whose data the loader uses. Everything else is warned about once and ignored.
 const std::set<std::string> kSupportedExtensions = {
     "KHR_materials_emissive_strength", "KHR_materials_specular", "KHR_materials_ior",
-    "KHR_materials_transmission", "KHR_lights_punctual",
+    "KHR_materials_transmission", "KHR_materials_clearcoat", "KHR_materials_sheen",
+    "KHR_materials_volume", "KHR_materials_diffuse_transmission", "KHR_materials_anisotropy",
+    "KHR_lights_punctual",
     // Integer and normalized attribute types: every accessor is read through one converter.
     "KHR_mesh_quantization",
     // Baked into the vertex uvs, one transform per material (see Loader::noteUvTransform).
@@ -620,6 +629,47 @@ class Loader {
       m.transmission = float(number(*e, "transmissionFactor", 0.0));
       m.transmissionTexture = extensionTexture(*e, "transmissionTexture", what);
     }
+    auto vec3Of = [&](const tinygltf::Value& e, const char* key, glm::vec3 fallback) {
+      if (!e.Has(key)) return fallback;
+      const tinygltf::Value& c = e.Get(key);
+      if (!c.IsArray() || c.ArrayLen() != 3) fail(what + ": " + key + " is not an array of 3");
+      return glm::vec3(c.Get(0).GetNumberAsDouble(), c.Get(1).GetNumberAsDouble(),
+                       c.Get(2).GetNumberAsDouble());
+    };
+    if (auto* e = ext("KHR_materials_clearcoat")) {
+      m.clearcoat = float(number(*e, "clearcoatFactor", 0.0));
+      m.clearcoatRoughness = float(number(*e, "clearcoatRoughnessFactor", 0.0));
+      m.clearcoatTexture = extensionTexture(*e, "clearcoatTexture", what);
+      m.clearcoatRoughnessTexture = extensionTexture(*e, "clearcoatRoughnessTexture", what);
+      m.clearcoatNormalTexture = extensionTexture(*e, "clearcoatNormalTexture", what);
+      if (e->Has("clearcoatNormalTexture"))
+        m.clearcoatNormalScale = float(number(e->Get("clearcoatNormalTexture"), "scale", 1.0));
+    }
+    if (auto* e = ext("KHR_materials_sheen")) {
+      m.sheenColor = vec3Of(*e, "sheenColorFactor", glm::vec3(0.0f));
+      m.sheenRoughness = float(number(*e, "sheenRoughnessFactor", 0.0));
+      m.sheenColorTexture = extensionTexture(*e, "sheenColorTexture", what);
+      m.sheenRoughnessTexture = extensionTexture(*e, "sheenRoughnessTexture", what);
+    }
+    if (auto* e = ext("KHR_materials_volume")) {
+      // thicknessTexture is for rasterizers; a ray tracer measures the distance inside.
+      m.thickness = float(number(*e, "thicknessFactor", 0.0));
+      m.attenuationColor = vec3Of(*e, "attenuationColor", glm::vec3(1.0f));
+      m.attenuationDistance = float(number(*e, "attenuationDistance", 0.0));
+      if (m.attenuationDistance < 0.0f) fail(what + ": negative attenuationDistance");
+    }
+    if (auto* e = ext("KHR_materials_diffuse_transmission")) {
+      m.diffuseTransmission = float(number(*e, "diffuseTransmissionFactor", 0.0));
+      m.diffuseTransmissionColor = vec3Of(*e, "diffuseTransmissionColorFactor", glm::vec3(1.0f));
+      m.diffuseTransmissionTexture = extensionTexture(*e, "diffuseTransmissionTexture", what);
+      m.diffuseTransmissionColorTexture =
+          extensionTexture(*e, "diffuseTransmissionColorTexture", what);
+    }
+    if (auto* e = ext("KHR_materials_anisotropy")) {
+      m.anisotropyStrength = float(number(*e, "anisotropyStrength", 0.0));
+      m.anisotropyRotation = float(number(*e, "anisotropyRotation", 0.0));
+      m.anisotropyTexture = extensionTexture(*e, "anisotropyTexture", what);
+    }
     if (src.doubleSided) m.flags |= gpu::kMaterialDoubleSided;
     if (src.alphaMode == "MASK") {
       m.flags |= gpu::kMaterialAlphaMask;
@@ -631,7 +681,13 @@ class Loader {
     }
     const float values[] = {m.baseColor.r, m.baseColor.g,  m.baseColor.b, m.baseColor.a, m.metallic,
                             m.roughness,   m.emission.r,   m.emission.g,  m.emission.b,  m.specular,
-                            m.ior,         m.transmission, m.alphaCutoff};
+                            m.ior,         m.transmission, m.alphaCutoff,
+                            m.clearcoat,   m.clearcoatRoughness, m.sheenColor.r, m.sheenColor.g,
+                            m.sheenColor.b, m.sheenRoughness, m.attenuationColor.r,
+                            m.attenuationColor.g, m.attenuationColor.b, m.attenuationDistance,
+                            m.diffuseTransmission, m.diffuseTransmissionColor.r,
+                            m.diffuseTransmissionColor.g, m.diffuseTransmissionColor.b,
+                            m.anisotropyStrength, m.anisotropyRotation, m.thickness};
     for (float v : values)
       if (!std::isfinite(v)) fail(what + " has a non-finite factor");
     if (m.emission.r < 0 || m.emission.g < 0 || m.emission.b < 0)

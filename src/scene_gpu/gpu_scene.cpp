@@ -104,6 +104,11 @@ GpuScene::GpuScene(const vk::Context& ctx, const Scene& scene, const Environment
     if (m.flags & (gpu::kMaterialAlphaMask | gpu::kMaterialAlphaBlend))
       features |= gpu::kSceneFeatureAlphaTest;
     if (m.transmission > 0.0f) features |= gpu::kSceneFeatureTransmission;
+    bool absorbs = m.thickness > 0.0f && m.attenuationDistance > 0.0f &&
+                   glm::any(glm::lessThan(m.attenuationColor, glm::vec3(1.0f)));
+    if (m.clearcoat > 0.0f || glm::any(glm::greaterThan(m.sheenColor, glm::vec3(0.0f))) ||
+        m.diffuseTransmission > 0.0f || m.anisotropyStrength > 0.0f || absorbs)
+      features |= gpu::kSceneFeatureLayers;
   }
   if (!scene.textures.empty()) features |= gpu::kSceneFeatureTextures;
   if (!scene.lights.empty()) features |= gpu::kSceneFeaturePunctual;

@@ -14,7 +14,7 @@ namespace gs = osr::gpu::scene;
 // std430 layout of the shared structs (the GLSL side is checked by test_scene_probe).
 static_assert(sizeof(gs::Vertex) == 32 && offsetof(gs::Vertex, normal) == 16);
 static_assert(sizeof(gs::Triangle) == 16);
-static_assert(sizeof(gs::Material) == 112);
+static_assert(sizeof(gs::Material) == 208);
 static_assert(offsetof(gs::Material, emission) == 16 &&
               offsetof(gs::Material, specularColor) == 32);
 static_assert(offsetof(gs::Material, baseColorTexture) == 64 &&
@@ -55,6 +55,7 @@ TEST(GpuScene, FeaturesNameWhatTheSceneUses) {
   s.materials[0].flags &= ~gs::kMaterialAlphaBlend;
   s.materials[0].flags |= gs::kMaterialAlphaMask;
   s.materials[1].transmission = 0.5f;
+  s.materials[1].clearcoat = 1.0f;
   s.textures.push_back({});
   s.textures.back().width = s.textures.back().height = 1;
   s.textures.back().texels = {0xffffffffu};
