@@ -25,6 +25,7 @@ layout(constant_id = kPtSpecSceneFeatures) const uint kSceneFeatures = kSceneFea
 #include "lib/rng.glsl"
 #include "lib/sampling.glsl"
 #define OSR_BSDF_TRANSMISSION ((kSceneFeatures & kSceneFeatureTransmission) != 0u)
+#define OSR_BSDF_LAYERS ((kSceneFeatures & kSceneFeatureLayers) != 0u)
 #include "lib/bsdf.glsl"
 #include "lib/ray_offset.glsl"
 #include "lib/lights.glsl"

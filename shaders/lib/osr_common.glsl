@@ -19,6 +19,7 @@ layout(constant_id = kOsrSpecSceneFeatures) const uint kSceneFeatures = kSceneFe
 #include "lib/rng.glsl"
 #include "lib/sampling.glsl"
 #define OSR_BSDF_TRANSMISSION ((kSceneFeatures & kSceneFeatureTransmission) != 0u)
+#define OSR_BSDF_LAYERS ((kSceneFeatures & kSceneFeatureLayers) != 0u)
 #include "lib/bsdf.glsl"
 #include "lib/ray_offset.glsl"
 #include "lib/lights.glsl"

@@ -117,6 +117,7 @@ bool pathBounce(inout PathState p, vec3 uLight, vec3 uBsdf, float uRoulette, out
   }
   SurfaceSample surf = surfaceAt(hit.triangle, hit.barycentrics);
   ShadingPoint sp = shadingPoint(surf, -p.dir);
+  p.beta *= mediumTransmittance(surf, sp.front, hit.t);
   r.hit = true;
   r.position = surf.position;
   r.normal = facingShadingNormal(surf, -p.dir);

@@ -15,7 +15,9 @@ struct ShadingPoint {
   BsdfParams bsdf;
 };
 
-BsdfParams bsdfParams(SurfaceMaterial m, bool front) {
+// The BSDF's inputs at `surf` seen from the side `front` says, in the local frame (t, b, n).
+BsdfParams bsdfParams(SurfaceSample surf, bool front, vec3 t, vec3 b, vec3 n) {
+  SurfaceMaterial m = surf.m;
   BsdfParams p;
   p.baseColor = m.baseColor;
   p.metallic = m.metallic;
@@ -25,6 +27,38 @@ BsdfParams bsdfParams(SurfaceMaterial m, bool front) {
   p.eta = front ? m.ior : 1.0 / m.ior;
   p.transmission = m.transmission;
   p._pad0 = 0.0;
+  p.clearcoatNormal = vec3(0.0, 0.0, 1.0);
+  p.clearcoat = 0.0;
+  p.sheenColor = vec3(0.0);
+  p.sheenRoughness = 0.0;
+  p.diffuseTransmissionColor = vec3(1.0);
+  p.diffuseTransmission = 0.0;
+  p.anisotropyDirection = vec2(1.0, 0.0);
+  p.anisotropy = 0.0;
+  p.clearcoatRoughness = 0.0;
+  if (sceneHas(kSceneFeatureLayers)) {
+    // The coat is on the outside of the surface only (a coat seen from inside glass is not
+    // the layer the file describes).
+    p.clearcoat = front || m.doubleSided ? m.clearcoat : 0.0;
+    p.clearcoatRoughness = m.clearcoatRoughness;
+    if (p.clearcoat > 0.0) {
+      vec3 nc = surf.clearcoatNormal;
+      if (dot(nc, n) < 0.0) nc = -nc;  // the coat's normal on wo's side, as n is
+      vec3 l = toLocal(nc, t, b, n);
+      p.clearcoatNormal = l.z > 1e-4 ? normalize(l) : vec3(0.0, 0.0, 1.0);
+    }
+    p.sheenColor = m.sheenColor;
+    p.sheenRoughness = m.sheenRoughness;
+    p.diffuseTransmissionColor = m.diffuseTransmissionColor;
+    p.diffuseTransmission = m.diffuseTransmission;
+    p.anisotropy = m.anisotropy;
+    if (m.anisotropy > 0.0) {
+      vec2 d = toLocal(surf.anisotropyTangent, t, b, n).xy;
+      float l = length(d);
+      p.anisotropyDirection = l > 1e-6 ? d / l : vec2(1.0, 0.0);
+      if (!(l > 1e-6)) p.anisotropy = 0.0;  // no tangent (degenerate uvs): isotropic
+    }
+  }
   return p;
 }
 
@@ -48,8 +82,16 @@ ShadingPoint shadingPoint(SurfaceSample surf, vec3 wo) {
   if (dot(sp.ns, wo) <= 1e-4) sp.ns = sp.ng;
   frameFromNormal(sp.ns, sp.t, sp.b);
   sp.woLocal = toLocal(wo, sp.t, sp.b, sp.ns);
-  sp.bsdf = bsdfParams(surf.m, sp.front);
+  sp.bsdf = bsdfParams(surf, sp.front, sp.t, sp.b, sp.ns);
   return sp;
+}
+
+// Beer-Lambert transmittance of the segment of length `t` that ended at `surf` seen from its
+// back side, i.e. travelled inside a closed mesh with KHR_materials_volume absorption (a camera
+// or light inside such a mesh is not modelled). 1 everywhere else.
+vec3 mediumTransmittance(SurfaceSample surf, bool front, float t) {
+  if (!sceneHas(kSceneFeatureLayers) || front) return vec3(1.0);
+  return exp(-surf.m.absorption * t);
 }
 
 // Ray origin leaving `sp` towards `dir`, offset to the side `dir` is on.
