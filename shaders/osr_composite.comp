@@ -4,7 +4,8 @@
 //  - the diffuse lobe in closed form: reflectance / pi x the interpolated irradiance;
 //  - GGX reflection lobes wider than a texel (alpha >= kNarrowLobeAlpha): `glossySamples` directions
 //    drawn from the lobe by visible normals, the interpolated map radiance looked up there;
-//  - narrower lobes and transmission: left to osr_residual, which path-traces them in full.
+//  - narrower lobes, transmission (glass and diffuse), clearcoat and sheen: left to
+//    osr_residual, which path-traces them in full.
 // Pixels no map covers get 0 here; osr_residual gives them the path tracer's answer instead.
 // Adds passWeight x estimate to AccumPixel.indirect (w: sum of pass weights).
 // In: GBufferPixel, MapPoint, MapProjection, clean maps. Out: AccumPixel.indirect.
@@ -34,8 +35,7 @@ void main() {
           float pdf;
           vec3 wi = bsdfSampleReflection(sp.bsdf, sp.woLocal, rngNext2(rng), pdf);
           if (pdf <= 0.0) continue;
-          float evalPdf;
-          vec3 f = bsdfEval(sp.bsdf, sp.woLocal, wi, evalPdf) - bsdfEvalDiffuse(sp.bsdf, sp.woLocal, wi);
+          vec3 f = bsdfEvalGlossy(sp.bsdf, sp.woLocal, wi);
           vec3 dir = toWorld(wi, sp.t, sp.b, sp.ns);
           if (dot(dir, sp.ng) <= 0.0) continue;
           spec += max(f, vec3(0.0)) * gatherRadiance(gather, dir) / pdf;

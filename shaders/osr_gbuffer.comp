@@ -35,14 +35,7 @@ void main() {
   g.geomNormal = vec4(0.0, 0.0, 1.0, 1.0);
   g.wo = vec4(-dir, 0.0);
   g.throughput = vec4(0.0);
-  g.bsdf.baseColor = vec3(0.0);
-  g.bsdf.metallic = 0.0;
-  g.bsdf.specularColor = vec3(0.0);
-  g.bsdf.roughness = 1.0;
-  g.bsdf.specular = 0.0;
-  g.bsdf.eta = 1.0;
-  g.bsdf.transmission = 0.0;
-  g.bsdf._pad0 = 0.0;
+  g.bsdf = bsdfBlack();
   AccumPixel a = gAccum[local];
   vec3 beta = vec3(1.0);
   vec3 emitted = vec3(0.0);
@@ -60,6 +53,7 @@ void main() {
     SurfaceSample surf = surfaceAt(hit.triangle, hit.barycentrics);
     ShadingPoint sp = shadingPoint(surf, -dir);
     rayLength += hit.t;
+    beta *= mediumTransmittance(surf, sp.front, hit.t);
     if (chain == 0u) {
       a.albedo.rgb += surf.m.baseColor;
       a.normal.rgb += facingShadingNormal(surf, -dir);

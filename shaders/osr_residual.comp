@@ -8,7 +8,8 @@
 // composite samples for glossy lobes), the residual (f L_pt - g) / pdf is an unbiased
 // estimate of the composite's error (a control variate; two-level Monte Carlo, Dereviannykh
 // et al. 2024), so composite + residual converges to the path tracer's answer.
-// Lobes the composite left out (narrow, transmission, delta) and pixels no map covers have
+// Lobes the composite left out (narrow, transmission, delta, clearcoat, sheen, diffuse
+// transmission) and pixels no map covers have
 // g = 0: their f L_pt / pdf is the path tracer's own answer, added to AccumPixel.indirect in
 // full; the control-variate part goes to AccumPixel.residual, which the resolve blends in.
 // In: GBufferPixel, MapPoint, clean maps, scene, BVH. Out: AccumPixel.indirect, .residual.
@@ -80,16 +81,17 @@ void main() {
         always += bs.weight * lpt;
         continue;
       }
-      // Split f cos into the diffuse lobe and the rest (f cos = weight * pdf).
+      // Split f cos into the diffuse lobe, the glossy lobes the composite took from the maps
+      // (wide ones only) and the rest (f cos = weight * pdf).
       vec3 fcos = bs.weight * bs.pdf;
       vec3 fd = bsdfEvalDiffuse(sp.bsdf, sp.woLocal, bs.wi);
-      vec3 fRest = max(fcos - fd, vec3(0.0));
-      bool restInMaps = wide && bs.wi.z > 0.0;
+      vec3 fGlossy = wide ? bsdfEvalGlossy(sp.bsdf, sp.woLocal, bs.wi) : vec3(0.0);
+      vec3 fRest = max(fcos - fd - fGlossy, vec3(0.0));
       vec3 dir = toWorld(bs.wi, sp.t, sp.b, sp.ns);
       vec3 cv = rho * kInvPi * max(bs.wi.z, 0.0) * gatherShRadiance(gather, shWeights, dir);
-      if (restInMaps) cv += fRest * gatherRadiance(gather, dir);
-      blended += ((fd + (restInMaps ? fRest : vec3(0.0))) * lpt - cv) / bs.pdf;
-      if (!restInMaps) always += fRest * lpt / bs.pdf;
+      if (wide) cv += fGlossy * gatherRadiance(gather, dir);
+      blended += ((fd + fGlossy) * lpt - cv) / bs.pdf;
+      always += fRest * lpt / bs.pdf;
     }
     float inv = 1.0 / float(max(gPush.pathsPerPixel, 1u));
     always *= g.throughput.rgb * inv;
