@@ -204,6 +204,15 @@ T readLe(std::span<const uint8_t> bytes, size_t offset) {
   throw InputError(path + ": " + problem);
 }
 
+// A header value that must be a whole number in [0, max]. nlohmann's get<uint32_t>() would
+// convert a float such as 1e30 with undefined behaviour, and a negative number by wrapping.
+uint64_t wholeNumber(const std::string& path, const nlohmann::json& value, const std::string& what,
+                     uint64_t max) {
+  if (!value.is_number_unsigned() || value.get<uint64_t>() > max)
+    fail(path, what + " is " + value.dump() + ", expected a whole number 0.." + std::to_string(max));
+  return value.get<uint64_t>();
+}
+
 // Reads tensor `key` of layer `layer` with the expected shape into `out` as floats.
 void readTensor(const std::string& path, std::span<const uint8_t> file, uint64_t dataOffset,
                 uint64_t dataBytes, const nlohmann::json& layer, const char* key,
@@ -212,7 +221,9 @@ void readTensor(const std::string& path, std::span<const uint8_t> file, uint64_t
   if (!layer.contains("tensors") || !layer["tensors"].contains(key))
     fail(path, "layer tensor " + where + " is missing");
   const nlohmann::json& t = layer["tensors"][key];
-  std::vector<uint64_t> got = t.at("shape").get<std::vector<uint64_t>>();
+  std::vector<uint64_t> got;
+  for (const nlohmann::json& d : t.at("shape"))
+    got.push_back(wholeNumber(path, d, "tensor " + where + " shape", uint64_t(1) << 32));
   if (got != shape) {
     std::string g, e;
     for (auto v : got) g += (g.empty() ? "" : "x") + std::to_string(v);
@@ -224,7 +235,9 @@ void readTensor(const std::string& path, std::span<const uint8_t> file, uint64_t
   const std::string dtype = t.at("dtype").get<std::string>();
   const uint64_t elem = dtype == "f32" ? 4 : dtype == "f16" ? 2 : 0;
   if (!elem) fail(path, "tensor " + where + " has unknown dtype '" + dtype + "'");
-  const uint64_t offset = t.at("offset").get<uint64_t>(), bytes = t.at("bytes").get<uint64_t>();
+  const uint64_t limit = uint64_t(1) << 40;  // a bound that keeps the checks below from wrapping
+  const uint64_t offset = wholeNumber(path, t.at("offset"), "tensor " + where + " offset", limit);
+  const uint64_t bytes = wholeNumber(path, t.at("bytes"), "tensor " + where + " bytes", limit);
   if (bytes != count * elem) fail(path, "tensor " + where + " byte size does not match its shape");
   if (offset % kDataAlignment) fail(path, "tensor " + where + " is not aligned");
   if (offset > dataBytes || bytes > dataBytes - offset)
@@ -271,8 +284,9 @@ Packed readPacked(std::span<const uint8_t> file, const std::string& path) {
   const uint64_t headerBytes = readLe<uint64_t>(file, kOffsetHeaderBytes);
   p.dataOffset = readLe<uint64_t>(file, kOffsetDataOffset);
   p.dataBytes = readLe<uint64_t>(file, kOffsetDataBytes);
-  if (p.dataOffset < kPrefixBytes + headerBytes || p.dataOffset % kDataAlignment ||
-      p.dataOffset > (1ull << 40) || p.dataBytes > (1ull << 40))
+  // Each bounded first, so that the sums below cannot wrap around.
+  if (headerBytes > (1ull << 40) || p.dataOffset > (1ull << 40) || p.dataBytes > (1ull << 40) ||
+      p.dataOffset < kPrefixBytes + headerBytes || p.dataOffset % kDataAlignment)
     fail(path, "corrupt prefix (header/data offsets)");
   if (file.size() < p.dataOffset + p.dataBytes)
     fail(path, "truncated: " + std::to_string(file.size()) + " bytes, expected " +
@@ -303,9 +317,9 @@ void requireStage(const std::string& path, const nlohmann::json& header, const c
 }
 
 uint32_t readBaseWidth(const std::string& path, const nlohmann::json& header) {
-  const uint32_t k = header.at("base_width").get<uint32_t>();
+  const uint64_t k = wholeNumber(path, header.at("base_width"), "base width K", 1u << 30);
   if (k == 0 || k > 1024) fail(path, "base width K=" + std::to_string(k) + " is not in 1..1024");
-  return k;
+  return uint32_t(k);
 }
 
 // Layer `i` of the table: its name, activation and tensors against the expected shape.
@@ -324,9 +338,13 @@ ConvWeights readConv(const std::string& path, std::span<const uint8_t> file, con
   c.batchNorm = batchNorm;
   if (l.at("activation").get<std::string>() != activationName(activation))
     fail(path, std::string("layer ") + name + " has activation " + l["activation"].dump());
-  c.slope = l.value("slope", 0.2f);
-  if (!std::isfinite(c.slope))
-    fail(path, std::string("layer ") + name + " has slope " + l["slope"].dump());
+  if (l.contains("slope")) {
+    // Checked as a double: a value beyond float's range would convert with undefined behaviour.
+    const nlohmann::json& slope = l.at("slope");
+    if (!slope.is_number() || !(std::fabs(slope.get<double>()) <= 1e6))
+      fail(path, std::string("layer ") + name + " has slope " + slope.dump());
+    c.slope = slope.get<float>();
+  }
   if (l.value("batchnorm", false) != batchNorm)
     fail(path, std::string("layer ") + name + " BatchNorm presence does not match");
   readTensor(path, file, p.dataOffset, p.dataBytes, l, "weight", {cout, cin, kernel, kernel}, c.weight);
@@ -372,8 +390,8 @@ UNetWeights UNetWeights::parse(std::span<const uint8_t> file, const std::string&
     const nlohmann::json& header = p.header;
     requireStage(path, header, kStageMapDenoiser, kArchitecture);
     w.k = readBaseWidth(path, header);
-    if (header.at("map_size").get<uint32_t>() != kMapSize)
-      fail(path, "map size " + header["map_size"].dump() + ", expected " + std::to_string(kMapSize));
+    if (wholeNumber(path, header.at("map_size"), "map size", 1u << 30) != kMapSize)
+      fail(path, "map size " + header.at("map_size").dump() + ", expected " + std::to_string(kMapSize));
     w.halfStorage = header.at("dtype").get<std::string>() == "f16";
     w.mapping = header.at("mapping").get<std::string>();
     w.normalization = header.at("normalization").get<std::string>();
@@ -411,10 +429,11 @@ ImageUNetWeights ImageUNetWeights::parse(std::span<const uint8_t> file, const st
     if (transform != kInputTransformExposureLog1p)
       fail(path, "input transform '" + transform + "', this renderer implements '" +
                      kInputTransformExposureLog1p + "'");
-    if (header.at("in_channels").get<uint32_t>() != kImageInChannels ||
-        header.at("out_channels").get<uint32_t>() != w.outChannels())
-      fail(path, "channels " + header["in_channels"].dump() + " -> " + header["out_channels"].dump() +
-                     ", expected " + std::to_string(kImageInChannels) + " -> " + std::to_string(w.outChannels()));
+    const uint64_t in = wholeNumber(path, header.at("in_channels"), "in_channels", 1u << 30);
+    const uint64_t out = wholeNumber(path, header.at("out_channels"), "out_channels", 1u << 30);
+    if (in != kImageInChannels || out != w.outChannels())
+      fail(path, "channels " + std::to_string(in) + " -> " + std::to_string(out) + ", expected " +
+                     std::to_string(kImageInChannels) + " -> " + std::to_string(w.outChannels()));
     requireLayerCount(path, header, kImageConvCount);
     for (int i = 0; i < kImageConvCount; ++i) {
       const ImageConvSpec& s = kImageConvSpecs[i];
