@@ -16,6 +16,7 @@
 #include <glm/gtc/type_ptr.hpp>
 #include <map>
 #include <memory>
+#include <optional>
 #include <set>
 
 #include "common/error.h"
@@ -211,6 +212,14 @@ double number(const tinygltf::Value& object, const char* key, double fallback) {
   if (!object.IsObject() || !object.Has(key)) return fallback;
   const tinygltf::Value& v = object.Get(key);
   return v.IsNumber() ? v.GetNumberAsDouble() : fallback;
+}
+
+// An index or set number inside an extension object: whole and within int's range, else
+// nullopt (converting 1e30 to int is undefined behaviour).
+std::optional<int> wholeNumber(const tinygltf::Value& object, const char* key, int fallback) {
+  const double v = number(object, key, fallback);
+  if (!(v >= -2147483648.0 && v <= 2147483647.0) || v != std::floor(v)) return std::nullopt;
+  return int(v);
 }
 
 class Loader {
@@ -504,7 +513,7 @@ class Loader {
     if (size_t(index) >= model_.textures.size())
       fail(what + ": texture " + std::to_string(index) + " does not exist");
     if (transform && transform->IsObject() && transform->Has("texCoord"))
-      texCoord = int(number(*transform, "texCoord", 0));
+      texCoord = wholeNumber(*transform, "texCoord", 0).value_or(-1);
     noteUvTransform(transform, what);
     if (texCoord != 0)
       warn(what + ": TEXCOORD_" + std::to_string(texCoord) + " not supported, using TEXCOORD_0");
@@ -577,8 +586,10 @@ class Loader {
     if (info.IsObject() && info.Has("extensions") &&
         info.Get("extensions").Has("KHR_texture_transform"))
       transform = &info.Get("extensions").Get("KHR_texture_transform");
-    return texture(int(number(info, "index", -1)), int(number(info, "texCoord", 0)),
-                   what + " " + key, transform);
+    const std::optional<int> index = wholeNumber(info, "index", -1);
+    if (!index) fail(what + " " + key + ": the texture index is not a whole number");
+    return texture(*index, wholeNumber(info, "texCoord", 0).value_or(-1), what + " " + key,
+                   transform);
   }
 
   gpu::Material material(int index) {
@@ -1059,7 +1070,7 @@ class Loader {
   }
 
   void punctualLight(const tinygltf::Value& ext, int nodeIndex, const glm::mat4& worldFromNode) {
-    int index = int(number(ext, "light", -1));
+    const int index = wholeNumber(ext, "light", -1).value_or(-1);
     if (index < 0 || size_t(index) >= model_.lights.size())
       fail("node " + std::to_string(nodeIndex) + ": KHR_lights_punctual light " +
            std::to_string(index) + " does not exist");
