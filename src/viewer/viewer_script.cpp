@@ -4,9 +4,11 @@
 #include <cmath>
 #include <cstdlib>
 #include <fstream>
+#include <iterator>
 #include <sstream>
 
 #include "common/error.h"
+#include "common/input_file.h"
 
 namespace osr::viewer {
 
@@ -24,14 +26,25 @@ constexpr Syntax kSyntax[] = {
     {"screenshot", 0, true}, {"stats", 0, false}, {"quit", 0, false},
     {"mode", 0, true},
 };
+// Every number's bound: far beyond any use (degrees, scene radii, seconds, counts), and well
+// inside float's and int32's range.
+constexpr double kLargest = 1e9;
 constexpr const char* kKeys[] = {"s", "space", "1",    "2",     "3", "4",
                                  "5", "6",     "plus", "minus", "f", "escape"};
 }  // namespace
 
 std::vector<ScriptCommand> readViewerScript(const std::string& path,
                                             const std::vector<std::string>& modes) {
-  std::ifstream in(path);
+  if (auto problem = inputFileProblem(path)) throw InputError(path + ": " + *problem);
+  std::ifstream in(path, std::ios::binary);
   if (!in) throw InputError(path + ": cannot open the viewer script");
+  const std::string text{std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>()};
+  return parseViewerScript(text, path, modes);
+}
+
+std::vector<ScriptCommand> parseViewerScript(const std::string& text, const std::string& path,
+                                             const std::vector<std::string>& modes) {
+  std::istringstream in(text);
   std::vector<ScriptCommand> out;
   std::string raw;
   for (int lineNo = 1; std::getline(in, raw); ++lineNo) {
@@ -51,8 +64,13 @@ std::vector<ScriptCommand> readViewerScript(const std::string& path,
                          " number(s)");
       char* end = nullptr;
       const double x = std::strtod(word.c_str(), &end);
-      if (*end || !std::isfinite(x))
+      // The whole word (a NUL inside it would end the C string early), and a number the viewer
+      // can use: it turns these into floats (1e39 would be infinite) and counts into integers.
+      if (end != word.c_str() + word.size() || !std::isfinite(x))
         throw InputError(where + c.name + ": '" + word + "' is not a number");
+      if (std::fabs(x) > kLargest)
+        throw InputError(where + c.name + ": " + word + " is out of range (at most " +
+                         std::to_string(int(kLargest)) + " in size)");
       c.numbers.push_back(x);
     }
     if (syntax->text && !(line >> c.text)) throw InputError(where + c.name + " needs an argument");
@@ -72,7 +90,8 @@ std::vector<ScriptCommand> readViewerScript(const std::string& path,
     }
     if ((c.name == "wait" || c.name == "at") && c.numbers[0] < 0)
       throw InputError(where + c.name + " needs a time >= 0");
-    if (c.name == "zoom" && c.numbers[0] <= 0) throw InputError(where + "zoom needs a factor > 0");
+    if (c.name == "zoom" && !(c.numbers[0] >= 1e-6))
+      throw InputError(where + "zoom needs a factor > 0 (at least 0.000001)");
     if (c.name == "resize" &&
         (c.numbers[0] < 64 || c.numbers[1] < 64 || c.numbers[0] > 8192 || c.numbers[1] > 8192))
       throw InputError(where + "resize needs a size in [64, 8192]");

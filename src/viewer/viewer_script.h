@@ -34,5 +34,8 @@ struct ScriptCommand {
 // integrators), or an unreadable file.
 std::vector<ScriptCommand> readViewerScript(const std::string& path,
                                             const std::vector<std::string>& modes = {});
+// The same from the script's text; `path` names it in messages.
+std::vector<ScriptCommand> parseViewerScript(const std::string& text, const std::string& path,
+                                             const std::vector<std::string>& modes = {});
 
 }  // namespace osr::viewer

@@ -77,3 +77,15 @@ TEST(ViewerScript, ModeNamesAreTheViewers) {
         << e.what();
   }
 }
+
+// Found by tests/fuzz/fuzz_viewer_script.cpp (tests/fuzz/regressions/viewer_script): numbers the
+// viewer would turn into an infinite float or an out-of-range integer, and a NUL that hid the
+// rest of a word.
+TEST(ViewerScript, NumbersTheViewerCannotUseAreRefused) {
+  EXPECT_NE(errorOf("fly 1e50 0 0\n").find("s.txt:1: fly: 1e50 is out of range"), std::string::npos);
+  EXPECT_NE(errorOf("camera 1e12\n").find("out of range"), std::string::npos);
+  EXPECT_NE(errorOf("zoom 1e-300\n").find("factor > 0"), std::string::npos);
+  EXPECT_NE(errorOf(std::string("resize 640 480\0ens0\n", 20)).find("is not a number"),
+            std::string::npos);
+  EXPECT_EQ(viewer::parseViewerScript("orbit -1e9 1e9\n", "s.txt").at(0).numbers[1], 1e9);
+}
