@@ -14,9 +14,8 @@
 #include <optional>
 #include <sstream>
 
-#include "app/args.h"
 #include "app/commands.h"
-#include "app/device_options.h"
+#include "app/maps_options.h"
 #include "app/npy.h"
 #include "app/scene_setup.h"
 #include "common/error.h"
@@ -31,23 +30,6 @@ namespace fs = std::filesystem;
 
 constexpr size_t kTexels = gpu::hemi::kMapTexels;
 constexpr size_t kMapFloats = size_t(gpu::osr::kMapChannels) * kTexels;
-
-// "x,y;x,y;...": at least one pair of non-negative integers.
-std::vector<glm::uvec2> parsePixels(const std::string& text) {
-  std::vector<glm::uvec2> pixels;
-  std::stringstream list(text);
-  std::string item;
-  while (std::getline(list, item, ';')) {
-    const size_t comma = item.find(',');
-    const bool digitsOnly = item.find_first_not_of("0123456789,") == std::string::npos;
-    if (!digitsOnly || comma == std::string::npos || comma == 0 || comma + 1 == item.size() ||
-        item.find(',', comma + 1) != std::string::npos || comma > 9 || item.size() - comma > 10)
-      throw InputError("--pixels: '" + item + "' is not x,y (expected x,y;x,y;...)");
-    pixels.emplace_back(std::stoul(item.substr(0, comma)), std::stoul(item.substr(comma + 1)));
-  }
-  if (pixels.empty()) throw InputError("--pixels: no pixels given (expected x,y;x,y;...)");
-  return pixels;
-}
 
 uint32_t hash32(uint32_t x) {  // lowbias32 (Wellons)
   x ^= x >> 16;
@@ -138,28 +120,11 @@ double secondsSince(std::chrono::steady_clock::time_point t0) {
 }  // namespace
 
 int runMaps(const std::vector<std::string>& args) {
-  Args a(args, "maps");
-  auto outDir = a.value("--out");
-  auto grid = a.integer("--grid", 1, 16384);
-  auto pixelText = a.value("--pixels");
-  const uint32_t referenceSpp = uint32_t(a.integer("--reference-spp", 0, 1 << 20).value_or(0));
-  const uint32_t views = uint32_t(a.integer("--views", 1, 1 << 20).value_or(1));
-  const uint32_t seed = uint32_t(a.integer("--seed", 0, 0xffffffffll).value_or(0));
-  const SceneOptions sceneOptions = readSceneOptions(a);
-  const vk::ContextOptions vkOptions = readDeviceOptions(a);
-  const bool quiet = a.flag("--quiet");
-  auto files = a.positional();
-  a.finish();
-  if (files.size() != 1) throw InputError("maps: expected exactly one scene file");
-  if (!outDir) throw InputError("maps: give --out DIR");
-  if (grid && pixelText) throw InputError("maps: give --grid R or --pixels x,y;..., not both");
-  if (!grid && !pixelText) throw InputError("maps: give --grid R or --pixels x,y;x,y;...");
-  if (fs::exists(*outDir) && !fs::is_directory(*outDir))
-    throw InputError("--out: " + *outDir + " exists and is not a folder");
-  std::vector<glm::uvec2> listed;
-  if (pixelText) listed = parsePixels(*pixelText);
-
-  const HostScene host = loadHostScene(files[0], sceneOptions);
+  const MapsOptions o = parseMapsOptions(args);
+  const std::vector<glm::uvec2>& listed = o.pixels;
+  const uint32_t referenceSpp = o.referenceSpp, views = o.views, seed = o.seed;
+  const bool quiet = o.quiet;
+  const HostScene host = loadHostScene(o.scenePath, o.scene);
   for (const glm::uvec2& p : listed)
     if (p.x >= host.width || p.y >= host.height)
       throw InputError("--pixels: " + std::to_string(p.x) + "," + std::to_string(p.y) +
@@ -167,9 +132,9 @@ int runMaps(const std::vector<std::string>& args) {
                        std::to_string(host.height) + " image");
   warnIfNeutralSky(host);
 
-  vk::Context ctx(vkOptions);
+  vk::Context ctx(o.device);
   const DeviceScene dev(ctx, host);
-  OutputFiles out(*outDir);
+  OutputFiles out(o.outDir);
   oneshot::MapTracer tracer(ctx, dev.gpu, dev.bvh, host.camera, host.width, host.height, seed);
 
   std::vector<float> input, target;
@@ -180,7 +145,7 @@ int runMaps(const std::vector<std::string>& args) {
     tracer.setView(v);
     const std::vector<gpu::osr::GBufferPixel> gb = tracer.gbuffer();
     std::vector<glm::uvec2> pixels;
-    for (const glm::uvec2& p : grid ? jitteredGrid(host.width, host.height, uint32_t(*grid), seed, v)
+    for (const glm::uvec2& p : o.grid ? jitteredGrid(host.width, host.height, uint32_t(*o.grid), seed, v)
                                     : listed)
       if (gb[size_t(p.y) * host.width + p.x].position.w >= 0.5f) pixels.push_back(p);
     if (pixels.empty()) continue;
@@ -212,13 +177,13 @@ int runMaps(const std::vector<std::string>& args) {
 
   std::ostringstream j;
   j << "{\n  \"format\": \"osr-vk maps\",\n  \"version\": " << jsonString(kVersion)
-    << ",\n  \"scene\": " << jsonString(files[0]) << ",\n  \"camera\": " << jsonString(host.camera.name)
+    << ",\n  \"scene\": " << jsonString(o.scenePath) << ",\n  \"camera\": " << jsonString(host.camera.name)
     << ",\n  \"width\": " << host.width << ",\n  \"height\": " << host.height
     << ",\n  \"seed\": " << seed << ",\n  \"views\": " << views << ",\n  \"grid\": ";
-  if (grid) j << *grid;
+  if (o.grid) j << *o.grid;
   else j << "null";
   j << ",\n  \"pixels\": ";
-  if (pixelText) {
+  if (o.pixelText) {
     j << "[";
     for (size_t i = 0; i < listed.size(); ++i)
       j << (i ? ", [" : "[") << listed[i].x << ", " << listed[i].y << "]";

@@ -16,16 +16,16 @@
 #include <new>
 #include <optional>
 
-#include "app/args.h"
 #include "app/commands.h"
-#include "app/device_options.h"
 #include "app/frames.h"
 #include "app/integrators.h"
 #include "app/interrupt.h"
 #include "app/output_paths.h"
+#include "app/render_options.h"
 #include "app/scene_setup.h"
 #include "bvh/bvh.h"
 #include "common/error.h"
+#include "common/input_file.h"
 #include "image/image_io.h"
 #include "osr/osr_integrator.h"
 #include "render/film_export.h"
@@ -115,92 +115,6 @@ void writeMapDump(const std::string& dir, const oneshot::OsrIntegrator::MapDump&
   image::writePng(dir + "/grid.png", frame, ev);
 }
 
-// The options of `osr-vk render`, as given.
-struct RenderOptions {
-  IntegratorOptions integrator;
-  std::optional<std::string> exrPath, pngPath;  // --offline, --png
-  std::optional<double> exposure, timeLimit;
-  std::optional<long long> seed;
-  SceneOptions scene;
-  bool exrFloat = false, quiet = false;
-  std::optional<std::string> dumpMaps, viewerScript, saveDir;
-  std::optional<std::vector<long long>> crop;  // --crop X,Y,W,H
-  std::optional<FrameOptions> frames;
-  vk::ContextOptions device;
-  std::string scenePath;
-  std::chrono::steady_clock::time_point started = std::chrono::steady_clock::now();
-  bool live() const { return !exrPath && !pngPath; }  // no output file: the viewer
-};
-
-RenderOptions parseRenderOptions(const std::vector<std::string>& args) {
-  Args a(args, "render");
-  RenderOptions o;
-  o.exrPath = a.value("--offline");
-  o.pngPath = a.value("--png");
-  o.exposure = a.number("--exposure", -64, 64);
-  o.integrator = readIntegratorOptions(a);
-  o.timeLimit = a.number("--time", 0.001, 1e7);
-  o.seed = a.integer("--seed", 0, 0xffffffffll);
-  o.scene = readSceneOptions(a);
-  o.exrFloat = a.flag("--exr-float");
-  o.quiet = a.flag("--quiet");
-  o.dumpMaps = a.value("--dump-maps");
-  o.viewerScript = a.value("--viewer-script");
-  o.saveDir = a.value("--save-dir");
-  o.crop = a.integerList("--crop", 0, 16384);
-  o.frames = readFrameOptions(a);
-  o.integrator.everyMode.denoise.check();  // a bad model: one line and exit 2 before any work
-  o.device = readDeviceOptions(a);
-  auto files = a.positional();
-  a.finish();
-  if (files.size() != 1) throw InputError("render: expected exactly one scene file");
-  o.scenePath = files[0];
-  return o;
-}
-
-// The cross-checks that need no file: the integrator's settings, and options that only shape
-// an output which is not written (they would be ignored without a word). The viewer's display
-// is required here, before any work: none means one line suggesting --offline and exit 2.
-IntegratorSettings validateRenderOptions(RenderOptions& o) {
-  IntegratorSettings settings = buildIntegratorSettings(o.integrator);
-  // The map cache pays where views follow each other: camera moves, a shot's frames.
-  if (!o.integrator.osr.mapCache && (o.live() || o.frames))
-    settings.osr.mapCacheMaps = oneshot::kDefaultMapCacheMaps;
-  // The viewer shows an image soon after a move: light first passes (docs/viewer.md).
-  if (o.live()) settings.osr.quickPasses = oneshot::kViewerQuickPasses;
-  if (o.dumpMaps && o.integrator.mode != "osr")
-    throw InputError("--dump-maps: an option of --mode osr");
-  if (o.exposure && !o.live() && !o.pngPath)
-    throw InputError(
-        "--exposure: sets the exposure of the --png preview (the EXR holds radiance); "
-        "give --png too");
-  if (o.exrFloat && !o.exrPath) throw InputError("--exr-float: an option of the --offline EXR");
-  if (o.live() && o.dumpMaps)
-    throw InputError("--dump-maps: an option of --offline/--png renders (the viewer saves with S)");
-  if (!o.live() && (o.viewerScript || o.saveDir))
-    throw InputError(
-        "render: --viewer-script and --save-dir are options of the viewer "
-        "(without --offline/--png)");
-  // Checked now, not at the first save: every S in the window would fail with it.
-  if (o.saveDir && !std::filesystem::is_directory(*o.saveDir))
-    throw InputError("--save-dir: " + *o.saveDir + " is not a folder");
-  if (o.live() && o.crop) throw InputError("--crop: an option of --offline/--png renders");
-  if (o.crop && (o.crop->size() != 4 || (*o.crop)[2] < 1 || (*o.crop)[3] < 1))
-    throw InputError("--crop: expected X,Y,W,H (the window's corner and size, W and H >= 1)");
-  if (o.frames) {
-    if (o.live()) throw InputError("--frames: an option of --offline/--png renders (give --offline)");
-    if (o.dumpMaps) throw InputError("--dump-maps: not with --frames (one frame's maps)");
-    if (o.exrPath) checkFrameField("--offline", *o.exrPath);
-    if (o.pngPath) checkFrameField("--png", *o.pngPath);
-  }
-  if (o.live()) {
-    o.device.instanceExtensions = viewer::requireDisplay();
-    o.device.swapchain = true;
-  }
-  settings.keepAllMaps = bool(o.dumpMaps);
-  return settings;
-}
-
 // The scene on the host, its film cropped to the --crop window; a shot needs an animation.
 HostScene loadRenderScene(const RenderOptions& o) {
   HostScene host = loadHostScene(o.scenePath, o.scene);
@@ -226,8 +140,7 @@ void checkRenderFiles(const RenderOptions& o, const HostScene& host) {
     const std::string& dir = *o.dumpMaps;
     // The folder is made now, not after the render: a path that cannot be one (an existing
     // file, a file on the way) is bad input found in a second, not an error after minutes.
-    if (std::filesystem::exists(dir) && !std::filesystem::is_directory(dir))
-      throw InputError("--dump-maps: " + dir + " exists and is not a folder");
+    if (auto problem = folderProblem(dir)) throw InputError("--dump-maps: " + dir + *problem);
     std::error_code ec;
     std::filesystem::create_directories(dir, ec);
     if (ec)
@@ -464,7 +377,13 @@ void OfflineRenderer::printSummary(const render::RenderStats& stats) const {
 
 int runRender(const std::vector<std::string>& args) {
   RenderOptions options = parseRenderOptions(args);
-  const IntegratorSettings settings = validateRenderOptions(options);
+  const IntegratorSettings settings = checkRenderOptions(options);
+  // The viewer's display is required before any work: none means one line suggesting
+  // --offline and exit 2.
+  if (options.live()) {
+    options.device.instanceExtensions = viewer::requireDisplay();
+    options.device.swapchain = true;
+  }
   HostScene host = loadRenderScene(options);
   checkRenderFiles(options, host);
   warnIfNeutralSky(host);

@@ -7,6 +7,7 @@
 #include "app/args.h"
 #include "app/commands.h"
 #include "app/device_options.h"
+#include "app/maps_file.h"
 #include "app/output_paths.h"
 #include "common/error.h"
 #include "nn_kernels/unet.h"
@@ -37,15 +38,9 @@ int runUnet(const std::vector<std::string>& args) {
     throw InputError("unet: --precision must be fp32 or fp16, not '" + *precision + "'");
 
   nn::UNetWeights weights = nn::UNetWeights::load(*weightsPath);
-  std::ifstream in(*inPath, std::ios::binary);
-  if (!in) throw InputError(*inPath + ": cannot open input maps");
-  std::vector<char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  const size_t mapBytes = size_t(nn::kInChannels) * nn::kMapSize * nn::kMapSize * 4;
-  if (bytes.empty() || bytes.size() % mapBytes)
-    throw InputError(*inPath + ": " + std::to_string(bytes.size()) +
-                     " bytes is not a positive multiple of one 7x32x32 fp32 map (" +
-                     std::to_string(mapBytes) + " bytes)");
-  const uint32_t maps = uint32_t(bytes.size() / mapBytes);
+  const MapsFile input = readMapsFile(*inPath);
+  const std::vector<char>& bytes = input.bytes;
+  const uint32_t maps = input.maps;
   const size_t outBytes = size_t(maps) * nn::kOutChannels * nn::kMapSize * nn::kMapSize * 4;
 
   vk::Context ctx(options);
