@@ -30,6 +30,17 @@ def positive_float(text: str) -> float:
     return value
 
 
+def seed_int(text: str) -> int:
+    """A random seed: a whole number 0 to 2^32 - 1 (NumPy refuses negative seeds)."""
+    try:
+        value = int(text)
+    except ValueError:
+        raise argparse.ArgumentTypeError(f"expects an integer, got '{text}'") from None
+    if not 0 <= value < 2**32:
+        raise argparse.ArgumentTypeError(f"must be 0 to {2**32 - 1}, got {value}")
+    return value
+
+
 def parse_seeds(texts: list[str]) -> list[int]:
     """Seeds as `--seeds 5`, `--seeds 1-20`, `--seeds 1-10,40` (repeatable) say them, in order.
     Raises ValueError naming the part that is not a seed or a range A-B with A <= B."""

@@ -10,7 +10,7 @@ packages=(
   libopenexr-dev libimath-dev libglfw3-dev libimgui-dev
   xvfb xauth
   libgtest-dev libembree-dev
-  python3-torch python3-numpy
+  python3-torch python3-numpy python3-hypothesis
   python3-distributed python3-dask
   slurm-wlm slurm-client munge
   blender

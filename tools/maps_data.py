@@ -14,6 +14,7 @@ Normalization, per map (numbers as in osr_map_normalize.comp):
 from __future__ import annotations
 
 import json
+import zipfile
 from pathlib import Path
 
 import numpy as np
@@ -29,8 +30,11 @@ def load_array(path: Path, shape_tail: tuple[int, ...]) -> np.ndarray:
     """A .npy file as a memmap, checked to be float32 [N, *shape_tail]."""
     try:
         a = np.load(path, mmap_mode="r")
-    except (OSError, ValueError, EOFError) as e:
+    except (OSError, ValueError, EOFError, zipfile.BadZipFile) as e:
         raise DataError(f"{path}: not a readable .npy array ({e})") from None
+    if not isinstance(a, np.ndarray):  # np.load opens an .npz archive (a zip) whatever its name
+        a.close()
+        raise DataError(f"{path}: an .npz archive, not a .npy array")
     if a.dtype != np.float32 or a.ndim != 1 + len(shape_tail) or tuple(a.shape[1:]) != shape_tail:
         raise DataError(f"{path}: shape {list(a.shape)} {a.dtype}, expected [N, "
                         f"{', '.join(map(str, shape_tail))}] float32")
@@ -51,7 +55,7 @@ class Shards:
                 manifest = json.loads(path.read_text())
                 self.spp.add(manifest["settings"]["reference_spp"])
                 shards = [(Path(folder) / s["path"], int(s["seed"])) for s in manifest["shards"]]
-            except (OSError, ValueError, KeyError, TypeError) as e:
+            except (OSError, ValueError, KeyError, TypeError, OverflowError) as e:
                 raise DataError(f"{path}: not a make_dataset.py manifest ({e})") from None
             for d, seed in shards:
                 x = load_array(d / "input.npy", (7, MAP, MAP))

@@ -49,7 +49,7 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 import maps_data  # noqa: E402
-from arg_types import positive_float, positive_int  # noqa: E402
+from arg_types import positive_float, positive_int, seed_int  # noqa: E402
 
 
 def git_commit() -> str:
@@ -144,7 +144,8 @@ def init_distributed(torch) -> tuple[int, int]:
     return dist.get_rank(), world
 
 
-def main(argv: list[str] | None = None) -> int:
+def parse_args(argv: list[str] | None = None) -> argparse.Namespace:
+    """The command line, every value checked (argparse's one-line error and exit 2 otherwise)."""
     p = argparse.ArgumentParser(prog="train.py", description=__doc__.split("\n", 2)[2],
                                 formatter_class=argparse.RawDescriptionHelpFormatter)
     p.add_argument("data", nargs="+", help="training dataset folders (make_dataset.py)")
@@ -157,7 +158,7 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--lr", type=positive_float, default=1e-3, help="initial Adam learning rate (default 1e-3)")
     p.add_argument("--loss", choices=["relmse", "l1log"], default="relmse", help="loss (default relmse)")
     p.add_argument("--threads", type=positive_int, default=2, help="PyTorch CPU threads (default 2)")
-    p.add_argument("--seed", type=int, default=1, help="seed of initialization and batches (default 1)")
+    p.add_argument("--seed", type=seed_int, default=1, help="seed of initialization and batches (default 1)")
     p.add_argument("--eval-s", type=positive_float, default=120.0, help="seconds between validations (default 120)")
     p.add_argument("--checkpoint-s", type=positive_float, default=60.0, help="seconds between checkpoints (default 60)")
     p.add_argument("--select", choices=["rescaled", "absolute"], default="rescaled",
@@ -165,8 +166,26 @@ def main(argv: list[str] | None = None) -> int:
                    "means (the shipped normalization, default) or as predicted")
     p.add_argument("--init", help="start from this checkpoint's weights (best.pt or checkpoint.pt of the same K)")
     p.add_argument("--no-export", action="store_true", help="do not pack model.osrw at the end")
-    args = p.parse_args(argv)
+    return p.parse_args(argv)
 
+
+def load_data(folders: list[str], val_folder: str) -> tuple[Data, Data]:
+    """The training and validation sets, checked: each a make_dataset.py folder, no scene in
+    both (validation is split by scene), usable maps in each. DataError naming the problem."""
+    for folder in [*folders, val_folder]:
+        if not (Path(folder) / "dataset.json").is_file():
+            raise maps_data.DataError(f"{folder}: no dataset.json (not a make_dataset.py folder)")
+    train, val = Data(folders), Data([val_folder])
+    if train.scenes & val.scenes:
+        raise maps_data.DataError(f"{val_folder}: scenes {seeds_text(train.scenes & val.scenes)} are also in "
+                                  "the training data (validation must be split by scene)")
+    if train.count == 0 or val.count == 0:
+        raise maps_data.DataError("no usable maps in the training or validation data")
+    return train, val
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = parse_args(argv)
     import torch
     from unet import UNet
     torch.set_num_threads(args.threads)
@@ -175,18 +194,7 @@ def main(argv: list[str] | None = None) -> int:
         print(f"train.py: --batch {args.batch} does not divide among {world} processes", file=sys.stderr)
         return 2
     lead = rank == 0  # the process that validates, writes the run folder and prints
-    for folder in [*args.data, args.val]:
-        if not (Path(folder) / "dataset.json").is_file():
-            print(f"train.py: {folder}: no dataset.json (not a make_dataset.py folder)", file=sys.stderr)
-            return 2
-    train, val = Data(args.data), Data([args.val])
-    if train.scenes & val.scenes:
-        print(f"train.py: {args.val}: scenes {seeds_text(train.scenes & val.scenes)} are also in the "
-              "training data (validation must be split by scene)", file=sys.stderr)
-        return 2
-    if train.count == 0 or val.count == 0:
-        print("train.py: no usable maps in the training or validation data", file=sys.stderr)
-        return 2
+    train, val = load_data(args.data, args.val)
     run = Path(args.out)
     if lead:
         run.mkdir(parents=True, exist_ok=True)
