@@ -51,4 +51,9 @@ dirs=("$fuzz/corpus/$target")
 options=(-max_total_time="$seconds" -timeout=10 -rss_limit_mb=4096 -close_fd_mask=3
          -print_final_stats=1 -artifact_prefix="$artifacts/")
 cd "$build"
+# The targets that read files write each input to a scratch folder: in memory it is several
+# times faster than on disk.
+if [ -z "${TMPDIR:-}" ] && [ -w /dev/shm ]; then
+  export TMPDIR=/dev/shm
+fi
 exec nice "$build/fuzz_$target" "${options[@]}" "$@" "$corpus" "${dirs[@]}"

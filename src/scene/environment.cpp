@@ -8,7 +8,10 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
+#include <fstream>
+#include <optional>
 
 #include "common/error.h"
 #include "common/input_file.h"
@@ -29,6 +32,40 @@ std::string oneLine(std::string s) {
   return s;
 }
 
+// OpenEXR 3.1 allocates each header attribute at the size the file states before reading it,
+// so a 500-byte file claiming a 2 GiB attribute cost 2 GiB and seconds (found by
+// tests/fuzz/fuzz_env.cpp). Walks the header (every header of a multi-part file) and refuses
+// an attribute that runs past the end of the file.
+std::optional<std::string> exrHeaderProblem(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  in.seekg(0, std::ios::end);
+  const std::streamoff fileSize = in.tellg();
+  in.seekg(0);
+  char start[8];
+  if (!in.read(start, 8)) return "truncated OpenEXR header";
+  uint32_t magic, version;
+  std::memcpy(&magic, start, 4);
+  std::memcpy(&version, start + 4, 4);
+  if (magic != 20000630) return std::nullopt;  // not OpenEXR at all: OpenEXR says so
+  const bool multipart = version & 0x1000;  // the version field's multi-part bit
+  for (int attribute = 0;; ++attribute) {
+    std::string name, type;
+    if (!std::getline(in, name, '\0')) return "truncated OpenEXR header";
+    if (name.empty()) {  // the end of a header; a multi-part file's list ends with an empty one
+      if (!multipart || in.peek() == 0 || in.peek() == std::char_traits<char>::eof())
+        return std::nullopt;
+      continue;
+    }
+    int32_t size = 0;
+    if (!std::getline(in, type, '\0') || !in.read(reinterpret_cast<char*>(&size), 4))
+      return "truncated OpenEXR header";
+    if (size < 0 || in.tellg() + std::streamoff(size) > fileSize)
+      return "OpenEXR header attribute " + std::to_string(attribute) + " of " +
+             std::to_string(size) + " bytes runs past the end of the file";
+    in.seekg(size, std::ios::cur);
+  }
+}
+
 }  // namespace
 
 Environment loadEnvironment(const std::string& path) {
@@ -37,6 +74,7 @@ Environment loadEnvironment(const std::string& path) {
   env.path = path;
   std::string ext = lowerExtension(path);
   if (ext == ".exr") {
+    if (auto problem = exrHeaderProblem(path)) throw InputError(path + ": " + *problem);
     try {
       Imf::RgbaInputFile file(path.c_str());
       Imath::Box2i dw = file.dataWindow();
