@@ -31,6 +31,13 @@ constexpr Syntax kSyntax[] = {
 constexpr double kLargest = 1e9;
 constexpr const char* kKeys[] = {"s", "space", "1",    "2",     "3", "4",
                                  "5", "6",     "plus", "minus", "f", "escape"};
+// A word of the script as an error message quotes it: bytes that are not printable ASCII (a NUL
+// would end the message early) become '?'.
+std::string printable(std::string word) {
+  for (char& ch : word)
+    if (ch < 0x20 || ch > 0x7e) ch = '?';
+  return word;
+}
 }  // namespace
 
 std::vector<ScriptCommand> readViewerScript(const std::string& path,
@@ -56,7 +63,7 @@ std::vector<ScriptCommand> parseViewerScript(const std::string& text, const std:
     const Syntax* syntax = nullptr;
     for (const Syntax& s : kSyntax)
       if (c.name == s.name) syntax = &s;
-    if (!syntax) throw InputError(where + "unknown command '" + c.name + "'");
+    if (!syntax) throw InputError(where + "unknown command '" + printable(c.name) + "'");
     for (int i = 0; i < syntax->numbers; ++i) {
       std::string word;
       if (!(line >> word))
@@ -67,20 +74,21 @@ std::vector<ScriptCommand> parseViewerScript(const std::string& text, const std:
       // The whole word (a NUL inside it would end the C string early), and a number the viewer
       // can use: it turns these into floats (1e39 would be infinite) and counts into integers.
       if (end != word.c_str() + word.size() || !std::isfinite(x))
-        throw InputError(where + c.name + ": '" + word + "' is not a number");
+        throw InputError(where + c.name + ": '" + printable(word) + "' is not a number");
       if (std::fabs(x) > kLargest)
-        throw InputError(where + c.name + ": " + word + " is out of range (at most " +
+        throw InputError(where + c.name + ": " + printable(word) + " is out of range (at most " +
                          std::to_string(int(kLargest)) + " in size)");
       c.numbers.push_back(x);
     }
     if (syntax->text && !(line >> c.text)) throw InputError(where + c.name + " needs an argument");
     std::string extra;
-    if (line >> extra) throw InputError(where + "unexpected '" + extra + "' after " + c.name);
+    if (line >> extra)
+      throw InputError(where + "unexpected '" + printable(extra) + "' after " + c.name);
     if (c.name == "key") {
       bool known = false;
       for (const char* k : kKeys) known |= c.text == k;
       if (!known)
-        throw InputError(where + "unknown key '" + c.text +
+        throw InputError(where + "unknown key '" + printable(c.text) +
                          "' (s, space, 1-6, plus, minus, f, escape)");
     }
     if (c.name == "mode" && std::find(modes.begin(), modes.end(), c.text) == modes.end()) {
