@@ -228,7 +228,7 @@ TEST(CliErrors, FilmOverTheDeviceLimitExitsOne) {
   std::string out = tempPrefix() + "osr_cli_huge.exr";
   Outcome r = runOsr("--mode preview --spp 1 --quiet --width 16384 --height 16384 --offline '" +
                      out + "' " + osr::test::referencePath("cornell/cornell.gltf"));
-  expectOneLine(r, "osr-vk: error: film: 16384x16384 needs 24576 MiB", 1);
+  expectOneLine(r, "osr-vk: error: 16384x16384 preview render failed: film: 16384x16384 needs 24576 MiB", 1);
   EXPECT_NE(r.err.find("maxMemoryAllocationSize"), std::string::npos) << r.err;
 }
 
