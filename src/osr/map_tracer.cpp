@@ -19,7 +19,8 @@ MapTracer::MapTracer(const vk::Context& ctx, const scene::GpuScene& scene, const
       buffers_(ctx, width, height, kChunkMaps, kChunkMaps),
       gbuffer_(ctx, scene.features, scene.texelFetch),
       maps_(ctx, scene.features, scene.texelFetch),
-      bindings_{&buffers_, &film_, &bvh, &scene} {
+      cache_(ctx, o::kMapCacheWays),
+      bindings_{&buffers_, &film_, &bvh, &scene, &cache_} {
   gbuffer_.prepare(bvh);
   maps_.prepare(bvh);
   auto frame = render::makeFrame(camera, width, height, seed);

@@ -41,6 +41,7 @@ class MapTracer {
   OsrBuffers buffers_;
   GBufferPass gbuffer_;
   MapsPass maps_;
+  MapCache cache_;  // unused (no lookups): the passes bind its buffers all the same
   OsrBindings bindings_;
 };
 
