@@ -38,6 +38,15 @@ std::vector<Span> spans(uint32_t size, uint32_t maxTile, uint32_t margin) {
   return out;
 }
 
+// Binds step i of a chain of n passes that each read b.colour and write b.out: the first reads
+// the image, later ones the previous step's output; the last writes `out`, the others
+// alternate between ping and pong.
+void chainStep(DenoiseBindings& b, uint32_t i, uint32_t n, const vk::BufferRange& out, const vk::Buffer& ping,
+               const vk::Buffer& pong) {
+  if (i > 0) b.colour = (i % 2) ? ping : pong;
+  b.out = i + 1 == n ? out : vk::BufferRange((i % 2) ? pong : ping);
+}
+
 }  // namespace
 
 DenoiseImage::DenoiseImage(const vk::Context& ctx, uint32_t width, uint32_t height)
@@ -126,8 +135,7 @@ void NetworkDenoiser::recordKernels(VkCommandBuffer cmd, DenoiseBindings b, g::D
   const vk::BufferRange image = b.out;
   for (uint32_t level = 0; level < g::kKernelLevels; ++level) {
     const bool first = level == 0, last = level + 1 == g::kKernelLevels;
-    if (!first) b.colour = (level % 2) ? kernelPing_ : kernelPong_;  // the previous level's output
-    b.out = last ? image : vk::BufferRange((level % 2) ? kernelPong_ : kernelPing_);
+    chainStep(b, level, g::kKernelLevels, image, kernelPing_, kernelPong_);
     push.step = 1u << level;
     (first ? *firstKernel_ : last ? *lastKernel_ : *middleKernel_).record(cmd, b, push);
   }
@@ -184,8 +192,7 @@ void AtrousFilter::record(VkCommandBuffer cmd, const DenoiseImage& image, const 
   const uint32_t n = settings_.iterations;
   for (uint32_t i = 0; i < n; ++i) {
     const bool first = i == 0, last = i + 1 == n;
-    if (!first) b.colour = (i % 2) ? ping_ : pong_;  // the previous iteration's output
-    b.out = last ? out : (i % 2) ? pong_ : ping_;
+    chainStep(b, i, n, out, ping_, pong_);
     push.step = 1u << i;
     const AtrousPass& pass = first && last ? only_ : first ? first_ : last ? last_ : middle_;
     pass.record(cmd, b, push);
