@@ -10,6 +10,7 @@
 // normal. Out: the same form; after the last iteration the filtered colour.
 #extension GL_GOOGLE_include_directive : require
 #include "shared/denoise.h"
+#include "lib/sampling.glsl"  // luminance
 
 layout(local_size_x = kDenoiseTile, local_size_y = kDenoiseTile) in;
 layout(constant_id = kSpecAtrousFirst) const uint kFirst = 0;
@@ -19,8 +20,6 @@ layout(std430, binding = kBindingAlbedo) readonly buffer Albedo { vec4 gAlbedo[]
 layout(std430, binding = kBindingNormal) readonly buffer Normal { vec4 gNormal[]; };
 layout(std430, binding = kBindingOut) writeonly buffer Out { vec4 gOut[]; };
 layout(push_constant) uniform PushBlock { DenoisePush gPush; };
-
-float luminance(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)); }
 
 // What colour is divided by: the albedo, or 1 where the first hit has (almost) none (misses,
 // black surfaces), so that their light is filtered as it is.

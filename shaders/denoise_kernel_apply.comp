@@ -9,6 +9,7 @@
 // Between levels the colour lives in tile-sized vec4 buffers.
 #extension GL_GOOGLE_include_directive : require
 #include "shared/denoise.h"
+#include "lib/sampling.glsl"  // luminance
 
 layout(local_size_x = kDenoiseTile, local_size_y = kDenoiseTile) in;
 layout(constant_id = kSpecKernelFirst) const uint kFirst = 0;
@@ -28,8 +29,6 @@ uint imagePixel(ivec2 t) {
 }
 
 // image_unet.demodulator: the albedo, floored, or 1 where there is (almost) none.
-float luminance(vec3 c) { return dot(c, vec3(0.2126, 0.7152, 0.0722)); }
-
 vec3 modulator(uint p) {
   const vec3 a = gAlbedo[p].rgb;
   return luminance(a) < kKernelDemodulateMin ? vec3(1.0) : max(a, vec3(kKernelDemodulateMin));
