@@ -78,16 +78,15 @@ def output_colour(y: torch.Tensor, e: torch.Tensor) -> torch.Tensor:
     return torch.expm1(y.clamp(min=0)) / e.view(-1, 1, 1, 1)
 
 
+def _luminance(c: torch.Tensor) -> torch.Tensor:
+    return 0.2126 * c[:, 0:1] + 0.7152 * c[:, 1:2] + 0.0722 * c[:, 2:3]
+
+
 def demodulator(albedo: torch.Tensor) -> torch.Tensor:
     """What colour is divided by before filtering: the albedo, each channel at least
     DEMODULATE_MIN, or 1 where the albedo's luminance is below it (misses, black surfaces),
     whose light is filtered as it is. As the a-trous filter does (docs/denoise.md)."""
-    lum = 0.2126 * albedo[:, 0:1] + 0.7152 * albedo[:, 1:2] + 0.0722 * albedo[:, 2:3]
-    return torch.where(lum < DEMODULATE_MIN, torch.ones_like(albedo), albedo.clamp(min=DEMODULATE_MIN))
-
-
-def _luminance(c: torch.Tensor) -> torch.Tensor:
-    return 0.2126 * c[:, 0:1] + 0.7152 * c[:, 1:2] + 0.0722 * c[:, 2:3]
+    return torch.where(_luminance(albedo) < DEMODULATE_MIN, torch.ones_like(albedo), albedo.clamp(min=DEMODULATE_MIN))
 
 
 def apply_kernels(logits: torch.Tensor, colour: torch.Tensor, albedo: torch.Tensor,
