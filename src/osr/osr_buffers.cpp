@@ -41,6 +41,11 @@ OsrBuffers::OsrBuffers(const vk::Context& ctx, uint32_t width, uint32_t height, 
   netIn = make(chunkMaps * o::kMapChannels * kMapFloats * sizeof(float), "network input", Whole);
   netOut = make(chunkMaps * 3 * kMapFloats * sizeof(float), "network output", Whole);
   mapCacheRefs = make(maxMaps * sizeof(o::MapCacheRef), "map cache refs", Whole);
+  // Every user starts with each point traced (kMapCacheTrace): a cache pass, where one runs,
+  // rewrites them; the map tracer, which runs none, would otherwise read whatever memory held.
+  ctx.submitAndWait([&](VkCommandBuffer cmd) {
+    vkCmdFillBuffer(cmd, mapCacheRefs.handle(), 0, VK_WHOLE_SIZE, o::kMapCacheTrace);
+  });
 }
 
 std::vector<VkDescriptorType> osrDescriptorTypes() {

@@ -86,10 +86,7 @@ OsrIntegrator::OsrIntegrator(const vk::Context& ctx, const scene::GpuScene& scen
   const uint32_t chunk = settings.keepAllMaps ? maxMaps : settings.maxChunkMaps;
   buffers_ = std::make_unique<OsrBuffers>(ctx, width, height, maxMaps, chunk);
   bindings_ = OsrBindings{buffers_.get(), &film_, &bvh_, &scene_, cache_.get()};
-  // Without a cache every point is traced (kMapCacheTrace is 0) and no cache pass runs.
-  ctx.submitAndWait([&](VkCommandBuffer cmd) {
-    vkCmdFillBuffer(cmd, buffers_->mapCacheRefs.handle(), 0, VK_WHOLE_SIZE, o::kMapCacheTrace);
-  });
+  // Without a cache every point stays traced (OsrBuffers starts them so) and no cache pass runs.
   gbuffer_.prepare(bvh_);
   direct_.prepare(bvh_);
   maps_.prepare(bvh_);
