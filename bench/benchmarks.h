@@ -110,4 +110,29 @@ inline constexpr char kSoakUsage[] =
     "  memory grows < 5 % from the end of the first cycle to the end of the last, no\n"
     "  validation message appears, every saved file is a whole image and osr-vk exits 0.";
 int runSoak(const std::vector<std::string>& args);  // the viewer for many minutes
+inline constexpr char kAnimationSummary[] =
+    "a camera path as frames: seconds per frame with and without the map cache, relMSE, flicker";
+inline constexpr char kAnimationUsage[] =
+    "osr-bench animation [--scene FILE.gltf] [--env FILE] [--frames A-B] [--fps N] [--size N]\n"
+    "                    [--passes N] [--cache-passes N] [--map-cache N] [--reference-frames LIST]\n"
+    "                    [--reference-spp N] [--cache DIR] [--png DIR]\n"
+    "  --scene FILE       a glTF file with an animated camera (default: generated interior 9002\n"
+    "                     with a 48-frame walk, made in the cache folder by tools/make_interiors.py\n"
+    "                     and tools/add_camera_path.py)\n"
+    "  --env FILE         environment map (default: the generated interior's sky.hdr)\n"
+    "  --frames A-B       frames rendered (default 0-47), at least two; --fps as osr-vk (24)\n"
+    "  --size N           image width and height, 8 to 4096 (default 256)\n"
+    "  --passes N         OSR passes per frame without the map cache, 1 to 4096 (default 4)\n"
+    "  --cache-passes N   OSR passes per frame with the map cache, 1 to 4096 (default passes / 2)\n"
+    "  --map-cache N      maps the cache holds, 4 to 1048576 (default 4096, as osr-vk --frames)\n"
+    "  --reference-frames LIST  frames with a path-traced reference, inside --frames, two of them\n"
+    "                     consecutive (flicker) (default 24,25,26,27)\n"
+    "  --reference-spp N  samples per pixel of the references, 1 to 1048576 (default 256)\n"
+    "  --cache DIR        where the default scene and the references are kept (default\n"
+    "                     $TMPDIR/osr-bench-animation); a rerun reuses references of the same\n"
+    "                     scene files, size, fps and spp\n"
+    "  --png DIR          also write each sequence's reference frames and the references as PNG\n"
+    "  Sequences: osr (no cache), osr+cache, path (at osr+cache's seconds per frame), and the\n"
+    "  references' own flicker (converged).";
+int runAnimation(const std::vector<std::string>& args);  // a camera path: cache, relMSE, flicker
 }  // namespace osr::bench

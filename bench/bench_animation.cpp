@@ -1,0 +1,362 @@
+// animation: a camera path rendered as frames (docs/animation.md "Temporal quality"). By
+// default a held-out generated interior (tools/make_interiors.py seed 9002, daylight through
+// two windows) with a 48-frame walk (tools/add_camera_path.py), both generated into the cache
+// folder on first use, at 256 x 256. Each frame is a new image (restart, seed = frame + 1) as in
+// `osr-vk --frames`; the sequences:
+//   osr        OSR without the map cache, --passes per frame
+//   osr+cache  OSR with the world-space map cache carried from frame to frame, --cache-passes
+//   path       the path tracer for osr+cache's mean seconds per frame (equal time)
+// and, per sequence: seconds per frame, relMSE on the reference frames, and flicker
+// (render/flicker.h) between consecutive reference frames, measured on the pixels that the
+// converged references' depth pairs; the converged sequence's own flicker is the floor of
+// what the reprojection leaves (view-dependent shading, resampling). References are path
+// traced at --reference-spp with other seeds and kept in the cache folder, keyed by the scene
+// files' contents, the size and the sample count, so reruns skip them. Verified after the
+// renders: every frame of every sequence has a finite mean luminance within a factor of 2 of
+// its reference's.
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <map>
+#include <memory>
+#include <optional>
+#include <set>
+
+#include "app/args.h"
+#include "app/frames.h"
+#include "app/integrators.h"
+#include "app/scene_setup.h"
+#include "bench/benchmarks.h"
+#include "bench/json.h"
+#include "common/error.h"
+#include "image/image_io.h"
+#include "image/image_metrics.h"
+#include "osr/osr_integrator.h"
+#include "render/camera_frame.h"
+#include "render/flicker.h"
+#include "render/progressive_driver.h"
+#include "scene/animation.h"
+
+namespace osr::bench {
+
+namespace {
+
+namespace fs = std::filesystem;
+
+constexpr int kDefaultSeed = 9002;  // a held-out interior (docs/training.md: validation seeds)
+constexpr uint32_t kReferenceSeedBase = 1000003;  // references' noise independent of the runs'
+
+// One rendered frame: its wall time and units; its colour only on reference frames.
+struct FrameRun {
+  double seconds = 0.0;
+  uint32_t units = 0;
+  std::vector<float> rgb, depth;
+};
+
+FrameRun renderFrame(const vk::Context& ctx, render::Integrator& integrator,
+                     const scene::Camera& cam, uint32_t seed, uint32_t maxUnits, double seconds) {
+  render::DriverSettings ds;
+  ds.maxUnits = maxUnits;
+  ds.timeLimitS = seconds;
+  render::ProgressiveDriver driver(ctx, integrator, ds);
+  const auto t0 = std::chrono::steady_clock::now();
+  driver.restart(cam, seed);
+  const render::RenderStats stats = driver.run();
+  render::FilmLayers film = integrator.resolve();
+  FrameRun r;
+  r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  r.units = stats.units;
+  r.rgb = std::move(film.combined);
+  r.depth = std::move(film.depth);
+  return r;
+}
+
+// Runs `command` (the default scene's generators); a failure is exit 1 naming it.
+void runTool(const std::string& command) {
+  if (std::system(command.c_str()) != 0)
+    throw std::runtime_error("animation: generating the default scene failed: " + command);
+}
+
+std::string quoted(const std::string& s) { return "'" + s + "'"; }
+
+// The default scene and its environment, generated into `dir` unless already there.
+std::pair<std::string, std::string> defaultScene(const fs::path& dir) {
+  const std::string seed = std::to_string(kDefaultSeed);
+  const fs::path interior = dir / "interiors" / seed;
+  const fs::path walk = dir / ("walk" + seed + ".gltf");
+  const std::string tools = std::string(OSR_SOURCE_DIR) + "/tools/";
+  if (!fs::exists(interior / "scene.gltf"))
+    runTool("python3 " + quoted(tools + "make_interiors.py") + " " +
+            quoted((dir / "interiors").string()) + " --seeds " + seed + " >/dev/null");
+  if (!fs::exists(walk))
+    runTool("python3 " + quoted(tools + "add_camera_path.py") + " " +
+            quoted((interior / "scene.gltf").string()) + " " + quoted(walk.string()) +
+            " --frames 48");
+  return {walk.string(), (interior / "sky.hdr").string()};
+}
+
+// FNV-1a over the files' bytes and `extra`: the references' cache key.
+std::string contentKey(const std::vector<std::string>& files, const std::string& extra) {
+  uint64_t h = 1469598103934665603ull;
+  auto mix = [&](const char* p, size_t n) {
+    for (size_t i = 0; i < n; ++i) h = (h ^ uint8_t(p[i])) * 1099511628211ull;
+  };
+  for (const std::string& f : files) {
+    std::ifstream in(f, std::ios::binary);
+    std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+    mix(bytes.data(), bytes.size());
+  }
+  mix(extra.data(), extra.size());
+  char hex[17];
+  std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(h));
+  return hex;
+}
+
+image::LayeredImage rgbLayer(int w, int h, const std::vector<float>& rgb) {
+  return image::LayeredImage{w, h, {image::ImageLayer{"", {"R", "G", "B"}, rgb}}, {}};
+}
+
+// A reference frame: read from `dir`, or path traced and written there.
+FrameRun reference(const vk::Context& ctx, render::Integrator& path, const scene::Camera& cam,
+                   int frame, uint32_t spp, uint32_t size, const fs::path& dir) {
+  const std::string colour = app::framePath((dir / "frame_####.exr").string(), frame);
+  const std::string depth = app::framePath((dir / "depth_####.exr").string(), frame);
+  FrameRun r;
+  if (image::isCompleteImage(colour) && image::isCompleteImage(depth)) {
+    r.rgb = image::readExrRgb(colour).rgb;
+    const std::vector<float> d3 = image::readExrRgb(depth).rgb;
+    for (size_t i = 0; i < d3.size(); i += 3) r.depth.push_back(d3[i]);
+    return r;
+  }
+  std::fprintf(stderr, "osr-bench: animation: reference frame %d, %u spp\n", frame, spp);
+  r = renderFrame(ctx, path, cam, kReferenceSeedBase + uint32_t(frame), spp, 0.0);
+  std::vector<float> d3;
+  for (float d : r.depth) d3.insert(d3.end(), {d, d, d});
+  image::writeExr(colour, rgbLayer(int(size), int(size), r.rgb), image::ExrPixelType::Float);
+  image::writeExr(depth, rgbLayer(int(size), int(size), d3), image::ExrPixelType::Float);
+  return r;
+}
+
+double meanOf(const std::vector<float>& rgb) {
+  double s = 0.0;
+  for (size_t i = 0; i < rgb.size(); i += 3) s += 0.2126 * rgb[i] + 0.7152 * rgb[i + 1] + 0.0722 * rgb[i + 2];
+  return s / double(rgb.size() / 3);
+}
+
+}  // namespace
+
+int runAnimation(const std::vector<std::string>& args) {
+  app::Args a(args, "animation");
+  const auto sceneArg = a.value("--scene");
+  const auto envArg = a.value("--env");
+  const uint32_t size = uint32_t(a.integer("--size", 8, 4096).value_or(256));
+  const uint32_t passes = uint32_t(a.integer("--passes", 1, 4096).value_or(4));
+  const auto cachePassesArg = a.integer("--cache-passes", 1, 4096);
+  const uint32_t cacheMaps =
+      uint32_t(a.integer("--map-cache", 4, 1 << 20).value_or(oneshot::kDefaultMapCacheMaps));
+  const auto refFramesArg = a.integerList("--reference-frames", 0, 999999);
+  const uint32_t refSpp = uint32_t(a.integer("--reference-spp", 1, 1 << 20).value_or(256));
+  const auto cacheArg = a.value("--cache");
+  const auto pngArg = a.value("--png");
+  const std::optional<app::FrameOptions> framesArg = app::readFrameOptions(a);
+  a.finish();
+  if (framesArg && framesArg->resume)
+    throw InputError("--resume: not an option of osr-bench animation (references are cached)");
+  app::FrameOptions frames;
+  frames.first = 0;
+  frames.last = 47;
+  if (framesArg) frames = *framesArg;
+  if (frames.count() < 2)
+    throw InputError("--frames: the flicker needs at least two frames, got " +
+                     std::to_string(frames.count()));
+  const std::vector<long long> refList =
+      refFramesArg.value_or(std::vector<long long>{24, 25, 26, 27});
+  std::set<int> refFrames;
+  for (long long f : refList) {
+    if (f < frames.first || f > frames.last)
+      throw InputError("--reference-frames: frame " + std::to_string(f) + " is outside --frames " +
+                       std::to_string(frames.first) + "-" + std::to_string(frames.last));
+    refFrames.insert(int(f));
+  }
+  if (std::none_of(refFrames.begin(), refFrames.end(), [&](int f) { return refFrames.count(f + 1) > 0; }))
+    throw InputError("--reference-frames: the flicker needs two consecutive frames among them");
+  const uint32_t cachePasses = uint32_t(cachePassesArg.value_or(std::max(1u, passes / 2)));
+
+  const fs::path cacheDir = cacheArg ? fs::path(*cacheArg)
+                                     : fs::temp_directory_path() / "osr-bench-animation";
+  std::string scenePath, envPath;
+  if (sceneArg) {
+    scenePath = *sceneArg;
+    if (envArg) envPath = *envArg;
+  } else {
+    fs::create_directories(cacheDir);
+    std::tie(scenePath, envPath) = defaultScene(cacheDir);
+    if (envArg) envPath = *envArg;
+  }
+  app::SceneOptions so;
+  if (!envPath.empty()) so.env = envPath;
+  so.width = size;
+  so.height = size;
+  app::HostScene host = app::loadHostScene(scenePath, so);
+  const scene::Animation& anim = host.scene.animation;
+  if (anim.empty())
+    throw InputError(scenePath + ": the scene has no animation (no glTF animation channel moves " +
+                     "a node's translation, rotation or scale)");
+  if (!anim.movesCameras() || host.camera.fileIndex < 0)
+    throw InputError(scenePath + ": no animated camera (osr-bench animation renders a camera path; " +
+                     "tools/add_camera_path.py adds one)");
+  if (anim.movesGeometry())
+    throw InputError(scenePath + ": the animation moves meshes or lights; osr-bench animation " +
+                     "measures a camera-only path (the map cache is kept only across those)");
+  if (pngArg) fs::create_directories(*pngArg);
+
+  // The camera of every frame, posed as renderShot poses it.
+  std::map<int, scene::Camera> cameras;
+  for (int f = frames.first; f <= frames.last; ++f) {
+    scene::poseScene(host.scene, frames.timeS(f));
+    scene::Camera cam = host.camera;
+    for (const scene::Camera& c : host.scene.cameras)
+      if (c.fileIndex == host.camera.fileIndex) cam.worldFromCamera = c.worldFromCamera;
+    cameras[f] = cam;
+  }
+
+  vk::Context ctx;
+  app::DeviceScene device(ctx, host);
+  const app::IntegratorScene onDevice{ctx, device.gpu, device.bvh};
+  app::IntegratorSettings settings = app::buildIntegratorSettings(app::IntegratorOptions{});
+  settings.offline = true;
+  auto path = app::makeIntegrator(onDevice, settings, "path", size, size);
+
+  // References, cached by content.
+  std::vector<std::string> keyFiles = host.scene.files;
+  if (!envPath.empty()) keyFiles.push_back(envPath);
+  const fs::path refDir =
+      cacheDir / "references" /
+      contentKey(keyFiles, std::to_string(size) + " " + std::to_string(refSpp) + " " +
+                               std::to_string(frames.fps));
+  fs::create_directories(refDir);
+  std::map<int, FrameRun> refs;
+  for (int f : refFrames) refs[f] = reference(ctx, *path, cameras[f], f, refSpp, size, refDir);
+
+  // Pixel pairs of consecutive reference frames, from the references' depth.
+  std::map<int, std::vector<render::PixelPair>> pairs;  // by the later frame
+  auto view = [&](int f) {
+    return render::DepthView{render::makeFrame(cameras[f], size, size, 0), &refs[f].depth};
+  };
+  for (int f : refFrames)
+    if (refFrames.count(f - 1)) pairs[f] = render::reprojectPairs(view(f), view(f - 1));
+
+  struct Sequence {
+    std::string name;
+    std::vector<FrameRun> frames;  // by frame - frames.first
+    double meanSeconds = 0.0;
+  };
+  // Each sequence starts with an untimed frame of one unit: the first dispatches of a process
+  // on lavapipe pay for more than the frame (about 20 s at 64 x 64), which would not be the
+  // integrator's. The cache is emptied after it.
+  auto runSequence = [&](const std::string& name, render::Integrator& integrator,
+                         uint32_t maxUnits, double seconds) {
+    renderFrame(ctx, integrator, cameras[frames.first], 1, 1, 0.0);
+    if (auto* osr = dynamic_cast<oneshot::OsrIntegrator*>(&integrator))
+      if (oneshot::MapCache* cache = osr->mapCache()) cache->clear(ctx);
+    Sequence s;
+    s.name = name;
+    for (int f = frames.first; f <= frames.last; ++f) {
+      FrameRun r = renderFrame(ctx, integrator, cameras[f], uint32_t(f) + 1, maxUnits, seconds);
+      if (!refFrames.count(f)) r.rgb.clear(), r.depth.clear();
+      s.meanSeconds += r.seconds / frames.count();
+      s.frames.push_back(std::move(r));
+    }
+    return s;
+  };
+
+  std::vector<Sequence> sequences;
+  {
+    app::IntegratorSettings osrSettings = settings;
+    osrSettings.osr.mapCacheMaps = 0;
+    auto osr = app::makeIntegrator(onDevice, osrSettings, "osr", size, size);
+    sequences.push_back(runSequence("osr", *osr, passes, 0.0));
+  }
+  {
+    app::IntegratorSettings cacheSettings = settings;
+    cacheSettings.osr.mapCacheMaps = cacheMaps;
+    auto osr = app::makeIntegrator(onDevice, cacheSettings, "osr", size, size);
+    sequences.push_back(runSequence("osr+cache", *osr, cachePasses, 0.0));
+  }
+  sequences.push_back(runSequence("path", *path, 1u << 24, sequences[1].meanSeconds));
+
+  // Verification: a render whose mean is far from its reference's is broken, not noisy.
+  for (const Sequence& s : sequences)
+    for (int f : refFrames) {
+      const double ratio = meanOf(s.frames[f - frames.first].rgb) / meanOf(refs[f].rgb);
+      if (!std::isfinite(ratio) || ratio < 0.5 || ratio > 2.0) {
+        std::fprintf(stderr,
+                     "osr-bench: animation: verification failed (%s frame %d: mean luminance "
+                     "%.4g of the reference's)\n",
+                     s.name.c_str(), f, ratio);
+        return kExitInternal;
+      }
+    }
+
+  const std::string sceneName = sceneArg ? *sceneArg : "interior" + std::to_string(kDefaultSeed);
+  auto line = [&](const std::string& sequence) {
+    JsonLine j;
+    j.str("bench", "animation").str("scene", sceneName).integer("size", size).str("sequence", sequence);
+    return j;
+  };
+  auto flickerOf = [&](auto&& rgbOf) {
+    double sum = 0.0;
+    for (const auto& [f, pp] : pairs) sum += render::flicker(pp, rgbOf(f), rgbOf(f - 1), refs[f].rgb);
+    return sum / double(pairs.size());
+  };
+  double pairedShare = 0.0;
+  for (const auto& [f, pp] : pairs) pairedShare += double(pp.size()) / (double(size) * size * pairs.size());
+  std::map<std::string, double> flickers;
+  for (const Sequence& s : sequences) {
+    const bool isPath = s.name == "path";
+    double relSum = 0.0;
+    for (int f : refFrames) {
+      const FrameRun& r = s.frames[f - frames.first];
+      const double rel = image::relMse({int(size), int(size), r.rgb}, {int(size), int(size), refs[f].rgb});
+      relSum += rel / double(refFrames.size());
+      line(s.name).integer("frame", f).num("seconds", r.seconds).num("relmse", rel)
+          .integer(isPath ? "spp" : "passes", r.units).str("device", ctx.caps().deviceName).print();
+      if (pngArg) {
+        const double ev = image::autoExposureEv({int(size), int(size), refs[f].rgb}, refs[f].depth);
+        std::string tag = s.name;
+        std::replace(tag.begin(), tag.end(), '+', '_');
+        image::writePng(app::framePath(*pngArg + "/" + tag + "_###.png", f), {int(size), int(size), r.rgb}, ev);
+        if (s.name == sequences.front().name)
+          image::writePng(app::framePath(*pngArg + "/reference_###.png", f), {int(size), int(size), refs[f].rgb}, ev);
+      }
+    }
+    double warm = 0.0;  // frames after the first: the cache's steady state
+    uint64_t units = 0;
+    for (size_t i = 0; i < s.frames.size(); ++i) {
+      if (i) warm += s.frames[i].seconds / double(s.frames.size() - 1);
+      units += s.frames[i].units;
+    }
+    flickers[s.name] = flickerOf([&](int f) -> const std::vector<float>& { return s.frames[f - frames.first].rgb; });
+    line(s.name).integer("frames", frames.count()).num("seconds_per_frame", s.meanSeconds)
+        .num("seconds_per_frame_after_first", warm)
+        .num(isPath ? "spp_per_frame" : "passes_per_frame", double(units) / frames.count())
+        .num("relmse_mean", relSum).num("flicker", flickers[s.name])
+        .integer("flicker_pairs", long(pairs.size())).num("paired_pixel_share", pairedShare)
+        .str("device", ctx.caps().deviceName).print();
+  }
+  flickers["converged"] = flickerOf([&](int f) -> const std::vector<float>& { return refs[f].rgb; });
+  line("converged").integer("reference_spp", refSpp).num("flicker", flickers["converged"])
+      .integer("flicker_pairs", long(pairs.size())).str("device", ctx.caps().deviceName).print();
+  line("summary").num("cache_seconds_ratio", sequences[1].meanSeconds / sequences[0].meanSeconds)
+      .num("cache_flicker_over_path", flickers["osr+cache"] / flickers["path"])
+      .num("nocache_flicker_over_path", flickers["osr"] / flickers["path"])
+      .integer("passes", passes).integer("cache_passes", cachePasses).integer("map_cache", cacheMaps)
+      .str("device", ctx.caps().deviceName).print();
+  return kExitOk;
+}
+
+}  // namespace osr::bench
