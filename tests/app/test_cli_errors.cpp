@@ -274,6 +274,7 @@ TEST(CliErrors, BenchHelpAnywhere) {
       {"unet --k 8 -h", "usage: osr-bench unet [--k"},
       {"pathtrace --size 8 --help", "usage: osr-bench pathtrace"},
       {"fill --help", "usage: osr-bench fill"},
+      {"animation --help", "usage: osr-bench animation"},
   };
   for (const auto& [args, usage] : cases) {
     Outcome r = runExe("osr-bench", args);
@@ -308,6 +309,27 @@ TEST(CliErrors, BenchBadOptionsExitTwoWithOneLine) {
       {"all --size 8", "osr-bench: all: takes no options"},
       {"--record", "osr-bench: --record: name a benchmark"},
       {"fill --record --record", "osr-bench: --record: given twice"},
+  };
+  for (const auto& [args, start] : cases) {
+    SCOPED_TRACE(args);
+    expectOneLine(runExe("osr-bench", args), start);
+  }
+}
+
+// osr-bench animation refuses a scene it cannot measure and a frame range without a flicker
+// pair before it generates a scene or renders a reference.
+TEST(CliErrors, BenchAnimationBadInputExitsTwoWithOneLine) {
+  const std::string still = osr::test::dataPath("scene/quad.glb");
+  const std::pair<std::string, std::string> cases[] = {
+      {"animation --frames 5-3", "osr-bench: --frames: '5-3' ends before it starts"},
+      {"animation --frames 3", "osr-bench: --frames: the flicker needs at least two frames, got 1"},
+      {"animation --frames 0-x", "osr-bench: --frames: '0-x' is not a frame range"},
+      {"animation --reference-frames 60",
+       "osr-bench: --reference-frames: frame 60 is outside --frames 0-47"},
+      {"animation --frames 0-9 --reference-frames 3,5",
+       "osr-bench: --reference-frames: the flicker needs two consecutive frames among them"},
+      {"animation --frames 0-9 --resume", "osr-bench: --resume: not an option of osr-bench animation"},
+      {"animation --scene '" + still + "'", "osr-bench: " + still + ": the scene has no animation"},
   };
   for (const auto& [args, start] : cases) {
     SCOPED_TRACE(args);
