@@ -9,7 +9,7 @@
 
 layout(std430, binding = kBindingAlphaMask) readonly buffer AlphaMask { uint gAlphaMask[]; };
 
-bool osrAlphaCutout(uint triangle, vec2 barycentrics) {
+bool osrAlphaCutout(uint triangle, vec2 barycentrics, vec3 rayOrigin, vec3 rayInvDir) {
   uint mask = gAlphaMask[triangle];
   float w0 = 1.0 - barycentrics.x - barycentrics.y;
   return mask == kAlphaCutAll || (mask == kAlphaCutNearV0 && w0 > 0.5);

@@ -22,7 +22,8 @@ void main() {
   r.position = s.position;
   r.material = s.material;
   r.geometricNormal = s.geometricNormal;
-  r.alphaCutout = osrAlphaCutout(q.triangle, b) ? 1u : 0u;
+  // A fixed ray for blended materials' hash; scene::alphaCutout hashes the same one.
+  r.alphaCutout = osrAlphaCutout(q.triangle, b, kProbeRayOrigin, kProbeRayInvDir) ? 1u : 0u;
   r.shadingNormal = s.shadingNormal;
   r.alpha = s.m.alpha;
   r.baseColor = s.m.baseColor;
@@ -31,7 +32,7 @@ void main() {
   r.roughness = s.m.roughness;
   r.specularColor = s.m.specularColor;
   r.specular = s.m.specular;
-  r.uv = s.uv;
+  r.uv = s.uv.xy;
   r.ior = s.m.ior;
   r.transmission = s.m.transmission;
   r.doubleSided = s.m.doubleSided ? 1u : 0u;

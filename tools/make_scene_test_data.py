@@ -226,6 +226,36 @@ def sparse(out: Path) -> None:
     bad.gltf(out / "bad_sparse_index.gltf")
 
 
+def vertex_attributes(out: Path) -> None:
+    """COLOR_0 (normalized unsigned byte VEC4, float VEC3, normalized unsigned short VEC4) and
+    TEXCOORD_1: base colour read through texCoord 1 (with its own KHR_texture_transform),
+    emission through texCoord 0, on a 2 x 1 nearest texture (red | blue)."""
+    g = Gltf(GENERATOR)
+    g.doc["extensionsUsed"] = ["KHR_texture_transform"]
+    g.doc["images"] = [{"uri": data_uri(png(2, 1, [(255, 0, 0, 255), (0, 0, 255, 255)]), "image/png")}]
+    g.doc["samplers"] = [{"wrapS": CLAMP, "wrapT": CLAMP, "magFilter": NEAREST}]
+    g.doc["textures"] = [{"source": 0, "sampler": 0}]
+    g.add("materials", {"name": "uv1",
+                        "pbrMetallicRoughness": {"baseColorTexture": {
+                            "index": 0, "texCoord": 1,
+                            "extensions": {"KHR_texture_transform": {"offset": [0.5, 0], "scale": [0.5, 1]}}}},
+                        "emissiveFactor": [1, 1, 1], "emissiveTexture": {"index": 0}})
+    g.add("materials", {"name": "plain", "pbrMetallicRoughness": {"baseColorFactor": [0.5, 1, 1, 1]}})
+    colors = [
+        (g.accessor([(255, 0, 0, 255), (0, 255, 0, 255), (0, 0, 255, 128), (255, 255, 255, 0)], "VEC4", UBYTE, True), 0),
+        (g.accessor([(1, 0.5, 0.25), (0.5, 0.5, 0.5), (0, 0, 0), (1, 1, 1)], "VEC3"), 1),
+        (g.accessor([(65535, 0, 0, 65535), (0, 65535, 0, 32768), (0, 0, 65535, 65535), (65535, 65535, 65535, 0)], "VEC4", USHORT, True), 1),
+    ]
+    for m, (color, material) in enumerate(colors):
+        mesh = g.mesh(QUAD_P, QUAD_I, QUAD_N, QUAD_UV, material=material)
+        attributes = g.doc["meshes"][mesh]["primitives"][0]["attributes"]
+        attributes["COLOR_0"] = color
+        if m == 0:  # TEXCOORD_1: TEXCOORD_0 mirrored in u
+            attributes["TEXCOORD_1"] = g.accessor([(1 - u, v) for u, v in QUAD_UV], "VEC2")
+        g.node(name=f"quad{m}", mesh=mesh, translation=[2.0 * m, 0, 0])
+    g.gltf(out / "vertex_attributes.gltf")
+
+
 def texture16(out: Path) -> None:
     """A 16-bit-per-channel PNG: rounded to RGBA8."""
     g = Gltf(GENERATOR)
@@ -410,7 +440,7 @@ def main() -> None:
     args = parser.parse_args()
     args.out.mkdir(parents=True, exist_ok=True)
     for make in [hierarchy, nonindexed, index_types, textured, alpha_mask, lights, cameras, materials,
-                 binary, sparse, quantized, texture16, degenerate_attributes,
+                 binary, sparse, quantized, texture16, degenerate_attributes, vertex_attributes,
                  texture_transform, animated, camera_path, bad_inputs]:
         make(args.out)
 

@@ -117,7 +117,12 @@ def _run_gltf_exporter(depsgraph, path):
                     # frame 0, so F12 at another frame and every frame of Render Animation
                     # rendered frame 0's pose (measured: tests/blender, case animation).
                     export_current_frame=True,
-                    export_materials="EXPORT", export_colors=False, export_extras=False,
+                    # Materials with their KHR_materials_* extensions and emission strength,
+                    # every UV map (a texture on the second one reads TEXCOORD_1) and the
+                    # render colour attribute as COLOR_0 (kept only where the material uses
+                    # it: _drop_unused_vertex_colors).
+                    export_materials="EXPORT", export_colors=True, export_texcoords=True,
+                    export_normals=True, export_extras=False,
                     convert_lighting_mode="SPEC")
     props = bpy.ops.export_scene.gltf.get_rna_type().properties
     settings = {k: v for k, v in settings.items() if k in props}  # older/newer exporters
@@ -143,6 +148,41 @@ def _run_gltf_exporter(depsgraph, path):
             window.scene = shown
     if "FINISHED" not in result or not os.path.isfile(path):
         raise ExportError("glTF export failed (is the glTF 2.0 add-on enabled?)")
+
+
+def _uses_color_attribute(mat):
+    """Whether a Color Attribute (or Attribute) node feeds the Principled BSDF's Base Color."""
+    if mat is None or not mat.use_nodes or mat.node_tree is None:
+        return False
+    bsdf = next((n for n in mat.node_tree.nodes if n.type == "BSDF_PRINCIPLED"), None)
+    if bsdf is None:
+        return False
+    todo, seen = [bsdf.inputs["Base Color"]], set()
+    while todo:
+        socket = todo.pop()
+        for link in socket.links:
+            node = link.from_node
+            if node.type in {"VERTEX_COLOR", "ATTRIBUTE"}:
+                return True
+            if node.name not in seen:
+                seen.add(node.name)
+                todo.extend(node.inputs)
+    return False
+
+
+def _drop_unused_vertex_colors(gltf):
+    # glTF multiplies the base colour by COLOR_0 wherever a primitive has it, but Blender 3.4's
+    # exporter writes the mesh's render colour attribute whatever the material does with it:
+    # keep it only where the material's Base Color reads it, as Blender renders.
+    materials = gltf.get("materials", [])
+    for mesh in gltf.get("meshes", []):
+        for prim in mesh.get("primitives", []):
+            if "COLOR_0" not in prim.get("attributes", {}):
+                continue
+            index = prim.get("material")
+            name = materials[index].get("name") if index is not None and index < len(materials) else None
+            if not _uses_color_attribute(bpy.data.materials.get(name) if name else None):
+                del prim["attributes"]["COLOR_0"]
 
 
 def _keep_active_camera(gltf, camera_name):
@@ -327,6 +367,7 @@ def export(depsgraph, directory):
     with open(gltf_path, encoding="utf-8") as f:
         gltf = json.load(f)
     _keep_active_camera(gltf, scene.camera.original.name if scene.camera.original else scene.camera.name)
+    _drop_unused_vertex_colors(gltf)
     seen, area_lights = set(), []
     for obj in _renderable_objects(depsgraph):
         if obj.type == "LIGHT" and obj.data.type == "AREA" and obj.name not in seen:

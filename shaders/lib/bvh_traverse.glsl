@@ -3,7 +3,8 @@
 // The including shader #defines OSR_BVH_BINDING (first of kBvhBindingCount consecutive
 // bindings, see shared/bvh.h) before including this file; the pipeline sets specialization
 // constant kBvhSpecTexelFetch (bvh::Bvh::spec). If OSR_BVH_ALPHA_TEST is
-// defined, hits for which `bool osrAlphaCutout(uint triangle, vec2 barycentrics)` returns true
+// defined, hits for which `bool osrAlphaCutout(uint triangle, vec2 barycentrics, vec3 rayOrigin,
+// vec3 rayInvDir)` returns true (the ray: for a per-ray hash, e.g. stochastic transparency)
 // are skipped (the includer provides it, normally through shaders/lib/scene.glsl).
 //
 // Ray-triangle test: watertight (Woop, Benthin, Wald 2013, "Watertight Ray/Triangle
@@ -86,7 +87,7 @@ struct Hit {
 };
 
 #ifdef OSR_BVH_ALPHA_TEST
-bool osrAlphaCutout(uint triangle, vec2 barycentrics);
+bool osrAlphaCutout(uint triangle, vec2 barycentrics, vec3 rayOrigin, vec3 rayInvDir);
 #endif
 
 // Per-ray constants of the watertight test and the slab test.

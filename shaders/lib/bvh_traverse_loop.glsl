@@ -101,7 +101,7 @@ bool osrBvhTraverse(vec3 origin, vec3 dir, float tMin, float tMax, bool anyHit, 
       if (!osrBvhTriangle(r, tri.v0.xyz, tri.v1.xyz, tri.v2.xyz, tMin, tFar, t, bary)) continue;
       uint id = floatBitsToUint(tri.v0.w);
 #ifdef OSR_BVH_ALPHA_TEST
-      if (osrAlphaCutout(id, bary)) continue;
+      if (osrAlphaCutout(id, bary, r.origin, r.invDir)) continue;
 #endif
       found = true;
       hit.t = t;

@@ -32,8 +32,16 @@ uint findEmissive(uint triangle) {
   return lo < gSceneInfo.emissiveCount && gEmissive[lo].triangle == triangle ? lo : ~0u;
 }
 
-vec3 emissionAt(Material mat, vec2 uv) {
-  return mat.emission * srgbToLinear(sampleTexture(mat.emissiveTexture, uv).rgb);
+// Radiance a light sample at barycentrics b of triangle t sees leaving it: emission times the
+// surface's coverage (a blended emitter is met by a fraction alpha of rays, a masked one not
+// in its holes), so that light sampling and BSDF-sampled hits agree.
+vec3 emissionAt(Triangle t, Material mat, vec2 b) {
+  vec4 color;
+  vec4 uvs = sceneTexCoords(t, b, color);
+  vec3 e = mat.emission * srgbToLinear(sampleTexture(mat.emissiveTexture, uvs).rgb);
+  if (sceneHas(kSceneFeatureAlphaTest) && (mat.flags & (kMaterialAlphaMask | kMaterialAlphaBlend)) != 0u)
+    e *= materialCoverage(mat, materialAlpha(mat, uvs, color));
+  return e;
 }
 
 // Solid-angle pdf with which next-event estimation picks point `p` (normal ng) on emissive
@@ -78,7 +86,6 @@ bool sampleLight(vec3 p, vec3 u, out LightSample ls) {
       Vertex v0 = sceneVertex(t.v0), v1 = sceneVertex(t.v1), v2 = sceneVertex(t.v2);
       vec2 b = sampleTriangle(u.yz);
       vec3 q = v0.position * (1.0 - b.x - b.y) + v1.position * b.x + v2.position * b.y;
-      vec2 uv = vec2(v0.u, v0.v) * (1.0 - b.x - b.y) + vec2(v1.u, v1.v) * b.x + vec2(v2.u, v2.v) * b.y;
       vec3 ng = normalize(cross(v1.position - v0.position, v2.position - v0.position));
       vec3 d = q - p;
       float dist2 = dot(d, d);
@@ -90,7 +97,7 @@ bool sampleLight(vec3 p, vec3 u, out LightSample ls) {
       bool emits = cosL > 0.0 || (mat.flags & kMaterialDoubleSided) != 0u;
       if (!emits || cosL == 0.0) return false;
       ls.distance = dist;
-      ls.radiance = emissionAt(mat, uv);
+      ls.radiance = emissionAt(t, mat, b);
       ls.pdf = pSlot * (e.power / gSceneInfo.emissivePower) / e.area * dist2 / abs(cosL);
       return ls.pdf > 0.0;
     }

@@ -187,12 +187,15 @@ vec4 sceneTexel(TextureInfo info, int x, int y) {
   return unpackUnorm4x8(gTexels[info.offset + uint(y) * info.width + uint(x)]);
 }
 
-// Bilinear (or nearest, kTextureNearest) lookup with the texture's wrap modes; texel centres at (i + 0.5) / size, uv (0,0)
-// is the first texel of row 0 (glTF). Raw RGBA in [0, 1]: the caller decodes sRGB. A
-// texture index of kNoTexture returns white, so `factor * sampleTexture(...)` needs no branch.
-vec4 sampleTexture(int texture, vec2 uv) {
+// Bilinear (or nearest, kTextureNearest) lookup of texture reference `texture` (shared/scene.h:
+// an index, | kTextureTexCoord1 for the second uv set) with the texture's wrap modes; uvs.xy
+// is TEXCOORD_0, uvs.zw TEXCOORD_1 (sceneTexCoords). Texel centres at (i + 0.5) / size, uv
+// (0,0) is the first texel of row 0 (glTF). Raw RGBA in [0, 1]: the caller decodes sRGB.
+// kNoTexture returns white, so `factor * sampleTexture(...)` needs no branch.
+vec4 sampleTexture(int texture, vec4 uvs) {
   if (!sceneHas(kSceneFeatureTextures) || texture < 0) return vec4(1.0);
-  TextureInfo info = gTextureInfos[texture];
+  vec2 uv = (texture & kTextureTexCoord1) != 0 ? uvs.zw : uvs.xy;
+  TextureInfo info = gTextureInfos[texture & kTextureIndexMask];
   int w = int(info.width), h = int(info.height);
   // Clamped so that the conversions to int below are defined (uv far outside [0, 1] or NaN
   // still gives some texel of the texture, never a read outside it).
@@ -240,24 +243,72 @@ struct SurfaceSample {
   vec3 position;         // world space
   vec3 geometricNormal;  // unit, from the winding: normalize(cross(p1 - p0, p2 - p0))
   vec3 shadingNormal;    // unit: interpolated vertex normal, then the normal map if any
-  vec2 uv;
+  vec4 uv;               // TEXCOORD_0 (xy) and TEXCOORD_1 (zw), see sceneTexCoords
   uint material;  // index into gMaterials
   SurfaceMaterial m;
   vec3 clearcoatNormal;  // unit: the coat's normal (interpolated normal, then its own map)
   vec3 anisotropyTangent;  // unit world direction of increased roughness (0: isotropic)
 };
 
-// Barycentrics (b1, b2) weight v1 and v2; v0 gets 1 - b1 - b2.
-vec2 sceneUv(Triangle t, vec2 b) {
-  Vertex a = sceneVertex(t.v0), v1 = sceneVertex(t.v1), v2 = sceneVertex(t.v2);
-  return vec2(a.u, a.v) * (1.0 - b.x - b.y) + vec2(v1.u, v1.v) * b.x + vec2(v2.u, v2.v) * b.y;
+// Vertex v's VertexAttributes, stored after the texels (SceneInfo.vertexAttributes).
+VertexAttributes sceneVertexAttribute(uint v) {
+  uint w = gSceneInfo.vertexAttributes + 4u * v;
+  VertexAttributes a;
+  a.colorRG = gTexels[w];
+  a.colorBA = gTexels[w + 1u];
+  a.uv1 = uintBitsToFloat(uvec2(gTexels[w + 2u], gTexels[w + 3u]));
+  return a;
 }
 
-SurfaceMaterial evaluateMaterial(Material mat, vec2 uv) {
+vec4 vertexColor(VertexAttributes a) {
+  return vec4(unpackHalf2x16(a.colorRG), unpackHalf2x16(a.colorBA));
+}
+
+// TEXCOORD_1 and COLOR_0 at barycentrics b (weights of v1, v2); uv0 is TEXCOORD_0 there.
+// Without vertex attributes in the scene: TEXCOORD_0 for both sets and white, nothing read.
+void sceneVertexAttributes(Triangle t, vec2 b, vec2 uv0, out vec4 uvs, out vec4 color) {
+  uvs = uv0.xyxy;
+  color = vec4(1.0);
+  // The flag too: a pass that does not specialise on the scene's features has them all.
+  if (!sceneHas(kSceneFeatureVertexAttributes) || gSceneInfo.vertexAttributes == 0u) return;
+  VertexAttributes a0 = sceneVertexAttribute(t.v0), a1 = sceneVertexAttribute(t.v1),
+                   a2 = sceneVertexAttribute(t.v2);
+  float b0 = 1.0 - b.x - b.y;
+  uvs.zw = a0.uv1 * b0 + a1.uv1 * b.x + a2.uv1 * b.y;
+  color = vertexColor(a0) * b0 + vertexColor(a1) * b.x + vertexColor(a2) * b.y;
+}
+
+// Both uv sets (sampleTexture's uvs) at barycentrics b (weights of v1, v2).
+vec4 sceneTexCoords(Triangle t, vec2 b, out vec4 color) {
+  Vertex a = sceneVertex(t.v0), v1 = sceneVertex(t.v1), v2 = sceneVertex(t.v2);
+  vec2 uv0 = vec2(a.u, a.v) * (1.0 - b.x - b.y) + vec2(v1.u, v1.v) * b.x + vec2(v2.u, v2.v) * b.y;
+  vec4 uvs;
+  sceneVertexAttributes(t, b, uv0, uvs, color);
+  return uvs;
+}
+
+// glTF's alpha: base colour factor x texture x COLOR_0 alpha.
+float materialAlpha(Material mat, vec4 uvs, vec4 color) {
+  return mat.baseColor.a * sampleTexture(mat.baseColorTexture, uvs).a * color.a;
+}
+
+// The fraction of light a surface stops (its coverage): 1 for opaque materials, alpha for
+// blended ones, 0 or 1 by the cutoff for masked ones. What a light sample on an emitter is
+// weighted by, since a ray meets a blended surface with probability alpha (osrAlphaCutout).
+float materialCoverage(Material mat, float alpha) {
+  if (!sceneHas(kSceneFeatureAlphaTest)) return 1.0;
+  if (sceneHas(kSceneFeatureAlphaBlend) && (mat.flags & kMaterialAlphaBlend) != 0u)
+    return clamp(alpha, 0.0, 1.0);
+  if ((mat.flags & kMaterialAlphaMask) != 0u) return alpha < mat.alphaCutoff ? 0.0 : 1.0;
+  return 1.0;
+}
+
+// uvs: sceneTexCoords; color: COLOR_0 (white without).
+SurfaceMaterial evaluateMaterial(Material mat, vec4 uv, vec4 color) {
   SurfaceMaterial m;
   vec4 base = sampleTexture(mat.baseColorTexture, uv);
-  m.baseColor = mat.baseColor.rgb * srgbToLinear(base.rgb);
-  m.alpha = mat.baseColor.a * base.a;
+  m.baseColor = mat.baseColor.rgb * srgbToLinear(base.rgb) * color.rgb;
+  m.alpha = mat.baseColor.a * base.a * color.a;
   vec4 mr = sampleTexture(mat.metallicRoughnessTexture, uv);
   m.roughness = mat.roughness * mr.g;
   m.metallic = mat.metallic * mr.b;
@@ -298,7 +349,7 @@ SurfaceMaterial evaluateMaterial(Material mat, vec2 uv) {
 }
 
 // A tangent-space normal map applied around nn, with the uv tangent frame (tangent, bitangent).
-vec3 sceneNormalMap(int texture, float scale, vec2 uv, vec3 nn, vec3 tangent, vec3 bitangent) {
+vec3 sceneNormalMap(int texture, float scale, vec4 uv, vec3 nn, vec3 tangent, vec3 bitangent) {
   vec3 tn = sampleTexture(texture, uv).xyz * 2.0 - 1.0;
   tn.xy *= scale;
   vec3 mapped = tangent * tn.x + bitangent * tn.y + nn * tn.z;
@@ -323,17 +374,29 @@ SurfaceSample surfaceAt(uint triangle, vec2 b) {
   // Zero-length vertex normals (degenerate input) fall back to the face normal.
   s.shadingNormal = nLength > 1e-12 ? n / nLength : s.geometricNormal;
   vec2 uv0 = vec2(v0.u, v0.v), uv1 = vec2(v1.u, v1.v), uv2 = vec2(v2.u, v2.v);
-  s.uv = uv0 * b0 + uv1 * b.x + uv2 * b.y;
+  vec4 color;
+  sceneVertexAttributes(t, b, uv0 * b0 + uv1 * b.x + uv2 * b.y, s.uv, color);
   s.material = t.material;
   Material mat = sceneMaterial(t.material);
-  s.m = evaluateMaterial(mat, s.uv);
+  s.m = evaluateMaterial(mat, s.uv, color);
   s.clearcoatNormal = s.shadingNormal;
   s.anisotropyTangent = vec3(0.0);
   bool layered = sceneHas(kSceneFeatureLayers) &&
                  (mat.clearcoatNormalTexture >= 0 || s.m.anisotropy > 0.0);
   if (mat.normalTexture >= 0 || layered) {
     // Tangent frame from the triangle's uv parameterization (the file's TANGENT attribute is
-    // not loaded; for well-behaved uvs this is the per-face MikkTSpace result).
+    // not loaded; for well-behaved uvs this is the per-face MikkTSpace result). The frame
+    // follows the uv set of the normal map, else of the coat's normal map, else of the
+    // anisotropy texture: one frame serves all three.
+    int frameTexture = mat.normalTexture >= 0 ? mat.normalTexture
+                       : mat.clearcoatNormalTexture >= 0 ? mat.clearcoatNormalTexture
+                                                          : mat.anisotropyTexture;
+    if (sceneHas(kSceneFeatureVertexAttributes) && gSceneInfo.vertexAttributes != 0u &&
+        frameTexture >= 0 && (frameTexture & kTextureTexCoord1) != 0) {
+      uv0 = sceneVertexAttribute(t.v0).uv1;
+      uv1 = sceneVertexAttribute(t.v1).uv1;
+      uv2 = sceneVertexAttribute(t.v2).uv1;
+    }
     vec2 d1 = uv1 - uv0, d2 = uv2 - uv0;
     float det = d1.x * d2.y - d1.y * d2.x;
     if (abs(det) > 1e-20) {
@@ -359,14 +422,32 @@ SurfaceSample surfaceAt(uint triangle, vec2 b) {
   return s;
 }
 
-// Any-hit test: true when the hit is in a hole of an alpha-masked (or blended, treated as
-// masked) material, i.e. the ray should continue.
-bool osrAlphaCutout(uint triangle, vec2 b) {
+// Uniform number in [0, 1) for the stochastic transparency of `triangle` met by the ray
+// (origin, 1 / direction as the traversal keeps it): a hash of the ray's bits and the
+// triangle. Every ray of every integrator is drawn from continuous random numbers, so its bits
+// differ from sample to sample and pixel to pixel and the hash is a fresh number per ray and
+// hit; the same ray meeting the same triangle decides alike in every query.
+float alphaHashNumber(uint triangle, vec3 origin, vec3 invDir) {
+  uvec3 o = floatBitsToUint(origin), d = floatBitsToUint(invDir);
+  uint h = sceneHash(o.x ^ sceneHash(o.y ^ sceneHash(o.z ^ sceneHash(d.x ^ sceneHash(d.y ^
+           sceneHash(d.z ^ sceneHash(triangle)))))));
+  return float(h >> 8) * (1.0 / 16777216.0);
+}
+
+// Any-hit test: true when the ray (origin, 1 / direction) goes on through this hit: in a hole
+// of a masked material (alpha < cutoff, exact), or, on a blended one, with probability
+// 1 - alpha (stochastic transparency: the ray meets the surface with probability alpha, so
+// every estimator sees coverage alpha on average). Opaque materials ignore alpha.
+bool osrAlphaCutout(uint triangle, vec2 b, vec3 origin, vec3 invDir) {
   if (!sceneHas(kSceneFeatureAlphaTest)) return false;
   Triangle t = sceneTriangle(triangle);
   Material mat = sceneMaterial(t.material);
   if ((mat.flags & (kMaterialAlphaMask | kMaterialAlphaBlend)) == 0u) return false;
-  float alpha = mat.baseColor.a * sampleTexture(mat.baseColorTexture, sceneUv(t, b)).a;
+  vec4 color;
+  vec4 uvs = sceneTexCoords(t, b, color);
+  float alpha = materialAlpha(mat, uvs, color);
+  if (sceneHas(kSceneFeatureAlphaBlend) && (mat.flags & kMaterialAlphaBlend) != 0u)
+    return alphaHashNumber(triangle, origin, invDir) >= alpha;
   return alpha < mat.alphaCutoff;
 }
 

@@ -8,8 +8,15 @@ OSR_NAMESPACE_BEGIN(scene)
 // Material flags.
 OSR_CONST(uint, kMaterialDoubleSided, 1u);
 OSR_CONST(uint, kMaterialAlphaMask, 2u);   // alpha < alphaCutoff is a hole
-OSR_CONST(uint, kMaterialAlphaBlend, 4u);  // treated as mask at 0.5 (no blending in a path tracer)
+// Blended: a ray meets the surface with probability alpha (stochastic transparency,
+// lib/scene.glsl osrAlphaCutout), so every estimator sees coverage alpha on average.
+OSR_CONST(uint, kMaterialAlphaBlend, 4u);
 OSR_CONST(int, kNoTexture, -1);
+// A material's texture field is a texture reference: the index into the textures, with
+// kTextureTexCoord1 set where the glTF textureInfo says texCoord 1 (the slot reads
+// VertexAttributes.uv1), or kNoTexture.
+OSR_CONST(int, kTextureTexCoord1, 0x40000000);
+OSR_CONST(int, kTextureIndexMask, 0x3fffffff);
 
 // One vertex in world space (all node transforms applied at load).
 struct Vertex {
@@ -17,6 +24,16 @@ struct Vertex {
   float u;
   vec3 normal;  // unit shading normal (geometric normal where the file has none)
   float v;
+};
+
+// What a vertex carries beyond Vertex, stored only where some primitive has COLOR_0 or
+// TEXCOORD_1 (kSceneFeatureVertexAttributes): after the textures' texels in the texel buffer
+// (4 words per vertex from word SceneInfo.vertexAttributes), since OSR's passes have no push
+// descriptor left for a buffer of their own (lavapipe's maxPushDescriptors is 32).
+struct VertexAttributes {
+  uint colorRG;  // COLOR_0 (linear RGBA, white where the primitive has none) as two
+  uint colorBA;  // packHalf2x16 words: R | G << 16, B | A << 16
+  vec2 uv1;      // TEXCOORD_1 with the material's texture transform; TEXCOORD_0's where none
 };
 
 // Triangle: vertex indices and material, one uvec4 per triangle.
@@ -166,6 +183,22 @@ OSR_MATERIAL_WORD(thickness, kMaterialWordThickness);
 static_assert(sizeof(Material) == 16 * kMaterialTexels, "kMaterialTexels");
 #endif
 
+// lowbias32 (Wellons): a 32-bit integer hash with good avalanche, written once for GLSL and
+// C++ (the stochastic transparency of lib/scene.glsl alphaHashNumber and its C++ twin).
+#ifdef __cplusplus
+#define OSR_SCENE_FN inline
+#else
+#define OSR_SCENE_FN
+#endif
+OSR_SCENE_FN uint sceneHash(uint x) {
+  x ^= x >> 16u;
+  x *= 0x7feb352du;
+  x ^= x >> 15u;
+  x *= 0x846ca68bu;
+  x ^= x >> 16u;
+  return x;
+}
+
 // Texture wrap modes (glTF sampler), in TextureInfo.wrap: S in bits 0-1, T in bits 2-3.
 OSR_CONST(uint, kWrapRepeat, 0u);
 OSR_CONST(uint, kWrapClamp, 1u);
@@ -215,7 +248,7 @@ struct SceneInfo {
   uint envHeight;
   float envScale;      // radiance multiplier
   float emissivePower; // total power of emissive triangles
-  float _pad0;
+  uint vertexAttributes;  // first word of the VertexAttributes in gTexels; 0: none
   vec4 boundsMin;
   vec4 boundsMax;
 };
@@ -232,7 +265,9 @@ OSR_CONST(uint, kSceneFeatureTransmission, 16u);  // some material with transmis
 // Some material with a layered lobe: clearcoat, sheen, diffuse transmission, anisotropy or an
 // absorbing volume (KHR_materials_*; the material words past kMaterialBaseTexels).
 OSR_CONST(uint, kSceneFeatureLayers, 32u);
-OSR_CONST(uint, kSceneFeatureAll, 63u);
+OSR_CONST(uint, kSceneFeatureVertexAttributes, 64u);  // some COLOR_0 or TEXCOORD_1
+OSR_CONST(uint, kSceneFeatureAlphaBlend, 128u);  // some material is blended (hashed coverage)
+OSR_CONST(uint, kSceneFeatureAll, 255u);
 
 // Binding slots of the scene buffers, relative to the first slot a pass gives them
 // (OSR_SCENE_BINDING in GLSL); GpuScene::bindings() returns the buffers in this order.

@@ -9,6 +9,14 @@ OSR_CONST(uint, kWorkgroupSize, 64);
 OSR_CONST(uint, kBindingQueries, 0);
 OSR_CONST(uint, kBindingResults, 1);
 OSR_CONST(uint, kBindingScene, 2);  // OSR_SCENE_BINDING: scene buffers follow
+// The ray whose hash decides blended hits' alphaCutout in the probe.
+#ifdef __cplusplus
+inline const vec3 kProbeRayOrigin{0.25f, 0.5f, 0.75f};
+inline const vec3 kProbeRayInvDir{1.0f, -2.0f, 4.0f};
+#else
+const vec3 kProbeRayOrigin = vec3(0.25, 0.5, 0.75);
+const vec3 kProbeRayInvDir = vec3(1.0, -2.0, 4.0);
+#endif
 
 struct Query {
   uint triangle;

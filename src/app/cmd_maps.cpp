@@ -21,6 +21,7 @@
 #include "common/error.h"
 #include "nn_kernels/weights_format.h"
 #include "osr/map_tracer.h"
+#include "shaders/shared/scene.h"
 
 namespace osr::app {
 
@@ -31,14 +32,7 @@ namespace fs = std::filesystem;
 constexpr size_t kTexels = gpu::hemi::kMapTexels;
 constexpr size_t kMapFloats = size_t(gpu::osr::kMapChannels) * kTexels;
 
-uint32_t hash32(uint32_t x) {  // lowbias32 (Wellons)
-  x ^= x >> 16;
-  x *= 0x7feb352du;
-  x ^= x >> 15;
-  x *= 0x846ca68bu;
-  x ^= x >> 16;
-  return x;
-}
+uint32_t hash32(uint32_t x) { return gpu::scene::sceneHash(x); }  // lowbias32 (Wellons)
 
 // One pixel per r x r cell of the image (edge cells clipped), placed by a hash of the seed,
 // view and cell, so the same arguments give the same points.

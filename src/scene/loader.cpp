@@ -11,7 +11,9 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <array>
 #include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/packing.hpp>
 #include <glm/gtc/quaternion.hpp>
 #include <glm/gtc/type_ptr.hpp>
 #include <map>
@@ -234,6 +236,8 @@ class Loader {
     readAnimations();
     traverseScenes();
     if (scene_.triangles.empty()) fail("the scene has no triangles");
+    // Kept only when some primitive has COLOR_0 or TEXCOORD_1 (shaders read none otherwise).
+    if (!hasAttributes_) std::vector<gpu::VertexAttributes>().swap(scene_.attributes);
     if (defaultMaterialIndex_ >= 0 || scene_.materials.empty()) {
       if (defaultMaterialIndex_ < 0) defaultMaterialIndex_ = int(scene_.materials.size());
       scene_.materials.push_back(defaultMaterial());
@@ -472,9 +476,10 @@ class Loader {
   }
 
   // Records a texture slot's KHR_texture_transform for the material being converted. The
-  // transform is baked into the vertex uvs, so all textured slots of a material must agree
-  // (true of exporters that write one uv mapping per material); the first one wins otherwise.
-  void noteUvTransform(const tinygltf::Value* ext, const std::string& what) {
+  // transform is baked into the vertex uvs of its set (TEXCOORD_0 or _1), so all textured
+  // slots of a material that read one set must agree (true of exporters that write one uv
+  // mapping per set and material); the first one wins otherwise.
+  void noteUvTransform(const tinygltf::Value* ext, int set, const std::string& what) {
     glm::mat3 m(1.0f);
     if (ext && ext->IsObject()) {
       glm::vec2 offset(0.0f), scale(1.0f);
@@ -498,25 +503,36 @@ class Loader {
         for (int k = 0; k < 3; ++k)
           if (!std::isfinite(m[c][k])) fail(what + ": KHR_texture_transform is not finite");
     }
-    if (!uvTransformSet_) {
-      uvTransform_ = m;
-      uvTransformSet_ = true;
-    } else if (m != uvTransform_) {
+    if (!uvTransformSet_[set]) {
+      uvTransform_[set] = m;
+      uvTransformSet_[set] = true;
+    } else if (m != uvTransform_[set]) {
       warn(what + ": texture slots with different KHR_texture_transform, using the first one");
     }
   }
 
-  // Our texture index for glTF texture `index`, created on first use.
+  // Our texture reference (shared/scene.h) for glTF texture `index` read with uv set
+  // `texCoord` (KHR_texture_transform's texCoord overrides it).
   int texture(int index, int texCoord, const std::string& what,
               const tinygltf::Value* transform = nullptr) {
     if (index < 0) return gpu::kNoTexture;
-    if (size_t(index) >= model_.textures.size())
-      fail(what + ": texture " + std::to_string(index) + " does not exist");
     if (transform && transform->IsObject() && transform->Has("texCoord"))
       texCoord = wholeNumber(*transform, "texCoord", 0).value_or(-1);
-    noteUvTransform(transform, what);
-    if (texCoord != 0)
+    if (texCoord != 0 && texCoord != 1) {
       warn(what + ": TEXCOORD_" + std::to_string(texCoord) + " not supported, using TEXCOORD_0");
+      texCoord = 0;
+    }
+    noteUvTransform(transform, texCoord, what);
+    int ours = textureIndex(index, what);
+    if (ours < 0 || texCoord == 0) return ours;
+    usesTexCoord1_ = true;
+    return ours | gpu::kTextureTexCoord1;
+  }
+
+  // Our texture index for glTF texture `index`, created on first use.
+  int textureIndex(int index, const std::string& what) {
+    if (size_t(index) >= model_.textures.size())
+      fail(what + ": texture " + std::to_string(index) + " does not exist");
     auto found = textureMap_.find(index);
     if (found != textureMap_.end()) return found->second;
     const tinygltf::Texture& t = model_.textures[index];
@@ -597,8 +613,9 @@ class Loader {
     std::string what =
         "material " + std::to_string(index) + (src.name.empty() ? "" : " '" + src.name + "'");
     gpu::Material m = defaultMaterial();
-    uvTransform_ = glm::mat3(1.0f);
-    uvTransformSet_ = false;
+    uvTransform_ = {glm::mat3(1.0f), glm::mat3(1.0f)};
+    uvTransformSet_ = {false, false};
+    usesTexCoord1_ = false;
     const auto& pbr = src.pbrMetallicRoughness;
     if (pbr.baseColorFactor.size() == 4)
       m.baseColor = glm::vec4(pbr.baseColorFactor[0], pbr.baseColorFactor[1],
@@ -687,8 +704,6 @@ class Loader {
       m.alphaCutoff = float(src.alphaCutoff);
     } else if (src.alphaMode == "BLEND") {
       m.flags |= gpu::kMaterialAlphaBlend;
-      m.alphaCutoff = 0.5f;
-      warn(what + ": alphaMode BLEND is rendered as MASK with cutoff 0.5");
     }
     const float values[] = {m.baseColor.r, m.baseColor.g,  m.baseColor.b, m.baseColor.a, m.metallic,
                             m.roughness,   m.emission.r,   m.emission.g,  m.emission.b,  m.specular,
@@ -704,6 +719,7 @@ class Loader {
     if (m.emission.r < 0 || m.emission.g < 0 || m.emission.b < 0)
       fail(what + " has a negative emission");
     materialUv_.push_back(uvTransform_);
+    materialTexCoord1_.push_back(usesTexCoord1_);
     return m;
   }
 
@@ -918,7 +934,25 @@ class Loader {
       if (uv.components != 2 || uv.count != pos.count)
         fail(what + " TEXCOORD_0 does not match POSITION (type or count)");
     }
-    if (attr("COLOR_0") >= 0) warn("vertex colors (COLOR_0) not supported, ignored");
+    // COLOR_0 (RGB or RGBA; float, or normalized unsigned byte/short as the spec requires of
+    // those types) multiplies the base colour; TEXCOORD_1 feeds the slots that ask for it.
+    AccessorData color, uv1;
+    bool hasColor = attr("COLOR_0") >= 0, hasUv1 = attr("TEXCOORD_1") >= 0;
+    if (hasColor) {
+      color = accessor(attr("COLOR_0"), what + " COLOR_0");
+      if ((color.components != 3 && color.components != 4) || color.count != pos.count ||
+          (color.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT &&
+           color.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE &&
+           color.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT))
+        fail(what + " COLOR_0 is not a VEC3/VEC4 of float, unsigned byte or unsigned short "
+                    "matching POSITION");
+      color.normalized = color.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT;
+    }
+    if (hasUv1) {
+      uv1 = accessor(attr("TEXCOORD_1"), what + " TEXCOORD_1");
+      if (uv1.components != 2 || uv1.count != pos.count)
+        fail(what + " TEXCOORD_1 does not match POSITION (type or count)");
+    }
     if (!prim.targets.empty()) warn("morph targets not supported: base mesh drawn");
 
     uint32_t materialIndex;
@@ -974,14 +1008,44 @@ class Loader {
       return w;
     };
     // The material's KHR_texture_transform, baked in (identity for the default material).
-    glm::mat3 uvFromFile =
-        materialIndex < materialUv_.size() ? materialUv_[materialIndex] : glm::mat3(1.0f);
+    std::array<glm::mat3, 2> uvFromFile =
+        materialIndex < materialUv_.size() ? materialUv_[materialIndex]
+                                           : std::array<glm::mat3, 2>{glm::mat3(1.0f), glm::mat3(1.0f)};
     auto uvAt = [&](uint32_t i) {
       glm::vec2 t = hasUv ? uv.vec2(i) : glm::vec2(0.0f);
-      t = glm::vec2(uvFromFile * glm::vec3(t, 1.0f));
+      t = glm::vec2(uvFromFile[0] * glm::vec3(t, 1.0f));
       if (std::isfinite(t.x) && std::isfinite(t.y)) return t;
       warn(what + ": non-finite TEXCOORD_0 replaced by (0, 0)");
       return glm::vec2(0.0f);
+    };
+    bool wantsUv1 = materialIndex < materialTexCoord1_.size() && materialTexCoord1_[materialIndex];
+    if (wantsUv1 && !hasUv1)
+      warn(what + ": material asks for TEXCOORD_1, which the primitive lacks; using TEXCOORD_0");
+    if (hasColor || (hasUv1 && wantsUv1)) hasAttributes_ = true;
+    // Vertex i's attributes, appended beside every vertex (white, uv1 = uv0 where the
+    // primitive has none) so the two arrays stay parallel.
+    auto appendAttributes = [&](uint32_t i, glm::vec2 uv0) {
+      gpu::VertexAttributes a{};
+      glm::vec4 c(1.0f);
+      if (hasColor) {
+        c = glm::vec4(color.vec3(i), color.components == 4 ? color.component(i, 3) : 1.0);
+        if (!std::isfinite(c.r + c.g + c.b + c.a)) {
+          warn(what + ": non-finite COLOR_0 replaced by white");
+          c = glm::vec4(1.0f);
+        }
+      }
+      a.colorRG = glm::packHalf2x16({c.r, c.g});
+      a.colorBA = glm::packHalf2x16({c.b, c.a});
+      glm::vec2 t = uv0;
+      if (hasUv1) {
+        t = glm::vec2(uvFromFile[1] * glm::vec3(uv1.vec2(i), 1.0f));
+        if (!std::isfinite(t.x) || !std::isfinite(t.y)) {
+          warn(what + ": non-finite TEXCOORD_1 replaced by (0, 0)");
+          t = glm::vec2(0.0f);
+        }
+      }
+      a.uv1 = t;
+      scene_.attributes.push_back(a);
     };
 
     // A primitive under an animated node keeps its object-space data to be posed again.
@@ -1008,6 +1072,7 @@ class Loader {
         v.u = t.x;
         v.v = t.y;
         scene_.vertices.push_back(v);
+        appendAttributes(i, t);
         if (moving) {
           record.positions.push_back(pos.vec3(i));
           record.normals.push_back(nrm.vec3(i));
@@ -1032,6 +1097,7 @@ class Loader {
         for (int k = 0; k < 3; ++k) {
           glm::vec2 tc = uvAt(id[k]);
           scene_.vertices.push_back({p[k], tc.x, n, tc.y});
+          appendAttributes(id[k], tc);
           if (moving) record.positions.push_back(pos.vec3(id[k]));
         }
         scene_.triangles.push_back({base, base + 1, base + 2, materialIndex});
@@ -1113,9 +1179,13 @@ class Loader {
   tinygltf::Model model_;
   std::set<std::string> warned_;
   std::map<int, int> textureMap_;
-  std::vector<glm::mat3> materialUv_;  // per glTF material: its KHR_texture_transform
-  glm::mat3 uvTransform_{1.0f};        // of the material being converted
-  bool uvTransformSet_ = false;
+  // Per glTF material and uv set: its KHR_texture_transform; whether a slot reads TEXCOORD_1.
+  std::vector<std::array<glm::mat3, 2>> materialUv_;
+  std::vector<bool> materialTexCoord1_;
+  std::array<glm::mat3, 2> uvTransform_{glm::mat3(1.0f), glm::mat3(1.0f)};  // material being
+  std::array<bool, 2> uvTransformSet_{false, false};                        // converted
+  bool usesTexCoord1_ = false;
+  bool hasAttributes_ = false;  // some primitive has COLOR_0 or TEXCOORD_1
   int defaultMaterialIndex_ = -1;
 };
 

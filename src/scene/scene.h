@@ -52,6 +52,8 @@ struct Scene {
   std::vector<std::string> files;  // path, then every external buffer and image it reads
   // World space; uv is TEXCOORD_0 with the material's KHR_texture_transform applied.
   std::vector<gpu::Vertex> vertices;
+  // Parallel to vertices where some primitive has COLOR_0 or TEXCOORD_1, else empty.
+  std::vector<gpu::VertexAttributes> attributes;
   std::vector<gpu::Triangle> triangles;
   std::vector<gpu::Material> materials;  // always >= 1: the last one may be the default
   std::vector<Texture> textures;

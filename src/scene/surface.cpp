@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
+#include <glm/gtc/packing.hpp>
 
 namespace osr::scene {
 
@@ -32,10 +34,17 @@ glm::vec4 texel(const Texture& t, int x, int y) {
   return glm::vec4(v & 255u, (v >> 8) & 255u, (v >> 16) & 255u, v >> 24) / 255.0f;
 }
 
-glm::vec2 uvAt(const Scene& s, const gpu::Triangle& t, glm::vec2 b) {
-  const gpu::Vertex &a = s.vertices[t.v0], &v1 = s.vertices[t.v1], &v2 = s.vertices[t.v2];
-  return glm::vec2(a.u, a.v) * (1.0f - b.x - b.y) + glm::vec2(v1.u, v1.v) * b.x +
-         glm::vec2(v2.u, v2.v) * b.y;
+glm::vec4 vertexColor(const gpu::VertexAttributes& a) {
+  glm::vec2 rg = glm::unpackHalf2x16(a.colorRG), ba = glm::unpackHalf2x16(a.colorBA);
+  return {rg.x, rg.y, ba.x, ba.y};
+}
+
+uint32_t hash(uint32_t x) { return gpu::sceneHash(x); }
+
+uint32_t bits(float f) {
+  uint32_t u;
+  std::memcpy(&u, &f, 4);
+  return u;
 }
 
 }  // namespace
@@ -45,6 +54,47 @@ glm::vec3 srgbToLinear(glm::vec3 c) {
   for (int k = 0; k < 3; ++k)
     out[k] = c[k] <= 0.04045f ? c[k] / 12.92f : std::pow((c[k] + 0.055f) / 1.055f, 2.4f);
   return out;
+}
+
+void vertexAttributes(const Scene& scene, const gpu::Triangle& t, glm::vec2 b, glm::vec2 uv0,
+                      glm::vec4& uvs, glm::vec4& color) {
+  uvs = glm::vec4(uv0, uv0);
+  color = glm::vec4(1.0f);
+  if (scene.attributes.empty()) return;
+  const gpu::VertexAttributes &a0 = scene.attributes[t.v0], &a1 = scene.attributes[t.v1],
+                              &a2 = scene.attributes[t.v2];
+  float b0 = 1.0f - b.x - b.y;
+  glm::vec2 uv1 = a0.uv1 * b0 + a1.uv1 * b.x + a2.uv1 * b.y;
+  uvs = glm::vec4(uv0, uv1);
+  color = vertexColor(a0) * b0 + vertexColor(a1) * b.x + vertexColor(a2) * b.y;
+}
+
+glm::vec4 texCoords(const Scene& s, const gpu::Triangle& t, glm::vec2 b, glm::vec4& color) {
+  const gpu::Vertex &a = s.vertices[t.v0], &v1 = s.vertices[t.v1], &v2 = s.vertices[t.v2];
+  glm::vec2 uv0 = glm::vec2(a.u, a.v) * (1.0f - b.x - b.y) + glm::vec2(v1.u, v1.v) * b.x +
+                  glm::vec2(v2.u, v2.v) * b.y;
+  glm::vec4 uvs;
+  vertexAttributes(s, t, b, uv0, uvs, color);
+  return uvs;
+}
+
+float materialAlpha(const Scene& scene, const gpu::Material& mat, glm::vec4 uvs, glm::vec4 color) {
+  return mat.baseColor.a * sampleTexture(scene, mat.baseColorTexture, uvs).a * color.a;
+}
+
+float alphaHashNumber(uint32_t triangle, glm::vec3 origin, glm::vec3 invDir) {
+  uint32_t h = hash(bits(origin.x) ^
+                    hash(bits(origin.y) ^
+                         hash(bits(origin.z) ^
+                              hash(bits(invDir.x) ^
+                                   hash(bits(invDir.y) ^ hash(bits(invDir.z) ^ hash(triangle)))))));
+  return float(h >> 8) * (1.0f / 16777216.0f);
+}
+
+glm::vec4 sampleTexture(const Scene& scene, int texture, glm::vec4 uvs) {
+  if (texture < 0) return glm::vec4(1.0f);
+  glm::vec2 uv = (texture & gpu::kTextureTexCoord1) ? glm::vec2(uvs.z, uvs.w) : glm::vec2(uvs);
+  return sampleTexture(scene, texture & gpu::kTextureIndexMask, uv);
 }
 
 glm::vec4 sampleTexture(const Scene& scene, int texture, glm::vec2 uv) {
@@ -80,12 +130,13 @@ SurfaceSample surfaceAt(const Scene& scene, uint32_t triangle, glm::vec2 b) {
   float nLength = glm::length(n);
   s.shadingNormal = nLength > 1e-12f ? n / nLength : s.geometricNormal;
   glm::vec2 uv0(v0.u, v0.v), uv1(v1.u, v1.v), uv2(v2.u, v2.v);
-  s.uv = uv0 * b0 + uv1 * b.x + uv2 * b.y;
+  glm::vec4 color;
+  vertexAttributes(scene, t, b, uv0 * b0 + uv1 * b.x + uv2 * b.y, s.uv, color);
   s.material = t.material;
   const gpu::Material& mat = scene.materials[t.material];
   glm::vec4 base = sampleTexture(scene, mat.baseColorTexture, s.uv);
-  s.m.baseColor = glm::vec3(mat.baseColor) * srgbToLinear(glm::vec3(base));
-  s.m.alpha = mat.baseColor.a * base.a;
+  s.m.baseColor = glm::vec3(mat.baseColor) * srgbToLinear(glm::vec3(base)) * glm::vec3(color);
+  s.m.alpha = mat.baseColor.a * base.a * color.a;
   glm::vec4 mr = sampleTexture(scene, mat.metallicRoughnessTexture, s.uv);
   s.m.roughness = mat.roughness * mr.g;
   s.m.metallic = mat.metallic * mr.b;
@@ -98,6 +149,11 @@ SurfaceSample surfaceAt(const Scene& scene, uint32_t triangle, glm::vec2 b) {
   s.m.transmission = mat.transmission * sampleTexture(scene, mat.transmissionTexture, s.uv).r;
   s.m.doubleSided = (mat.flags & gpu::kMaterialDoubleSided) != 0;
   if (mat.normalTexture >= 0) {
+    if (!scene.attributes.empty() && (mat.normalTexture & gpu::kTextureTexCoord1)) {
+      uv0 = scene.attributes[t.v0].uv1;
+      uv1 = scene.attributes[t.v1].uv1;
+      uv2 = scene.attributes[t.v2].uv1;
+    }
     glm::vec2 d1 = uv1 - uv0, d2 = uv2 - uv0;
     float det = d1.x * d2.y - d1.y * d2.x;
     if (std::abs(det) > 1e-20f) {
@@ -122,11 +178,27 @@ SurfaceSample surfaceAt(const Scene& scene, uint32_t triangle, glm::vec2 b) {
   return s;
 }
 
-bool alphaCutout(const Scene& scene, uint32_t triangle, glm::vec2 b) {
+float coverage(const Scene& scene, uint32_t triangle, glm::vec2 b) {
+  const gpu::Triangle& t = scene.triangles[triangle];
+  const gpu::Material& mat = scene.materials[t.material];
+  if ((mat.flags & (gpu::kMaterialAlphaMask | gpu::kMaterialAlphaBlend)) == 0) return 1.0f;
+  glm::vec4 color;
+  glm::vec4 uvs = texCoords(scene, t, b, color);
+  float alpha = materialAlpha(scene, mat, uvs, color);
+  if (mat.flags & gpu::kMaterialAlphaBlend) return std::clamp(alpha, 0.0f, 1.0f);
+  return alpha < mat.alphaCutoff ? 0.0f : 1.0f;
+}
+
+bool alphaCutout(const Scene& scene, uint32_t triangle, glm::vec2 b, glm::vec3 rayOrigin,
+                 glm::vec3 rayInvDir) {
   const gpu::Triangle& t = scene.triangles[triangle];
   const gpu::Material& mat = scene.materials[t.material];
   if ((mat.flags & (gpu::kMaterialAlphaMask | gpu::kMaterialAlphaBlend)) == 0) return false;
-  float alpha = mat.baseColor.a * sampleTexture(scene, mat.baseColorTexture, uvAt(scene, t, b)).a;
+  glm::vec4 color;
+  glm::vec4 uvs = texCoords(scene, t, b, color);
+  float alpha = materialAlpha(scene, mat, uvs, color);
+  if (mat.flags & gpu::kMaterialAlphaBlend)
+    return alphaHashNumber(triangle, rayOrigin, rayInvDir) >= alpha;
   return alpha < mat.alphaCutoff;
 }
 

@@ -24,7 +24,7 @@ struct SurfaceSample {
   glm::vec3 position{0.0f};
   glm::vec3 geometricNormal{0.0f, 0.0f, 1.0f};
   glm::vec3 shadingNormal{0.0f, 0.0f, 1.0f};
-  glm::vec2 uv{0.0f};
+  glm::vec4 uv{0.0f};  // TEXCOORD_0 (xy), TEXCOORD_1 (zw)
   uint32_t material = 0;
   SurfaceMaterial m;
 };
@@ -32,11 +32,19 @@ struct SurfaceSample {
 glm::vec3 srgbToLinear(glm::vec3 c);
 // Bilinear (nearest with kTextureNearest), wrap modes, raw RGBA in [0, 1]; kNoTexture gives
 // white (sampleTexture in GLSL).
+// `texture` is a texture index here; the overload below takes a material's texture reference
+// (| kTextureTexCoord1) and both uv sets (TEXCOORD_0 in xy, TEXCOORD_1 in zw).
 glm::vec4 sampleTexture(const Scene& scene, int texture, glm::vec2 uv);
+glm::vec4 sampleTexture(const Scene& scene, int texture, glm::vec4 uvs);
 // Barycentrics (b1, b2) weight v1 and v2; v0 gets 1 - b1 - b2.
 SurfaceSample surfaceAt(const Scene& scene, uint32_t triangle, glm::vec2 b);
-// True where an alpha-masked (or blended) material has alpha < cutoff: the ray goes on.
-bool alphaCutout(const Scene& scene, uint32_t triangle, glm::vec2 b);
+// True where the ray (origin, 1 / direction) goes on through the hit: a masked material's
+// alpha below its cutoff, or a blended one's hash of the ray and triangle at or above alpha
+// (osrAlphaCutout in GLSL).
+bool alphaCutout(const Scene& scene, uint32_t triangle, glm::vec2 b, glm::vec3 rayOrigin,
+                 glm::vec3 rayInvDir);
+// The fraction of light the hit stops: 1 opaque, alpha blended, 0 or 1 masked.
+float coverage(const Scene& scene, uint32_t triangle, glm::vec2 b);
 
 // Environment mapping (see scene.glsl): uv in [0,1]^2 with v = 0 at the top (+Y).
 glm::vec3 environmentDirection(glm::vec2 uv);

@@ -77,6 +77,14 @@ GpuScene::GpuScene(const vk::Context& ctx, const Scene& scene, const Environment
   si.lightCount = uint32_t(scene.lights.size());
   si.envScale = 1.0f;
   si.emissivePower = scene.emissivePower;
+  si.vertexAttributes = 0;
+  if (!scene.attributes.empty()) {
+    // After the texels (shared/scene.h VertexAttributes): word 0 stays a texel or padding.
+    if (allTexels.empty()) allTexels.push_back(0u);
+    si.vertexAttributes = uint32_t(allTexels.size());
+    const uint32_t* words = reinterpret_cast<const uint32_t*>(scene.attributes.data());
+    allTexels.insert(allTexels.end(), words, words + 4 * scene.attributes.size());
+  }
   si.boundsMin = glm::vec4(scene.boundsMin, 0.0f);
   si.boundsMax = glm::vec4(scene.boundsMax, 0.0f);
   std::vector<glm::vec4> envTexels;
@@ -103,6 +111,7 @@ GpuScene::GpuScene(const vk::Context& ctx, const Scene& scene, const Environment
   for (const gpu::Material& m : scene.materials) {
     if (m.flags & (gpu::kMaterialAlphaMask | gpu::kMaterialAlphaBlend))
       features |= gpu::kSceneFeatureAlphaTest;
+    if (m.flags & gpu::kMaterialAlphaBlend) features |= gpu::kSceneFeatureAlphaBlend;
     if (m.transmission > 0.0f) features |= gpu::kSceneFeatureTransmission;
     bool absorbs = m.thickness > 0.0f && m.attenuationDistance > 0.0f &&
                    glm::any(glm::lessThan(m.attenuationColor, glm::vec3(1.0f)));
@@ -110,6 +119,7 @@ GpuScene::GpuScene(const vk::Context& ctx, const Scene& scene, const Environment
         m.diffuseTransmission > 0.0f || m.anisotropyStrength > 0.0f || absorbs)
       features |= gpu::kSceneFeatureLayers;
   }
+  if (!scene.attributes.empty()) features |= gpu::kSceneFeatureVertexAttributes;
   if (!scene.textures.empty()) features |= gpu::kSceneFeatureTextures;
   if (!scene.lights.empty()) features |= gpu::kSceneFeaturePunctual;
   if (si.envWidth > 0) features |= gpu::kSceneFeatureEnvironment;
@@ -124,6 +134,7 @@ GpuScene::GpuScene(const vk::Context& ctx, const Scene& scene, const Environment
 
 // Texels per element that shaders/lib/scene.glsl reads (Material's layout is asserted in
 // shaders/shared/scene.h against its kMaterialWord* constants).
+static_assert(sizeof(gpu::VertexAttributes) == 16, "4 texel words per vertex in lib/scene.glsl");
 static_assert(sizeof(gpu::Vertex) == 32 && sizeof(gpu::Triangle) == 16 &&
                   sizeof(gpu::Material) == 16 * gpu::kMaterialTexels,
               "texel counts in shaders/lib/scene.glsl");

@@ -14,11 +14,15 @@
 # CASE cycles: the area light's direct light against Cycles' (light units).
 # CASE animation: Render Animation of two frames in which the sphere moves (a fresh export per
 #   frame), frame 2 compared with osr-vk run by hand on its export.
+# CASE materials: Principled BSDF materials the exporter must keep for osr-vk: a colour
+#   attribute feeding Base Color (COLOR_0 kept) and one no material reads (dropped), alpha
+#   blending, an emission texture with strength, a texture on the second UV map (TEXCOORD_1).
 # CASE failed: osr-vk exits with an error (a weights file that is not there): a report naming it;
 #   a scene with nothing to render and one whose only mesh has no faces: reports that name no
 #   temporary file.
 # Failures raise (the exit code is 1); the driver checks the rest from the output.
 import json
+import math
 import os
 import signal
 import subprocess
@@ -308,6 +312,98 @@ def case_cycles(executable, work):
         raise AssertionError("direct light differs from Cycles' by more than 4 %%: %s" % ratio)
 
 
+def _image(name, path, pixels):
+    image = bpy.data.images.new(name, 2, 1, alpha=True)
+    image.pixels = [c for p in pixels for c in p]
+    image.filepath_raw, image.file_format = path, "PNG"
+    image.save()
+    return image
+
+
+def _color_attribute(mesh, colors):
+    attr = mesh.color_attributes.new(name="Col", type="FLOAT_COLOR", domain="POINT")
+    for i, v in enumerate(mesh.vertices):
+        attr.data[i].color = colors(v.co)
+    mesh.color_attributes.active_color = attr
+    mesh.color_attributes.render_color_index = mesh.color_attributes.find("Col")
+
+
+def case_materials(executable, work):
+    blender_scene.build_scene(executable, 48, 36)
+    # The sphere's Base Color is its colour attribute (red below, blue above).
+    sphere = bpy.data.objects["sphere"]
+    _color_attribute(sphere.data, lambda co: (1.0, 0.0, 0.0, 1.0) if co.z < 0 else (0.0, 0.0, 1.0, 1.0))
+    mat = sphere.data.materials[0]
+    attr_node = mat.node_tree.nodes.new("ShaderNodeVertexColor")
+    attr_node.layer_name = "Col"
+    mat.node_tree.links.new(attr_node.outputs["Color"], mat.node_tree.nodes["Principled BSDF"].inputs["Base Color"])
+    # The floor has a colour attribute its material does not read.
+    _color_attribute(bpy.data.objects["floor"].data, lambda co: (0.0, 1.0, 0.0, 1.0))
+    # A half-transparent curtain (alpha blend).
+    bpy.ops.mesh.primitive_plane_add(size=1.5, location=(-0.8, 0.5, 1.2), rotation=(math.pi / 2, 0, 0))
+    curtain = bpy.context.active_object
+    curtain.name = "curtain"
+    mat = bpy.data.materials.new("curtain")
+    mat.use_nodes, mat.blend_method = True, "BLEND"
+    mat.node_tree.nodes["Principled BSDF"].inputs["Alpha"].default_value = 0.5
+    curtain.data.materials.append(mat)
+    # A screen: emission from a texture at strength 3, base colour from a texture on UVMap.001.
+    bpy.ops.mesh.primitive_plane_add(size=1.0, location=(0.8, 1.9, 2.5), rotation=(math.pi / 2, 0, 0))
+    screen = bpy.context.active_object
+    screen.name = "screen"
+    uv1 = screen.data.uv_layers.new(name="UVMap.001")
+    for loop in uv1.data:
+        loop.uv = (1.0 - loop.uv[0], loop.uv[1])
+    mat = bpy.data.materials.new("screen")
+    mat.use_nodes = True
+    nodes, links = mat.node_tree.nodes, mat.node_tree.links
+    bsdf = nodes["Principled BSDF"]
+    glow = nodes.new("ShaderNodeTexImage")
+    glow.image = _image("glow", os.path.join(work, "glow.png"), [(1, 1, 1, 1), (0.2, 0.4, 1, 1)])
+    links.new(glow.outputs["Color"], bsdf.inputs["Emission"])
+    bsdf.inputs["Emission Strength"].default_value = 3.0
+    base = nodes.new("ShaderNodeTexImage")
+    base.image = _image("paint", os.path.join(work, "paint.png"), [(1, 0, 0, 1), (0, 1, 0, 1)])
+    uvmap = nodes.new("ShaderNodeUVMap")
+    uvmap.uv_map = "UVMap.001"
+    links.new(uvmap.outputs["UV"], base.inputs["Vector"])
+    links.new(base.outputs["Color"], bsdf.inputs["Base Color"])
+    screen.data.materials.append(mat)
+    # The add-on's export (no render), then osr-vk's loader on it (a preview at 1 spp).
+    from osr_vk import export
+    keep = os.path.join(work, "keep")
+    os.makedirs(keep, exist_ok=True)
+    gltf_path = export.export(bpy.context.evaluated_depsgraph_get(), keep).gltf_path
+    with open(gltf_path) as f:
+        gltf = json.load(f)
+    log = subprocess.run([executable, "--mode", "preview", "--spp", "1", "--width", "16", "--height", "12",
+                          "--quiet", "--offline", os.path.join(work, "preview.exr"), gltf_path],
+                         check=True, capture_output=True, text=True).stderr
+    materials = {m.get("name"): m for m in gltf.get("materials", [])}
+    meshes = {n["name"]: gltf["meshes"][n["mesh"]] for n in gltf["nodes"] if "mesh" in n}
+    attributes = {name: m["primitives"][0]["attributes"] for name, m in meshes.items()}
+    problems = []
+    if "COLOR_0" not in attributes["sphere"]:
+        problems.append("the sphere's colour attribute (its Base Color) was not exported")
+    if "COLOR_0" in attributes["floor"]:
+        problems.append("the floor's colour attribute, which its material ignores, was exported")
+    if materials["curtain"].get("alphaMode") != "BLEND":
+        problems.append("the curtain is not alphaMode BLEND: %s" % materials["curtain"])
+    screen_mat = materials["screen"]
+    if "emissiveTexture" not in screen_mat or abs(
+            screen_mat.get("extensions", {}).get("KHR_materials_emissive_strength", {}).get("emissiveStrength", 1) - 3) > 1e-6:
+        problems.append("the screen's emission texture or strength is missing: %s" % screen_mat)
+    base_info = screen_mat.get("pbrMetallicRoughness", {}).get("baseColorTexture", {})
+    if base_info.get("texCoord") != 1 or "TEXCOORD_1" not in attributes["screen"]:
+        problems.append("the screen's base colour does not read TEXCOORD_1: %s %s" % (base_info, attributes["screen"]))
+    for word in ("COLOR_0", "TEXCOORD_1", "BLEND", "validation", "unsupported"):
+        if word in log:
+            problems.append("osr-vk warned about %s:\n%s" % (word, log))
+    if problems:
+        raise AssertionError("\n".join(problems))
+    print("osr-vk test: materials exported with COLOR_0, alphaMode BLEND, emissive texture x 3, TEXCOORD_1")
+
+
 def case_world(executable, work):
     # The world as --env, from the export alone (no render): a colour, an equirectangular
     # image as is, the same image at strength 2 from Blender's pixels (rows bottom-up there),
@@ -420,7 +516,7 @@ def main():
     cases = {"render": case_render, "cancel": case_cancel, "missing": case_missing,
              "failed": case_failed, "install": case_install, "cycles": case_cycles,
              "world": case_world, "border": case_border, "f12": case_f12,
-             "animation": case_animation}
+             "animation": case_animation, "materials": case_materials}
     if cases[case](executable, work, *args[3:]) != "later":
         print("osr-vk test: case %s done" % case)
 

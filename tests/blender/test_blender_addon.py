@@ -33,7 +33,7 @@ def osr_vk_processes(executable):
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("case", choices=["render", "cancel", "missing", "failed", "install", "cycles", "world", "border", "f12",
-                                           "animation"])
+                                           "animation", "materials"])
     parser.add_argument("--blender", required=True)
     parser.add_argument("--osr-vk", required=True)
     parser.add_argument("--zip", help="osr_vk.zip, for the install case")

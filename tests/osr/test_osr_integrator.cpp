@@ -170,6 +170,33 @@ TEST(OsrIntegrator, EmissiveFurnaceSplitsDirectAndIndirectExactly) {
   EXPECT_NEAR(sp / n, 0.5, 0.01);
 }
 
+TEST(OsrIntegrator, AlphaBlendConvergesToCoverage) {
+  // test::writeCoverageScene: the G-buffer's camera rays and the direct pass's shadow rays go
+  // through the blended quad with probability 1 - alpha.
+  std::string path = (test::tempDir("osr_integrator") / "coverage.gltf").string();
+  test::writeCoverageScene(path, "BLEND");
+  auto s = test::loadForTest(path);
+  const uint32_t size = 16;
+  oneshot::OsrIntegrator osr(test::context(), *s.gpu, s.bvh, size, size, oneshot::OsrSettings{});
+  auto o = test::renderOsrPasses(osr, s, 24);
+  const double radiance = 0.5 / M_PI * 2.0;
+  for (int side = 0; side < 2; ++side) {
+    double alpha = side == 0 ? 191 / 255.0 : 64 / 255.0, red = 0, green = 0;
+    int n = 0;
+    for (uint32_t py = 2; py < size - 2; ++py)
+      for (uint32_t px = side == 0 ? 1u : 9u; px < (side == 0 ? 7u : 15u); ++px, ++n) {
+        red += o.combined[(py * size + px) * 3];
+        green += o.combined[(py * size + px) * 3 + 1];
+      }
+    std::printf("side %d: green %.4f (expect %.4f) red %.4f (expect %.4f)\n", side, green / n,
+                alpha * radiance, red / n, (1 - alpha) * (1 - alpha) * radiance);
+    // One G-buffer surface per pixel and pass: 72 x 24 coverage draws per side, whose standard
+    // error is 0.0105 of the radiance; 3 of them.
+    EXPECT_NEAR(green / n, alpha * radiance, 0.03 * radiance) << "side " << side;
+    EXPECT_NEAR(red / n, (1 - alpha) * (1 - alpha) * radiance, 0.03 * radiance) << "side " << side;
+  }
+}
+
 TEST(MapWeight, FallsWithScreenDistanceNormalsAndDepthGaps) {
   namespace o = osr::gpu::osr;
   const glm::vec3 x(0, 0, 0), n(0, 1, 0);

@@ -56,6 +56,13 @@ class GltfWriter {
         {{"primitives", {{{"attributes", attributes}, {"indices", a - 1}, {"material", mat}}}}});
     nodes_.push_back({{"mesh", int(meshes_.size()) - 1}});
   }
+  // COLOR_0 (float RGBA) or TEXCOORD_1 for the last mesh's vertices.
+  void vertexColors(const std::vector<glm::vec4>& colors) {
+    attribute("COLOR_0", colors.data(), colors.size(), 16, "VEC4");
+  }
+  void texCoords1(const std::vector<glm::vec2>& uvs) {
+    attribute("TEXCOORD_1", uvs.data(), uvs.size(), 8, "VEC2");
+  }
   // A quad p0, p1, p2, p3 (counter-clockwise seen from the front).
   // uv (0,0), (1,0), (1,1), (0,1) at p0..p3.
   void quad(glm::vec3 p0, glm::vec3 p1, glm::vec3 p2, glm::vec3 p3, int mat) {
@@ -170,6 +177,13 @@ class GltfWriter {
     std::ofstream(path) << g.dump();
   }
 
+  // An RGBA8 texture like texture(), sampled nearest (texel edges stay sharp).
+  int nearestTexture(int w, int h, const std::vector<uint8_t>& rgba) {
+    int t = texture(w, h, rgba);
+    samplers_.back()["magFilter"] = 9728;  // NEAREST
+    return t;
+  }
+
   // Lambertian as Blender's exporter writes it: specular colour 0, roughness 1.
   static json diffuse(glm::vec3 c) {
     return {{"pbrMetallicRoughness",
@@ -198,6 +212,12 @@ class GltfWriter {
   }
 
  private:
+  void attribute(const char* name, const void* data, size_t count, size_t bytes, const char* type) {
+    int v = view(append(data, count * bytes), count * bytes);
+    accessors_.push_back(
+        {{"bufferView", v}, {"componentType", 5126}, {"count", count}, {"type", type}});
+    meshes_.back()["primitives"][0]["attributes"][name] = int(accessors_.size()) - 1;
+  }
   size_t append(const void* p, size_t bytes) {
     size_t off = data_.size();
     data_.resize(off + bytes);
@@ -228,5 +248,29 @@ class GltfWriter {
        lights_ = json::array(), images_ = json::array(), samplers_ = json::array(),
        textures_ = json::array();
 };
+
+// Stochastic transparency, analytically: a red diffuse ground (albedo 0.5) under a green
+// diffuse quad (albedo 0.5) at y = 1 whose alpha texture is 0.75 left of u = 0.5 and 0.25
+// right of it, a sun straight down of irradiance 2, a camera looking down at the quad.
+// Blended, a pixel's green is alpha x 2 x 0.5 / pi (the quad's top, met with probability
+// alpha) and its red (1 - alpha)^2 x 2 x 0.5 / pi (the ground, seen through the quad and lit
+// through it); no other light reaches the camera (the quad reflects no red, the ground no
+// green). `alphaMode` is the quad's glTF alphaMode.
+inline void writeCoverageScene(const std::string& path, const std::string& alphaMode) {
+  GltfWriter g;
+  int ground = g.material(GltfWriter::diffuse({0.5f, 0.f, 0.f}));
+  auto quad = GltfWriter::diffuse({0.f, 0.5f, 0.f});
+  quad["pbrMetallicRoughness"]["baseColorTexture"] = {
+      {"index", g.nearestTexture(2, 1, {255, 255, 255, 191, 255, 255, 255, 64})}};
+  quad["alphaMode"] = alphaMode;
+  int quadMat = g.material(quad);
+  g.quad({-4, 0, -4}, {-4, 0, 4}, {4, 0, 4}, {4, 0, -4}, ground);
+  g.quad({-2, 1, 2}, {2, 1, 2}, {2, 1, -2}, {-2, 1, -2}, quadMat);  // u along +x, facing up
+  g.light({{"type", "directional"},
+           {"intensity", 683.0 * 2.0},
+           {"_rotation", {-std::sin(M_PI / 4), 0, 0, std::cos(M_PI / 4)}}});
+  g.camera({0.f, 3.f, 0.001f}, {0.f, 0.f, 0.f}, 0.5f);
+  g.write(path);
+}
 
 }  // namespace osr::test

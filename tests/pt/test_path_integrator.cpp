@@ -195,6 +195,98 @@ TEST(PathIntegrator, DiffusePlaneUnderSquareEmitterMatchesAnalyticIrradiance) {
   fs::remove_all(d);
 }
 
+// An emissive texture lights the scene by its texels: the square emitter of the test above with
+// a 2 x 1 emissive texture, white on its -x half and black on its +x half, gives the plane the
+// irradiance of the -x half alone (light sampling picks triangles by the power of their own
+// part of the texture: src/scene/emissive.cpp).
+TEST(PathIntegrator, EmissiveTextureLightsByItsTexels) {
+  fs::path d = tempDir();
+  GltfWriter g;
+  const float rho = 0.6f, le = 5.f, h = 0.8f, half = 0.25f;
+  int plane = g.material(GltfWriter::diffuse(glm::vec3(rho)));
+  auto emitter = GltfWriter::emitter(glm::vec3(le), false);
+  emitter["emissiveTexture"] = {{"index", g.nearestTexture(2, 1, {255, 255, 255, 255, 0, 0, 0, 255})}};
+  int light = g.material(emitter);
+  g.quad({-4, 0, -4}, {-4, 0, 4}, {4, 0, 4}, {4, 0, -4}, plane);
+  // Facing down (-Y); u runs along +x.
+  g.quad({-half, h, -half}, {half, h, -half}, {half, h, half}, {-half, h, half}, light);
+  std::vector<glm::dvec3> lit = {{-half, h, -half}, {0, h, -half}, {0, h, half}, {-half, h, half}};
+  g.camera({0.f, 2.5f, 2.5f}, {0.f, 0.f, 0.f}, 0.9f);
+  std::string path = (d / "textured_emitter.gltf").string();
+  g.write(path);
+  const uint32_t size = 32;
+  Rendered r = renderFile(path, size, 256);
+  double sumRatio = 0, sumLeft = 0, sumRight = 0;
+  int n = 0;
+  for (uint32_t py = 0; py < size; ++py)
+    for (uint32_t px = 0; px < size; ++px) {
+      double expect =
+          groundPixel(r.camera, size, px, py, [&](glm::vec3 q, glm::vec3 o, glm::vec3 dir) {
+            glm::vec3 ql = o + ((h - o.y) / dir.y) * dir;
+            if (std::abs(ql.x) <= half + 0.02f && std::abs(ql.z) <= half + 0.02f) return -1.0;
+            return rho / M_PI * le * polygonIrradiance(glm::dvec3(q), {0, 1, 0}, lit);
+          });
+      if (expect < 0.02) continue;
+      float got = r.film.combined[(py * size + px) * 3 + 1];
+      EXPECT_NEAR(got, expect, 0.25 * expect) << "pixel " << px << "," << py;
+      sumRatio += got / expect;
+      (px < size / 2 ? sumLeft : sumRight) += got;
+      ++n;
+    }
+  std::printf("textured emitter: mean ratio to analytic %.4f over %d pixels\n", sumRatio / n, n);
+  ASSERT_GT(n, 200);  // the pixels the lit half reaches (270 at this size)
+  EXPECT_NEAR(sumRatio / n, 1.0, 0.01);
+  EXPECT_GT(sumLeft, 1.5 * sumRight);  // the lit half is on the left (-x)
+  fs::remove_all(d);
+}
+
+// COLOR_0 multiplies the base colour and a slot with texCoord 1 reads TEXCOORD_1: diffuse
+// quads facing the camera under a uniform environment of radiance 1 show their albedo.
+TEST(PathIntegrator, VertexColorsAndSecondUvSetShade) {
+  fs::path d = tempDir();
+  GltfWriter g;
+  int white = g.material(GltfWriter::diffuse(glm::vec3(1.f)));
+  auto textured = GltfWriter::diffuse(glm::vec3(1.f));
+  textured["pbrMetallicRoughness"]["baseColorTexture"] = {
+      {"index", g.nearestTexture(2, 1, {255, 0, 0, 255, 0, 255, 0, 255})}, {"texCoord", 1}};
+  int uv1 = g.material(textured);
+  // Left quad: red at x = -1.1, blue at x = -0.1 (COLOR_0); right quad: TEXCOORD_1 is
+  // TEXCOORD_0 mirrored in u, so its -x half shows the texture's right texel (green).
+  g.quad({-1.1f, -0.5f, 0}, {-0.1f, -0.5f, 0}, {-0.1f, 0.5f, 0}, {-1.1f, 0.5f, 0}, white);
+  const glm::vec4 red(1, 0, 0, 1), blue(0, 0, 1, 1);
+  g.vertexColors({red, blue, blue, red});
+  g.quad({0.1f, -0.5f, 0}, {1.1f, -0.5f, 0}, {1.1f, 0.5f, 0}, {0.1f, 0.5f, 0}, uv1);
+  g.texCoords1({{1, 0}, {0, 0}, {0, 1}, {1, 1}});
+  g.camera({0.f, 0.f, 3.f}, {0.f, 0.f, 0.f}, 0.8f);
+  std::string path = (d / "attributes.gltf").string();
+  g.write(path);
+  const uint32_t size = 32;
+  scene::Environment env = uniformEnvironment(1.f);
+  Rendered r = renderFile(path, size, 64, 1, &env);
+  const float pixel = 2 * 3 * std::tan(0.4f) / size;  // world size of a pixel at z = 0
+  int checked = 0;
+  for (uint32_t py = 0; py < size; ++py)
+    for (uint32_t px = 0; px < size; ++px) {
+      glm::vec3 o, dir;
+      cameraRay(r.camera, size, px + 0.5f, py + 0.5f, o, dir);
+      glm::vec3 q = o - (o.z / dir.z) * dir;
+      if (std::abs(q.y) > 0.5f - pixel) continue;
+      glm::vec3 expect;
+      if (q.x > -1.1f + pixel && q.x < -0.1f - pixel)
+        expect = glm::mix(glm::vec3(red), glm::vec3(blue), q.x + 1.1f);
+      else if (q.x > 0.1f + pixel && std::abs(q.x - 0.6f) > pixel && q.x < 1.1f - pixel)
+        expect = q.x < 0.6f ? glm::vec3(0, 1, 0) : glm::vec3(1, 0, 0);
+      else
+        continue;
+      const float* c = &r.film.combined[(py * size + px) * 3];
+      for (int k = 0; k < 3; ++k)
+        EXPECT_NEAR(c[k], expect[k], 0.03f) << "pixel " << px << "," << py << " channel " << k;
+      ++checked;
+    }
+  EXPECT_GT(checked, 150);
+  fs::remove_all(d);
+}
+
 TEST(PathIntegrator, PunctualLightsGiveAnalyticIrradiance) {
   fs::path d = tempDir();
   const float rho = 0.5f;
@@ -403,6 +495,38 @@ TEST(PathIntegrator, AlphaMaskIsSeenThroughAndCastsNoShadowThroughHoles) {
     for (uint32_t px : {10u, 13u}) {
       const float* c = &r.film.combined[(py * size + px) * 3];
       EXPECT_NEAR(c[0], radiance, 0.01) << px << "," << py;
+    }
+  }
+  fs::remove_all(d);
+}
+
+// Blended textures converge to their coverage in camera and shadow rays alike; OPAQUE ignores
+// alpha (test::writeCoverageScene has the analytic values).
+TEST(PathIntegrator, AlphaBlendConvergesToCoverageOpaqueIgnoresAlpha) {
+  fs::path d = tempDir();
+  const double radiance = 0.5 / M_PI * 2.0;
+  for (const char* mode : {"BLEND", "OPAQUE"}) {
+    std::string path = (d / (std::string(mode) + ".gltf")).string();
+    test::writeCoverageScene(path, mode);
+    const uint32_t size = 16;
+    Rendered r = renderFile(path, size, 256);
+    bool blend = std::string(mode) == "BLEND";
+    // Left (alpha 0.75) and right (0.25) halves, a column clear of the texel edge and image
+    // border: 6 x 12 pixels x 256 samples each.
+    for (int side = 0; side < 2; ++side) {
+      double alpha = blend ? (side == 0 ? 191 / 255.0 : 64 / 255.0) : 1.0;
+      double red = 0, green = 0;
+      int n = 0;
+      for (uint32_t py = 2; py < size - 2; ++py)
+        for (uint32_t px = side == 0 ? 1u : 9u; px < (side == 0 ? 7u : 15u); ++px, ++n) {
+          red += r.film.combined[(py * size + px) * 3];
+          green += r.film.combined[(py * size + px) * 3 + 1];
+        }
+      std::printf("%s side %d: green %.4f (expect %.4f) red %.4f (expect %.4f)\n", mode, side,
+                  green / n, alpha * radiance, red / n, (1 - alpha) * (1 - alpha) * radiance);
+      EXPECT_NEAR(green / n, alpha * radiance, 0.01 * radiance) << mode << " side " << side;
+      EXPECT_NEAR(red / n, (1 - alpha) * (1 - alpha) * radiance, 0.01 * radiance)
+          << mode << " side " << side;
     }
   }
   fs::remove_all(d);

@@ -51,7 +51,8 @@ TEST(GpuScene, FeaturesNameWhatTheSceneUses) {
   scene::Scene s = scene::loadScene(test::referencePath("cornell/cornell.gltf"));
   EXPECT_EQ(scene::GpuScene(ctx, s).features, 0u);  // no alpha, texture, light or map
   s.materials[0].flags |= gs::kMaterialAlphaBlend;
-  EXPECT_EQ(scene::GpuScene(ctx, s).features, gs::kSceneFeatureAlphaTest);
+  EXPECT_EQ(scene::GpuScene(ctx, s).features,
+            gs::kSceneFeatureAlphaTest | gs::kSceneFeatureAlphaBlend);
   s.materials[0].flags &= ~gs::kMaterialAlphaBlend;
   s.materials[0].flags |= gs::kMaterialAlphaMask;
   s.materials[1].transmission = 0.5f;
@@ -59,6 +60,8 @@ TEST(GpuScene, FeaturesNameWhatTheSceneUses) {
   s.textures.push_back({});
   s.textures.back().width = s.textures.back().height = 1;
   s.textures.back().texels = {0xffffffffu};
+  s.materials[2].flags |= gs::kMaterialAlphaBlend;
+  s.attributes.resize(s.vertices.size());
   s.lights.push_back({});
   scene::Environment env;
   env.width = 2;

@@ -92,6 +92,7 @@ struct Layout {
 const std::vector<Layout>& layouts() {
   static const std::vector<Layout> all = {
       STRUCT(scene, Vertex, F(position), F(u), F(normal), F(v)),
+      STRUCT(scene, VertexAttributes, F(colorRG), F(colorBA), F(uv1)),
       STRUCT(scene, Triangle, F(v0), F(v1), F(v2), F(material)),
       STRUCT(scene, Material, F(baseColor), F(emission), F(roughness), F(specularColor),
              F(metallic), F(specular), F(ior), F(transmission), F(alphaCutoff),
@@ -110,7 +111,8 @@ const std::vector<Layout>& layouts() {
       STRUCT(scene, PunctualLight, F(position), F(type), F(direction), F(range), F(intensity),
              F(cosInner), F(cosOuter), F(_pad0), F(_pad1), F(_pad2)),
       STRUCT(scene, SceneInfo, F(triangleCount), F(emissiveCount), F(lightCount), F(envWidth),
-             F(envHeight), F(envScale), F(emissivePower), F(_pad0), F(boundsMin), F(boundsMax)),
+             F(envHeight), F(envScale), F(emissivePower), F(vertexAttributes), F(boundsMin),
+             F(boundsMax)),
       STRUCT(bvh, BvhNode, F(aMin), F(a), F(aMax), F(b), F(bMin), F(_pad0), F(bMax), F(_pad1)),
       STRUCT(bvh, BvhTraversalNode, F(frame), F(boxes)),
       STRUCT(bvh, BvhLeafTriangle, F(v0), F(v1), F(v2)),
