@@ -117,8 +117,11 @@ def alpha_mask(out: Path) -> None:
 def lights(out: Path) -> None:
     """KHR_lights_punctual: point, spot and directional on transformed nodes."""
     g = Gltf(GENERATOR)
-    g.doc["extensionsUsed"] = ["KHR_lights_punctual"]
-    g.doc["extensions"] = {"KHR_lights_punctual": {"lights": [
+    # KHR_xmp_json_ld: metadata, loaded without a warning.
+    g.doc["extensionsUsed"] = ["KHR_lights_punctual", "KHR_xmp_json_ld"]
+    g.doc["asset"]["extensions"] = {"KHR_xmp_json_ld": {"packet": 0}}
+    g.doc["extensions"] = {"KHR_xmp_json_ld": {"packets": [{"dc:creator": ["osr-vk"]}]},
+                           "KHR_lights_punctual": {"lights": [
         {"type": "point", "color": [1, 0.5, 0.25], "intensity": 683, "range": 10},
         {"type": "spot", "intensity": 1366, "spot": {"innerConeAngle": 0.2, "outerConeAngle": 0.5}},
         {"type": "directional", "color": [0.5, 0.5, 1], "intensity": 6.83}]}}
@@ -154,14 +157,14 @@ def materials(out: Path) -> None:
     primitive without material (gets the default material)."""
     g = Gltf(GENERATOR)
     g.doc["extensionsUsed"] = ["KHR_materials_specular", "KHR_materials_ior", "KHR_materials_transmission",
-                               "KHR_materials_emissive_strength", "KHR_materials_clearcoat"]
+                               "KHR_materials_emissive_strength", "KHR_materials_iridescence"]
     g.add("materials", {"name": "glass", "pbrMetallicRoughness": {"baseColorFactor": [0.9, 0.95, 1, 1],
                                                                   "metallicFactor": 0, "roughnessFactor": 0.1},
                         "extensions": {"KHR_materials_ior": {"ior": 1.33},
                                        "KHR_materials_transmission": {"transmissionFactor": 1.0},
                                        "KHR_materials_specular": {"specularFactor": 0.5,
                                                                   "specularColorFactor": [0.2, 0.4, 0.6]},
-                                       "KHR_materials_clearcoat": {"clearcoatFactor": 1.0}}})
+                                       "KHR_materials_iridescence": {"iridescenceFactor": 1.0}}})
     g.add("materials", {"name": "lamp", "emissiveFactor": [1, 0.5, 0.25], "doubleSided": True,
                         "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 40}}})
     g.add("materials", {"name": "dim", "emissiveFactor": [0.5, 0.5, 0.5]})

@@ -86,7 +86,10 @@ const std::set<std::string> kSupportedExtensions = {
     // Integer and normalized attribute types: every accessor is read through one converter.
     "KHR_mesh_quantization",
     // Baked into the vertex uvs, one transform per material (see Loader::noteUvTransform).
-    "KHR_texture_transform"};
+    "KHR_texture_transform",
+    // Metadata (licence, authoring tool) with nothing to render: the ratified name and the
+    // draft's, which Khronos sample models still carry.
+    "KHR_xmp_json_ld", "KHR_xmp"};
 
 // Luminous efficacy used to turn glTF's photometric light units into the radiometric ones of
 // emissive radiance (the constant Blender's glTF I/O uses, PBR_WATTS_TO_LUMENS = 683 lm/W):
