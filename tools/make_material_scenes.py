@@ -95,7 +95,8 @@ def alpha_blend(out: Path) -> None:
     mask = lambert(g, (0.9, 0.6, 0.1), pbr={"baseColorTexture": {"index": leaf}},
                    alphaMode="MASK", alphaCutoff=0.5, doubleSided=True)
     box(g, white, {"back": blue, "left": red})
-    quad(g, [(-0.3, 1.999, 0.3), (0.3, 1.999, 0.3), (0.3, 1.999, -0.3), (-0.3, 1.999, -0.3)], lamp, "lamp")
+    # Facing down (the ceiling's winding): the lamp is single-sided.
+    quad(g, [(-0.3, 1.999, -0.3), (0.3, 1.999, -0.3), (0.3, 1.999, 0.3), (-0.3, 1.999, 0.3)], lamp, "lamp")
     quad(g, [(-0.75, 0.25, 0.1), (0.15, 0.25, 0.1), (0.15, 1.15, 0.1), (-0.75, 1.15, 0.1)], blend, "blend card")
     quad(g, [(0.3, 0.2, -0.4), (0.9, 0.2, -0.4), (0.9, 0.8, -0.4), (0.3, 0.8, -0.4)], mask, "mask card")
     camera(g)
