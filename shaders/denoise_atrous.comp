@@ -4,7 +4,8 @@
 // by its luminance difference against sigmaLuminance x the pixel's standard deviation (the
 // variance blurred 3 x 3), its depth difference against the depth gradient, and its normal's
 // agreement. The filtered variance (sum of squared weights x variance) feeds the next
-// iteration. The filter runs on demodulated colour (colour / albedo: texture is not noise):
+// iteration. A pixel that saw light directly (normal.w > 0, shared/denoise.h) keeps its own
+// colour and is no other pixel's tap. The filter runs on demodulated colour (colour / albedo: texture is not noise):
 // the first iteration (kFirst) divides, the last (kLast) multiplies back.
 // In: colour (rgb, w variance; demodulated after the first iteration), albedo (w depth),
 // normal. Out: the same form; after the last iteration the filtered colour.
@@ -48,6 +49,7 @@ void main() {
   const vec3 np = gNormal[ip].xyz;
   const float zp = gAlbedo[ip].w;
   const float lp = luminance(centre.rgb);
+  const bool lit = gNormal[ip].w > 0.0;
 
   // The variance blurred 3 x 3 (Gaussian), as SVGF does before using it: one pixel's own
   // estimate is itself noisy.
@@ -74,6 +76,7 @@ void main() {
       const ivec2 q = p + ivec2(tx, ty) * int(gPush.step);
       if (!inside(q)) continue;
       const uint iq = index(q);
+      if (iq != ip && (lit || gNormal[iq].w > 0.0)) continue;
       const vec4 c = inputAt(iq);
       const float zq = gAlbedo[iq].w;
       float w;

@@ -6,7 +6,9 @@
 // colour demodulated by the albedo (image_unet.demodulator), exposed by e and compressed to
 // t = x / (1 + lum(x)), repeating the last row and column as the network's input does; the
 // last (kLast) inverts that, re-modulates and writes the tile's core pixels into the image.
-// Between levels the colour lives in tile-sized vec4 buffers.
+// Between levels the colour lives in tile-sized vec4 buffers. A pixel that saw light directly
+// (normal.w > 0, shared/denoise.h) keeps its own colour and is no other pixel's tap; the
+// softmax runs over the taps that remain.
 #extension GL_GOOGLE_include_directive : require
 #include "shared/denoise.h"
 #include "lib/sampling.glsl"  // luminance
@@ -16,6 +18,7 @@ layout(constant_id = kSpecKernelFirst) const uint kFirst = 0;
 layout(constant_id = kSpecKernelLast) const uint kLast = 0;
 layout(std430, binding = kBindingColour) readonly buffer Colour { vec4 gColour[]; };
 layout(std430, binding = kBindingAlbedo) readonly buffer Albedo { vec4 gAlbedo[]; };
+layout(std430, binding = kBindingNormal) readonly buffer Normal { vec4 gNormal[]; };
 layout(std430, binding = kBindingExposure) readonly buffer Sums { ExposureSums gSums[]; };
 layout(std430, binding = kBindingTensor) readonly buffer Tensor { float gTensor[]; };
 layout(std430, binding = kBindingOut) writeonly buffer Out { vec4 gOut[]; };
@@ -34,6 +37,8 @@ vec3 modulator(uint p) {
   return luminance(a) < kKernelDemodulateMin ? vec3(1.0) : max(a, vec3(kKernelDemodulateMin));
 }
 
+bool seesLight(ivec2 t) { return gNormal[imagePixel(t)].w > 0.0; }
+
 vec3 levelInput(ivec2 t) {
   if (kFirst != 0u) {
     const uint p = imagePixel(t);
@@ -41,6 +46,17 @@ vec3 levelInput(ivec2 t) {
     return x / (1.0 + luminance(x));
   }
   return gColour[uint(t.y) * gPush.tileWidth + uint(t.x)].rgb;
+}
+
+// Tap i of pixel t's kernel at this level's step, or (-1, -1) when it is outside the tile or
+// does not count: a light's pixel, or any but the centre when t itself sees light.
+ivec2 tapAt(ivec2 t, uint i, bool lit) {
+  const ivec2 offset = ivec2(i % kKernelSize, i / kKernelSize) - int(kKernelSize / 2u);
+  const ivec2 q = t + offset * int(gPush.step);
+  const ivec2 size = ivec2(gPush.tileWidth, gPush.tileHeight);
+  if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, size))) return ivec2(-1);
+  if (offset != ivec2(0) && (lit || seesLight(q))) return ivec2(-1);
+  return q;
 }
 
 void main() {
@@ -52,17 +68,15 @@ void main() {
   if (t.x >= end.x || t.y >= end.y) return;
   const uint plane = gPush.tileWidth * gPush.tileHeight;
   const uint base = uint(findLSB(gPush.step)) * kKernelTaps * plane + uint(t.y) * gPush.tileWidth + uint(t.x);
-  const int radius = int(kKernelSize / 2u);
+  const bool lit = seesLight(t);
   float top = -3.0e38;
-  for (uint i = 0u; i < kKernelTaps; ++i) {
-    const ivec2 q = t + (ivec2(i % kKernelSize, i / kKernelSize) - radius) * int(gPush.step);
-    if (all(greaterThanEqual(q, ivec2(0))) && all(lessThan(q, size))) top = max(top, gTensor[base + i * plane]);
-  }
+  for (uint i = 0u; i < kKernelTaps; ++i)
+    if (tapAt(t, i, lit).x >= 0) top = max(top, gTensor[base + i * plane]);
   vec3 sum = vec3(0.0);
   float weights = 0.0;
   for (uint i = 0u; i < kKernelTaps; ++i) {
-    const ivec2 q = t + (ivec2(i % kKernelSize, i / kKernelSize) - radius) * int(gPush.step);
-    if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, size))) continue;
+    const ivec2 q = tapAt(t, i, lit);
+    if (q.x < 0) continue;
     const float w = exp(gTensor[base + i * plane] - top);
     sum += w * levelInput(q);
     weights += w;

@@ -9,6 +9,7 @@
 // In: CameraFrame, scene, BVH. Out: GBufferPixel, AccumPixel first-hit records and emission.
 #extension GL_GOOGLE_include_directive : require
 #include "lib/osr_common.glsl"
+#include "lib/first_hit.glsl"  // lightSeen
 
 layout(local_size_x = kOsrWorkgroupSize) in;
 layout(push_constant) uniform OsrPushBlock { GBufferPush gPush; };
@@ -48,6 +49,7 @@ void main() {
       // Delta-like bounces only so far: the environment is seen at full weight.
       vec3 env = missRadiance(pathStart(origin, dir, beta, 0.0, origin, chain));
       emitted += (chain == 0u ? cameraShare : 1.0) * env;
+      if (chain == 0u) a.depth.z += cameraShare * lightSeen(env);
       break;
     }
     SurfaceSample surf = surfaceAt(hit.triangle, hit.barycentrics);
@@ -61,6 +63,7 @@ void main() {
     }
     vec3 emission = hitEmission(pathStart(origin, dir, beta, 0.0, origin, chain), hit.triangle, surf, sp);
     emitted += (chain == 0u ? cameraShare : 1.0) * emission;
+    if (chain == 0u) a.depth.z += cameraShare * lightSeen(emission);
     if (!nearSpecular(sp.bsdf)) {
       g.position = vec4(sp.position, 1.0);
       g.normal = vec4(sp.ns, 0.0);
@@ -93,6 +96,7 @@ void main() {
       e = missRadiance(start);
     }
     emitted += cameraShare * e;
+    a.depth.z += cameraShare * lightSeen(e);
   }
   if (finite3(emitted)) a.direct.rgb += gPush.directWeight * emitted;  // as osr_direct weighs it
   gGBuffer[local] = g;

@@ -58,7 +58,7 @@ void main() {
   f.combined = vec4(direct + indirect, 1.0);
   f.direct = vec4(direct, 0.0);
   f.indirect = vec4(indirect, 0.0);
-  f.albedo = vec4(a.albedo.rgb / passes, 0.0);
+  f.albedo = vec4(a.albedo.rgb / passes, a.depth.z / passes);
   f.normal = vec4(a.normal.rgb / passes, 0.0);
   // The second moment of one sample's worth: the estimate squared plus its variance, that of
   // the blended residual's mean (film.h: what the denoisers' variance comes from).

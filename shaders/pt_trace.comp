@@ -110,6 +110,7 @@ bool pathStep(inout CameraPath c) {
     c.s.first.normal = r.normal;
     c.s.first.depth = cameraDepth(gFrame, r.position);
   }
+  if (bounce == 0u) c.s.first.light = lightSeen(r.emitted);
   addLight(c.s, bounce, r.emitted);
   addLight(c.s, bounce + 1u, r.nee);
   return ended;

@@ -90,14 +90,16 @@ def demodulator(albedo: torch.Tensor) -> torch.Tensor:
 
 
 def apply_kernels(logits: torch.Tensor, colour: torch.Tensor, albedo: torch.Tensor,
-                  e: torch.Tensor) -> torch.Tensor:
+                  e: torch.Tensor, light: torch.Tensor | None = None) -> torch.Tensor:
     """The kernel-predicting network's colour (N x 3 x H x W) from its logits. Per level, each
     pixel's 25 logits are a softmax over the taps inside the image (taps outside get no weight,
     as the shader's tile edge does), applied to the previous level's colour. The kernels
     average the demodulated colour d, exposed and compressed as t = e d / (1 + lum(e d)): a lamp
     or firefly beside a pixel then adds at most its weight to it, however bright (averaging
     linear colour, a weight of 0.001 on a lamp 1000 times brighter doubles a wall pixel). The
-    compression is inverted exactly after the last level (lum(t) < 1 for any average)."""
+    compression is inverted exactly after the last level (lum(t) < 1 for any average).
+    light (N x 1 x H x W, optional): the share of each pixel's camera rays that saw light
+    directly; such a pixel keeps its colour and is no other pixel's tap, as in the shader."""
     n, _, h, w = colour.shape
     scale = demodulator(albedo)
     x = colour.clamp(min=0) / scale * e.view(-1, 1, 1, 1)
@@ -109,7 +111,13 @@ def apply_kernels(logits: torch.Tensor, colour: torch.Tensor, albedo: torch.Tens
         pad = (KERNEL_SIZE // 2) * step
         shifted = nn.functional.unfold(d, KERNEL_SIZE, dilation=step, padding=pad).view(n, 3, taps, h, w)
         inside = nn.functional.unfold(ones, KERNEL_SIZE, dilation=step, padding=pad).view(1, taps, h, w)
-        lg = logits[:, level * taps:(level + 1) * taps].masked_fill(inside == 0, -torch.inf)
+        counts = inside
+        if light is not None:
+            lit = (light > 0).to(d.dtype)
+            lit_tap = nn.functional.unfold(lit, KERNEL_SIZE, dilation=step, padding=pad).view(n, taps, h, w)
+            counts = inside * (1 - lit_tap) * (1 - lit)
+            counts[:, taps // 2] = 1
+        lg = logits[:, level * taps:(level + 1) * taps].masked_fill(counts == 0, -torch.inf)
         d = (shifted * torch.softmax(lg, 1).unsqueeze(1)).sum(2)
     x = d / (1 - _luminance(d)).clamp(min=1e-6)
     return x / e.view(-1, 1, 1, 1) * scale

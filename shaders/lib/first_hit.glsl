@@ -9,6 +9,7 @@ struct FirstHit {
   vec3 normal;  // its shading normal, facing the camera ray (world)
   float depth;  // its distance along the camera's view axis
   bool hit;
+  float light;  // 1 when the camera ray saw light directly (an emitter or the environment)
 };
 
 FirstHit noFirstHit() {
@@ -17,12 +18,17 @@ FirstHit noFirstHit() {
   h.normal = vec3(0.0);
   h.depth = 0.0;
   h.hit = false;
+  h.light = 0.0;
   return h;
 }
 
+// 1 when a camera ray's first hit (or miss) gives it light: what the denoisers keep out of
+// their neighbours (shared/denoise.h).
+float lightSeen(vec3 emitted) { return any(greaterThan(emitted, vec3(0.0))) ? 1.0 : 0.0; }
+
 // Adds one sample's first-hit record to the pixel's running sums (depth.y counts hits).
 void filmAddFirstHit(inout FilmPixel f, FirstHit h) {
-  f.albedo.rgb += h.albedo;
+  f.albedo += vec4(h.albedo, h.light);
   f.normal.rgb += h.normal;
   f.depth += h.hit ? vec4(h.depth, 1.0, 0.0, 0.0) : vec4(0.0);
 }

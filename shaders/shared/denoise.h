@@ -3,7 +3,10 @@
 // Their image layers are one vec4 per pixel, row-major, row 0 at the top:
 //   colour: rgb the film's combined colour; w: variance of the pixel's luminance estimate
 //   albedo: rgb the first-hit albedo; w: the first hit's view-axis depth (0: no hit)
-//   normal: xyz the first-hit normal (world, facing the camera); w: unused
+//   normal: xyz the first-hit normal (world, facing the camera); w: the share of the pixel's
+//     camera rays that saw light directly (render::FilmLayers::light). Both denoisers keep such
+//     a pixel as it is and out of every other pixel's average: a lamp or the sky is not noise,
+//     and a neighbour's weight on a light 1000 times brighter is a halo.
 // Network tensors (src/nn_kernels/image_unet.h) are fp32 NCHW tiles of the padded image.
 #ifndef OSR_SHARED_DENOISE_H
 #define OSR_SHARED_DENOISE_H

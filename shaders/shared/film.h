@@ -11,7 +11,9 @@ OSR_NAMESPACE_BEGIN(film)
 // (distance along the camera's view axis, x = sum, y = number of samples that hit) are of the
 // first surface. depth.z: the sum of the squared luminance of the combined samples, the second
 // moment the denoisers' variance comes from (OSR's resolve, one sample's worth, stores its
-// estimate's luminance squared plus the estimate's variance; render/film.cpp).
+// estimate's luminance squared plus the estimate's variance; render/film.cpp). albedo.w: the
+// number of samples whose camera ray saw light directly (an emitter or the environment), which
+// the denoisers keep out of their neighbours' averages.
 struct FilmPixel {
   vec4 combined;
   vec4 direct;

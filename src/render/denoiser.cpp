@@ -76,6 +76,7 @@ void DenoiseImage::upload(const FilmLayers& film) {
     }
     c[4 * i + 3] = film.variance.empty() ? 0.0f : film.variance[i];
     a[4 * i + 3] = film.depth[i];
+    nrm[4 * i + 3] = film.light.empty() ? 0.0f : film.light[i];
   }
   colour_.uploadVector(c);
   albedo_.uploadVector(a);

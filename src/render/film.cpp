@@ -52,6 +52,7 @@ FilmLayers Film::resolve() const {
     v->resize(n * 3);
   out.depth.resize(n);
   out.variance.resize(n);
+  out.light.resize(n);
   out.samples = n ? uint32_t(px[0].combined.w + 0.5f) : 0;
   for (size_t i = 0; i < n; ++i) {
     const gpu::film::FilmPixel& p = px[i];
@@ -63,6 +64,7 @@ FilmLayers Film::resolve() const {
       out.albedo[i * 3 + c] = p.albedo[c] * inv;
       out.normal[i * 3 + c] = p.normal[c] * inv;
     }
+    out.light[i] = p.albedo.w * inv;
     out.depth[i] = p.depth.y > 0.f ? p.depth.x / p.depth.y : 0.f;
     const double samples = p.combined.w;
     const double lum = 0.2126 * out.combined[i * 3] + 0.7152 * out.combined[i * 3 + 1] +

@@ -26,6 +26,9 @@ struct FilmLayers {
   // n, (sum L^2 - n mean^2) / (n (n - 1)); with one sample's worth (OSR) what its resolve
   // stored (film.h); 0 where unknown.
   std::vector<float> variance;
+  // Share of each pixel's camera rays that saw light directly (an emitter or the environment):
+  // pixels the denoisers keep as they are and out of their neighbours' averages.
+  std::vector<float> light;
   // The colour before denoising, when a denoiser replaced `combined` (render/denoiser.h).
   std::vector<float> noisy;
 };

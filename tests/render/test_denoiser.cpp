@@ -210,3 +210,58 @@ TEST(Denoiser, AtrousKeepsAnEdgeAndRemovesNoise) {
   std::printf("a-trous on a noisy edge: squared error %.4g -> %.4g\n", errIn, errOut);
   EXPECT_LT(errOut, 0.1 * errIn);
 }
+
+// A lamp in a noisy ceiling, with the ceiling's normal, depth and albedo (a flat emissive
+// quad): flagged as light seen directly, its pixels keep their colour and the ceiling beside
+// them keeps its level; unflagged, the same image gets a halo (so the flag is what keeps it
+// out). Both denoisers, the network with random weights (whose kernels spread everywhere).
+render::FilmLayers ceilingWithLamp(bool flagged) {
+  const int w = 64, h = 48;
+  render::FilmLayers f = film(w, h);
+  f.light.assign(size_t(w) * h, 0.0f);
+  std::mt19937 rng(9);
+  std::normal_distribution<float> noise(0.0f, 0.2f);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const size_t i = size_t(y) * w + x;
+      const bool lamp = std::abs(x - w / 2) < 6 && std::abs(y - h / 2) < 4;
+      for (int c = 0; c < 3; ++c) f.combined[3 * i + c] = lamp ? 100.0f : 0.25f * (1.0f + noise(rng));
+      f.variance[i] = lamp ? 0.0f : std::pow(0.25f * 0.2f, 2.0f);
+      if (lamp && flagged) f.light[i] = 1.0f;
+    }
+  return f;
+}
+
+// The mean of the ceiling pixels within 4 pixels of the lamp, over the ceiling's level; the
+// largest relative change of a lamp pixel.
+std::pair<double, double> lampHalo(const render::FilmLayers& f, const std::vector<float>& got) {
+  double ring = 0, lampChange = 0;
+  int count = 0;
+  for (int y = 0; y < f.height; ++y)
+    for (int x = 0; x < f.width; ++x) {
+      const size_t i = size_t(y) * f.width + x;
+      const int dx = std::abs(x - f.width / 2), dy = std::abs(y - f.height / 2);
+      if (dx < 6 && dy < 4) {
+        lampChange = std::max(lampChange, std::fabs(double(got[3 * i]) - f.combined[3 * i]) / f.combined[3 * i]);
+      } else if (dx < 10 && dy < 8) {
+        ring += got[3 * i];
+        ++count;
+      }
+    }
+  return {ring / count / 0.25, lampChange};
+}
+
+TEST(Denoiser, LightsSeenDirectlyStayOutOfTheirNeighbours) {
+  const nn::ImageUNetWeights net = nn::ImageUNetWeights::random(8, 31, nn::kImageKpnArchitecture);
+  const render::FilmLayers flagged = ceilingWithLamp(true), unflagged = ceilingWithLamp(false);
+  const auto [atrousRing, atrousLamp] = lampHalo(flagged, runAtrous(flagged));
+  const auto [netRing, netLamp] = lampHalo(flagged, runNetwork(net, flagged, 0));
+  const auto [haloRing, haloLamp] = lampHalo(unflagged, runNetwork(net, unflagged, 0));
+  std::printf("ceiling beside a lamp / its level: a-trous %.3f, network %.3f (unflagged %.3f); "
+              "lamp change %.2g, %.2g\n", atrousRing, netRing, haloRing, atrousLamp, netLamp);
+  EXPECT_NEAR(atrousRing, 1.0, 0.1);
+  EXPECT_NEAR(netRing, 1.0, 0.1);
+  EXPECT_GT(haloRing, 1.1);
+  EXPECT_LE(atrousLamp, 1e-5);
+  EXPECT_LE(netLamp, 1e-3);
+}
