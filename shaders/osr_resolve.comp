@@ -51,7 +51,11 @@ void main() {
   AccumPixel a = gAccum[local];
   float passes = max(a.albedo.w, 1.0);
   vec3 direct = a.direct.w > 0.0 ? a.direct.rgb / a.direct.w : vec3(0.0);
-  vec3 blend = gPush.residualBlend >= 0.0 ? vec3(gPush.residualBlend) : shrinkBlend(local, pixel, a);
+  // The blend weighs the residual of the indirect light: a pixel without any (a first pass
+  // stopped before its band) needs no neighbourhood, whose 81 reads cost seconds at 4K.
+  vec3 blend = gPush.residualBlend >= 0.0 ? vec3(gPush.residualBlend)
+             : a.indirect.w > 0.0       ? shrinkBlend(local, pixel, a)
+                                        : vec3(0.0);
   vec3 indirect = a.indirect.w > 0.0 ? (a.indirect.rgb + blend * a.residual.rgb) / a.indirect.w
                                      : vec3(0.0);
   FilmPixel f;

@@ -238,7 +238,7 @@ class OfflineRenderer {
   // The film's render: progress lines, notes on a render stopped part-way, dropped samples.
   render::RenderStats render(const scene::Camera& camera, render::FilmLayers& film);
   void notePartialUnit(const render::RenderStats& stats) const;
-  void write(const render::FilmLayers& film, const render::RenderStats& stats,
+  void write(render::FilmLayers&& film, const render::RenderStats& stats,
              const std::optional<std::string>& exrFile,
              const std::optional<std::string>& pngFile) const;
   void printSummary(const render::RenderStats& stats) const;
@@ -263,7 +263,7 @@ void OfflineRenderer::renderImage(const scene::Camera& camera,
   const render::RenderStats stats = render(camera, film);
   // A shot's frame stopped by a signal is not written: --resume would take it for complete.
   if (o_.frames && interrupt::stopSignal()) throw Interrupted{interrupt::stopSignal()};
-  write(film, stats, exrFile, pngFile);
+  write(std::move(film), stats, exrFile, pngFile);
   printSummary(stats);
   // A signal while writing lets the write finish, then exits as one during the render.
   if (interrupt::stopSignal()) throw Interrupted{interrupt::stopSignal()};
@@ -289,6 +289,16 @@ render::RenderStats OfflineRenderer::render(const scene::Camera& camera,
                                             render::FilmLayers& film) {
   ProgressPrinter progress(o_.quiet, settings_.units || !o_.timeLimit);
   render::DriverSettings ds = driverSettings(o_, settings_, uint64_t(host_.width) * host_.height);
+  // The image's layers are made before the render, and --time holds back what resolving,
+  // converting and writing them will take: on lavapipe 6 to 10 times as long as the first
+  // touch of the layers, from 768 x 768 to 3840 x 2160 (docs/device_notes.md, "Stopping a 4K
+  // render"), whatever the machine's load, since both are host work over the same pixels.
+  const auto allocStart = std::chrono::steady_clock::now();
+  film.allocate(int(host_.width), int(host_.height));
+  const double allocS =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - allocStart).count();
+  constexpr double kFinishOverAllocate = 10.0;
+  if (o_.timeLimit) ds.reserveS = kFinishOverAllocate * allocS;
   // One image: --time counts from the start of osr-vk, set-up included (a frame of a shot: from
   // its own start); the first submission runs whatever is left.
   if (!o_.frames) ds.budgetStart = o_.started;
@@ -297,7 +307,7 @@ render::RenderStats OfflineRenderer::render(const scene::Camera& camera,
   interrupt::renderLoopStarts();
   const render::RenderStats stats =
       driver.run([&](const render::Progress& p) { progress(p); }, interrupt::stopFlag());
-  film = integrator_->resolve();
+  integrator_->resolveInto(film);
   if (imageDenoiser_) imageDenoiser_->apply(film);
   progress.finish();
   notePartialUnit(stats);
@@ -345,20 +355,21 @@ std::vector<image::ExrAttribute> renderAttributes(const IntegratorSettings& sett
           {"osr-vk:seconds", float(stats.seconds)}};
 }
 
-void OfflineRenderer::write(const render::FilmLayers& film, const render::RenderStats& stats,
+void OfflineRenderer::write(render::FilmLayers&& film, const render::RenderStats& stats,
                             const std::optional<std::string>& exrFile,
                             const std::optional<std::string>& pngFile) const {
-  if (exrFile) {
-    image::LayeredImage img = render::toLayeredImage(film);
-    img.attributes = renderAttributes(settings_, stats);
-    image::writeExr(*exrFile, img,
-                    o_.exrFloat ? image::ExrPixelType::Float : image::ExrPixelType::Half);
-  }
   if (pngFile)
     image::writePng(*pngFile, {film.width, film.height, film.combined}, o_.exposure, film.depth);
   if (o_.dumpMaps)
     writeMapDump(*o_.dumpMaps,
                  dynamic_cast<const oneshot::OsrIntegrator&>(*integrator_).downloadMaps(), film);
+  // Last, since the image takes the film's layers.
+  if (exrFile) {
+    image::LayeredImage img = render::toLayeredImage(std::move(film));
+    img.attributes = renderAttributes(settings_, stats);
+    image::writeExr(*exrFile, img,
+                    o_.exrFloat ? image::ExrPixelType::Float : image::ExrPixelType::Half);
+  }
 }
 
 void OfflineRenderer::printSummary(const render::RenderStats& stats) const {

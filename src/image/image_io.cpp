@@ -91,10 +91,13 @@ void writeExr(const std::string& path, const LayeredImage& image, ExrPixelType t
   const Imf::PixelType pt = type == ExrPixelType::Half ? Imf::HALF : Imf::FLOAT;
   Imf::Header header(w, h);
   header.compression() = Imf::ZIP_COMPRESSION;
-  Imf::FrameBuffer fb;
-  // OpenEXR reads half channels from half memory: convert once into owned planes.
-  std::vector<std::vector<half>> halfPlanes;
-  std::vector<std::vector<float>> floatPlanes;
+  // Channels in file order, each a layer's interleaved component.
+  struct Channel {
+    std::string name;
+    const float* data;  // first pixel's value
+    size_t stride;      // floats from one pixel to the next
+  };
+  std::vector<Channel> channels;
   for (const ImageLayer& layer : image.layers) {
     const size_t nc = layer.channelNames.size();
     if (layer.data.size() != size_t(w) * h * nc)
@@ -103,17 +106,7 @@ void writeExr(const std::string& path, const LayeredImage& image, ExrPixelType t
       std::string name =
           layer.name.empty() ? layer.channelNames[c] : layer.name + "." + layer.channelNames[c];
       header.channels().insert(name, Imf::Channel(pt));
-      if (pt == Imf::HALF) {
-        auto& plane = halfPlanes.emplace_back(size_t(w) * h);
-        for (size_t i = 0; i < plane.size(); ++i) plane[i] = half(layer.data[i * nc + c]);
-        fb.insert(name, Imf::Slice(Imf::HALF, reinterpret_cast<char*>(plane.data()), sizeof(half),
-                                   sizeof(half) * w));
-      } else {
-        auto& plane = floatPlanes.emplace_back(size_t(w) * h);
-        for (size_t i = 0; i < plane.size(); ++i) plane[i] = layer.data[i * nc + c];
-        fb.insert(name, Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(plane.data()), sizeof(float),
-                                   sizeof(float) * w));
-      }
+      channels.push_back({name, layer.data.data() + c, nc});
     }
   }
   for (const ExrAttribute& a : image.attributes) {
@@ -129,8 +122,39 @@ void writeExr(const std::string& path, const LayeredImage& image, ExrPixelType t
   try {
     // ZIP compression of a 4K multi-layer image takes seconds per core: use them all.
     Imf::OutputFile file(tmp.c_str(), header, int(std::max(1u, std::thread::hardware_concurrency())));
-    file.setFrameBuffer(fb);
-    file.writePixels(h);
+    if (pt == Imf::FLOAT) {
+      // Float channels are read from the layers' interleaved floats in place.
+      Imf::FrameBuffer fb;
+      for (const Channel& c : channels) {
+        // OpenEXR's slices take non-const memory; writing only reads it.
+        char* base = const_cast<char*>(reinterpret_cast<const char*>(c.data));
+        fb.insert(c.name, Imf::Slice(Imf::FLOAT, base, sizeof(float) * c.stride,
+                                     sizeof(float) * c.stride * w));
+      }
+      file.setFrameBuffer(fb);
+      file.writePixels(h);
+    } else {
+      // OpenEXR 3.1 writes half channels only from half memory: convert a band of rows at a
+      // time into one buffer, not the whole image (hundreds of MiB at 4K, each page a fault
+      // on first touch).
+      const int bandRows = std::max(1, std::min(h, int((size_t(8) << 20) / (channels.size() * sizeof(half) * w))));
+      std::vector<half> band(channels.size() * size_t(bandRows) * w);
+      for (int y0 = 0; y0 < h; y0 += bandRows) {
+        const int rows = std::min(bandRows, h - y0);
+        Imf::FrameBuffer fb;
+        for (size_t k = 0; k < channels.size(); ++k) {
+          half* plane = band.data() + k * size_t(bandRows) * w;
+          const Channel& c = channels[k];
+          for (size_t i = 0; i < size_t(rows) * w; ++i)
+            plane[i] = half(c.data[(size_t(y0) * w + i) * c.stride]);
+          // The slice addresses row y at plane + (y - y0) * w.
+          char* base = reinterpret_cast<char*>(plane) - ptrdiff_t(y0) * w * ptrdiff_t(sizeof(half));
+          fb.insert(c.name, Imf::Slice(Imf::HALF, base, sizeof(half), sizeof(half) * w));
+        }
+        file.setFrameBuffer(fb);
+        file.writePixels(rows);
+      }
+    }
   } catch (const std::exception& e) {
     discard(tmp);
     throw InputError(path + ": cannot write OpenEXR (" + e.what() + ")");

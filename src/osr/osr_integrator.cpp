@@ -127,6 +127,8 @@ void OsrIntegrator::restart(const scene::Camera& camera, uint32_t seed) {
   mapsTraced_ = 0;
   passesDone_ = 0;
   filmBehind_ = false;
+  resolvePixels_ = width_ * height_;
+  reachedPixels_ = 0;
   auto frame = render::makeFrame(camera, width_, height_, seed);
   buffers_->frame.upload(&frame, sizeof frame);
   ctx_.submitAndWait([&](VkCommandBuffer cmd) {
@@ -263,8 +265,9 @@ void OsrIntegrator::recordResolve(VkCommandBuffer cmd, uint32_t passesDone,
     residualBlend = settings_.residualRamp > 0.0 ? float(n / (n + settings_.residualRamp))
                                                  : (n > 0.0 ? 1.f : 0.f);
   }
+  if (resolvePixels_ == 0) return;  // an abandoned first pass that reached no pixel: all black
   vk::TimedScope scope(timer, cmd, "resolve");
-  resolve_.record(cmd, bindings_, residualBlend, {0, width_ * height_});
+  resolve_.record(cmd, bindings_, residualBlend, {0, resolvePixels_});
 }
 
 void OsrIntegrator::record(VkCommandBuffer cmd, uint32_t first, uint32_t count,
@@ -278,12 +281,12 @@ void OsrIntegrator::record(VkCommandBuffer cmd, uint32_t first, uint32_t count,
   if (!filmBehind_) recordResolve(cmd, passesDone_, timer);
 }
 
-render::FilmLayers OsrIntegrator::resolve() const {
+void OsrIntegrator::resolveInto(render::FilmLayers& into) const {
   if (filmBehind_) {
     ctx_.submitAndWait([&](VkCommandBuffer cmd) { recordResolve(cmd, passesDone_, nullptr); });
     filmBehind_ = false;
   }
-  return film_.resolve();
+  film_.resolve(into);
 }
 
 void OsrIntegrator::recordSlice(VkCommandBuffer cmd, uint32_t unit, uint32_t slice,
@@ -312,7 +315,9 @@ void OsrIntegrator::recordSlice(VkCommandBuffer cmd, uint32_t unit, uint32_t sli
   for (const Step& s : steps) {
     const double mid = total > 0.0 ? (before + 0.5 * s.cost) / total : 0.0;
     before += s.cost;
-    if (std::min(uint32_t(mid * slices), slices - 1) == slice) recordStep(cmd, unit, s, timer);
+    if (std::min(uint32_t(mid * slices), slices - 1) != slice) continue;
+    recordStep(cmd, unit, s, timer);
+    if (s.kind != Step::Kind::Maps) reachedPixels_ = std::max(reachedPixels_, s.end);
   }
   if (slice + 1 == slices) passesDone_ = unit + 1;
   if (!settings_.resolveEverySubmission) {  // nothing shows the film before the end (the CLI)
@@ -341,8 +346,11 @@ std::array<uint32_t, 4> OsrIntegrator::mapCacheActions() const {
 
 void OsrIntegrator::abandonUnit(uint32_t unit, uint32_t /*slicesDone*/, uint32_t /*slices*/) {
   passesDone_ = unit;
-  // After complete passes the film already holds them; the first pass is resolved as it is.
+  // After complete passes the film already holds them; the first pass is resolved as it is,
+  // over the pixels its bands reached: restart() cleared the film, so the rest stays black,
+  // and the resolve of a 4K image reached for a few percent costs seconds on lavapipe.
   filmBehind_ = unit == 0;
+  if (unit == 0) resolvePixels_ = reachedPixels_;
 }
 
 OsrIntegrator::MapDump OsrIntegrator::downloadMaps() const {

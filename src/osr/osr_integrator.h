@@ -47,7 +47,7 @@ class OsrIntegrator : public render::Integrator {
   void abandonUnit(uint32_t unit, uint32_t slicesDone, uint32_t slices) override;
   const render::Film& film() const override { return film_; }
   // Resolves first when record() left the film behind (resolveEverySubmission false).
-  render::FilmLayers resolve() const override;
+  void resolveInto(render::FilmLayers& into) const override;
 
   // Maps of the last map pass, downloaded (after the last submission): one-shot input
   // [maps][7][32][32] (only with keepAllMaps), clean [maps][3][32][32], where they were taken
@@ -116,6 +116,9 @@ class OsrIntegrator : public render::Integrator {
   uint64_t mapsTraced_ = 0;
   uint32_t passesDone_ = 0;  // by the last record() or last slice of a pass
   mutable bool filmBehind_ = false;  // record() or recordSlice() skipped the resolve
+  // Pixels [0, resolvePixels_) are resolved: all of them, except after a first pass abandoned
+  // part-way, whose pixel bands reached [0, reachedPixels_) (recordSlice keeps the count).
+  uint32_t resolvePixels_ = 0, reachedPixels_ = 0;
 };
 
 }  // namespace osr::oneshot

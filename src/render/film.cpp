@@ -42,39 +42,61 @@ void Film::recordClear(VkCommandBuffer cmd) const {
   vk::transferBarrier(cmd);
 }
 
+void FilmLayers::allocate(int w, int h) {
+  width = w;
+  height = h;
+  const size_t n = size_t(w) * size_t(h);
+  for (auto* v : {&combined, &direct, &indirect, &albedo, &normal}) v->resize(n * 3);
+  depth.resize(n);
+  variance.resize(n);
+  light.resize(n);
+}
+
 FilmLayers Film::resolve() const {
-  auto px = buffer_.downloadVector<gpu::film::FilmPixel>(pixelCount());
   FilmLayers out;
-  out.width = int(width_);
-  out.height = int(height_);
-  const size_t n = px.size();
-  for (auto* v : {&out.combined, &out.direct, &out.indirect, &out.albedo, &out.normal})
-    v->resize(n * 3);
-  out.depth.resize(n);
-  out.variance.resize(n);
-  out.light.resize(n);
-  out.samples = n ? uint32_t(px[0].combined.w + 0.5f) : 0;
-  for (size_t i = 0; i < n; ++i) {
-    const gpu::film::FilmPixel& p = px[i];
-    const float inv = p.combined.w > 0.f ? 1.f / p.combined.w : 0.f;
-    for (int c = 0; c < 3; ++c) {
-      out.combined[i * 3 + c] = p.combined[c] * inv;
-      out.direct[i * 3 + c] = p.direct[c] * inv;
-      out.indirect[i * 3 + c] = p.indirect[c] * inv;
-      out.albedo[i * 3 + c] = p.albedo[c] * inv;
-      out.normal[i * 3 + c] = p.normal[c] * inv;
-    }
-    out.light[i] = p.albedo.w * inv;
-    out.depth[i] = p.depth.y > 0.f ? p.depth.x / p.depth.y : 0.f;
-    const double samples = p.combined.w;
-    const double lum = 0.2126 * out.combined[i * 3] + 0.7152 * out.combined[i * 3 + 1] +
-                       0.0722 * out.combined[i * 3 + 2];
-    const double var = samples > 1.5 ? (p.depth.z - samples * lum * lum) / (samples * (samples - 1.0))
-                                     : p.depth.z - lum * lum;
-    out.variance[i] = float(std::max(var, 0.0));
-    out.droppedSamples += uint64_t(p.normal.w);
-  }
+  resolve(out);
   return out;
+}
+
+void Film::resolve(FilmLayers& out) const {
+  out.allocate(int(width_), int(height_));
+  out.samples = 0;
+  out.droppedSamples = 0;
+  const size_t n = pixelCount();
+  // Downloaded in chunks through one small buffer, not as a copy of the whole film: at 4K the
+  // film is 760 MiB, and fresh host memory costs page faults on a CPU device
+  // (docs/device_notes.md, "What lavapipe charges for").
+  constexpr size_t kChunkPixels = size_t(1) << 16;
+  std::vector<gpu::film::FilmPixel> px;
+  for (size_t first = 0; first < n; first += kChunkPixels) {
+    const size_t count = std::min(kChunkPixels, n - first);
+    px.resize(count);
+    buffer_.download(px.data(), count * sizeof(gpu::film::FilmPixel),
+                     first * sizeof(gpu::film::FilmPixel));
+    if (first == 0) out.samples = uint32_t(px[0].combined.w + 0.5f);
+    for (size_t j = 0; j < count; ++j) {
+      const gpu::film::FilmPixel& p = px[j];
+      const size_t i = first + j;
+      const float inv = p.combined.w > 0.f ? 1.f / p.combined.w : 0.f;
+      for (int c = 0; c < 3; ++c) {
+        out.combined[i * 3 + c] = p.combined[c] * inv;
+        out.direct[i * 3 + c] = p.direct[c] * inv;
+        out.indirect[i * 3 + c] = p.indirect[c] * inv;
+        out.albedo[i * 3 + c] = p.albedo[c] * inv;
+        out.normal[i * 3 + c] = p.normal[c] * inv;
+      }
+      out.light[i] = p.albedo.w * inv;
+      out.depth[i] = p.depth.y > 0.f ? p.depth.x / p.depth.y : 0.f;
+      const double samples = p.combined.w;
+      const double lum = 0.2126 * out.combined[i * 3] + 0.7152 * out.combined[i * 3 + 1] +
+                         0.0722 * out.combined[i * 3 + 2];
+      const double var = samples > 1.5
+                             ? (p.depth.z - samples * lum * lum) / (samples * (samples - 1.0))
+                             : p.depth.z - lum * lum;
+      out.variance[i] = float(std::max(var, 0.0));
+      out.droppedSamples += uint64_t(p.normal.w);
+    }
+  }
 }
 
 }  // namespace osr::render

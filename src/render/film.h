@@ -31,6 +31,11 @@ struct FilmLayers {
   std::vector<float> light;
   // The colour before denoising, when a denoiser replaced `combined` (render/denoiser.h).
   std::vector<float> noisy;
+
+  // Sizes every layer but `noisy` for width x height (zeroed where it grows). A front end
+  // with a deadline calls it before rendering: at 4K the layers are 560 MiB, and their first
+  // touch costs seconds on a CPU device, which then count against the set-up, not the end.
+  void allocate(int width, int height);
 };
 
 // Pixel windows start at multiples of this many pixels, so that a window's byte offset is a
@@ -55,7 +60,8 @@ class Film {
 
   // Zeroes the sums (recorded: transfer then a barrier).
   void recordClear(VkCommandBuffer cmd) const;
-  // Downloads and divides by the sample count.
+  // Downloads and divides by the sample count, into `out` (sized by FilmLayers::allocate).
+  void resolve(FilmLayers& out) const;
   FilmLayers resolve() const;
 
  private:

@@ -22,15 +22,22 @@ const char* layerName(Layer layer) {
   return "combined";
 }
 
-image::LayeredImage toLayeredImage(const FilmLayers& f) {
+image::LayeredImage toLayeredImage(const FilmLayers& f) { return toLayeredImage(FilmLayers(f)); }
+
+image::LayeredImage toLayeredImage(FilmLayers&& f) {
   image::LayeredImage img;
   img.width = f.width;
   img.height = f.height;
   const std::vector<std::string> rgb = {"R", "G", "B"}, xyz = {"X", "Y", "Z"};
-  img.layers = {{"", rgb, f.combined},     {"direct", rgb, f.direct}, {"indirect", rgb, f.indirect},
-                {"albedo", rgb, f.albedo}, {"normal", xyz, f.normal}, {"depth", {"Z"}, f.depth}};
+  img.layers.reserve(7);
+  img.layers.push_back({"", rgb, std::move(f.combined)});
+  img.layers.push_back({"direct", rgb, std::move(f.direct)});
+  img.layers.push_back({"indirect", rgb, std::move(f.indirect)});
+  img.layers.push_back({"albedo", rgb, std::move(f.albedo)});
+  img.layers.push_back({"normal", xyz, std::move(f.normal)});
+  img.layers.push_back({"depth", {"Z"}, std::move(f.depth)});
   // A denoised film keeps its raw colour beside the default (denoised) layer.
-  if (!f.noisy.empty()) img.layers.push_back({"noisy", rgb, f.noisy});
+  if (!f.noisy.empty()) img.layers.push_back({"noisy", rgb, std::move(f.noisy)});
   return img;
 }
 

@@ -16,6 +16,8 @@ const char* layerName(Layer layer);
 
 // Every layer of `film`, named as DESIGN.md's output section fixes.
 image::LayeredImage toLayeredImage(const FilmLayers& film);
+// The same, taking the film's layers instead of copying them (hundreds of MiB at 4K).
+image::LayeredImage toLayeredImage(FilmLayers&& film);
 
 // One layer as RGB for display: colour layers as they are, normals mapped from [-1, 1] to
 // [0, 1], depth as grey scaled so the farthest hit is 1.

@@ -58,8 +58,14 @@ class Integrator {
 
   // The film the passes accumulate into (the viewer displays it; resolve() downloads it).
   virtual const Film& film() const = 0;
-  // Downloads the film as averaged layers (after the last submission has completed).
-  virtual FilmLayers resolve() const { return film().resolve(); }
+  // Downloads the film as averaged layers (after the last submission has completed), into
+  // `into` (FilmLayers::allocate), or as a new FilmLayers.
+  virtual void resolveInto(FilmLayers& into) const { film().resolve(into); }
+  FilmLayers resolve() const {
+    FilmLayers f;
+    resolveInto(f);
+    return f;
+  }
 };
 
 }  // namespace osr::render

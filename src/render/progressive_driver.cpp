@@ -58,7 +58,7 @@ void ProgressiveDriver::restart(const scene::Camera& camera, uint32_t seed) {
 
 bool ProgressiveDriver::overBudget(double nextSubmissionS) const {
   return settings_.timeLimitS > 0.0 &&
-         budgetElapsed() + 0.5 * nextSubmissionS >= settings_.timeLimitS;
+         budgetElapsed() + settings_.reserveS + 0.5 * nextSubmissionS >= settings_.timeLimitS;
 }
 
 bool ProgressiveDriver::finished() const {
@@ -78,7 +78,7 @@ uint32_t ProgressiveDriver::nextBatch() const {
   uint32_t n = std::min(batch_, settings_.maxUnits - done_);
   if (settings_.timeLimitS > 0.0 && secondsPerCost_ > 0.0) {
     // Do not plan past the time budget (at least one unit per submission).
-    const double left = settings_.timeLimitS - budgetElapsed();
+    const double left = settings_.timeLimitS - settings_.reserveS - budgetElapsed();
     double planned = 0.0;
     uint32_t fit = 0;
     while (fit < n) {
@@ -217,7 +217,8 @@ Progress ProgressiveDriver::progress() const {
   if (perUnit <= 0.0 && slices_ > 0 && slice_ > 0) perUnit = sliceSeconds_ * slices_ / slice_;
   const double byUnits = (settings_.maxUnits - done_ - p.unitFraction) * perUnit;
   p.remainingS = settings_.timeLimitS > 0.0
-                     ? std::max(0.0, std::min(byUnits, settings_.timeLimitS - budgetElapsed()))
+                     ? std::max(0.0, std::min(byUnits, settings_.timeLimitS - settings_.reserveS -
+                                                          budgetElapsed()))
                      : byUnits;
   return p;
 }

@@ -42,6 +42,9 @@ struct DriverSettings {
   // Where the clock of timeLimitS starts; unset (the epoch): at restart(). The CLI counts
   // --time from its own start, set-up included.
   std::chrono::steady_clock::time_point budgetStart{};
+  // Seconds at the end of timeLimitS held back for what the front end does after the render
+  // loop (the CLI resolves the film and writes the image): the loop stops this much earlier.
+  double reserveS = 0.0;
 };
 
 struct Progress {

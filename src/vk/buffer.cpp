@@ -16,7 +16,13 @@ namespace {
 // 4 KiB on first touch, more than the GPU BVH build's own work on a large scene
 // (docs/device_notes.md, "What lavapipe charges for"). Transparent huge pages (where
 // the system offers them on request: /sys/kernel/mm/transparent_hugepage/enabled = madvise)
-// fault 2 MiB at a time. Only the whole 2 MiB pages inside the allocation are advised.
+// fault 2 MiB at a time. Only the whole 2 MiB pages inside the allocation are advised, and
+// only in allocations up to kHugePagesUpTo: where the kernel has no free 2 MiB block it
+// compacts memory first, which made a fresh huge page cost 0.3 to 10 s per GiB on the bench VM
+// against 0.7 to 2.6 for 4 KiB pages, and the 4K film and accumulation buffers (760 and 930
+// MiB) took 7 to 17 s to clear instead of about 1 (docs/device_notes.md).
+constexpr VkDeviceSize kHugePagesUpTo = VkDeviceSize(256) << 20;
+
 void adviseHugePages(void* data, VkDeviceSize bytes) {
 #ifdef __linux__
   constexpr uintptr_t kHuge = uintptr_t(2) << 20;
@@ -88,7 +94,7 @@ Buffer::Buffer(const Context& ctx, VkDeviceSize size, MemoryUse use, std::string
   check(vkBindBufferMemory(ctx.device(), buffer_, memory_, 0), "vkBindBufferMemory");
   if (flags & VK_MEMORY_PROPERTY_HOST_VISIBLE_BIT)
     check(vkMapMemory(ctx.device(), memory_, 0, VK_WHOLE_SIZE, 0, &mapped_), "vkMapMemory");
-  if (ctx.caps().isCpu() && mapped_) adviseHugePages(mapped_, req.size);
+  if (ctx.caps().isCpu() && mapped_ && req.size <= kHugePagesUpTo) adviseHugePages(mapped_, req.size);
 }
 
 void Buffer::prefault(VkDeviceSize bytes) const {
