@@ -286,7 +286,8 @@ def degenerate_attributes(out: Path) -> None:
 
 def texture_transform(out: Path) -> None:
     """KHR_texture_transform: offset + scale, the extension's rotated example, and a material whose
-    slots disagree (warned; the first slot's transform is used)."""
+    slots disagree: base colour and normal map (the normal map's transform takes the uv1 slot)
+    and a third transform on the emission (warned; the first slot's transform is used)."""
     g = Gltf(GENERATOR)
     g.doc["extensionsUsed"] = ["KHR_texture_transform"]
     g.doc["images"] = [{"uri": data_uri(checker(2, (255, 255, 255, 255), (0, 0, 0, 255)), "image/png")}]
@@ -298,7 +299,7 @@ def texture_transform(out: Path) -> None:
                         "emissiveTexture": {"index": 0, "extensions": shift}})
     g.add("materials", {"emissiveTexture": {"index": 0, "extensions": quadrant}})
     g.add("materials", {"pbrMetallicRoughness": {"baseColorTexture": {"index": 0, "extensions": shift}},
-                        "normalTexture": {"index": 0}})
+                        "normalTexture": {"index": 0}, "emissiveTexture": {"index": 0, "extensions": quadrant}})
     uv01 = [(0, 0), (1, 0), (1, 1), (0, 1)]
     for m in range(3):
         g.mesh(QUAD_P, QUAD_I, QUAD_N, uv01, material=m)

@@ -478,11 +478,12 @@ class Loader {
     return it == extensions.end() ? nullptr : &it->second;
   }
 
-  // Records a texture slot's KHR_texture_transform for the material being converted. The
-  // transform is baked into the vertex uvs of its set (TEXCOORD_0 or _1), so all textured
-  // slots of a material that read one set must agree (true of exporters that write one uv
-  // mapping per set and material); the first one wins otherwise.
-  void noteUvTransform(const tinygltf::Value* ext, int set, const std::string& what) {
+  // Records a texture slot's KHR_texture_transform for the material being converted and
+  // returns the uv slot that reads it (0: Vertex uv, 1: VertexAttributes.uv1). The transform
+  // is baked into the uvs of that slot, so slots reading one set must agree; a second
+  // transform of TEXCOORD_0 (SheenChair's fabric: its normal map tiles at another scale) takes
+  // the uv1 slot when no slot reads TEXCOORD_1. Beyond that the first one wins, warned.
+  int noteUvTransform(const tinygltf::Value* ext, int set, const std::string& what) {
     glm::mat3 m(1.0f);
     if (ext && ext->IsObject()) {
       glm::vec2 offset(0.0f), scale(1.0f);
@@ -506,12 +507,27 @@ class Loader {
         for (int k = 0; k < 3; ++k)
           if (!std::isfinite(m[c][k])) fail(what + ": KHR_texture_transform is not finite");
     }
+    if (set == 1 && uv1FromUv0_) {
+      warn(what + ": TEXCOORD_1 in a material whose uv1 slot carries a second transform of "
+                  "TEXCOORD_0, reading that instead");
+      return 1;
+    }
     if (!uvTransformSet_[set]) {
       uvTransform_[set] = m;
       uvTransformSet_[set] = true;
-    } else if (m != uvTransform_[set]) {
-      warn(what + ": texture slots with different KHR_texture_transform, using the first one");
+      return set;
     }
+    if (m == uvTransform_[set]) return set;
+    if (set == 0 && !uvTransformSet_[1]) {
+      uvTransform_[1] = m;
+      uvTransformSet_[1] = true;
+      uv1FromUv0_ = true;
+      return 1;
+    }
+    if (set == 0 && uv1FromUv0_ && m == uvTransform_[1]) return 1;
+    warn(what + ": texture slots with more different KHR_texture_transforms than uv slots, "
+                "using the first one");
+    return set;
   }
 
   // Our texture reference (shared/scene.h) for glTF texture `index` read with uv set
@@ -525,7 +541,7 @@ class Loader {
       warn(what + ": TEXCOORD_" + std::to_string(texCoord) + " not supported, using TEXCOORD_0");
       texCoord = 0;
     }
-    noteUvTransform(transform, texCoord, what);
+    texCoord = noteUvTransform(transform, texCoord, what);
     int ours = textureIndex(index, what);
     if (ours < 0 || texCoord == 0) return ours;
     usesTexCoord1_ = true;
@@ -619,6 +635,7 @@ class Loader {
     uvTransform_ = {glm::mat3(1.0f), glm::mat3(1.0f)};
     uvTransformSet_ = {false, false};
     usesTexCoord1_ = false;
+    uv1FromUv0_ = false;
     const auto& pbr = src.pbrMetallicRoughness;
     if (pbr.baseColorFactor.size() == 4)
       m.baseColor = glm::vec4(pbr.baseColorFactor[0], pbr.baseColorFactor[1],
@@ -723,6 +740,7 @@ class Loader {
       fail(what + " has a negative emission");
     materialUv_.push_back(uvTransform_);
     materialTexCoord1_.push_back(usesTexCoord1_);
+    materialUv1FromUv0_.push_back(uv1FromUv0_);
     return m;
   }
 
@@ -1022,9 +1040,11 @@ class Loader {
       return glm::vec2(0.0f);
     };
     bool wantsUv1 = materialIndex < materialTexCoord1_.size() && materialTexCoord1_[materialIndex];
-    if (wantsUv1 && !hasUv1)
+    // The uv1 slot holding TEXCOORD_0 under the material's second transform (noteUvTransform).
+    const bool uv1FromUv0 = wantsUv1 && materialUv1FromUv0_[materialIndex];
+    if (wantsUv1 && !hasUv1 && !uv1FromUv0)
       warn(what + ": material asks for TEXCOORD_1, which the primitive lacks; using TEXCOORD_0");
-    if (hasColor || (hasUv1 && wantsUv1)) hasAttributes_ = true;
+    if (hasColor || (wantsUv1 && (hasUv1 || uv1FromUv0))) hasAttributes_ = true;
     // Vertex i's attributes, appended beside every vertex (white, uv1 = uv0 where the
     // primitive has none) so the two arrays stay parallel.
     auto appendAttributes = [&](uint32_t i, glm::vec2 uv0) {
@@ -1040,8 +1060,9 @@ class Loader {
       a.colorRG = glm::packHalf2x16({c.r, c.g});
       a.colorBA = glm::packHalf2x16({c.b, c.a});
       glm::vec2 t = uv0;
-      if (hasUv1) {
-        t = glm::vec2(uvFromFile[1] * glm::vec3(uv1.vec2(i), 1.0f));
+      if (hasUv1 || uv1FromUv0) {
+        glm::vec2 file = uv1FromUv0 ? (hasUv ? uv.vec2(i) : glm::vec2(0.0f)) : uv1.vec2(i);
+        t = glm::vec2(uvFromFile[1] * glm::vec3(file, 1.0f));
         if (!std::isfinite(t.x) || !std::isfinite(t.y)) {
           warn(what + ": non-finite TEXCOORD_1 replaced by (0, 0)");
           t = glm::vec2(0.0f);
@@ -1185,9 +1206,11 @@ class Loader {
   // Per glTF material and uv set: its KHR_texture_transform; whether a slot reads TEXCOORD_1.
   std::vector<std::array<glm::mat3, 2>> materialUv_;
   std::vector<bool> materialTexCoord1_;
+  std::vector<bool> materialUv1FromUv0_;
   std::array<glm::mat3, 2> uvTransform_{glm::mat3(1.0f), glm::mat3(1.0f)};  // material being
   std::array<bool, 2> uvTransformSet_{false, false};                        // converted
   bool usesTexCoord1_ = false;
+  bool uv1FromUv0_ = false;
   bool hasAttributes_ = false;  // some primitive has COLOR_0 or TEXCOORD_1
   int defaultMaterialIndex_ = -1;
 };

@@ -271,9 +271,17 @@ TEST(Loader, TextureTransformIsBakedIntoUvs) {
   EXPECT_TRUE(near2(uv(2, 0), {0.0f, 1.0f}));
   EXPECT_TRUE(near2(uv(2, 1), {0.0f, 0.5f}));
   EXPECT_TRUE(near2(uv(2, 2), {0.5f, 0.5f}));
-  // Slots that disagree: warned, the first (base colour) transform used.
+  // Slots that disagree: the base colour's transform in the vertex uvs, the normal map's
+  // (identity) in the uv1 slot, the emission's third one warned and read as the base colour's.
   EXPECT_TRUE(hasWarning(s, "different KHR_texture_transform"));
   EXPECT_TRUE(near2(uv(4, 1), {1.0f, 0.0f}));
+  const gs::Material& two = s.materials[2];
+  EXPECT_EQ(two.baseColorTexture & gs::kTextureTexCoord1, 0);
+  EXPECT_NE(two.normalTexture & gs::kTextureTexCoord1, 0);
+  EXPECT_EQ(two.emissiveTexture & gs::kTextureTexCoord1, 0);
+  ASSERT_EQ(s.attributes.size(), s.vertices.size());
+  EXPECT_TRUE(near2(s.attributes[s.triangles[4].v1].uv1, {1.0f, 0.0f}));
+  EXPECT_TRUE(near2(s.attributes[s.triangles[4].v2].uv1, {1.0f, 1.0f}));
   EXPECT_FALSE(hasWarning(s, "unsupported extension KHR_texture_transform"));
 }
 
