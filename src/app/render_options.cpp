@@ -25,6 +25,9 @@ RenderOptions parseRenderOptions(const std::vector<std::string>& args) {
   o.saveDir = a.value("--save-dir");
   o.crop = a.integerList("--crop", 0, 16384);
   o.frames = readFrameOptions(a);
+  // A crop is a tile of a larger image (tools/osr_farm.py): filtered per tile, its edges would
+  // not match its neighbours', so only a denoiser asked for runs.
+  if (o.crop && !o.integrator.everyMode.denoise.chosen) o.integrator.everyMode.denoise = {};
   o.integrator.everyMode.denoise.check();  // a bad model: one line and exit 2 before any work
   o.device = readDeviceOptions(a);
   auto files = a.positional();

@@ -102,6 +102,7 @@ struct DenoiseSettings {
   Network network = Network::None;
   std::string networkFile;
   bool atrous = false;
+  bool chosen = false;  // --network or --filter was given (else the mode's default)
   bool active() const { return network != Network::None || atrous; }
   // Reads the model it names, so that a bad file or a missing shipped model is refused before
   // any rendering: InputError "<file>: <problem>".

@@ -137,12 +137,14 @@ class Farm(unittest.TestCase):
         self.assertFalse(list(self.tmp.glob("*.tmp*")), "a temporary file was left")
 
     def test_tiles(self):
-        # Path: the assembled image is the single render, every layer, bit for bit.
+        # Path: the assembled image is the single render, every layer, bit for bit. Tiles are
+        # not filtered by default (osr-vk --help, --filter), so neither is the single render.
         path = ["--mode", "path", "--spp", "4", "--seed", "5", "--width", "128", "--height", "96"]
         s = summary(farm("tiles", "2x2", "--workers", 2, "--osr-vk", OSR_VK, "--", *path,
                          "--offline", self.tmp / "tiled.exr", CORNELL))
         self.assertEqual((s["tasks"], s["margin"]), (4, 0))
-        subprocess.run([OSR_VK, *path, "--quiet", "--offline", self.tmp / "one.exr", CORNELL], check=True)
+        subprocess.run([OSR_VK, *path, "--filter", "none", "--quiet", "--offline", self.tmp / "one.exr", CORNELL],
+                       check=True)
         tiled, one = layers(self.tmp / "tiled.exr"), layers(self.tmp / "one.exr")
         self.assertEqual(sorted(tiled), sorted(one))
         for c in one:
@@ -156,7 +158,7 @@ class Farm(unittest.TestCase):
                          "--offline", self.tmp / "osr_tiled.exr", CORNELL))
         self.assertEqual(s["margin"], 32)
         for seed in ("1", "2"):
-            subprocess.run([OSR_VK, *osr, "--seed", seed, "--quiet", "--offline", self.tmp / f"osr{seed}.exr",
+            subprocess.run([OSR_VK, *osr, "--seed", seed, "--filter", "none", "--quiet", "--offline", self.tmp / f"osr{seed}.exr",
                             CORNELL], check=True)
 
         tiled, a, b = (tile_seams.rgb(str(self.tmp / n)) for n in ("osr_tiled.exr", "osr1.exr", "osr2.exr"))
