@@ -158,6 +158,8 @@ int runAnimation(const std::vector<std::string>& args) {
   const auto cachePassesArg = a.integer("--cache-passes", 1, 4096);
   const uint32_t cacheMaps =
       uint32_t(a.integer("--map-cache", 4, 1 << 20).value_or(oneshot::kDefaultMapCacheMaps));
+  const uint32_t maturePasses = uint32_t(
+      a.integer("--mature-passes", 0, 4096).value_or(oneshot::kShotMatureMapPasses));
   const auto refFramesArg = a.integerList("--reference-frames", 0, 999999);
   const uint32_t refSpp = uint32_t(a.integer("--reference-spp", 1, 1 << 20).value_or(256));
   const auto cacheArg = a.value("--cache");
@@ -284,6 +286,7 @@ int runAnimation(const std::vector<std::string>& args) {
   {
     app::IntegratorSettings cacheSettings = settings;
     cacheSettings.osr.mapCacheMaps = cacheMaps;
+    cacheSettings.osr.mapCacheMaturePasses = maturePasses;
     auto osr = app::makeIntegrator(onDevice, cacheSettings, "osr", size, size);
     sequences.push_back(runSequence("osr+cache", *osr, cachePasses, 0.0));
   }
@@ -355,6 +358,7 @@ int runAnimation(const std::vector<std::string>& args) {
       .num("cache_flicker_over_path", flickers["osr+cache"] / flickers["path"])
       .num("nocache_flicker_over_path", flickers["osr"] / flickers["path"])
       .integer("passes", passes).integer("cache_passes", cachePasses).integer("map_cache", cacheMaps)
+      .integer("mature_passes", maturePasses)
       .str("device", ctx.caps().deviceName).print();
   return kExitOk;
 }

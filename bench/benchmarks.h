@@ -114,8 +114,8 @@ inline constexpr char kAnimationSummary[] =
     "a camera path as frames: seconds per frame with and without the map cache, relMSE, flicker";
 inline constexpr char kAnimationUsage[] =
     "osr-bench animation [--scene FILE.gltf] [--env FILE] [--frames A-B] [--fps N] [--size N]\n"
-    "                    [--passes N] [--cache-passes N] [--map-cache N] [--reference-frames LIST]\n"
-    "                    [--reference-spp N] [--cache DIR] [--png DIR]\n"
+    "                    [--passes N] [--cache-passes N] [--map-cache N] [--mature-passes N]\n"
+    "                    [--reference-frames LIST] [--reference-spp N] [--cache DIR] [--png DIR]\n"
     "  --scene FILE       a glTF file with an animated camera (default: generated interior 9002\n"
     "                     with a 48-frame walk, made in the cache folder by tools/make_interiors.py\n"
     "                     and tools/add_camera_path.py)\n"
@@ -125,6 +125,8 @@ inline constexpr char kAnimationUsage[] =
     "  --passes N         OSR passes per frame without the map cache, 1 to 4096 (default 4)\n"
     "  --cache-passes N   OSR passes per frame with the map cache, 1 to 4096 (default passes / 2)\n"
     "  --map-cache N      maps the cache holds, 4 to 1048576 (default 4096, as osr-vk --frames)\n"
+    "  --mature-passes N  map passes a cached map averages before it is reused untraced, 0 to\n"
+    "                     4096 (default 8, as osr-vk --frames; 0: as the viewer)\n"
     "  --reference-frames LIST  frames with a path-traced reference, inside --frames, two of them\n"
     "                     consecutive (flicker) (default 24,25,26,27)\n"
     "  --reference-spp N  samples per pixel of the references, 1 to 1048576 (default 256)\n"

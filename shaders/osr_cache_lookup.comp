@@ -3,9 +3,10 @@
 // any map is traced (docs/osr.md "The map cache"). The point's cell key (lib/osr_map_cache.glsl)
 // selects a set; a way with that key, of this scene generation, whose normal agrees within
 // kMapCacheMinCos and whose grid was not more than kMapCacheSparse times coarser, is a hit.
-// A hit whose map averages more map passes than this restart has made is reused (copied into
-// the pass's clean maps and MapPoint, not traced); one that averages fewer is refined (traced,
-// then averaged in by osr_cache_store); a too-coarse hit is replaced; a miss is inserted.
+// A hit whose map averages more map passes than this restart has made, and at least
+// gPush.maturePasses, is reused (copied into the pass's clean maps and MapPoint, not traced);
+// one that averages fewer is refined (traced, then averaged in by osr_cache_store); a
+// too-coarse hit is replaced; a miss is inserted.
 // One invocation per (map, texel) of the chunk, each copying its texel of a reused map; texel
 // 0 writes the MapCacheRef and marks the slot used at gPush.clock.
 // In: GBufferPixel, cache. Out: MapCacheRef, MapPoint and clean map of reused maps.
@@ -44,7 +45,8 @@ void main() {
       ref.slot = slot;
       if (gCacheEntries[slot].position.w > kMapCacheSparse * spacing) break;  // replaced
       ref.passes = gCacheEntries[slot].state.z;
-      ref.action = ref.passes > gPush.mapPass ? kMapCacheReuse : kMapCacheRefine;
+      bool reuse = ref.passes > gPush.mapPass && ref.passes >= gPush.maturePasses;
+      ref.action = reuse ? kMapCacheReuse : kMapCacheRefine;
       break;
     }
   }

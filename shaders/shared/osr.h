@@ -239,7 +239,8 @@ struct MapCachePush {
   uint mapPass;              // map passes since the restart: slots averaging fewer are refined
   uint phase;                // osr_cache_claim: 0 claim a slot, 1 keep only the claims won
   float cellScale;           // hash cell size in grid spacings (before rounding up to 2^k)
-  uint _pad0, _pad1, _pad2;
+  uint maturePasses;         // slots averaging fewer map passes are refined too (0: no floor)
+  uint _pad1, _pad2;
 };
 
 struct ResolvePush {

@@ -42,6 +42,8 @@ IntegratorSettings checkRenderOptions(const RenderOptions& o) {
   // The map cache pays where views follow each other: camera moves, a shot's frames.
   if (!o.integrator.osr.mapCache && (o.live() || o.frames))
     settings.osr.mapCacheMaps = oneshot::kDefaultMapCacheMaps;
+  // A shot's frames refine the maps they share until they are clean (osr_settings.h).
+  if (o.frames) settings.osr.mapCacheMaturePasses = oneshot::kShotMatureMapPasses;
   // The viewer shows an image soon after a move: light first passes (docs/viewer.md).
   if (o.live()) settings.osr.quickPasses = oneshot::kViewerQuickPasses;
   if (o.dumpMaps && o.integrator.mode != "osr")

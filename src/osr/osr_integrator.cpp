@@ -210,7 +210,7 @@ void OsrIntegrator::recordStep(VkCommandBuffer cmd, uint32_t k, const Step& step
       const MapChunk chunk{step.begin, step.end - step.begin};
       const MapCacheArgs cache{current_,        chunk,           cache_->sets(),
                                cache_->generation(), cacheClock_, currentMapPass_,
-                               settings_.mapCacheCellScale};
+                               settings_.mapCacheCellScale, settings_.mapCacheMaturePasses};
       if (settings_.mapCacheMaps) {
         vk::TimedScope scope(timer, cmd, "cache lookup");
         cacheLookup_.record(cmd, bindings_, cache);

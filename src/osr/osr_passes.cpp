@@ -25,6 +25,7 @@ o::MapCachePush mapCachePush(const MapCacheArgs& a, const OsrWindow& w, uint32_t
   p.mapPass = a.mapPass;
   p.phase = phase;
   p.cellScale = a.cellScale;
+  p.maturePasses = a.maturePasses;
   return p;
 }
 }  // namespace

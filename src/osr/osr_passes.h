@@ -66,6 +66,7 @@ struct MapCacheArgs {
   uint32_t sets, generation, clock;
   uint32_t mapPass;  // map passes since the restart
   float cellScale;   // hash cell size in grid spacings
+  uint32_t maturePasses;  // OsrSettings::mapCacheMaturePasses
 };
 
 class MapCacheLookupPass : public PassWithPush<gpu::osr::MapCachePush> {

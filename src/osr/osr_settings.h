@@ -25,6 +25,8 @@ struct PassSamples {
 // The map cache's size where it is on by default (the viewer, --frames): 48 MiB of maps, four
 // times the maps of a 512 x 512 pass at the default grid.
 inline constexpr uint32_t kDefaultMapCacheMaps = 4096;
+// OsrSettings::mapCacheMaturePasses of a shot (--frames).
+inline constexpr uint32_t kShotMatureMapPasses = 8;
 
 // Light passes after each restart in the viewer (OsrSettings::quickPasses).
 inline constexpr uint32_t kViewerQuickPasses = 1;
@@ -60,6 +62,13 @@ struct OsrSettings {
   uint32_t mapCacheMaps = 0;
   // Side of the cache's world cells in grid spacings at the point (rounded up to 2^k).
   float mapCacheCellScale = 0.5f;
+  // A cached map is reused untraced only once it averages this many map passes; until then
+  // every restart that sees it traces it again and averages it in. 0: reused as soon as it
+  // averages more map passes than the restart has made (the viewer: the first image after a
+  // move comes at once). A shot's frames set kShotMatureMapPasses: each frame makes few map
+  // passes, so without a floor its maps would stay as noisy as one frame's (docs/animation.md
+  // "Temporal quality").
+  uint32_t mapCacheMaturePasses = 0;
   uint32_t maxChunkMaps = 512;   // maps traced and denoised per chunk (memory bound)
   bool keepAllMaps = false;      // one chunk for all maps of a pass (for --dump-maps)
   // Resolve the film after every submission (a front end that shows it, the viewer); false:

@@ -2,7 +2,7 @@
 // image of no cache within the noise between two seeds; a camera that comes back to a view
 // finds its maps and traces none of them on its first pass, whose image is then as close to
 // the converged one as a first pass without the cache; a scene change makes every map stale;
-// the cache never holds more maps than its slots.
+// the cache never holds more maps than its slots; maps under the mature floor are refined.
 #include <gtest/gtest.h>
 
 #include <glm/gtc/matrix_transform.hpp>
@@ -114,4 +114,33 @@ TEST(MapCache, HoldsNoMoreMapsThanItsSlots) {
   const auto again = cached.mapCacheActions();
   EXPECT_LE(again[o::kMapCacheReuse], 16u);
   EXPECT_GT(again[o::kMapCacheReuse], 0u);
+}
+
+TEST(MapCache, MapsBelowTheMaturePassesAreRefinedUntilTheyReachIt) {
+  // One pass per restart (a shot's frame at a still camera): with a floor of 3 map passes, the
+  // second and third restarts trace the maps again and average them in; the fourth reuses
+  // them. Without a floor the second already reuses them.
+  auto s = test::loadForTest(test::referencePath("room/room.gltf"));
+  oneshot::OsrSettings settings = withCache(4096);
+  settings.mapCacheMaturePasses = 3;
+  oneshot::OsrIntegrator mature(test::context(), *s.gpu, s.bvh, kSize, kSize, settings);
+  oneshot::OsrIntegrator plain(test::context(), *s.gpu, s.bvh, kSize, kSize, withCache(4096));
+  for (uint32_t frame = 1; frame <= 4; ++frame) {
+    test::renderOsrPasses(mature, s, 1, 1);  // one seed: the same grid points each time
+    test::renderOsrPasses(plain, s, 1, 1);
+    const auto m = mature.mapCacheActions(), p = plain.mapCacheActions();
+    const uint32_t maps = m[0] + m[1] + m[2] + m[3];
+    SCOPED_TRACE(frame);
+    if (frame == 1) {
+      EXPECT_GE(m[o::kMapCacheInsert], maps * 9 / 10);
+      continue;
+    }
+    EXPECT_GE(p[o::kMapCacheReuse], maps * 9 / 10);
+    if (frame < 4) {
+      EXPECT_GE(m[o::kMapCacheRefine], maps * 9 / 10);
+      EXPECT_EQ(m[o::kMapCacheReuse], 0u);
+    } else {
+      EXPECT_GE(m[o::kMapCacheReuse], maps * 9 / 10);
+    }
+  }
 }
