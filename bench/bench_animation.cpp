@@ -273,6 +273,8 @@ int runAnimation(const std::vector<std::string>& args) {
       s.meanSeconds += r.seconds / frames.count();
       s.frames.push_back(std::move(r));
     }
+    std::fprintf(stderr, "osr-bench: animation: %s, %d frames, %.3g s per frame\n", name.c_str(),
+                 frames.count(), s.meanSeconds);
     return s;
   };
 
