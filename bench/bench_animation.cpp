@@ -5,8 +5,9 @@
 // `osr-vk --frames`; the sequences:
 //   osr        OSR without the map cache, --passes per frame
 //   osr+cache  OSR with the world-space map cache carried from frame to frame, --cache-passes
-//   path       the path tracer for osr+cache's mean seconds per frame (equal time)
-// and, per sequence: seconds per frame, relMSE on the reference frames, and flicker
+//   path       the path tracer for osr+cache's mean CPU seconds per frame (equal time)
+// and, per sequence: seconds per frame (wall and this process's CPU time: on shared cores the
+// wall time of a frame moves with the others' load, the CPU time it took much less), relMSE on the reference frames, and flicker
 // (render/flicker.h) between consecutive reference frames, measured on the pixels that the
 // converged references' depth pairs; the converged sequence's own flicker is the floor of
 // what the reprojection leaves (view-dependent shading, resampling). References are path
@@ -15,6 +16,7 @@
 // renders: every frame of every sequence has a finite mean luminance within a factor of 2 of
 // its reference's.
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
@@ -25,6 +27,7 @@
 #include <memory>
 #include <optional>
 #include <set>
+#include <ctime>
 
 #include "app/args.h"
 #include "app/frames.h"
@@ -52,10 +55,18 @@ constexpr uint32_t kReferenceSeedBase = 1000003;  // references' noise independe
 
 // One rendered frame: its wall time and units; its colour only on reference frames.
 struct FrameRun {
-  double seconds = 0.0;
+  double seconds = 0.0, cpuSeconds = 0.0;
   uint32_t units = 0;
+  std::array<uint32_t, 4> cacheActions{};  // OSR with the cache: its last map pass's
   std::vector<float> rgb, depth;
 };
+
+// CPU time of this process, every thread (lavapipe's workers are threads of it).
+double processCpuSeconds() {
+  timespec t{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &t);
+  return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
+}
 
 FrameRun renderFrame(const vk::Context& ctx, render::Integrator& integrator,
                      const scene::Camera& cam, uint32_t seed, uint32_t maxUnits, double seconds) {
@@ -64,11 +75,15 @@ FrameRun renderFrame(const vk::Context& ctx, render::Integrator& integrator,
   ds.timeLimitS = seconds;
   render::ProgressiveDriver driver(ctx, integrator, ds);
   const auto t0 = std::chrono::steady_clock::now();
+  const double cpu0 = processCpuSeconds();
   driver.restart(cam, seed);
   const render::RenderStats stats = driver.run();
   render::FilmLayers film = integrator.resolve();
   FrameRun r;
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  r.cpuSeconds = processCpuSeconds() - cpu0;
+  if (auto* osr = dynamic_cast<oneshot::OsrIntegrator*>(&integrator))
+    if (osr->mapCache()) r.cacheActions = osr->mapCacheActions();
   r.units = stats.units;
   r.rgb = std::move(film.combined);
   r.depth = std::move(film.depth);
@@ -255,26 +270,27 @@ int runAnimation(const std::vector<std::string>& args) {
   struct Sequence {
     std::string name;
     std::vector<FrameRun> frames;  // by frame - frames.first
-    double meanSeconds = 0.0;
+    double meanSeconds = 0.0, meanCpuSeconds = 0.0;
   };
   // Each sequence starts with an untimed frame of one unit: the first dispatches of a process
   // on lavapipe pay for more than the frame (about 20 s at 64 x 64), which would not be the
   // integrator's. The cache is emptied after it.
   auto runSequence = [&](const std::string& name, render::Integrator& integrator,
-                         uint32_t maxUnits, double seconds) {
+                         uint32_t units) {
     renderFrame(ctx, integrator, cameras[frames.first], 1, 1, 0.0);
     if (auto* osr = dynamic_cast<oneshot::OsrIntegrator*>(&integrator))
       if (oneshot::MapCache* cache = osr->mapCache()) cache->clear(ctx);
     Sequence s;
     s.name = name;
     for (int f = frames.first; f <= frames.last; ++f) {
-      FrameRun r = renderFrame(ctx, integrator, cameras[f], uint32_t(f) + 1, maxUnits, seconds);
+      FrameRun r = renderFrame(ctx, integrator, cameras[f], uint32_t(f) + 1, units, 0.0);
       if (!refFrames.count(f)) r.rgb.clear(), r.depth.clear();
       s.meanSeconds += r.seconds / frames.count();
+      s.meanCpuSeconds += r.cpuSeconds / frames.count();
       s.frames.push_back(std::move(r));
     }
-    std::fprintf(stderr, "osr-bench: animation: %s, %d frames, %.3g s per frame\n", name.c_str(),
-                 frames.count(), s.meanSeconds);
+    std::fprintf(stderr, "osr-bench: animation: %s, %d frames, %.3g s (%.3g CPU s) per frame\n",
+                 name.c_str(), frames.count(), s.meanSeconds, s.meanCpuSeconds);
     return s;
   };
 
@@ -283,16 +299,22 @@ int runAnimation(const std::vector<std::string>& args) {
     app::IntegratorSettings osrSettings = settings;
     osrSettings.osr.mapCacheMaps = 0;
     auto osr = app::makeIntegrator(onDevice, osrSettings, "osr", size, size);
-    sequences.push_back(runSequence("osr", *osr, passes, 0.0));
+    sequences.push_back(runSequence("osr", *osr, passes));
   }
   {
     app::IntegratorSettings cacheSettings = settings;
     cacheSettings.osr.mapCacheMaps = cacheMaps;
     cacheSettings.osr.mapCacheMaturePasses = maturePasses;
     auto osr = app::makeIntegrator(onDevice, cacheSettings, "osr", size, size);
-    sequences.push_back(runSequence("osr+cache", *osr, cachePasses, 0.0));
+    sequences.push_back(runSequence("osr+cache", *osr, cachePasses));
   }
-  sequences.push_back(runSequence("path", *path, 1u << 24, sequences[1].meanSeconds));
+  // Equal time in CPU seconds: the samples per pixel that take osr+cache's CPU time per frame,
+  // from the path tracer's CPU time per sample on frame first (8 spp, after a warm-up).
+  renderFrame(ctx, *path, cameras[frames.first], 1, 1, 0.0);
+  const double cpuPerSpp = renderFrame(ctx, *path, cameras[frames.first], 1, 8, 0.0).cpuSeconds / 8.0;
+  const uint32_t pathSpp =
+      uint32_t(std::max(1.0, std::round(sequences[1].meanCpuSeconds / cpuPerSpp)));
+  sequences.push_back(runSequence("path", *path, pathSpp));
 
   // Verification: a render whose mean is far from its reference's is broken, not noisy.
   for (const Sequence& s : sequences)
@@ -328,7 +350,7 @@ int runAnimation(const std::vector<std::string>& args) {
       const FrameRun& r = s.frames[f - frames.first];
       const double rel = image::relMse({int(size), int(size), r.rgb}, {int(size), int(size), refs[f].rgb});
       relSum += rel / double(refFrames.size());
-      line(s.name).integer("frame", f).num("seconds", r.seconds).num("relmse", rel)
+      line(s.name).integer("frame", f).num("seconds", r.seconds).num("cpu_seconds", r.cpuSeconds).num("relmse", rel)
           .integer(isPath ? "spp" : "passes", r.units).str("device", ctx.caps().deviceName).print();
       if (pngArg) {
         const double ev = image::autoExposureEv({int(size), int(size), refs[f].rgb}, refs[f].depth);
@@ -341,22 +363,29 @@ int runAnimation(const std::vector<std::string>& args) {
     }
     double warm = 0.0;  // frames after the first: the cache's steady state
     uint64_t units = 0;
+    std::array<uint64_t, 4> actions{};
     for (size_t i = 0; i < s.frames.size(); ++i) {
       if (i) warm += s.frames[i].seconds / double(s.frames.size() - 1);
       units += s.frames[i].units;
+      for (int k = 0; k < 4; ++k) actions[k] += s.frames[i].cacheActions[k];
     }
     flickers[s.name] = flickerOf([&](int f) -> const std::vector<float>& { return s.frames[f - frames.first].rgb; });
     line(s.name).integer("frames", frames.count()).num("seconds_per_frame", s.meanSeconds)
-        .num("seconds_per_frame_after_first", warm)
+        .num("seconds_per_frame_after_first", warm).num("cpu_seconds_per_frame", s.meanCpuSeconds)
         .num(isPath ? "spp_per_frame" : "passes_per_frame", double(units) / frames.count())
         .num("relmse_mean", relSum).num("flicker", flickers[s.name])
         .integer("flicker_pairs", long(pairs.size())).num("paired_pixel_share", pairedShare)
+        .integer("cache_reused", long(actions[gpu::osr::kMapCacheReuse]))
+        .integer("cache_refined", long(actions[gpu::osr::kMapCacheRefine]))
+        .integer("cache_inserted", long(actions[gpu::osr::kMapCacheInsert]))
+        .integer("cache_traced_unstored", long(actions[gpu::osr::kMapCacheTrace]))
         .str("device", ctx.caps().deviceName).print();
   }
   flickers["converged"] = flickerOf([&](int f) -> const std::vector<float>& { return refs[f].rgb; });
   line("converged").integer("reference_spp", refSpp).num("flicker", flickers["converged"])
       .integer("flicker_pairs", long(pairs.size())).str("device", ctx.caps().deviceName).print();
   line("summary").num("cache_seconds_ratio", sequences[1].meanSeconds / sequences[0].meanSeconds)
+      .num("cache_cpu_seconds_ratio", sequences[1].meanCpuSeconds / sequences[0].meanCpuSeconds)
       .num("cache_flicker_over_path", flickers["osr+cache"] / flickers["path"])
       .num("nocache_flicker_over_path", flickers["osr"] / flickers["path"])
       .integer("passes", passes).integer("cache_passes", cachePasses).integer("map_cache", cacheMaps)

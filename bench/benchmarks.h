@@ -134,7 +134,7 @@ inline constexpr char kAnimationUsage[] =
     "                     $TMPDIR/osr-bench-animation); a rerun reuses references of the same\n"
     "                     scene files, size, fps and spp\n"
     "  --png DIR          also write each sequence's reference frames and the references as PNG\n"
-    "  Sequences: osr (no cache), osr+cache, path (at osr+cache's seconds per frame), and the\n"
+    "  Sequences: osr (no cache), osr+cache, path (at osr+cache's CPU seconds per frame), and the\n"
     "  references' own flicker (converged).";
 int runAnimation(const std::vector<std::string>& args);  // a camera path: cache, relMSE, flicker
 }  // namespace osr::bench
