@@ -1,0 +1,37 @@
+#!/usr/bin/env bash
+# Builds build-asan with AddressSanitizer and UndefinedBehaviorSanitizer (-DOSR_SANITIZE) and
+# runs the fast suites in it, with the validation layer on and cold shader caches (an empty
+# XDG_CACHE_HOME, removed afterwards). What CI runs (.ci/run); docs/testing.md, "Sanitizers".
+#   tools/sanitize.sh            the fast suites: loaders, image I/O, the Vulkan core, the
+#                                path tracer, OSR's integrator, osr-vk's command line
+#   tools/sanitize.sh --all      every suite (builds everything; many times slower)
+# Further arguments go to ctest.
+set -euo pipefail
+cd "$(dirname "$0")/.."
+fast=(scene/test_loader scene/test_environment image/test_image_io nn_kernels/test_weights
+      vk/test_context vk/test_exception_safety vk/test_shared_layout vk/test_spirv_info
+      pt/test_path_integrator osr/test_osr_integrator app/test_cli_errors app/test_cmd_render)
+all=0
+if [[ ${1:-} == --all ]]; then all=1; shift; fi
+
+cmake -S . -B build-asan -G Ninja -DCMAKE_BUILD_TYPE=RelWithDebInfo \
+  -DOSR_SANITIZE=address,undefined >/dev/null
+if ((all)); then
+  cmake --build build-asan
+  select=()
+else
+  targets=(osr-vk)  # the app/ tests run the built osr-vk
+  for t in "${fast[@]}"; do targets+=("${t/\//_}"); done
+  cmake --build build-asan --target "${targets[@]}"
+  regex=$(IFS='|'; echo "^(${fast[*]})\$")
+  select=(-R "$regex")
+fi
+
+cache=$(mktemp -d)
+trap 'rm -rf "$cache"' EXIT
+cd build-asan
+# Leak suppressions are for third-party code only, each with its reason (the file says why).
+XDG_CACHE_HOME=$cache \
+LSAN_OPTIONS=suppressions=$PWD/../tests/sanitizers/lsan.supp \
+UBSAN_OPTIONS=print_stacktrace=1 \
+  ctest --output-on-failure -j"$(nproc)" "${select[@]}" "$@"
