@@ -62,6 +62,7 @@ void Film::resolve(FilmLayers& out) const {
   out.allocate(int(width_), int(height_));
   out.samples = 0;
   out.droppedSamples = 0;
+  out.noisy.clear();  // a denoiser's copy of an earlier colour (its capacity is kept)
   const size_t n = pixelCount();
   // Downloaded in chunks through one small buffer, not as a copy of the whole film: at 4K the
   // film is 760 MiB, and fresh host memory costs page faults on a CPU device

@@ -60,7 +60,8 @@ class Film {
 
   // Zeroes the sums (recorded: transfer then a barrier).
   void recordClear(VkCommandBuffer cmd) const;
-  // Downloads and divides by the sample count, into `out` (sized by FilmLayers::allocate).
+  // Downloads and divides by the sample count, into `out` (sized by FilmLayers::allocate;
+  // `noisy` emptied).
   void resolve(FilmLayers& out) const;
   FilmLayers resolve() const;
 
