@@ -205,6 +205,10 @@ void Viewer::scrollCallback(GLFWwindow* w, double, double dy) {
 void Viewer::makeIntegrator(const std::string& mode, uint32_t width, uint32_t height) {
   driver_.reset();
   integrator_.reset();
+  // The old integrator's host memory goes back to the system: freed small blocks between
+  // long-lived ones otherwise stay resident (a soak grew 7 % with the fixed mmap threshold
+  // alone; docs/benchmarks.md, "soak").
+  malloc_trim(0);
   IntegratorChoice choice = config_.makeIntegrator(mode, width, height);
   integrator_ = std::move(choice.integrator);
   if (mode != mode_) targetUnits_ = int(choice.defaultUnits);
