@@ -2,15 +2,18 @@
 # Builds build-asan with AddressSanitizer and UndefinedBehaviorSanitizer (-DOSR_SANITIZE) and
 # runs the fast suites in it, with the validation layer on and cold shader caches (an empty
 # XDG_CACHE_HOME, removed afterwards). What CI runs (.ci/run); docs/testing.md, "Sanitizers".
-#   tools/sanitize.sh            the fast suites: loaders, image I/O, the Vulkan core, the
-#                                path tracer, OSR's integrator, osr-vk's command line
-#   tools/sanitize.sh --all      every suite (builds everything; many times slower)
+#   tools/sanitize.sh            the fast suites: loaders, image I/O, packed weights, the Vulkan
+#                                core, osr-vk's and osr-bench's command-line checks
+#   tools/sanitize.sh --all      every suite (builds everything; many times slower: the path
+#                                tracer's and OSR's integrator suites take 10 minutes and more,
+#                                app/test_cmd_render 5, under ASan with cold caches on 2 loaded
+#                                cores: docs/testing.md, "Sanitizers")
 # Further arguments go to ctest.
 set -euo pipefail
 cd "$(dirname "$0")/.."
 fast=(scene/test_loader scene/test_environment image/test_image_io nn_kernels/test_weights
       vk/test_context vk/test_exception_safety vk/test_shared_layout vk/test_spirv_info
-      pt/test_path_integrator osr/test_osr_integrator app/test_cli_errors app/test_cmd_render)
+      app/test_cli_errors)
 all=0
 if [[ ${1:-} == --all ]]; then all=1; shift; fi
 
@@ -20,7 +23,7 @@ if ((all)); then
   cmake --build build-asan
   select=()
 else
-  targets=(osr-vk)  # the app/ tests run the built osr-vk
+  targets=(osr-vk osr-bench)  # the app/ tests run the built osr-vk and osr-bench
   for t in "${fast[@]}"; do targets+=("${t/\//_}"); done
   cmake --build build-asan --target "${targets[@]}"
   regex=$(IFS='|'; echo "^(${fast[*]})\$")
