@@ -228,6 +228,27 @@ class OfflineRenderer {
       imageDenoiser_ = std::make_unique<render::Denoiser>(ctx, o.integrator.everyMode.denoise,
                                                           host.width, host.height);
   }
+  // The seconds --time holds back for the denoiser, which runs after the budget: its time on a
+  // small image (run twice, the first builds its pipelines) scaled by the pixels. A default
+  // denoiser that would take more than half the budget is dropped, with a warning; one asked
+  // for is kept.
+  double denoiseReserve() {
+    constexpr int kProbe = 128;
+    const render::DenoiseSettings& settings = o_.integrator.everyMode.denoise;
+    render::Denoiser probe(ctx_, settings, kProbe, kProbe);
+    render::FilmLayers empty;
+    empty.allocate(kProbe, kProbe);
+    probe.apply(empty);
+    probe.apply(empty);
+    const double estimate = probe.lastSeconds() * double(host_.width) * host_.height / (kProbe * kProbe);
+    if (settings.chosen || estimate <= 0.5 * *o_.timeLimit) return estimate;
+    std::fprintf(stderr,
+                 "osr-vk: warning: --time %g: the default %s denoiser would take about %.0f s of it at "
+                 "%ux%u; not denoised (--filter atrous or --network to insist)\n",
+                 *o_.timeLimit, imageDenoiser_->name(), estimate, host_.width, host_.height);
+    imageDenoiser_.reset();
+    return 0.0;
+  }
   // One image through `camera` into the given files, with its progress and summary lines.
   void renderImage(const scene::Camera& camera, const std::optional<std::string>& exrFile,
                    const std::optional<std::string>& pngFile);
@@ -299,13 +320,7 @@ render::RenderStats OfflineRenderer::render(const scene::Camera& camera,
       std::chrono::duration<double>(std::chrono::steady_clock::now() - allocStart).count();
   constexpr double kFinishOverAllocate = 10.0;
   if (o_.timeLimit) ds.reserveS = kFinishOverAllocate * allocS;
-  // The denoiser runs after the budget too: timed once on the empty layers (which also builds
-  // its pipelines) and held back as well.
-  if (o_.timeLimit && imageDenoiser_) {
-    imageDenoiser_->apply(film);
-    film.noisy.clear();
-    ds.reserveS += imageDenoiser_->lastSeconds();
-  }
+  if (o_.timeLimit && imageDenoiser_) ds.reserveS += denoiseReserve();
   // One image: --time counts from the start of osr-vk, set-up included (a frame of a shot: from
   // its own start); the first submission runs whatever is left.
   if (!o_.frames) ds.budgetStart = o_.started;

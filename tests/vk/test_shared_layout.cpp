@@ -164,7 +164,7 @@ const std::vector<Layout>& layouts() {
       STRUCT(osr, MapCacheEntry, F(position), F(normal), F(state)),
       STRUCT(osr, MapCacheRef, F(action), F(slot), F(key), F(passes)),
       STRUCT(osr, MapCachePush, F(grid), F(mapOffset), F(mapCount), F(gbufferWindowOffset),
-             F(sets), F(generation), F(clock), F(mapPass), F(phase), F(cellScale), F(_pad0),
+             F(sets), F(generation), F(clock), F(mapPass), F(phase), F(cellScale), F(maturePasses),
              F(_pad1), F(_pad2)),
       STRUCT(osr, MapProjectPush, F(mapOffset), F(mapCount)),
       STRUCT(osr, CompositePush, F(grid), F(pass), F(pixelOffset), F(pixelCount),
