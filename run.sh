@@ -6,10 +6,10 @@ cd "$(dirname "$0")"
 tools/install_deps.sh
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build build
-# One Shot Radiance (the default integrator), progressive for 60 s: on 2 lavapipe cores a
-# noise-free image within seconds that keeps converging. Arguments given to run.sh replace
-# these defaults (e.g. ./run.sh --mode path --spp 256 --time 60).
-if [ $# -eq 0 ]; then set -- --mode osr --time 60; fi
+# The default integrator (path tracing, a-trous filtered: the lowest error at equal time
+# measured, docs/denoise.md) for 60 s. Arguments given to run.sh replace these defaults
+# (e.g. ./run.sh --mode osr --time 60).
+if [ $# -eq 0 ]; then set -- --time 60; fi
 stamp=build/.run_started
 touch "$stamp"
 ./build/osr-vk --offline out.exr --png out.png "$@" scenes/cornell/cornell.gltf

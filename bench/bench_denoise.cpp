@@ -9,6 +9,7 @@
 #include <cstdio>
 #include <memory>
 #include <optional>
+#include <sstream>
 
 #include "app/args.h"
 #include "bench/benchmarks.h"
@@ -60,6 +61,7 @@ int runDenoise(const std::vector<std::string>& args) {
   const std::string network = a.value("--network").value_or("default");
   const auto envArg = a.value("--env");  // generated interiors light through their windows
   const std::string cameraArg = a.value("--camera").value_or("");
+  const std::optional<std::string> rowsArg = a.value("--rows");
   a.finish();
   const bool named = sceneArg == "cornell" || sceneArg == "room";
   const std::string dir = std::string(OSR_SOURCE_DIR) + "/scenes/" + sceneArg + "/";
@@ -109,11 +111,21 @@ int runDenoise(const std::vector<std::string>& args) {
     render::Denoiser* denoiser;
     double denoiseS;
   };
-  std::vector<Row> rows = {{"path", &path, nullptr, 0.0}, {"path+atrous", &path, &filter, filterS},
-                           {"osr", &osr, nullptr, 0.0}, {"osr+atrous", &osr, &filter, filterS}};
+  std::vector<Row> allRows = {{"path", &path, nullptr, 0.0}, {"path+atrous", &path, &filter, filterS},
+                              {"osr", &osr, nullptr, 0.0}, {"osr+atrous", &osr, &filter, filterS}};
   if (net) {
-    rows.push_back({"path+network", &path, net.get(), netS});
-    rows.push_back({"osr+network", &osr, net.get(), netS});
+    allRows.push_back({"path+network", &path, net.get(), netS});
+    allRows.push_back({"osr+network", &osr, net.get(), netS});
+  }
+  // --rows picks from the list in its order; the network rows exist only with a network.
+  std::vector<Row> rows = rowsArg ? std::vector<Row>{} : allRows;
+  std::stringstream names(rowsArg.value_or(""));
+  for (std::string name; std::getline(names, name, ',');) {
+    auto it = std::find_if(allRows.begin(), allRows.end(), [&](const Row& r) { return name == r.name; });
+    if (it == allRows.end())
+      throw InputError("--rows: unknown row '" + name + "' (path, path+atrous, osr, osr+atrous" +
+                       (net ? ", path+network, osr+network)" : "; network rows need a --network)"));
+    rows.push_back(*it);
   }
   for (long long budget : budgets) {
     for (const Row& row : rows) {

@@ -90,6 +90,7 @@ inline constexpr char kDenoiseSummary[] = "image denoisers at equal time (denois
 inline constexpr char kDenoiseUsage[] =
     "osr-bench denoise [--scene cornell|room|FILE.gltf] [--reference FILE.exr] [--size N]\n"
     "                  [--budgets 5,10,30] [--network default|none|FILE] [--env FILE] [--camera NAME]\n"
+    "                  [--rows LIST]\n"
     "  --scene NAME       a reference scene (default cornell) or a glTF file (needs --reference)\n"
     "  --env FILE         an environment map (.hdr, .exr) lighting the scene, as osr-vk --env\n"
     "  --camera NAME      the glTF camera (name or index) the reference was rendered from\n"
@@ -97,7 +98,9 @@ inline constexpr char kDenoiseUsage[] =
     "  --size N           image width and height, 8 to 4096 (default 256)\n"
     "  --budgets LIST     time budgets in seconds, each 1 to 3600 (default 5,10,30)\n"
     "  --network NAME     the image denoiser: default (the shipped model), none (the\n"
-    "                     network rows are left out) or a packed file";
+    "                     network rows are left out) or a packed file\n"
+    "  --rows LIST        the rows to run, comma-separated, of path, path+atrous, osr,\n"
+    "                     osr+atrous, path+network, osr+network (default: all)";
 int runDenoise(const std::vector<std::string>& args);  // denoisers at equal time
 inline constexpr char kSoakSummary[] =
     "the viewer scripted for 20 minutes under Xvfb: memory growth, validation, saved files";

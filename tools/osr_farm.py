@@ -270,7 +270,7 @@ def tile_tasks(spec: str, osr_vk: str, args: list[str], margin_opt: int | None) 
         raise BadInput("tiles: the osr-vk arguments need --offline OUT.exr (the assembled image)")
     if option_value(args, "--png") or option_value(args, "--crop") or option_value(args, "--dump-maps"):
         raise BadInput("tiles: --png, --crop and --dump-maps are not assembled from tiles; leave them out")
-    mode = option_value(args, "--mode") or "osr"
+    mode = option_value(args, "--mode") or "path"  # osr-vk's default mode
     grid = int(option_value(args, "--grid-start") or 16)
     margin = margin_opt if margin_opt is not None else (2 * grid if mode == "osr" else 0)
     width, height = image_size(osr_vk, args)

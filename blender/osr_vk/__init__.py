@@ -29,9 +29,10 @@ class OsrVkPreferences(bpy.types.AddonPreferences):
 
 class OsrVkSettings(bpy.types.PropertyGroup):
     mode: bpy.props.EnumProperty(
-        name="Integrator", default="osr",
-        items=(("osr", "One Shot Radiance", "Progressive OSR passes: a clean image fast"),
-               ("path", "Path tracing", "Unbiased path tracing (the reference)"),
+        name="Integrator", default="path",
+        items=(("path", "Path tracing", "Path tracing with osr-vk's denoiser: the lowest error "
+                "at equal time measured (docs/denoise.md)"),
+               ("osr", "One Shot Radiance", "Progressive OSR passes: converges to path tracing"),
                ("preview", "Preview", "Primary hits: albedo times a headlight")))
     time_limit: bpy.props.FloatProperty(
         name="Time budget", default=0.0, min=0.0, soft_max=600.0, unit="TIME_ABSOLUTE",

@@ -20,7 +20,7 @@ render::DenoiseSettings modeDefault(const std::string& mode) {
 std::string denoiseHelp() {
   auto defaults = [](bool network) {
     std::string out;
-    for (const char* mode : {"osr", "path", "preview"}) {
+    for (const char* mode : {"path", "osr", "preview"}) {
       const render::DenoiseSettings d = modeDefault(mode);
       const char* value = network ? (d.network == render::DenoiseSettings::Network::Default ? "default" : "none")
                                   : (d.atrous ? "atrous" : "none");

@@ -149,12 +149,13 @@ TEST(CliErrors, HelpAnywherePrintsTheUsage) {
       {"help maps", "usage: osr-vk maps scene.gltf"},
       {"compare a.exr --bogus --help", "usage: osr-vk compare TEST.exr REF.exr"},
       {"help compare", "the reference (second)"},
-      {"--help", "--mode osr|path|preview"},
+      {"--help", "--mode path|osr|preview  integrator (default path)"},
       {"--help", "--passes N"},
       {"--help", "--env file.exr|.hdr|none"},
       {"--help", "--grid-start R"},
       {"--help", "--network default|none|FILE"},
-      {"--help", "(default per mode: osr none, path none, preview none)"},
+      {"--help", "(default per mode: path none, osr none, preview none)"},
+      {"--help", "(default per mode: path atrous, osr atrous, preview none)"},
       {"--list-devices --help", "usage: osr-vk --list-devices"},
   };
   for (const auto& [args, usage] : cases) {

@@ -101,7 +101,7 @@ TEST(CmdRenderOsr, DumpMapsThatCannotBeAFolderIsBadInput) {
   for (const fs::path& p : {file, png}) std::ofstream(p) << "the user's file";
   for (const fs::path& target : {file, file / "below"}) {
     SCOPED_TRACE(target);
-    Outcome r = run("--passes 1 --width 16 --quiet --png '" + png.string() + "' --dump-maps '" +
+    Outcome r = run("--mode osr --passes 1 --width 16 --quiet --png '" + png.string() + "' --dump-maps '" +
                     target.string() + "' " + cornell());
     EXPECT_EQ(r.exitCode, 2) << r.err;
     EXPECT_EQ(r.err.rfind("osr-vk: --dump-maps: " + target.string(), 0), 0u) << r.err;
@@ -111,7 +111,7 @@ TEST(CmdRenderOsr, DumpMapsThatCannotBeAFolderIsBadInput) {
       EXPECT_EQ(std::string((std::istreambuf_iterator<char>(in)), {}), "the user's file") << p;
     }
   }
-  Outcome live = run("--dump-maps '" + (dir / "maps").string() + "' " + cornell());
+  Outcome live = run("--mode osr --dump-maps '" + (dir / "maps").string() + "' " + cornell());
   EXPECT_EQ(live.exitCode, 2) << live.err;
   EXPECT_EQ(live.err,
             "osr-vk: --dump-maps: an option of --offline/--png renders (the viewer "
@@ -134,18 +134,19 @@ TEST(CmdRenderOsr, WritesEveryLayerAndTheMapAtlases) {
     EXPECT_TRUE(fs::exists(maps / f)) << f;
 }
 
-// OSR is the default integrator; `--denoiser unet` without --weights runs the model built
-// into the executable (models/osr_unet.osrw, docs/training.md), whose header states the
+// OSR's map denoiser is the blur by default; `--denoiser unet` without --weights runs the model
+// built into the executable (models/osr_unet.osrw, docs/training.md), whose header states the
 // conventions this renderer feeds it.
-TEST(CmdRenderOsr, DefaultModeIsOsrAndTheBuiltInModelRuns) {
+TEST(CmdRenderOsr, BlurByDefaultAndTheBuiltInModelRuns) {
   fs::path dir = osr::test::tempDir("cmd_render_osr");
   fs::path exr = dir / "builtin.exr";
-  Outcome byDefault = run("--passes 2 --width 32 --offline '" + exr.string() + "' " + cornell());
+  Outcome byDefault = run("--mode osr --passes 2 --width 32 --offline '" + exr.string() + "' " +
+                          cornell());
   ASSERT_EQ(byDefault.exitCode, 0) << byDefault.err;
   EXPECT_NE(byDefault.err.find("2 passes in"), std::string::npos) << byDefault.err;
   EXPECT_NE(byDefault.err.find("denoise"), std::string::npos) << byDefault.err;
   EXPECT_EQ(byDefault.err.find(" unet "), std::string::npos) << "the blur is the default denoiser";
-  Outcome unet = run("--denoiser unet --passes 2 --width 32 --offline '" + exr.string() + "' " +
+  Outcome unet = run("--mode osr --denoiser unet --passes 2 --width 32 --offline '" + exr.string() + "' " +
                      cornell());
   ASSERT_EQ(unet.exitCode, 0) << unet.err;
   EXPECT_NE(unet.err.find(", unet "), std::string::npos) << unet.err;

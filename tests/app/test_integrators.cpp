@@ -35,20 +35,21 @@ TEST(Integrators, KindsAndDefaultUnits) {
   EXPECT_EQ(app::integratorKind("path").defaultUnits, 64u);
   EXPECT_EQ(app::integratorKind("preview").defaultUnits, 4u);
   EXPECT_EQ(app::integratorKind("osr").defaultUnits, 32u);
-  EXPECT_EQ(settingsOf({}).kind->name, std::string("osr"));  // the default mode
+  EXPECT_EQ(settingsOf({}).kind->name, std::string("path"));  // the default mode
   EXPECT_EQ(settingsOf({"--mode", "preview"}).unitsOrDefault(), 4u);
   EXPECT_EQ(settingsOf({"--mode", "path", "--spp", "7"}).unitsOrDefault(), 7u);
-  EXPECT_EQ(settingsOf({"--passes", "3"}).unitsOrDefault(), 3u);
+  EXPECT_EQ(settingsOf({"--mode", "osr", "--passes", "3"}).unitsOrDefault(), 3u);
+  EXPECT_EQ(settingsOf({"--spp", "5"}).unitsOrDefault(), 5u);
   EXPECT_FALSE(settingsOf({"--mode", "path"}).units);
-  EXPECT_EQ(errorOf({"--mode", "bogus"}), "--mode: unknown integrator 'bogus' (osr, path, preview)");
+  EXPECT_EQ(errorOf({"--mode", "bogus"}), "--mode: unknown integrator 'bogus' (path, preview, osr)");
 }
 
 TEST(Integrators, WeightsImplyTheUnetUnlessADenoiserIsGiven) {
-  EXPECT_EQ(settingsOf({}).osr.denoiser, oneshot::Denoiser::Blur);
-  IntegratorSettings s = settingsOf({"--weights", "w.osrw"});
+  EXPECT_EQ(settingsOf({"--mode", "osr"}).osr.denoiser, oneshot::Denoiser::Blur);
+  IntegratorSettings s = settingsOf({"--mode", "osr", "--weights", "w.osrw"});
   EXPECT_EQ(s.osr.denoiser, oneshot::Denoiser::Unet);
   EXPECT_EQ(s.osr.weightsPath, "w.osrw");
-  EXPECT_EQ(settingsOf({"--weights", "w.osrw", "--denoiser", "none"}).osr.denoiser,
+  EXPECT_EQ(settingsOf({"--mode", "osr", "--weights", "w.osrw", "--denoiser", "none"}).osr.denoiser,
             oneshot::Denoiser::None);
 }
 
@@ -59,13 +60,16 @@ TEST(Integrators, AnOptionOfAnotherModeIsRefused) {
         << option;
   EXPECT_NE(errorOf({"--mode", "preview", "--denoiser", "unet"}).find("options of --mode osr"),
             std::string::npos);
-  EXPECT_EQ(errorOf({"--spp", "3"}), "--spp: --mode osr counts progressive passes; use --passes N");
+  EXPECT_EQ(errorOf({"--mode", "osr", "--spp", "3"}),
+            "--spp: --mode osr counts progressive passes; use --passes N");
+  // Without --mode the default, path tracing, is meant: OSR's options name the mode they need.
+  EXPECT_NE(errorOf({"--passes", "3"}).find("are options of --mode osr"), std::string::npos);
 }
 
 TEST(Integrators, GridOptions) {
-  EXPECT_EQ(settingsOf({"--grid-start", "4"}).osr.gridMin, 4u);  // never coarser than the start
-  EXPECT_EQ(settingsOf({"--grid-start", "32", "--grid-min", "8"}).osr.gridMin, 8u);
-  EXPECT_EQ(errorOf({"--grid-start", "8", "--grid-min", "16"}),
+  EXPECT_EQ(settingsOf({"--mode", "osr", "--grid-start", "4"}).osr.gridMin, 4u);  // never coarser than the start
+  EXPECT_EQ(settingsOf({"--mode", "osr", "--grid-start", "32", "--grid-min", "8"}).osr.gridMin, 8u);
+  EXPECT_EQ(errorOf({"--mode", "osr", "--grid-start", "8", "--grid-min", "16"}),
             "--grid-min: 16 is coarser than --grid-start 8");
 }
 

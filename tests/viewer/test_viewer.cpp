@@ -176,8 +176,8 @@ TEST(Viewer, CameraBackToAViewShowsItsGlobalIllumination) {
                                          "key s\n"
                                          "stats\n"
                                          "quit\n");
-  test::CliResult r = test::runOsrVk("--width 128 --height 128 --viewer-script " + script +
-                                     " --save-dir " + (d / "saved").string() + " " + kRoom);
+  test::CliResult r = test::runOsrVk("--mode osr --width 128 --height 128 --viewer-script " +
+                                     script + " --save-dir " + (d / "saved").string() + " " + kRoom);
   ASSERT_EQ(r.code, 0) << r.out;
   expectClean(r);
   EXPECT_NE(r.out.find("\"restarts\": 3"), std::string::npos) << r.out;
