@@ -40,13 +40,22 @@ vec4 inputAt(uint p) {
 bool inside(ivec2 q) { return q.x >= 0 && q.y >= 0 && q.x < int(gPush.width) && q.y < int(gPush.height); }
 uint index(ivec2 q) { return uint(q.y) * gPush.width + uint(q.x); }
 float depthAt(ivec2 q) { return inside(q) ? gAlbedo[index(q)].w : 0.0; }
+// The pixel's mean shading direction. The film's normal is the average over the pixel's
+// samples, shorter than 1 where a pixel straddles an edge; unnormalized, such a pixel agreed
+// less with itself than with its neighbours (|n|^2 < n.m) and was replaced by them, or, with
+// every weight below float's range, by 0.
+vec3 normalAt(uint i) {
+  const vec3 n = gNormal[i].xyz;
+  const float len2 = dot(n, n);
+  return len2 > 1e-12 ? n * inversesqrt(len2) : vec3(0.0);
+}
 
 void main() {
   const ivec2 p = ivec2(gl_GlobalInvocationID.xy);
   if (!inside(p)) return;
   const uint ip = index(p);
   const vec4 centre = inputAt(ip);
-  const vec3 np = gNormal[ip].xyz;
+  const vec3 np = normalAt(ip);
   const float zp = gAlbedo[ip].w;
   const float lp = luminance(centre.rgb);
   const bool lit = gNormal[ip].w > 0.0;
@@ -84,7 +93,7 @@ void main() {
         w = zp == zq ? exp(-abs(lp - luminance(c.rgb)) / sigmaL) : 0.0;  // miss to miss only
       } else {
         const float dz = abs(zp - zq) / (gPush.sigmaDepth * gradZ * length(vec2(q - p)) + 1e-3 * zp);
-        const float wn = pow(max(dot(np, gNormal[iq].xyz), 0.0), gPush.sigmaNormal);
+        const float wn = iq == ip ? 1.0 : pow(max(dot(np, normalAt(iq)), 0.0), gPush.sigmaNormal);
         w = wn * exp(-abs(lp - luminance(c.rgb)) / sigmaL - dz);
       }
       const float k = h[abs(tx)] * h[abs(ty)] * w;
@@ -93,8 +102,8 @@ void main() {
       sumVar += k * k * c.w;
     }
   }
-  // The centre tap always has weight h0^2 > 0 (its own differences are 0; a normal agrees
-  // with itself unless it is zero, a hit without one: then keep the input).
+  // The centre tap always has weight h0^2 > 0: its own differences are 0 and its normal
+  // factor 1.
   vec4 result = sumWeight > 0.0 ? vec4(sum / sumWeight, sumVar / (sumWeight * sumWeight)) : centre;
   if (kLast != 0u) result.rgb *= demodulator(gAlbedo[ip].rgb);
   gOut[ip] = result;

@@ -211,6 +211,30 @@ TEST(Denoiser, AtrousKeepsAnEdgeAndRemovesNoise) {
   EXPECT_LT(errOut, 0.1 * errIn);
 }
 
+// The column where two faces meet is covered a quarter by one, three quarters by the other:
+// its film normal is the average of theirs (length 0.79) and its colour their mean.
+// Unnormalized, its normal agreed less with itself (0.625) than with the larger face (0.75),
+// so the filter replaced it by that face's level (or by 0 where every weight fell below
+// float's range): the bright and black edge pixels of cornell's boxes.
+TEST(Denoiser, AtrousKeepsAPixelThatStraddlesAnEdge) {
+  const int w = 64, h = 48;
+  render::FilmLayers f = film(w, h);
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const size_t i = size_t(y) * w + x;
+      const float side = x < w / 2 ? 1.0f : x > w / 2 ? 0.0f : 0.25f;  // share of the left face
+      for (int c = 0; c < 3; ++c) f.combined[3 * i + c] = 0.5f * (0.2f + 0.8f * side);
+      f.normal[3 * i] = 1.0f - side;
+      f.normal[3 * i + 2] = side;
+      f.variance[i] = 1e-4f;
+    }
+  const std::vector<float> got = runAtrous(f);
+  for (int y = 0; y < h; ++y) {
+    const size_t i = size_t(y) * w + w / 2;
+    EXPECT_NEAR(got[3 * i], f.combined[3 * i], 0.02 * f.combined[3 * i]) << "row " << y;
+  }
+}
+
 // A lamp in a noisy ceiling, with the ceiling's normal, depth and albedo (a flat emissive
 // quad): flagged as light seen directly, its pixels keep their colour and the ceiling beside
 // them keeps its level; unflagged, the same image gets a halo (so the flag is what keeps it
