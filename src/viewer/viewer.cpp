@@ -46,8 +46,10 @@ constexpr int kMinRenderSize = 16;
 // costs about a UI frame on lavapipe); at once for the first slice and the first complete
 // unit after a restart, and for the last unit.
 constexpr double kResolveIntervalS = 0.5;
-// With --network or --filter, the shown image is denoised after at least this many more units.
-constexpr uint32_t kDenoiseEveryUnits = 4;
+// With --network or --filter, the shown image is denoised at most once per this many times the
+// denoiser's own last run, so denoising takes at most a fifth of the time between images:
+// the a-trous filter (0.1 s at 256 x 256 on lavapipe) every 0.5 s, the network about every 1.5 s.
+constexpr double kDenoiseCostShare = 5.0;
 // Submissions this long keep the window above 20 redraws a second with the UI's own work.
 constexpr double kStepTargetS = 0.015;
 
@@ -127,7 +129,7 @@ class Viewer {
   bool shownFinal_ = false;  // the image of a finished render
   bool filmChanged_ = false;
   Clock::time_point lastResolve_;
-  // --network / --filter: the shown film is denoised every kDenoiseEveryUnits units.
+  // --network / --filter: the shown film is denoised (paced by kDenoiseCostShare).
   std::unique_ptr<render::Denoiser> denoiser_;
   render::Layer layer_ = render::Layer::Combined;
   bool autoExposure_ = true;
@@ -256,10 +258,11 @@ void Viewer::refreshImage() {
   const render::Progress p = driver_->progress();
   const bool first = (moveTime_ && !firstMoveShown_) || (p.units >= 1 && shownUnits_ == 0);
   if (!first && !driver_->finished() && secondsSince(lastResolve_) < kResolveIntervalS) return;
-  // Denoised progressively: a new image every few units rather than every resolve, since the
-  // network costs about a unit's time on lavapipe (docs/denoise.md).
+  // Denoised progressively, after each new complete unit as long as the denoiser's time stays
+  // a small share of the render's (the network costs about a unit's time on lavapipe).
   if (config_.denoise.active() && !first && !driver_->finished() &&
-      p.units < shownUnits_ + kDenoiseEveryUnits)
+      (p.units <= shownUnits_ ||
+       (denoiser_ && secondsSince(lastResolve_) < kDenoiseCostShare * denoiser_->lastSeconds())))
     return;
   // Into the same layers each time: a new set per resolve (25 MiB at 512 x 512, many a
   // second) left the heap fragmented over a long session (docs/benchmarks.md, "soak").
