@@ -6,6 +6,7 @@
 //   osr        OSR without the map cache, --passes per frame
 //   osr+cache  OSR with the world-space map cache carried from frame to frame, --cache-passes
 //   path       the path tracer for osr+cache's mean CPU seconds per frame (equal time)
+//   path+atrous the same with osr-vk's default a-trous filter on each frame, its time included
 // and, per sequence: seconds per frame (wall and this process's CPU time: on shared cores the
 // wall time of a frame moves with the others' load, the CPU time it took much less), relMSE on the reference frames, and flicker
 // (render/flicker.h) between consecutive reference frames, measured on the pixels that the
@@ -40,6 +41,7 @@
 #include "image/image_metrics.h"
 #include "osr/osr_integrator.h"
 #include "render/camera_frame.h"
+#include "render/denoiser.h"
 #include "render/flicker.h"
 #include "render/progressive_driver.h"
 #include "scene/animation.h"
@@ -68,8 +70,10 @@ double processCpuSeconds() {
   return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
 }
 
+// With `denoiser`, the frame is denoised as osr-vk does, inside its timed span.
 FrameRun renderFrame(const vk::Context& ctx, render::Integrator& integrator,
-                     const scene::Camera& cam, uint32_t seed, uint32_t maxUnits, double seconds) {
+                     const scene::Camera& cam, uint32_t seed, uint32_t maxUnits, double seconds,
+                     render::Denoiser* denoiser = nullptr) {
   render::DriverSettings ds;
   ds.maxUnits = maxUnits;
   ds.timeLimitS = seconds;
@@ -79,6 +83,7 @@ FrameRun renderFrame(const vk::Context& ctx, render::Integrator& integrator,
   driver.restart(cam, seed);
   const render::RenderStats stats = driver.run();
   render::FilmLayers film = integrator.resolve();
+  if (denoiser) denoiser->apply(film);
   FrameRun r;
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   r.cpuSeconds = processCpuSeconds() - cpu0;
@@ -276,14 +281,14 @@ int runAnimation(const std::vector<std::string>& args) {
   // on lavapipe pay for more than the frame (about 20 s at 64 x 64), which would not be the
   // integrator's. The cache is emptied after it.
   auto runSequence = [&](const std::string& name, render::Integrator& integrator,
-                         uint32_t units) {
-    renderFrame(ctx, integrator, cameras[frames.first], 1, 1, 0.0);
+                         uint32_t units, render::Denoiser* denoiser = nullptr) {
+    renderFrame(ctx, integrator, cameras[frames.first], 1, 1, 0.0, denoiser);
     if (auto* osr = dynamic_cast<oneshot::OsrIntegrator*>(&integrator))
       if (oneshot::MapCache* cache = osr->mapCache()) cache->clear(ctx);
     Sequence s;
     s.name = name;
     for (int f = frames.first; f <= frames.last; ++f) {
-      FrameRun r = renderFrame(ctx, integrator, cameras[f], uint32_t(f) + 1, units, 0.0);
+      FrameRun r = renderFrame(ctx, integrator, cameras[f], uint32_t(f) + 1, units, 0.0, denoiser);
       if (!refFrames.count(f)) r.rgb.clear(), r.depth.clear();
       s.meanSeconds += r.seconds / frames.count();
       s.meanCpuSeconds += r.cpuSeconds / frames.count();
@@ -315,6 +320,21 @@ int runAnimation(const std::vector<std::string>& args) {
   const uint32_t pathSpp =
       uint32_t(std::max(1.0, std::round(sequences[1].meanCpuSeconds / cpuPerSpp)));
   sequences.push_back(runSequence("path", *path, pathSpp));
+  // The filter's CPU time comes out of the samples (the second of two runs: the first makes
+  // its pipelines).
+  render::DenoiseSettings filterSettings;
+  filterSettings.atrous = true;
+  render::Denoiser filter(ctx, filterSettings, size, size);
+  double filterCpu = 0.0;
+  for (int i = 0; i < 2; ++i) {
+    render::FilmLayers film = path->resolve();
+    const double cpu0 = processCpuSeconds();
+    filter.apply(film);
+    filterCpu = processCpuSeconds() - cpu0;
+  }
+  const uint32_t filteredSpp = uint32_t(
+      std::max(1.0, std::round((sequences[1].meanCpuSeconds - filterCpu) / cpuPerSpp)));
+  sequences.push_back(runSequence("path+atrous", *path, filteredSpp, &filter));
 
   // Verification: a render whose mean is far from its reference's is broken, not noisy.
   for (const Sequence& s : sequences)
@@ -344,7 +364,7 @@ int runAnimation(const std::vector<std::string>& args) {
   for (const auto& [f, pp] : pairs) pairedShare += double(pp.size()) / (double(size) * size * pairs.size());
   std::map<std::string, double> flickers;
   for (const Sequence& s : sequences) {
-    const bool isPath = s.name == "path";
+    const bool isPath = s.name.rfind("path", 0) == 0;
     double relSum = 0.0;
     for (int f : refFrames) {
       const FrameRun& r = s.frames[f - frames.first];
@@ -388,6 +408,7 @@ int runAnimation(const std::vector<std::string>& args) {
       .num("cache_cpu_seconds_ratio", sequences[1].meanCpuSeconds / sequences[0].meanCpuSeconds)
       .num("cache_flicker_over_path", flickers["osr+cache"] / flickers["path"])
       .num("nocache_flicker_over_path", flickers["osr"] / flickers["path"])
+      .num("path_atrous_flicker_over_path", flickers["path+atrous"] / flickers["path"])
       .integer("passes", passes).integer("cache_passes", cachePasses).integer("map_cache", cacheMaps)
       .integer("mature_passes", maturePasses)
       .str("device", ctx.caps().deviceName).print();
