@@ -162,7 +162,7 @@ void writeExr(const std::string& path, const LayeredImage& image, ExrPixelType t
   commit(tmp, path);
 }
 
-RgbImage readExrRgb(const std::string& path) {
+RgbImage readExrRgb(const std::string& path, const std::string& layer) {
   try {
     Imf::InputFile file(path.c_str());
     const Imath::Box2i dw = file.header().dataWindow();
@@ -171,16 +171,19 @@ RgbImage readExrRgb(const std::string& path) {
     img.height = dw.max.y - dw.min.y + 1;
     img.rgb.assign(size_t(img.width) * img.height * 3, 0.f);
     const Imf::ChannelList& ch = file.header().channels();
-    bool rgb = ch.findChannel("R") && ch.findChannel("G") && ch.findChannel("B");
-    bool grey = ch.findChannel("Y");
-    if (!rgb && !grey) throw InputError(path + ": no R, G, B (or Y) channels in the default layer");
+    const std::string prefix = layer.empty() ? "" : layer + ".";
+    const std::string names[3] = {prefix + "R", prefix + "G", prefix + "B"}, y = prefix + "Y";
+    bool rgb = ch.findChannel(names[0]) && ch.findChannel(names[1]) && ch.findChannel(names[2]);
+    bool grey = ch.findChannel(y);
+    if (!rgb && !grey)
+      throw InputError(path + ": no R, G, B (or Y) channels in the " +
+                       (layer.empty() ? std::string("default layer") : "layer '" + layer + "'"));
     Imf::FrameBuffer fb;
     char* base = reinterpret_cast<char*>(img.rgb.data()) -
                  (size_t(dw.min.x) + size_t(dw.min.y) * img.width) * 3 * sizeof(float);
-    const char* names[3] = {"R", "G", "B"};
     // A grey image reads Y into the R slot once, then copies it to G and B.
     for (int c = 0; c < (rgb ? 3 : 1); ++c)
-      fb.insert(rgb ? names[c] : "Y", Imf::Slice(Imf::FLOAT, base + c * sizeof(float),
+      fb.insert(rgb ? names[c] : y, Imf::Slice(Imf::FLOAT, base + c * sizeof(float),
                                                  3 * sizeof(float), 3 * sizeof(float) * img.width));
     file.setFrameBuffer(fb);
     file.readPixels(dw.min.y, dw.max.y);

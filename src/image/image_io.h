@@ -47,8 +47,9 @@ enum class ExrPixelType { Half, Float };
 
 // Throws InputError ("<path>: ...") when the file cannot be written.
 void writeExr(const std::string& path, const LayeredImage& image, ExrPixelType type);
-// Reads the default layer's R, G, B (or Y as grey). Throws InputError naming the file.
-RgbImage readExrRgb(const std::string& path);
+// Reads the default layer's R, G, B (or Y as grey), or those of `layer` ("noisy" reads
+// noisy.R, noisy.G, noisy.B). Throws InputError naming the file.
+RgbImage readExrRgb(const std::string& path, const std::string& layer = "");
 // The header's int, float and string attributes (others are left out), in the header's order.
 // Throws InputError naming the file.
 std::vector<ExrAttribute> readExrAttributes(const std::string& path);

@@ -152,26 +152,6 @@ TEST(CmdRenderOsr, BlurByDefaultAndTheBuiltInModelRuns) {
   EXPECT_NE(unet.err.find(", unet "), std::string::npos) << unet.err;
 }
 
-namespace {
-// Channels "<layer>.R/G/B" of an EXR, interleaved (readExrRgb reads the default layer only).
-std::vector<float> readLayer(const std::string& path, const std::string& layer, int& w, int& h) {
-  Imf::InputFile f(path.c_str());
-  const Imath::Box2i dw = f.header().dataWindow();
-  w = dw.max.x - dw.min.x + 1;
-  h = dw.max.y - dw.min.y + 1;
-  std::vector<float> rgb(size_t(w) * h * 3);
-  Imf::FrameBuffer fb;
-  const char* names[] = {"R", "G", "B"};
-  for (int c = 0; c < 3; ++c)
-    fb.insert(layer + "." + names[c],
-              Imf::Slice(Imf::FLOAT, reinterpret_cast<char*>(rgb.data() + c - 3 * (dw.min.x + size_t(dw.min.y) * w)),
-                         3 * sizeof(float), size_t(w) * 3 * sizeof(float)));
-  f.setFrameBuffer(fb);
-  f.readPixels(dw.min.y, dw.max.y);
-  return rgb;
-}
-}  // namespace
-
 // An image larger than one binding of OSR's per-pixel buffers (1280 x 832 pixels of 128-byte
 // G-buffer records is 130 MiB, over lavapipe's 128 MiB maxStorageBufferRange): the passes bind
 // windows. The first-hit albedo OSR writes equals the path tracer's, band by band (a window
@@ -186,9 +166,11 @@ TEST(CmdRenderOsr, ImagesLargerThanOneBindingRenderInWindows) {
   ASSERT_EQ(osrRun.exitCode, 0) << osrRun.err;
   Outcome pathRun = run("--mode path --spp 4 --offline " + pathExr + size + cornell());
   ASSERT_EQ(pathRun.exitCode, 0) << pathRun.err;
-  int w, h, pw, ph;
-  const std::vector<float> albedo = readLayer(osrExr, "albedo", w, h);
-  const std::vector<float> reference = readLayer(pathExr, "albedo", pw, ph);
+  const osr::image::RgbImage osrAlbedo = osr::image::readExrRgb(osrExr, "albedo");
+  const osr::image::RgbImage pathAlbedo = osr::image::readExrRgb(pathExr, "albedo");
+  const int w = osrAlbedo.width, h = osrAlbedo.height, pw = pathAlbedo.width, ph = pathAlbedo.height;
+  const std::vector<float>& albedo = osrAlbedo.rgb;
+  const std::vector<float>& reference = pathAlbedo.rgb;
   ASSERT_EQ(w, 1280);
   ASSERT_EQ(h, 832);
   ASSERT_EQ(pw, w);
