@@ -48,6 +48,11 @@ void PathIntegrator::recordSlice(VkCommandBuffer cmd, uint32_t unit, uint32_t sl
                      bound(slice + 1) - bound(slice)});
 }
 
+void PathIntegrator::resolveInto(render::FilmLayers& into) const {
+  film_.resolve(into);
+  if (into.samples < 2) render::estimateVarianceFromNeighbours(into);
+}
+
 render::FilmLayers render(const vk::Context& ctx, const scene::GpuScene& scene, const bvh::Bvh& bvh,
                           const scene::Camera& camera, const RenderSettings& settings,
                           const std::function<void(const render::Progress&)>& onProgress,

@@ -40,6 +40,9 @@ class PathIntegrator : public render::Integrator {
   void recordSlice(VkCommandBuffer cmd, uint32_t unit, uint32_t slice, uint32_t slices,
                    vk::GpuTimer* timer) override;
   const render::Film& film() const override { return film_; }
+  // The film's layers; with one sample per pixel, each pixel's variance from its neighbours
+  // (render::estimateVarianceFromNeighbours), so the denoisers filter the first image too.
+  void resolveInto(render::FilmLayers& into) const override;
 
   static constexpr uint32_t kMaxSamplesPerSubmission = 1024;
   static constexpr uint32_t kMaxSlicesPerUnit = 256;

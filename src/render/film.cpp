@@ -52,6 +52,27 @@ void FilmLayers::allocate(int w, int h) {
   light.resize(n);
 }
 
+void estimateVarianceFromNeighbours(FilmLayers& f) {
+  const size_t n = size_t(f.width) * size_t(f.height);
+  std::vector<float> lum(n);
+  for (size_t i = 0; i < n; ++i)
+    lum[i] = 0.2126f * f.combined[3 * i] + 0.7152f * f.combined[3 * i + 1] + 0.0722f * f.combined[3 * i + 2];
+  for (int y = 0; y < f.height; ++y)
+    for (int x = 0; x < f.width; ++x) {
+      double sum = 0.0, sumSq = 0.0;
+      int count = 0;
+      for (int qy = std::max(y - 1, 0); qy <= std::min(y + 1, f.height - 1); ++qy)
+        for (int qx = std::max(x - 1, 0); qx <= std::min(x + 1, f.width - 1); ++qx) {
+          const double l = lum[size_t(qy) * size_t(f.width) + size_t(qx)];
+          sum += l;
+          sumSq += l * l;
+          ++count;
+        }
+      const double var = count > 1 ? (sumSq - sum * sum / count) / (count - 1) : 0.0;
+      f.variance[size_t(y) * size_t(f.width) + size_t(x)] = float(std::max(var, 0.0));
+    }
+}
+
 FilmLayers Film::resolve() const {
   FilmLayers out;
   resolve(out);

@@ -38,6 +38,12 @@ struct FilmLayers {
   void allocate(int width, int height);
 };
 
+// Sets each pixel's variance to the spread of one sample's luminance over its 3 x 3
+// neighbourhood: a film of one sample per pixel has no per-pixel estimate (Film::resolve
+// gives 0), and with 0 the denoisers' luminance weights would keep every pixel as it is.
+// SVGF estimates the variance spatially the same way while a pixel's history is short.
+void estimateVarianceFromNeighbours(FilmLayers& film);
+
 // Pixel windows start at multiples of this many pixels, so that a window's byte offset is a
 // multiple of 256, the largest minStorageBufferOffsetAlignment Vulkan allows, for any pixel
 // struct whose size is a multiple of 16 bytes (std430 vec4 rows).

@@ -45,7 +45,7 @@ constexpr int kMinRenderSize = 16;
 // While the render refines the film is downloaded and tone mapped at most this often (it
 // costs about a UI frame on lavapipe); at once for the first slice and the first complete
 // unit after a restart, and for the last unit.
-constexpr double kResolveIntervalS = 0.5;
+constexpr double kResolveIntervalS = 0.25;
 // With --network or --filter, the shown image is denoised at most once per this many times the
 // denoiser's own last run, so denoising takes at most a fifth of the time between images:
 // the a-trous filter (0.1 s at 256 x 256 on lavapipe) every 0.5 s, the network about every 1.5 s.
