@@ -8,7 +8,9 @@
 // last (kLast) inverts that, re-modulates and writes the tile's core pixels into the image.
 // Between levels the colour lives in tile-sized vec4 buffers. A pixel that saw light directly
 // (normal.w > 0, shared/denoise.h) keeps its own colour and is no other pixel's tap; the
-// softmax runs over the taps that remain.
+// softmax runs over the taps that remain. kGuided (osr_image_kpn_v2): each tap's logit gets the
+// logarithm of the fixed normal and depth edge-stopping factors added (shared/denoise.h), so
+// the network only learns what the geometry cannot tell.
 #extension GL_GOOGLE_include_directive : require
 #include "shared/denoise.h"
 #include "lib/sampling.glsl"  // luminance
@@ -16,6 +18,7 @@
 layout(local_size_x = kDenoiseTile, local_size_y = kDenoiseTile) in;
 layout(constant_id = kSpecKernelFirst) const uint kFirst = 0;
 layout(constant_id = kSpecKernelLast) const uint kLast = 0;
+layout(constant_id = kSpecKernelGuided) const uint kGuided = 0;
 layout(std430, binding = kBindingColour) readonly buffer Colour { vec4 gColour[]; };
 layout(std430, binding = kBindingAlbedo) readonly buffer Albedo { vec4 gAlbedo[]; };
 layout(std430, binding = kBindingNormal) readonly buffer Normal { vec4 gNormal[]; };
@@ -38,6 +41,40 @@ vec3 modulator(uint p) {
 }
 
 bool seesLight(ivec2 t) { return gNormal[imagePixel(t)].w > 0.0; }
+
+// The first hit's depth at padded-image pixel g, reads clamped into the image (the padding
+// repeats the last row and column; image_unet.depth_gradient repeats the edges).
+float depthAt(ivec2 g) {
+  const ivec2 c = clamp(g, ivec2(0), ivec2(gPush.width, gPush.height) - 1);
+  return gAlbedo[uint(c.y) * gPush.width + uint(c.x)].w;
+}
+
+// image_unet.depth_gradient along one axis: the smaller one-sided depth difference, only
+// the one inside the padded image at its edge.
+float depthSlope(ivec2 g, ivec2 axis) {
+  const float z = depthAt(g);
+  float slope = kGuideSlopeNone;
+  if (all(lessThan(g + axis, ivec2(gPush.paddedWidth, gPush.paddedHeight)))) slope = abs(depthAt(g + axis) - z);
+  if (all(greaterThanEqual(g - axis, ivec2(0)))) slope = min(slope, abs(z - depthAt(g - axis)));
+  return slope;
+}
+
+vec3 unitNormal(uint p) {
+  const vec3 n = gNormal[p].xyz;
+  return n / max(length(n), 1e-12);
+}
+
+// image_unet.guide_logits: log of tap q's fixed factor for tile pixel t, whose unit normal,
+// depth and depth gradient are np, zp, gradZ.
+float guideLogit(ivec2 t, ivec2 q, vec3 np, float zp, float gradZ) {
+  if (q == t) return 0.0;
+  const float zq = gAlbedo[imagePixel(q)].w;
+  const float none = kGuideSigmaNormal * log(kGuideCosMin);
+  if (zp <= 0.0 || zq <= 0.0) return (zp > 0.0) == (zq > 0.0) ? 0.0 : none;
+  const float cosine = dot(np, unitNormal(imagePixel(q)));
+  const float scale = kGuideSigmaDepth * gradZ * length(vec2(q - t)) + kGuideDepthFloor * zp;
+  return kGuideSigmaNormal * log(max(cosine, kGuideCosMin)) - abs(zp - zq) / max(scale, 1e-30);
+}
 
 vec3 levelInput(ivec2 t) {
   if (kFirst != 0u) {
@@ -69,15 +106,28 @@ void main() {
   const uint plane = gPush.tileWidth * gPush.tileHeight;
   const uint base = uint(findLSB(gPush.step)) * kKernelTaps * plane + uint(t.y) * gPush.tileWidth + uint(t.x);
   const bool lit = seesLight(t);
+  vec3 np = vec3(0.0);
+  float zp = 0.0, gradZ = 0.0;
+  if (kGuided != 0u) {
+    const ivec2 g = ivec2(gPush.tileX, gPush.tileY) + t;
+    np = unitNormal(imagePixel(t));
+    zp = depthAt(g);
+    gradZ = max(depthSlope(g, ivec2(1, 0)), depthSlope(g, ivec2(0, 1)));
+  }
+  float logits[kKernelTaps];
   float top = -3.0e38;
-  for (uint i = 0u; i < kKernelTaps; ++i)
-    if (tapAt(t, i, lit).x >= 0) top = max(top, gTensor[base + i * plane]);
+  for (uint i = 0u; i < kKernelTaps; ++i) {
+    const ivec2 q = tapAt(t, i, lit);
+    if (q.x < 0) continue;
+    logits[i] = gTensor[base + i * plane] + (kGuided != 0u ? guideLogit(t, q, np, zp, gradZ) : 0.0);
+    top = max(top, logits[i]);
+  }
   vec3 sum = vec3(0.0);
   float weights = 0.0;
   for (uint i = 0u; i < kKernelTaps; ++i) {
     const ivec2 q = tapAt(t, i, lit);
     if (q.x < 0) continue;
-    const float w = exp(gTensor[base + i * plane] - top);
+    const float w = exp(logits[i] - top);
     sum += w * levelInput(q);
     weights += w;
   }

@@ -1,5 +1,5 @@
-"""The image denoisers (architectures "osr_image_kpn_v1" and "osr_image_unet_v1") as PyTorch
-modules for any base width K.
+"""The image denoisers (architectures "osr_image_kpn_v2", "osr_image_kpn_v1" and
+"osr_image_unet_v1") as PyTorch modules for any base width K.
 
 The single definition that training (train_denoiser.py), packing (weights_pack.py) and the
 golden tests share; the compute-shader twin runs it from packed weights (src/nn_kernels).
@@ -13,6 +13,10 @@ out, with an HDR-aware input transform (docs/weights_format.md, "Image denoiser"
     osr_image_kpn_v1   N x 100 x H x W: the logits of four 5 x 5 kernels per pixel, applied in
                        turn with taps 1, 2, 4 and 8 pixels apart to the colour demodulated by
                        the albedo, then remodulated (apply_kernels below)
+    osr_image_kpn_v2   the same network and output; each tap's predicted weight is multiplied
+                       by fixed normal and depth edge-stopping factors (guide_logits below, the
+                       a-trous filter's), trained through, so the network learns only what the
+                       geometry cannot tell; needs the first hit's depth besides the input
 
 The kernel-predicting variant (Bako et al. 2017's KPCN, with Vogels et al. 2018's dilated
 kernels in sequence) is the shipped one: its output is a convex combination of neighbouring
@@ -32,12 +36,16 @@ align_corners=False; skip connections concatenated as cat(upsampled, skip)):
 """
 from __future__ import annotations
 
+import math
+
 import torch
 from torch import nn
 
 ARCHITECTURE = "osr_image_unet_v1"
 KPN_ARCHITECTURE = "osr_image_kpn_v1"
-ARCHITECTURES = (KPN_ARCHITECTURE, ARCHITECTURE)
+GUIDED_ARCHITECTURE = "osr_image_kpn_v2"
+KERNEL_ARCHITECTURES = (GUIDED_ARCHITECTURE, KPN_ARCHITECTURE)
+ARCHITECTURES = (GUIDED_ARCHITECTURE, KPN_ARCHITECTURE, ARCHITECTURE)
 STAGE = "image_denoiser"
 IN_CHANNELS = 9
 OUT_CHANNELS = 3
@@ -50,6 +58,14 @@ INPUTS = ["colour", "albedo", "normal"]
 INPUT_TRANSFORM = "exposure_log1p"  # colour only; albedo and normal as they are
 MULTIPLE = 8  # H and W must be multiples of this (three 2 x 2 pools)
 EXPOSURE_KEY = 0.18  # e maps the image's log-average luminance to this
+# osr_image_kpn_v2's fixed edge-stopping factors, the a-trous filter's (docs/denoise.md): the
+# cosine between the unit normals to this power, and exp(-|z_p - z_q| / (GUIDE_SIGMA_DEPTH
+# |grad z_p| |p - q| + GUIDE_DEPTH_FLOOR z_p)).
+GUIDE_SIGMA_NORMAL = 128.0
+GUIDE_SIGMA_DEPTH = 1.0
+GUIDE_DEPTH_FLOOR = 1e-3
+GUIDE_COS_MIN = 1e-30  # log(cos) below this is (almost) -inf: no weight, but a finite gradient
+GUIDE_SLOPE_NONE = 1e30  # a one-sided depth difference past the image's edge: never the smaller
 
 
 def image_exposure(colour: torch.Tensor) -> torch.Tensor:
@@ -89,8 +105,48 @@ def demodulator(albedo: torch.Tensor) -> torch.Tensor:
     return torch.where(_luminance(albedo) < DEMODULATE_MIN, torch.ones_like(albedo), albedo.clamp(min=DEMODULATE_MIN))
 
 
+def depth_gradient(depth: torch.Tensor) -> torch.Tensor:
+    """|grad z| per pixel (N x 1 x H x W): across x and across y the smaller of the two
+    one-sided differences (only the one inside the image at its edge), the larger of the two
+    axes. Unlike the a-trous filter's central difference, which spans a depth step at the
+    pixels beside it and so lets them average across it, the smaller side is the surface's own
+    slope there."""
+    big = GUIDE_SLOPE_NONE
+    dx = (depth[..., :, 1:] - depth[..., :, :-1]).abs()
+    dy = (depth[..., 1:, :] - depth[..., :-1, :]).abs()
+    gx = torch.minimum(nn.functional.pad(dx, (0, 1), value=big), nn.functional.pad(dx, (1, 0), value=big))
+    gy = torch.minimum(nn.functional.pad(dy, (0, 0, 0, 1), value=big), nn.functional.pad(dy, (0, 0, 1, 0), value=big))
+    return torch.maximum(gx, gy)
+
+
+def guide_logits(normal: torch.Tensor, depth: torch.Tensor, level: int) -> torch.Tensor:
+    """log of osr_image_kpn_v2's fixed factor on each tap (N x 25 x H x W) at this level: the
+    normals' cosine^GUIDE_SIGMA_NORMAL times the depth factor (see the constants; |grad z| is
+    depth_gradient's); a miss (depth 0) only with misses (factor 1 between two). The centre
+    tap's is 0 (factor 1)."""
+    n, _, h, w = normal.shape
+    step = 1 << level
+    pad = (KERNEL_SIZE // 2) * step
+    taps = KERNEL_SIZE * KERNEL_SIZE
+    unit = normal / normal.norm(dim=1, keepdim=True).clamp(min=1e-12)
+    nq = nn.functional.unfold(unit, KERNEL_SIZE, dilation=step, padding=pad).view(n, 3, taps, h, w)
+    cos = (unit.unsqueeze(2) * nq).sum(1)
+    zq = nn.functional.unfold(depth, KERNEL_SIZE, dilation=step, padding=pad).view(n, taps, h, w)
+    offsets = torch.arange(taps, dtype=depth.dtype)
+    dist = torch.hypot(offsets % KERNEL_SIZE - KERNEL_SIZE // 2, torch.div(offsets, KERNEL_SIZE,
+                       rounding_mode="floor") - KERNEL_SIZE // 2).view(1, taps, 1, 1) * step
+    scale = GUIDE_SIGMA_DEPTH * depth_gradient(depth) * dist + GUIDE_DEPTH_FLOOR * depth
+    dz = (depth - zq).abs() / scale.clamp(min=1e-30)  # 0 only at a miss, where it is not used
+    hit = (depth > 0) & (zq > 0)
+    g = torch.where(hit, GUIDE_SIGMA_NORMAL * torch.log(cos.clamp(min=GUIDE_COS_MIN)) - torch.where(hit, dz, 0),
+                    torch.where((depth > 0) == (zq > 0), 0.0, GUIDE_SIGMA_NORMAL * math.log(GUIDE_COS_MIN)))
+    g[:, taps // 2] = 0
+    return g
+
+
 def apply_kernels(logits: torch.Tensor, colour: torch.Tensor, albedo: torch.Tensor,
-                  e: torch.Tensor, light: torch.Tensor | None = None) -> torch.Tensor:
+                  e: torch.Tensor, light: torch.Tensor | None = None,
+                  guides: tuple[torch.Tensor, torch.Tensor] | None = None) -> torch.Tensor:
     """The kernel-predicting network's colour (N x 3 x H x W) from its logits. Per level, each
     pixel's 25 logits are a softmax over the taps inside the image (taps outside get no weight,
     as the shader's tile edge does), applied to the previous level's colour. The kernels
@@ -99,7 +155,9 @@ def apply_kernels(logits: torch.Tensor, colour: torch.Tensor, albedo: torch.Tens
     linear colour, a weight of 0.001 on a lamp 1000 times brighter doubles a wall pixel). The
     compression is inverted exactly after the last level (lum(t) < 1 for any average).
     light (N x 1 x H x W, optional): the share of each pixel's camera rays that saw light
-    directly; such a pixel keeps its colour and is no other pixel's tap, as in the shader."""
+    directly; such a pixel keeps its colour and is no other pixel's tap, as in the shader.
+    guides (normal N x 3 x H x W, depth N x 1 x H x W; osr_image_kpn_v2): each tap's logit
+    gets guide_logits added, i.e. its weight is multiplied by the fixed edge-stopping factors."""
     n, _, h, w = colour.shape
     scale = demodulator(albedo)
     x = colour.clamp(min=0) / scale * e.view(-1, 1, 1, 1)
@@ -117,17 +175,25 @@ def apply_kernels(logits: torch.Tensor, colour: torch.Tensor, albedo: torch.Tens
             lit_tap = nn.functional.unfold(lit, KERNEL_SIZE, dilation=step, padding=pad).view(n, taps, h, w)
             counts = inside * (1 - lit_tap) * (1 - lit)
             counts[:, taps // 2] = 1
-        lg = logits[:, level * taps:(level + 1) * taps].masked_fill(counts == 0, -torch.inf)
+        lg = logits[:, level * taps:(level + 1) * taps]
+        if guides is not None:
+            lg = lg + guide_logits(*guides, level)
+        lg = lg.masked_fill(counts == 0, -torch.inf)
         d = (shifted * torch.softmax(lg, 1).unsqueeze(1)).sum(2)
     x = d / (1 - _luminance(d)).clamp(min=1e-6)
     return x / e.view(-1, 1, 1, 1) * scale
 
 
 def denoise(model: "ImageUNet", colour: torch.Tensor, albedo: torch.Tensor, normal: torch.Tensor,
-            e: torch.Tensor | None = None) -> torch.Tensor:
-    """The denoised colour (N x 3 x H x W, H and W multiples of 8) by either architecture."""
+            e: torch.Tensor | None = None, depth: torch.Tensor | None = None) -> torch.Tensor:
+    """The denoised colour (N x 3 x H x W, H and W multiples of 8) by any architecture;
+    osr_image_kpn_v2 needs the depth (N x 1 x H x W)."""
     x, e = make_input(colour, albedo, normal, e)
     y = model(x)
+    if model.architecture == GUIDED_ARCHITECTURE:
+        if depth is None:
+            raise ValueError(f"{GUIDED_ARCHITECTURE} needs the depth")
+        return apply_kernels(y, colour, albedo, e, guides=(normal, depth))
     if model.architecture == KPN_ARCHITECTURE:
         return apply_kernels(y, colour, albedo, e)
     return output_colour(y, e)
@@ -148,7 +214,7 @@ class ImageUNet(nn.Module):
             raise ValueError(f"unknown image denoiser architecture '{architecture}'")
         self.k = k
         self.architecture = architecture
-        out = KPN_OUT_CHANNELS if architecture == KPN_ARCHITECTURE else OUT_CHANNELS
+        out = KPN_OUT_CHANNELS if architecture in KERNEL_ARCHITECTURES else OUT_CHANNELS
         relu = lambda: nn.ReLU()  # noqa: E731
         self.enc0 = nn.Sequential(_conv(IN_CHANNELS, k), relu(), _conv(k, k), relu())
         self.enc1 = nn.Sequential(nn.MaxPool2d(2), _conv(k, 2 * k), relu())
@@ -189,13 +255,16 @@ def base_width(state_dict: dict[str, torch.Tensor]) -> int:
     return int(w.shape[0])
 
 
-def architecture_of(state_dict: dict[str, torch.Tensor]) -> str:
-    """Which variant a state_dict is, from its head's output channels."""
+def architecture_of(state_dict: dict[str, torch.Tensor], declared: str | None = None) -> str:
+    """Which variant a state_dict is, from its head's output channels; the two kernel variants
+    have the same weights, so a kernel head is `declared` when that is one of them (a
+    checkpoint's "architecture"), else osr_image_kpn_v1."""
     w = state_dict.get("dec0.4.weight")
     outs = {OUT_CHANNELS: ARCHITECTURE, KPN_OUT_CHANNELS: KPN_ARCHITECTURE}
     if w is None or w.dim() != 4 or int(w.shape[0]) not in outs:
         raise ValueError("no dec0.4.weight with 3 or 100 outputs (not an image U-Net state_dict)")
-    return outs[int(w.shape[0])]
+    found = outs[int(w.shape[0])]
+    return declared if found == KPN_ARCHITECTURE and declared in KERNEL_ARCHITECTURES else found
 
 
 def randomize(model: ImageUNet, seed: int) -> None:

@@ -10,8 +10,13 @@ usage: make_denoise_data.py OUT --seeds A-B [--cameras 2] [--size 128]
 For each seed, tools/make_interiors.py makes the scene (OUT/scenes/SEED, or --scenes DIR) and,
 for each of its first --cameras cameras, `osr-vk --mode path --offline` renders it once per
 entry of --spp-list, each with its own --seed, so the renders are independent. Each render is
-kept as OUT/SEED_cCAM/in_SPP.npz (colour float32 3 x H x W, linear; albedo and normal float16,
-the layers osr-vk writes in the same EXR). With --target-spp N > 0 the view also gets a
+kept as OUT/SEED_cCAM/in_SPP.npz (colour float32 3 x H x W, linear; albedo and normal float16;
+depth float32 1 x H x W, the first hit's view-axis distance, 0 where none: the layers osr-vk
+writes in the same EXR). A view whose renders were made before depth was kept gets
+OUT/SEED_cCAM/depth.npz instead: the depth of one `--mode preview` render of 16 samples (the
+same first hits; only the pixel jitter differs, so edges are as sharp as a 16-sample render's),
+rendered before anything else. So an older dataset gains depth in minutes:
+`cp -al OLD NEW` and run this on NEW with the seeds it holds. With --target-spp N > 0 the view also gets a
 reference of N samples, rendered in chunks of at most 128 samples (OUT/SEED_cCAM/ref_K.npz,
 each with its own seed; the reference is their spp-weighted mean).
 
@@ -69,8 +74,12 @@ def parse_spp_list(text: str) -> list[int]:
     return spps
 
 
+DEPTH_GUIDE_SPP = 16  # samples of the preview render that gives an older view its depth
+
+
 def read_render(path: Path) -> dict[str, np.ndarray]:
-    """An osr-vk EXR as colour (float32) and albedo, normal (float16), 3 x H x W each."""
+    """An osr-vk EXR as colour (float32) and albedo, normal (float16), 3 x H x W each, and
+    depth (float32, 1 x H x W)."""
     try:
         _, _, planes = exr.read_layers(str(path))
     except exr.ExrError as e:
@@ -84,15 +93,23 @@ def read_render(path: Path) -> dict[str, np.ndarray]:
 
     return {"colour": stack(["R", "G", "B"], np.float32),
             "albedo": stack(["albedo.R", "albedo.G", "albedo.B"], np.float16),
-            "normal": stack(["normal.X", "normal.Y", "normal.Z"], np.float16)}
+            "normal": stack(["normal.X", "normal.Y", "normal.Z"], np.float16),
+            "depth": stack(["depth.Z"], np.float32)}
+
+
+def lacks_depth(render_file: Path) -> bool:
+    """Whether a render was made before depth was kept."""
+    with np.load(render_file) as z:
+        return "depth" not in z.files
 
 
 def render(osr_vk: str, scene_dir: Path, env: str | None, camera: int, size: int, spp: int, seed: int,
-           out: Path) -> float:
-    """One path-traced render into out (.npz, written atomically); its seconds."""
+           out: Path, mode: str = "path") -> float:
+    """One render (path-traced; `preview` for a depth guide) into out (.npz, written
+    atomically); its seconds."""
     with tempfile.TemporaryDirectory(dir=out.parent) as tmp:
         image = Path(tmp) / "render.exr"
-        cmd = [osr_vk, "--mode", "path", "--offline", str(image), "--exr-float", "--spp", str(spp),
+        cmd = [osr_vk, "--mode", mode, "--offline", str(image), "--exr-float", "--spp", str(spp),
                "--seed", str(seed), "--width", str(size), "--height", str(size), "--camera", str(camera),
                "--quiet", str(scene_dir / "scene.gltf")]
         if env:
@@ -106,6 +123,8 @@ def render(osr_vk: str, scene_dir: Path, env: str | None, camera: int, size: int
         for line in r.stderr.splitlines():  # osr-vk's warnings (it ran with --quiet)
             print(f"{out.parent.name}: {line}", file=sys.stderr)
         layers = read_render(image)
+        if mode == "preview":
+            layers = {"depth": layers["depth"]}
         part = Path(tmp) / "render.npz"
         np.savez(part, spp=np.int32(spp), seed=np.int64(seed), seconds=np.float32(seconds), **layers)
         os.replace(part, out)
@@ -200,6 +219,18 @@ def main(argv: list[str] | None = None) -> int:
         inputs.append([(name, scene_dir, info, cam, job) for job in jobs[:len(args.spp_list)]])
         chunks.append([(name, scene_dir, info, cam, job) for job in jobs[len(args.spp_list):]])
     groups = inputs + [[c[k] for c in chunks if k < len(c)] for k in range(max(map(len, chunks), default=0))]
+    for name, scene_dir, info, cam, _ in (g[0] for g in inputs):
+        renders = sorted((out / name).glob("in_*.npz"))
+        if not renders or (out / name / "depth.npz").is_file() or not lacks_depth(renders[0]):
+            continue
+        try:
+            seconds = render(args.osr_vk, scene_dir, info.get("env"), cam, args.size, DEPTH_GUIDE_SPP, 1,
+                             out / name / "depth.npz", mode="preview")
+        except DataError as e:
+            print(f"make_denoise_data.py: {e}", file=sys.stderr)
+            return 2
+        print(f"make_denoise_data.py: {name}: depth of the older renders ({seconds:.1f} s)", file=sys.stderr,
+              flush=True)
     start_all, done = time.monotonic(), 0
     for n, group in enumerate(groups):
         for name, scene_dir, info, cam, (file, spp, render_seed) in group:

@@ -2,6 +2,8 @@
 # Regenerates the shipped image denoiser (models/osr_image_denoiser.osrw) from nothing: the
 # generated interiors, the noisy training renders, the validation renders with references,
 # the training, the evaluation and the packed weights (docs/training.md, "Image denoiser").
+# Two trainings: the kernel predictor without edge-stopping factors (osr_image_kpn_v1, run1),
+# whose weights then start the shipped one with them (osr_image_kpn_v2, run; the same weights).
 #
 #   tools/train_default_denoiser.sh [--quick] [--work DIR] [--osr-vk PATH] [--minutes M] [--install]
 #
@@ -9,7 +11,7 @@
 #                  is not for shipping
 #   --work DIR     where renders and the run go (default: work/denoise in the repository)
 #   --osr-vk PATH  the osr-vk executable (default: build/osr-vk)
-#   --minutes M    training budget (default 45)
+#   --minutes M    budget of each training (default 45)
 #   --install      copy the packed model to models/osr_image_denoiser.osrw and its record to
 #                  models/osr_image_denoiser.json
 #
@@ -34,18 +36,24 @@ done
 ((quick && install)) && { echo "train_default_denoiser.sh: --install: a --quick model is not for shipping" >&2; exit 2; }
 mkdir -p "$work"
 t="$root/tools"
-resume=()
-[ -f "$work/run/checkpoint.pt" ] && resume=(--resume)
+# A run with a checkpoint continues; a finished first run (best.pt and its final checkpoint)
+# is not run again once the second has started.
+resume_of() { [ -f "$1/checkpoint.pt" ] && echo --resume || true; }
 if ((quick)); then
   $py "$t/make_denoise_data.py" "$work/val" --validation --quick --osr-vk "$osrvk"
   $py "$t/make_denoise_data.py" "$work/data" --quick --osr-vk "$osrvk"
-  $py "$t/train_denoiser.py" "$work/data" --val "$work/val" --out "$work/run" --quick "${resume[@]}"
+  train=(--quick)
 else
   $py "$t/make_denoise_data.py" "$work/val" --validation --osr-vk "$osrvk"
   $py "$t/make_denoise_data.py" "$work/data" --seeds 1-28 --cameras 1 --osr-vk "$osrvk"
-  $py "$t/train_denoiser.py" "$work/data" --val "$work/val" --out "$work/run" --arch kpn --k 8 --minutes "$minutes" \
-    "${resume[@]}"
+  train=(--k 8 --minutes "$minutes")
 fi
+if [ ! -f "$work/run/checkpoint.pt" ]; then
+  $py "$t/train_denoiser.py" "$work/data" --val "$work/val" --out "$work/run1" --arch kpn "${train[@]}" \
+    $(resume_of "$work/run1")
+fi
+$py "$t/train_denoiser.py" "$work/data" --val "$work/val" --out "$work/run" --arch kpn2 --init "$work/run1/best.pt" \
+  --lr 1e-3 --eval-s 600 "${train[@]}" $(resume_of "$work/run")
 $py "$t/weights_pack.py" "$work/run/best.pt" "$work/run/model.osrw"
 if ((install)); then
   cp "$work/run/model.osrw" "$root/models/osr_image_denoiser.osrw"

@@ -1,8 +1,10 @@
 #!/usr/bin/python3
-"""Trains the image denoiser (tools/image_unet.py: "osr_image_kpn_v1", the kernel-predicting
-variant, or with --arch unet the direct "osr_image_unet_v1") on noisy renders.
+"""Trains the image denoiser (tools/image_unet.py: "osr_image_kpn_v2", the kernel predictor
+whose kernels are multiplied by fixed normal and depth edge-stopping factors; with --arch kpn
+"osr_image_kpn_v1", without them; with --arch unet the direct "osr_image_unet_v1") on noisy
+renders.
 
-usage: train_denoiser.py DATA [DATA ...] --val VAL --out RUN [--arch kpn|unet] [--k 16]
+usage: train_denoiser.py DATA [DATA ...] --val VAL --out RUN [--arch kpn2|kpn|unet] [--k 16]
                          [--steps N | --minutes M]
                          [--resume] [--batch 8] [--crop 64] [--lr 2e-3] [--threads 2] [--quick]
 
@@ -22,8 +24,9 @@ their sample counts as weights, is a noisy input of that many samples, and the o
 average an independent noisy target with the same expectation (Noise2Noise). The input's
 sample count is drawn log-uniformly over the counts the subsets reach, keeping the target at
 least a quarter of the input's samples; a view with a reference (ref_*.npz) uses it as the
-target instead. Albedo and normal are averaged over the input's renders as the renderer
-averages them. The exposure e is computed on the whole input image (as the renderer does),
+target instead. Albedo, normal and depth are averaged over the input's renders as the
+renderer averages them (a view rendered before depth was kept has one depth.npz for all its
+renders; kpn2 needs depth, the others do not read it). The exposure e is computed on the whole input image (as the renderer does),
 then a random crop (a multiple of 8) is taken and one of the 8 symmetries of the square
 applied to colour, albedo, normal and target alike. Normals are world-space directions:
 turning or mirroring the image does not turn them, so their values are moved with the
@@ -71,6 +74,7 @@ from arg_types import positive_float, positive_int  # noqa: E402
 
 RELMSE_EPSILON = 0.01  # as osr-vk compare (src/image/image_metrics.h)
 MIN_TARGET_SHARE = 0.25  # a Noise2Noise target keeps at least this share of the input's spp
+ARCHS = {"kpn2": "osr_image_kpn_v2", "kpn": "osr_image_kpn_v1", "unet": "osr_image_unet_v1"}  # image_unet's
 
 
 class DataError(Exception):
@@ -106,6 +110,18 @@ class View:
         self.colour = np.stack([r["colour"] for r in renders])  # R x 3 x H x W float32
         self.albedo = np.stack([r["albedo"] for r in renders]).astype(np.float32)
         self.normal = np.stack([r["normal"] for r in renders]).astype(np.float32)
+        # Depth per render, else the view's depth.npz for all of them (make_denoise_data.py),
+        # else none (R x 1 x H x W).
+        self.depth = None
+        if all("depth" in r for r in renders):
+            self.depth = np.stack([r["depth"] for r in renders]).astype(np.float32)
+        elif (folder / "depth.npz").is_file():
+            try:
+                with np.load(folder / "depth.npz") as z:
+                    guide = z["depth"].astype(np.float32)
+            except (OSError, ValueError, KeyError, EOFError) as e:
+                raise DataError(f"{folder / 'depth.npz'}: not a make_denoise_data.py depth render ({e})") from None
+            self.depth = np.broadcast_to(guide, (len(renders), *guide.shape))
         self.ref = None
         self.ref_spp = 0
         if refs:
@@ -114,7 +130,8 @@ class View:
             self.ref = (np.tensordot(weights / weights.sum(), np.stack([r["colour"] for r in loaded]), 1)
                         .astype(np.float32))
             self.ref_spp = int(weights.sum())
-        shapes = {a.shape[-2:] for a in (self.colour, self.albedo, self.normal)}
+        shapes = {a.shape[-2:] for a in (self.colour, self.albedo, self.normal)
+                  + ((self.depth,) if self.depth is not None else ())}
         if len(shapes) != 1 or (self.ref is not None and self.ref.shape[-2:] not in shapes):
             raise DataError(f"{folder}: renders of different sizes")
         self.height, self.width = self.colour.shape[-2:]
@@ -133,39 +150,45 @@ class View:
     def _load(path: Path) -> dict:
         try:
             with np.load(path) as z:
-                return {k: z[k] for k in ("spp", "colour", "albedo", "normal")}
+                out = {k: z[k] for k in ("spp", "colour", "albedo", "normal")}
+                if "depth" in z.files:
+                    out["depth"] = z["depth"]
+                return out
         except (OSError, ValueError, KeyError, EOFError) as e:
             raise DataError(f"{path}: not a make_denoise_data.py render ({e})") from None
 
-    def mean(self, idx: list[int]) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """The spp-weighted mean of renders idx: colour, albedo, normal."""
+    def mean(self, idx: list[int]) -> tuple[np.ndarray, ...]:
+        """The spp-weighted mean of renders idx: colour, albedo, normal, depth (zeros when the
+        view has none)."""
         w = self.spp[idx].astype(np.float32)
         w /= w.sum()
-        return tuple(np.tensordot(w, a[idx], 1) for a in (self.colour, self.albedo, self.normal))
+        depth = self.depth if self.depth is not None else np.zeros_like(self.colour[:, :1])
+        return tuple(np.tensordot(w, a[idx], 1) for a in (self.colour, self.albedo, self.normal, depth))
 
-    def example(self, rng: np.random.Generator) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray, int]:
-        """A random (input colour, albedo, normal, target colour, input spp), whole images."""
+    def example(self, rng: np.random.Generator) -> tuple[np.ndarray, ...]:
+        """A random (input colour, albedo, normal, depth, target colour, input spp), whole images."""
         # Log-uniform over the reachable sample counts: the nearest level to exp(u).
         u = rng.uniform(0, math.log(self.levels[-1] + 0.5))
         level = int(self.levels[np.abs(np.log(self.levels) - u).argmin()])
         choices = self.subsets[level]
         chosen = list(choices[int(rng.integers(len(choices)))])
-        colour, albedo, normal = self.mean(chosen)
+        colour, albedo, normal, depth = self.mean(chosen)
         if self.ref is not None:
             target = self.ref
         else:
             rest = [i for i in range(len(self.spp)) if i not in chosen]
             target = self.mean(rest)[0]
-        return colour, albedo, normal, target, level
+        return colour, albedo, normal, depth, target, level
 
 
 class Dataset:
     """The complete views of make_denoise_data.py folders; reload() picks up views that were
     completed since (a dataset still being rendered)."""
 
-    def __init__(self, folders: list[str], with_reference: bool = False) -> None:
+    def __init__(self, folders: list[str], with_reference: bool = False, need_depth: bool = False) -> None:
         self.folders = [Path(f) for f in folders]
         self.with_reference = with_reference
+        self.need_depth = need_depth
         for f in self.folders:
             if not (f / "dataset.json").is_file():
                 raise DataError(f"{f}: no dataset.json (not a make_denoise_data.py folder)")
@@ -186,7 +209,11 @@ class Dataset:
                     continue  # still being rendered
                 if self.with_reference and not any(view_dir.glob("ref_*.npz")):
                     continue
-                self.views[key] = View(view_dir)
+                view = View(view_dir)
+                if self.need_depth and view.depth is None:
+                    raise DataError(f"{view_dir}: no depth (renders from before depth was kept: run "
+                                    "make_denoise_data.py on the folder again to add depth.npz)")
+                self.views[key] = view
                 added += 1
         self.keys = sorted(self.views)
         return added
@@ -207,33 +234,34 @@ def symmetry(a: np.ndarray, k: int) -> np.ndarray:
 
 
 def make_batch(data: Dataset, rng: np.random.Generator, batch: int, crop: int):
-    """(colour, albedo, normal, e, target) tensors of `batch` random crops, and the mean input spp."""
+    """(colour, albedo, normal, depth, e, target) tensors of `batch` random crops, and the mean
+    input spp."""
     import torch
     from image_unet import image_exposure
-    colours, albedos, normals, targets, es, spps = [], [], [], [], [], []
+    colours, albedos, normals, depths, targets, es, spps = [], [], [], [], [], [], []
     for _ in range(batch):
         view = data.views[data.keys[int(rng.integers(len(data.keys)))]]
-        colour, albedo, normal, target, spp = view.example(rng)
+        colour, albedo, normal, depth, target, spp = view.example(rng)
         es.append(image_exposure(torch.from_numpy(colour)[None]))
         size = min(crop, view.height, view.width) // 8 * 8
         y0 = int(rng.integers(view.height - size + 1))
         x0 = int(rng.integers(view.width - size + 1))
         k = int(rng.integers(8))
         window = (slice(None), slice(y0, y0 + size), slice(x0, x0 + size))
-        for out, a in ((colours, colour), (albedos, albedo), (normals, normal), (targets, target)):
+        for out, a in ((colours, colour), (albedos, albedo), (normals, normal), (depths, depth), (targets, target)):
             out.append(np.ascontiguousarray(symmetry(a[window], k)))
         spps.append(spp)
     e = torch.cat(es)
-    tensors = [torch.from_numpy(np.stack(a)) for a in (colours, albedos, normals)]
+    tensors = [torch.from_numpy(np.stack(a)) for a in (colours, albedos, normals, depths)]
     return (*tensors, e, torch.from_numpy(np.stack(targets)), float(np.mean(spps)))
 
 
-def loss_fn(model, colour, albedo, normal, e, target):
+def loss_fn(model, colour, albedo, normal, depth, e, target):
     import torch
     import image_unet
     scale = e.view(-1, 1, 1, 1)
-    if model.architecture == image_unet.KPN_ARCHITECTURE:
-        y = image_unet.denoise(model, colour, albedo, normal, e) * scale
+    if model.architecture in image_unet.KERNEL_ARCHITECTURES:
+        y = image_unet.denoise(model, colour, albedo, normal, e, depth) * scale
     else:
         x, _ = image_unet.make_input(colour, albedo, normal, e)
         y = torch.expm1(model(x))  # exposure-scaled colour, unclamped (see the docstring)
@@ -245,13 +273,13 @@ def relmse(a: np.ndarray, ref: np.ndarray) -> float:
     return float(np.mean((a.astype(np.float64) - ref) ** 2 / (ref.astype(np.float64) ** 2 + RELMSE_EPSILON)))
 
 
-def denoise(model, colour: np.ndarray, albedo: np.ndarray, normal: np.ndarray) -> np.ndarray:
-    """The network's colour for one whole image (3 x H x W, H and W multiples of 8)."""
+def denoise(model, colour: np.ndarray, albedo: np.ndarray, normal: np.ndarray, depth: np.ndarray) -> np.ndarray:
+    """The network's colour for one whole image (3 x H x W, depth 1 x H x W, H and W multiples of 8)."""
     import torch
     import image_unet
     with torch.no_grad():
-        tensors = (torch.from_numpy(np.ascontiguousarray(a))[None] for a in (colour, albedo, normal))
-        return image_unet.denoise(model, *tensors)[0].numpy()
+        c, a, n, z = (torch.from_numpy(np.ascontiguousarray(x))[None] for x in (colour, albedo, normal, depth))
+        return image_unet.denoise(model, c, a, n, depth=z)[0].numpy()
 
 
 def evaluate(model, val: Dataset) -> dict:
@@ -267,8 +295,8 @@ def evaluate(model, val: Dataset) -> dict:
         top = int(view.spp.argmax())
         ref_noise.append(relmse(view.colour[top], view.ref) / (view.ref_spp / view.spp[top] + 1))
         for i, spp in enumerate(view.spp.tolist()):
-            colour, albedo, normal = view.colour[i], view.albedo[i], view.normal[i]
-            net.setdefault(spp, []).append(relmse(denoise(model, colour, albedo, normal), view.ref))
+            colour, albedo, normal, depth = view.mean([i])
+            net.setdefault(spp, []).append(relmse(denoise(model, colour, albedo, normal, depth), view.ref))
             noisy.setdefault(spp, []).append(relmse(colour, view.ref))
     model.train()
     every = [v for vs in net.values() for v in vs]
@@ -301,12 +329,14 @@ def write_synthetic(folder: Path, seed: int, views: int, size: int, spp_list: li
         albedo = np.full((3, size, size), 0.5, np.float32)
         normal = np.zeros((3, size, size), np.float32)
         normal[1] = 1
+        depth = (2.0 + xx)[None].astype(np.float32)
         for _ in range(4):
             y0, x0 = rng.integers(0, size - 4, 2)
             h, w = rng.integers(4, size // 2, 2)
             albedo[:, y0:y0 + h, x0:x0 + w] = rng.uniform(0.1, 0.9, (3, 1, 1))
             n = rng.normal(size=3)
             normal[:, y0:y0 + h, x0:x0 + w] = (n / np.linalg.norm(n))[:, None, None]
+            depth[:, y0:y0 + h, x0:x0 + w] -= rng.uniform(0.2, 1.0)
         light = (0.5 + xx + 0.5 * yy).astype(np.float32)
         clean = albedo * light
         name = f"{seed * 100 + v}_c0"
@@ -315,7 +345,7 @@ def write_synthetic(folder: Path, seed: int, views: int, size: int, spp_list: li
         def write(file: str, spp: int) -> None:
             noisy = rng.gamma(spp, 1.0 / spp, clean.shape).astype(np.float32) * clean
             np.savez(folder / name / file, spp=np.int32(spp), seed=np.int64(0), seconds=np.float32(0),
-                     colour=noisy, albedo=albedo.astype(np.float16), normal=normal.astype(np.float16))
+                     colour=noisy, albedo=albedo.astype(np.float16), normal=normal.astype(np.float16), depth=depth)
         for i, spp in enumerate(spp_list):
             write(f"in_{i}_{spp}.npz", spp)
         if ref_spp:
@@ -339,8 +369,12 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--val", help="validation folder (other interiors, with references)")
     p.add_argument("--out", required=True, help="run folder")
     p.add_argument("--resume", action="store_true", help="continue the run in --out from its checkpoint.pt")
-    p.add_argument("--arch", choices=("kpn", "unet"), default="kpn",
-                   help="kpn: the network predicts filter kernels (shipped); unet: it predicts the colour")
+    p.add_argument("--init", metavar="CHECKPOINT",
+                   help="start from this checkpoint's weights (a best.pt of the same width; kpn and kpn2 "
+                   "have the same weights, so a trained kpn model can start a kpn2 run)")
+    p.add_argument("--arch", choices=tuple(ARCHS), default="kpn2",
+                   help="kpn2: the network predicts filter kernels, multiplied by fixed normal and depth "
+                   "edge-stopping factors (default); kpn: without them; unet: it predicts the colour")
     p.add_argument("--k", type=positive_int, default=16, help="base width K of the U-Net (default 16)")
     p.add_argument("--minutes", type=positive_float, default=30.0, help="training time budget (default 30)")
     p.add_argument("--steps", type=positive_int, help="a budget in steps instead of time")
@@ -395,7 +429,10 @@ def main(argv: list[str] | None = None) -> int:
         p.error("DATA and --val are required (unless --quick; --evaluate needs only --val)")
     if args.evaluate:
         return evaluate_checkpoint(args.evaluate, args.val, run, args.record)
-    train, val = Dataset(args.data), Dataset([args.val], with_reference=True)
+    architecture = ARCHS[args.arch]
+    guided = architecture == image_unet.GUIDED_ARCHITECTURE
+    train = Dataset(args.data, need_depth=guided)
+    val = Dataset([args.val], with_reference=True, need_depth=guided)
     if not train.keys:
         raise DataError(f"{', '.join(args.data)}: no complete views yet")
     if not val.keys:
@@ -406,20 +443,33 @@ def main(argv: list[str] | None = None) -> int:
                         "(validation must be other interiors)")
     run.mkdir(parents=True, exist_ok=True)
     torch.manual_seed(args.seed)
-    architecture = image_unet.KPN_ARCHITECTURE if args.arch == "kpn" else image_unet.ARCHITECTURE
     model = image_unet.ImageUNet(args.k, architecture)
     # Start as a mild blur: the direct variant's head at log1p(0.18), the exposure key, so the
     # first steps do not spend themselves lifting a dark output; each kernel's centre tap at
-    # about 0.7 of its weight.
-    with torch.no_grad():
-        head = model.dec0[-1]
-        head.weight.mul_(0.1)
-        if args.arch == "unet":
-            head.bias.fill_(math.log1p(image_unet.EXPOSURE_KEY))
-        else:
-            taps = image_unet.KERNEL_SIZE ** 2
-            head.bias.copy_(torch.tensor([4.0 if i % taps == taps // 2 else 0.0
-                                          for i in range(image_unet.KPN_OUT_CHANNELS)]))
+    # about 0.7 of its weight. Or from --init's weights.
+    if args.init and not args.resume:
+        try:
+            start_from = torch.load(args.init, map_location="cpu")
+            start_arch = image_unet.architecture_of(start_from["model"], start_from.get("architecture"))
+            kernels = image_unet.KERNEL_ARCHITECTURES
+            if (start_arch in kernels) != (architecture in kernels):
+                raise DataError(f"--init {args.init}: a {start_arch} model cannot start a {architecture} run")
+            model.load_state_dict(start_from["model"])
+        except DataError:
+            raise
+        except Exception as e:  # torch raises many kinds for a file that is not a checkpoint
+            raise DataError(f"--init {args.init}: not an image denoiser checkpoint of K={args.k} "
+                            f"({type(e).__name__})") from None
+    else:
+        with torch.no_grad():
+            head = model.dec0[-1]
+            head.weight.mul_(0.1)
+            if args.arch == "unet":
+                head.bias.fill_(math.log1p(image_unet.EXPOSURE_KEY))
+            else:
+                taps = image_unet.KERNEL_SIZE ** 2
+                head.bias.copy_(torch.tensor([4.0 if i % taps == taps // 2 else 0.0
+                                              for i in range(image_unet.KPN_OUT_CHANNELS)]))
     opt = torch.optim.Adam(model.parameters(), lr=args.lr)
     ema = image_unet.ImageUNet(args.k, architecture)
     ema.load_state_dict(model.state_dict())
@@ -441,6 +491,7 @@ def main(argv: list[str] | None = None) -> int:
     meta = {"architecture": architecture, "stage": image_unet.STAGE, "base_width": args.k,
             "inputs": ",".join(image_unet.INPUTS), "input_transform": image_unet.INPUT_TRANSFORM,
             "loss_kind": "relmse_exposed_n2n", "datasets": ",".join(Path(d).name for d in args.data),
+            "init": Path(args.init).parent.name + "/" + Path(args.init).name if args.init else "",
             "validation": Path(args.val).name,
             "batch": args.batch, "crop": args.crop, "lr": args.lr, "git_commit": git_commit(),
             "quick": bool(args.quick)}
@@ -487,6 +538,8 @@ def main(argv: list[str] | None = None) -> int:
             return state["step"] / args.steps
         return (time.monotonic() - start) / budget
 
+    if args.init and state["step"] == 0:
+        validate()  # the starting weights are a candidate too
     while True:
         elapsed = time.monotonic() - start
         frac = done_fraction()
@@ -494,8 +547,8 @@ def main(argv: list[str] | None = None) -> int:
             break
         for group in opt.param_groups:  # cosine decay over the budget
             group["lr"] = args.lr * 0.5 * (1 + math.cos(math.pi * frac))
-        colour, albedo, normal, e, target, _ = make_batch(train, rng, args.batch, args.crop)
-        loss = loss_fn(model, colour, albedo, normal, e, target)
+        colour, albedo, normal, depth, e, target, _ = make_batch(train, rng, args.batch, args.crop)
+        loss = loss_fn(model, colour, albedo, normal, depth, e, target)
         opt.zero_grad()
         loss.backward()
         torch.nn.utils.clip_grad_norm_(model.parameters(), 1.0)
@@ -546,11 +599,12 @@ def evaluate_checkpoint(path: str, val_folder: str, run: Path, record_path: str 
     try:
         ck = torch.load(path, map_location="cpu")
         model = image_unet.ImageUNet(image_unet.base_width(ck["model"]),
-                                     image_unet.architecture_of(ck["model"]))
+                                     image_unet.architecture_of(ck["model"], ck.get("architecture")))
         model.load_state_dict(ck["model"])
     except Exception as e:  # torch raises many kinds for a file that is not a checkpoint
         raise DataError(f"{path}: not an image denoiser checkpoint ({type(e).__name__})") from None
-    val = Dataset([val_folder], with_reference=True)
+    val = Dataset([val_folder], with_reference=True,
+                  need_depth=model.architecture == image_unet.GUIDED_ARCHITECTURE)
     if not val.keys:
         raise DataError(f"{val_folder}: no view with a reference (make_denoise_data.py --validation)")
     final = evaluate(model, val)

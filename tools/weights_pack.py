@@ -9,8 +9,10 @@ module) of one of two architectures, told apart by its keys (and by the checkpoi
 - tools/unet.py's UNet ("osr_unet_v1", stage "map_denoiser"), the seed's attribute names
   (encoder0..encoder3, decoder0..decoder2);
 - tools/image_unet.py's ImageUNet (stage "image_denoiser": colour, albedo, normal in with the
-  exposure_log1p transform, layers in image_unet.LAYERS order), "osr_image_kpn_v1" (kernel
-  logits out) or "osr_image_unet_v1" (colour out), told apart by its head's output channels.
+  exposure_log1p transform, layers in image_unet.LAYERS order), "osr_image_kpn_v2" or
+  "osr_image_kpn_v1" (kernel logits out; the same weights, so a v2 checkpoint says so in its
+  "architecture" entry) or "osr_image_unet_v1" (colour out), told apart by its head's output
+  channels.
 Either for any base width K. For the map U-Net, each BatchNorm (eval statistics) becomes the
 per-channel scale and shift that the preceding convolution's epilogue applies after its
 activation; each stride-1 ConvTranspose2d becomes the equivalent plain convolution (kernel
@@ -102,7 +104,7 @@ def detect_architecture(path: str, state: dict, declared) -> str:
         raise PackError(f"{path}: neither U-Net (no enc0.0.weight or encoder0.0.weight key)")
     if found == "image":
         try:
-            found = image_unet.architecture_of(state)
+            found = image_unet.architecture_of(state, declared)
         except ValueError as e:
             raise PackError(f"{path}: {e}") from None
     if declared is not None and declared != found:
@@ -190,9 +192,10 @@ def header_fields(model, k: int, fmt: dict, metadata: dict) -> dict:
     if isinstance(model, image_unet.ImageUNet):
         for key in ("inputs", "input_transform"):
             metadata.pop(key, None)
-        kpn = model.architecture == image_unet.KPN_ARCHITECTURE
-        return {"stage": fmt["kStageImageDenoiser"],
-                "architecture": fmt["kImageKpnArchitecture" if kpn else "kImageArchitecture"],
+        kpn = model.architecture in image_unet.KERNEL_ARCHITECTURES
+        arch = {image_unet.GUIDED_ARCHITECTURE: "kImageGuidedKpnArchitecture",
+                image_unet.KPN_ARCHITECTURE: "kImageKpnArchitecture"}.get(model.architecture, "kImageArchitecture")
+        return {"stage": fmt["kStageImageDenoiser"], "architecture": fmt[arch],
                 "base_width": k, "in_channels": fmt["kImageInChannels"],
                 "out_channels": fmt["kImageKpnOutChannels" if kpn else "kOutChannels"],
                 "multiple": fmt["kImageMultiple"],
@@ -265,20 +268,22 @@ def checkpoint_metadata(path: str, obj) -> dict:
     return meta
 
 
-def golden_image_denoise(model, colour, albedo, normal):
-    """The renderer's image denoising in PyTorch (1 x 3 x H x W each, any H, W): pad to
-    multiples of 8 by repeating the last row and column, exposure over the padded image, the
-    network, the output transform or the predicted kernels, crop."""
+def golden_image_denoise(model, colour, albedo, normal, depth=None):
+    """The renderer's image denoising in PyTorch (1 x 3 x H x W each, depth 1 x 1 x H x W, any
+    H, W): pad to multiples of 8 by repeating the last row and column, exposure over the
+    padded image, the network, the output transform or the predicted kernels, crop."""
     import image_unet
     import torch.nn.functional as F
     h, w = colour.shape[2], colour.shape[3]
     m = image_unet.MULTIPLE
     pad = (0, -w % m, 0, -h % m)
     padded = [F.pad(t, pad, mode="replicate") for t in (colour, albedo, normal)]
-    return image_unet.denoise(model, *padded)[:, :, :h, :w]
+    z = F.pad(depth, pad, mode="replicate") if depth is not None else None
+    return image_unet.denoise(model, *padded, depth=z)[:, :, :h, :w]
 
 
 def write_image_golden(model, directory: str, size: tuple[int, int], seed: int, k: int) -> None:
+    import image_unet
     import torch
     os.makedirs(directory, exist_ok=True)
     g = torch.Generator().manual_seed(seed)
@@ -288,9 +293,24 @@ def write_image_golden(model, directory: str, size: tuple[int, int], seed: int, 
     colour = colour * (torch.rand((1, 1, h, w), generator=g) > 0.05)
     albedo = torch.rand((1, 3, h, w), generator=g)
     normal = torch.nn.functional.normalize(torch.randn((1, 3, h, w), generator=g), dim=1)
+    layers = [("colour", colour), ("albedo", albedo), ("normal", normal)]
+    depth = None
+    if model.architecture == image_unet.GUIDED_ARCHITECTURE:
+        # Geometry the edge-stopping factors act on: four tilted planes (slightly noisy normals,
+        # a depth ramp with a step at each band's edge) and a few misses (depth 0).
+        band = (torch.arange(w) * 4 // w).view(1, 1, 1, w).expand(1, 1, h, w)
+        faces = torch.nn.functional.normalize(torch.randn((4, 3), generator=g), dim=1)
+        faces[:, 2] = faces[:, 2].abs()  # facing the camera, roughly
+        noisy = faces[band[0, 0]].permute(2, 0, 1)[None] + 0.05 * torch.randn((1, 3, h, w), generator=g)
+        normal = torch.nn.functional.normalize(noisy, dim=1)
+        x = torch.arange(w, dtype=torch.float32).view(1, 1, 1, w)
+        y0 = torch.arange(h, dtype=torch.float32).view(1, 1, h, 1)
+        depth = 2.0 + band.float() * 0.7 + 0.03 * x + 0.02 * y0 + 0.001 * torch.randn((1, 1, h, w), generator=g)
+        depth = depth * (torch.rand((1, 1, h, w), generator=g) > 0.03)
+        layers = [("colour", colour), ("albedo", albedo), ("normal", normal), ("depth", depth)]
     with torch.no_grad():
-        y = golden_image_denoise(model.float(), colour, albedo, normal)
-    for name, t in (("colour", colour), ("albedo", albedo), ("normal", normal), ("output", y)):
+        y = golden_image_denoise(model.float(), colour, albedo, normal, depth)
+    for name, t in (*layers, ("output", y)):
         Path(directory, name + ".f32").write_bytes(t.numpy().astype("<f4").tobytes())
     Path(directory, "golden.json").write_text(json.dumps(
         {"base_width": k, "width": w, "height": h, "seed": seed, "torch": torch.__version__},

@@ -74,6 +74,17 @@ OSR_CONST(uint, kKernelTaps, 25);
 OSR_CONST(float, kKernelDemodulateMin, 0.01);
 OSR_CONST(uint, kSpecKernelFirst, 0);
 OSR_CONST(uint, kSpecKernelLast, 1);
+// osr_image_kpn_v2 (image_unet.guide_logits): each tap's weight times the fixed edge-stopping
+// factors of the a-trous filter, max(cos, kGuideCosMin)^kGuideSigmaNormal between the unit
+// normals and exp(-|z_p - z_q| / (kGuideSigmaDepth |grad z_p| |p - q| + kGuideDepthFloor z_p)),
+// |grad z| from the smaller one-sided difference per axis (kGuideSlopeNone past the edge);
+// a miss (depth 0) only with misses. Added to the logits as their logarithm.
+OSR_CONST(uint, kSpecKernelGuided, 2);
+OSR_CONST(float, kGuideSigmaNormal, 128.0);
+OSR_CONST(float, kGuideSigmaDepth, 1.0);
+OSR_CONST(float, kGuideDepthFloor, 1e-3);
+OSR_CONST(float, kGuideCosMin, 1e-30);
+OSR_CONST(float, kGuideSlopeNone, 1e30);
 
 OSR_NAMESPACE_END
 #endif

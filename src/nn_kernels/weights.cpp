@@ -412,9 +412,12 @@ ImageUNetWeights ImageUNetWeights::load(const std::string& path) {
 ImageUNetWeights ImageUNetWeights::parse(std::span<const uint8_t> file, const std::string& path) {
   return parseWith<ImageUNetWeights>(file, path, [&](const Packed& p, ImageUNetWeights& w) {
     const nlohmann::json& header = p.header;
-    const bool kpn = header.value("architecture", std::string()) == kImageKpnArchitecture;
-    requireStage(path, header, kStageImageDenoiser, kpn ? kImageKpnArchitecture : kImageArchitecture);
-    w.architecture = kpn ? kImageKpnArchitecture : kImageArchitecture;
+    // Any of the three image architectures; requireStage names the file's when it is none.
+    const std::string declared = header.value("architecture", std::string());
+    w.architecture = declared == kImageGuidedKpnArchitecture ? kImageGuidedKpnArchitecture
+                     : declared == kImageKpnArchitecture    ? kImageKpnArchitecture
+                                                            : kImageArchitecture;
+    requireStage(path, header, kStageImageDenoiser, w.architecture.c_str());
     w.k = readBaseWidth(path, header);
     // The renderer feeds the first-hit colour, albedo and normal; a model asking for anything
     // else (or another order or transform) cannot be fed by any mode.

@@ -81,12 +81,14 @@ extern const ImageConvSpec kImageConvSpecs[kImageConvCount];
 
 struct ImageUNetWeights {
   uint32_t k = 0;
-  // kImageKpnArchitecture (kernel logits out) or kImageArchitecture (colour out).
+  // kImageGuidedKpnArchitecture or kImageKpnArchitecture (kernel logits out; the first's
+  // kernels are multiplied by fixed normal and depth factors) or kImageArchitecture (colour out).
   std::string architecture = kImageKpnArchitecture;
   std::string source;
   std::vector<ConvWeights> convs;  // kImageConvSpecs order, no BatchNorm
 
-  bool predictsKernels() const { return architecture == kImageKpnArchitecture; }
+  bool predictsKernels() const { return architecture == kImageKpnArchitecture || guided(); }
+  bool guided() const { return architecture == kImageGuidedKpnArchitecture; }
   uint32_t outChannels() const { return predictsKernels() ? kImageKpnOutChannels : kOutChannels; }
   // Random weights (uniform, variance 2 / fan_in; biases in +-0.1) for tests and benchmarks.
   static ImageUNetWeights random(uint32_t k, uint32_t seed,

@@ -49,6 +49,9 @@ inline constexpr char kImageArchitecture[] = "osr_image_unet_v1";
 // The kernel-predicting image denoiser: the same network and input, 100 outputs, the logits of
 // four 5 x 5 kernels applied in turn to the albedo-demodulated colour (shared/denoise.h).
 inline constexpr char kImageKpnArchitecture[] = "osr_image_kpn_v1";
+// The same network, input and outputs; each kernel tap's weight is multiplied by fixed normal
+// and depth edge-stopping factors (image_unet.guide_logits), so it also reads the depth.
+inline constexpr char kImageGuidedKpnArchitecture[] = "osr_image_kpn_v2";
 inline constexpr uint32_t kImageKpnOutChannels = 100;
 inline constexpr uint32_t kImageInChannels = 9;
 inline constexpr uint32_t kImageMultiple = 8;

@@ -50,10 +50,11 @@ class NetOutputPass {
 // One level of the kernel-predicting network's kernels on a tile (denoise_kernel_apply.comp):
 // the first reads the image colour (b.colour) and demodulates it, the others the previous
 // level's tile buffer (b.colour); the last writes the core's re-modulated colour to the image
-// (b.out), the others the whole tile to a tile buffer (b.out). b.tensor: the logits.
+// (b.out), the others the whole tile to a tile buffer (b.out). b.tensor: the logits. guided
+// (osr_image_kpn_v2): each tap's weight times the fixed normal and depth factors.
 class KernelApplyPass {
  public:
-  KernelApplyPass(const vk::Context& ctx, bool first, bool last);
+  KernelApplyPass(const vk::Context& ctx, bool first, bool last, bool guided);
   void record(VkCommandBuffer cmd, const DenoiseBindings& b, const gpu::denoise::DenoisePush& push) const;
 
  private:

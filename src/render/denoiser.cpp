@@ -123,9 +123,10 @@ NetworkDenoiser::NetworkDenoiser(const vk::Context& ctx, const nn::ImageUNetWeig
   sums_ = vk::Buffer(ctx, sizeof(g::ExposureSums) * (g::kExposurePartials + 1), vk::MemoryUse::DeviceLocal,
                      "denoise exposure");
   if (kernels) {
-    firstKernel_.emplace(ctx, true, false);
-    middleKernel_.emplace(ctx, false, false);
-    lastKernel_.emplace(ctx, false, true);
+    const bool guided = weights.guided();
+    firstKernel_.emplace(ctx, true, false, guided);
+    middleKernel_.emplace(ctx, false, false, guided);
+    lastKernel_.emplace(ctx, false, true, guided);
     const VkDeviceSize bytes = VkDeviceSize(largest) * largest * 16;
     kernelPing_ = vk::Buffer(ctx, bytes, vk::MemoryUse::DeviceLocal, "denoise kernel ping");
     kernelPong_ = vk::Buffer(ctx, bytes, vk::MemoryUse::DeviceLocal, "denoise kernel pong");

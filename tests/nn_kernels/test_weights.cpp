@@ -265,13 +265,15 @@ TEST(Weights, PackerDetectsTheArchitecture) {
   const fs::path dir = test::tempDir("weights_stages");
   const std::string tools = std::string(OSR_SOURCE_DIR) + "/tools";
   const std::string image = (dir / "image.pt").string(), liar = (dir / "liar.pt").string();
-  const std::string kpn = (dir / "kpn.pt").string();
+  const std::string kpn = (dir / "kpn.pt").string(), kpn2 = (dir / "kpn2.pt").string();
   const std::string make =
       std::string(py) + " -c \"import sys; sys.path.insert(0, '" + tools + "'); import image_unet, torch; " +
       "m = image_unet.ImageUNet(4, 'osr_image_unet_v1'); image_unet.randomize(m, 3); " +
       "torch.save({'model': m.state_dict(), 'architecture': 'osr_image_unet_v1', 'base_width': 4, 'epoch': 7}, '" +
       image + "'); torch.save({'model': m.state_dict(), 'architecture': 'osr_unet_v1'}, '" + liar + "'); " +
-      "torch.save({'model': image_unet.ImageUNet(4).state_dict()}, '" + kpn + "')\"";
+      "torch.save({'model': image_unet.ImageUNet(4).state_dict()}, '" + kpn + "'); " +
+      "torch.save({'model': image_unet.ImageUNet(4).state_dict(), 'architecture': 'osr_image_kpn_v2'}, '" + kpn2 +
+      "')\"";
   ASSERT_EQ(std::system(make.c_str()), 0);
   const std::string packed = (dir / "image.osrw").string();
   ASSERT_EQ(std::system((std::string(py) + " " + tools + "/weights_pack.py " + image + " " + packed).c_str()), 0);
@@ -283,7 +285,15 @@ TEST(Weights, PackerDetectsTheArchitecture) {
   ASSERT_EQ(std::system((std::string(py) + " " + tools + "/weights_pack.py " + kpn + " " + packedKpn).c_str()), 0);
   const nn::ImageUNetWeights k = nn::ImageUNetWeights::load(packedKpn);
   EXPECT_TRUE(k.predictsKernels());
+  EXPECT_FALSE(k.guided());
   EXPECT_EQ(k.convs.back().cout, nn::kImageKpnOutChannels);
+  // The guided kernels have the same weights: the checkpoint's "architecture" tells them apart.
+  const std::string packedKpn2 = (dir / "kpn2.osrw").string();
+  ASSERT_EQ(std::system((std::string(py) + " " + tools + "/weights_pack.py " + kpn2 + " " + packedKpn2).c_str()), 0);
+  const nn::ImageUNetWeights k2 = nn::ImageUNetWeights::load(packedKpn2);
+  EXPECT_TRUE(k2.predictsKernels());
+  EXPECT_TRUE(k2.guided());
+  EXPECT_EQ(k2.architecture, nn::kImageGuidedKpnArchitecture);
   auto text = readFile(packed);
   EXPECT_NE(std::string(text.begin(), text.end()).find("\"epoch\":7"), std::string::npos);
   const std::string err = (dir / "err.txt").string();

@@ -48,14 +48,26 @@ render::FilmLayers film(int w, int h) {
   return f;
 }
 
-// A random HDR image with random guides.
-render::FilmLayers randomFilm(int w, int h, uint32_t seed) {
+// A random HDR image with random guides; with `surfaces`, normals and depth of tilted planes
+// in vertical bands (slightly noisy normals, a depth ramp stepping at each band) and a few
+// misses, so that the guided kernels' edge-stopping factors are neither all 1 nor all 0.
+render::FilmLayers randomFilm(int w, int h, uint32_t seed, bool surfaces = false) {
   render::FilmLayers f = film(w, h);
   std::mt19937 rng(seed);
   std::uniform_real_distribution<float> uni(0.0f, 1.0f);
   for (float& v : f.combined) v = std::exp(4.0f * uni(rng) - 2.0f);
   for (float& v : f.albedo) v = uni(rng);
   for (float& v : f.normal) v = 2.0f * uni(rng) - 1.0f;
+  if (!surfaces) return f;
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const size_t i = size_t(y) * w + x;
+      const int band = x * 5 / w;
+      f.normal[3 * i] = 0.3f * float(band - 2) + 0.05f * (uni(rng) - 0.5f);
+      f.normal[3 * i + 1] = 0.05f * (uni(rng) - 0.5f);
+      f.normal[3 * i + 2] = 1.0f;
+      f.depth[i] = uni(rng) < 0.03f ? 0.0f : 2.0f + 0.5f * float(band) + 0.01f * float(x + y);
+    }
   return f;
 }
 
@@ -98,8 +110,11 @@ double maxAbsDiff(const std::vector<float>& a, const std::vector<float>& b) {
 
 }  // namespace
 
-// tests/data/image_{unet,kpn}_k8_golden: a 37 x 21 image (padded to 40 x 24) through PyTorch,
-// by a direct model and a kernel-predicting one (random weights, tools/weights_pack.py --golden).
+// tests/data/image_{unet,kpn,kpn2}_k8_golden: a 37 x 21 image (padded to 40 x 24) through
+// PyTorch, by a direct model and kernel-predicting ones without and with the fixed edge-stopping
+// factors (random weights, tools/weights_pack.py --golden; the kpn2 one from
+// image_unet.randomize(ImageUNet(8, "osr_image_kpn_v2"), 3) saved with its "architecture",
+// whose golden image has banded normals, a stepped depth ramp and misses: depth.f32).
 void expectGolden(const std::string& name) {
   const nn::ImageUNetWeights w = nn::ImageUNetWeights::load(test::dataPath(name + ".osrw"));
   const int width = 37, height = 21;
@@ -108,6 +123,7 @@ void expectGolden(const std::string& name) {
   f.combined = interleave(readFloats(test::dataPath(name + "_golden/colour.f32")), n);
   f.albedo = interleave(readFloats(test::dataPath(name + "_golden/albedo.f32")), n);
   f.normal = interleave(readFloats(test::dataPath(name + "_golden/normal.f32")), n);
+  if (w.guided()) f.depth = readFloats(test::dataPath(name + "_golden/depth.f32"));
   const std::vector<float> want = interleave(readFloats(test::dataPath(name + "_golden/output.f32")), n);
   const std::vector<float> got = runNetwork(w, f, 0);
   const double err = maxAbsDiff(got, want);
@@ -118,12 +134,13 @@ void expectGolden(const std::string& name) {
 
 TEST(Denoiser, NetworkMatchesPyTorchGolden) { expectGolden("image_unet_k8"); }
 TEST(Denoiser, KernelNetworkMatchesPyTorchGolden) { expectGolden("image_kpn_k8"); }
+TEST(Denoiser, GuidedKernelNetworkMatchesPyTorchGolden) { expectGolden("image_kpn2_k8"); }
 
 // Tiles against one tile: the same image, when every margin holds the receptive field.
 void expectTiledEqualsUntiled(const std::string& architecture, int width, int height, uint32_t tile,
                               size_t wantTiles) {
   const nn::ImageUNetWeights w = nn::ImageUNetWeights::random(8, 77, architecture);
-  const render::FilmLayers f = randomFilm(width, height, 5);
+  const render::FilmLayers f = randomFilm(width, height, 5, w.guided());
   size_t tiles = 0, one = 0;
   const std::vector<float> tiled = runNetwork(w, f, tile, &tiles);
   const std::vector<float> whole = runNetwork(w, f, 0, &one);
@@ -143,6 +160,9 @@ TEST(Denoiser, TiledEqualsUntiled) { expectTiledEqualsUntiled(nn::kImageArchitec
 // ceil(250 / 56) x ceil(220 / 56).
 TEST(Denoiser, KernelTiledEqualsUntiled) {
   expectTiledEqualsUntiled(nn::kImageKpnArchitecture, 250, 220, 200, 5u * 4u);
+}
+TEST(Denoiser, GuidedKernelTiledEqualsUntiled) {
+  expectTiledEqualsUntiled(nn::kImageGuidedKpnArchitecture, 250, 220, 200, 5u * 4u);
 }
 
 TEST(Denoiser, TilesCoverTheImageOnce) {

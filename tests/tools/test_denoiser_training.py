@@ -2,9 +2,12 @@
 """The image denoiser's training side, small: the symmetries move colour, albedo, normal and
 target together and leave the (world-space) normals' values alone; a Noise2Noise example's
 input and target are spp-weighted means of disjoint renders; train_denoiser.py --quick trains,
-validates, writes the checkpoint the packer reads and resumes; bad data and options are one
-line, exit 2; tools/train_default_denoiser.sh --quick renders real interiors with osr-vk,
-trains and packs, and a second make_denoise_data.py run renders nothing.
+validates, writes the checkpoint the packer reads and resumes, and --init starts the guided
+kernels (osr_image_kpn_v2) from a kpn_v1 run; the guided kernels do not average across a
+geometric edge; a view without depth takes its depth.npz, and kpn2 refuses data with neither;
+bad data and options are one line, exit 2; tools/train_default_denoiser.sh --quick renders
+real interiors with osr-vk, trains and packs, a second make_denoise_data.py run renders
+nothing, and renders from before depth was kept get a depth.npz that matches their depth.
 
 Run by CTest (tools/test_denoiser_training) with OSR_BINARY_DIR naming the build folder.
 """
@@ -60,7 +63,8 @@ class Examples(unittest.TestCase):
         rng = np.random.default_rng(3)
         moved = 0
         for _ in range(12):
-            colour, albedo, normal, e, target, _ = td.make_batch(data, rng, 2, 24)
+            colour, albedo, normal, depth, e, target, _ = td.make_batch(data, rng, 2, 24)
+            np.testing.assert_array_equal(depth.numpy(), 0.0)  # a view without depth gets zeros
             np.testing.assert_allclose(colour.numpy(), albedo.numpy(), rtol=2e-3, atol=1e-4)
             np.testing.assert_allclose(target.numpy(), albedo.numpy(), rtol=2e-3, atol=1e-4)
             n = normal.numpy()
@@ -81,7 +85,7 @@ class Examples(unittest.TestCase):
         rng = np.random.default_rng(1)
         seen = set()
         for _ in range(200):
-            colour, _, _, target, spp = view.example(rng)
+            colour, _, _, _, target, spp = view.example(rng)
             seen.add(spp)
             # Recover the subset from the level (binary, as the counts are powers of two).
             chosen = [i for i in range(4) if spp >> i & 1]
@@ -95,17 +99,60 @@ class Examples(unittest.TestCase):
         self.assertIn(1, seen)
         self.assertTrue(any(s >= 8 for s in seen), f"only low counts drawn: {sorted(seen)}")
 
+    def test_depth_per_render_or_from_the_views_depth_npz(self):
+        flat = np.zeros((3, 8, 8), np.float32)
+        with tempfile.TemporaryDirectory() as tmp:
+            write_view(Path(tmp), "1_c0", [1, 2], lambda i: flat, flat, flat)
+            self.assertIsNone(td.View(Path(tmp) / "1_c0").depth)
+            with self.assertRaisesRegex(td.DataError, "1_c0: no depth"):
+                (Path(tmp) / "dataset.json").write_text('{"spp_list": [1, 2], "views": {"1_c0": {}}}')
+                td.Dataset([tmp], need_depth=True)
+            np.savez(Path(tmp) / "1_c0" / "depth.npz", depth=np.full((1, 8, 8), 3.0, np.float32))
+            view = td.View(Path(tmp) / "1_c0")
+            self.assertEqual(view.depth.shape, (2, 1, 8, 8))
+            np.testing.assert_array_equal(view.mean([0, 1])[3], 3.0)
+
+
+class GuidedKernels(unittest.TestCase):
+    def test_no_average_across_a_geometric_edge(self):
+        # Two halves of one albedo facing different ways (then: at different depths, facing the
+        # same way), lit 1 and 0.1, with noise, through uniform kernels: without the guides the
+        # edge smears; with them each half keeps its level up to the edge.
+        import torch
+        import image_unet
+        rng = np.random.default_rng(5)
+        h, w = 16, 32
+        left = np.zeros((1, 1, h, w), bool)
+        left[..., : w // 2] = True
+        colour = np.where(left, 1.0, 0.1) * rng.uniform(0.5, 1.5, (1, 3, h, w))
+        albedo = np.full((1, 3, h, w), 0.5)
+        turned = np.where(left, np.array([0, 0, 1.0]).reshape(1, 3, 1, 1), np.array([1.0, 0, 0]).reshape(1, 3, 1, 1))
+        facing = np.broadcast_to(np.array([0, 0, 1.0]).reshape(1, 3, 1, 1), (1, 3, h, w))
+        plane = 2.0 + 0.01 * np.arange(w).reshape(1, 1, 1, w) * np.ones((1, 1, h, 1))
+        stepped = plane + np.where(left, 0.0, 1.0)
+        t = lambda a: torch.from_numpy(np.ascontiguousarray(a, np.float32))  # noqa: E731
+        c, a = t(colour), t(albedo)
+        e = image_unet.image_exposure(c)
+        logits = torch.zeros(1, image_unet.KPN_OUT_CHANNELS, h, w)
+        edge = slice(w // 2 - 3, w // 2 + 3)
+        truth = np.where(left, 1.0, 0.1)[0, 0, :, edge]
+        plain = image_unet.apply_kernels(logits, c, a, e)[0, 1, :, edge].numpy()
+        self.assertGreater(np.abs(plain / truth - 1).max(), 1.0)  # the dark side gets the bright one's light
+        for normal, depth in ((turned, plane), (facing, stepped)):
+            out = image_unet.apply_kernels(logits, c, a, e, guides=(t(normal), t(depth)))[0, 1, :, edge].numpy()
+            self.assertLess(np.abs(out / truth - 1).max(), 0.15)
+
 
 class QuickTraining(unittest.TestCase):
     def test_quick_run_checkpoint_resume(self):
         import torch
-        from image_unet import KPN_ARCHITECTURE, ImageUNet
+        from image_unet import GUIDED_ARCHITECTURE, ImageUNet
         with tempfile.TemporaryDirectory() as tmp:
             out = Path(tmp) / "run"
             r = run([PY, TOOLS / "train_denoiser.py", "--out", out, "--quick"])
             self.assertIn("1 spp: relMSE", r.stderr)
             best = torch.load(out / "best.pt", map_location="cpu")
-            self.assertEqual(best["architecture"], KPN_ARCHITECTURE)
+            self.assertEqual(best["architecture"], GUIDED_ARCHITECTURE)
             for key in ("epoch", "step", "loss", "val_relmse", "val_relmse_1spp", "val_noisy_relmse_1spp"):
                 self.assertIn(key, best)
             model = ImageUNet(best["base_width"], best["architecture"])
@@ -118,6 +165,24 @@ class QuickTraining(unittest.TestCase):
             r = run([PY, TOOLS / "train_denoiser.py", "--out", out, "--quick", "--resume", "--steps", "8"])
             self.assertIn("resuming", r.stderr)
             self.assertEqual(torch.load(out / "checkpoint.pt", map_location="cpu")["state"]["step"], 8)
+
+    def test_init_from_a_kpn_v1_run(self):
+        import torch
+        from image_unet import GUIDED_ARCHITECTURE
+        with tempfile.TemporaryDirectory() as tmp:
+            t = Path(tmp)
+            run([PY, TOOLS / "train_denoiser.py", "--out", t / "v1", "--quick", "--arch", "kpn"])
+            v1 = torch.load(t / "v1" / "best.pt", map_location="cpu")
+            self.assertEqual(v1["architecture"], "osr_image_kpn_v1")
+            r = run([PY, TOOLS / "train_denoiser.py", "--out", t / "v2", "--quick", "--init", t / "v1" / "best.pt",
+                     "--steps", "1"])
+            self.assertIn("1 spp: relMSE", r.stderr)
+            log = (t / "v2" / "train.log").read_text().splitlines()
+            self.assertEqual(len(log), 2)  # the starting weights are validated too
+            self.assertEqual(torch.load(t / "v2" / "best.pt", map_location="cpu")["architecture"], GUIDED_ARCHITECTURE)
+            r = run([PY, TOOLS / "train_denoiser.py", "--out", t / "u", "--quick", "--arch", "unet", "--init",
+                     t / "v1" / "best.pt"], expect=2)
+            self.assertIn("cannot start a osr_image_unet_v1 run", r.stderr.strip().splitlines()[-1])
 
     def test_bad_input_is_one_line(self):
         with tempfile.TemporaryDirectory() as tmp:
@@ -155,7 +220,8 @@ class RealRenders(unittest.TestCase):
             self.assertNotIn("osr-vk: validation", r.stderr)  # CTest sets OSR_VALIDATION=1
             blob = (work / "run" / "model.osrw").read_bytes()
             self.assertIn(b'"stage":"image_denoiser"', blob)
-            self.assertIn(b'"architecture":"osr_image_kpn_v1"', blob)
+            self.assertIn(b'"architecture":"osr_image_kpn_v2"', blob)
+            self.assertTrue((work / "run1" / "best.pt").is_file())  # the kpn_v1 run that started it
             files = sorted(work.glob("data/*/in_*.npz"))
             self.assertEqual(len(files), 6)  # 2 views x spp 1, 2, 4
             self.assertTrue(list(work.glob("val/9001_c0/ref_*.npz")))
@@ -167,11 +233,27 @@ class RealRenders(unittest.TestCase):
                 self.assertGreater(float(view.albedo.max()), 0)
                 lengths = np.linalg.norm(view.normal[0], axis=0)
                 self.assertGreater(float(np.mean(np.abs(lengths - 1) < 0.05)), 0.5)
+                self.assertEqual(view.depth.shape, (3, 1, 32, 32))
+                self.assertGreater(float(view.depth.min()), 0)  # an interior: every pixel hits
             # Resumable: a second run renders nothing that is already there.
             stamps = [f.stat().st_mtime_ns for f in files]
             r = run([PY, TOOLS / "make_denoise_data.py", work / "data", "--quick", "--osr-vk", osr_vk])
             self.assertEqual([f.stat().st_mtime_ns for f in files], stamps, "a finished render was redone")
             self.assertIn("0 spp rendered", r.stderr)
+            # Renders from before depth was kept: one preview render per view gives their depth.
+            for f in files:
+                old = work / "old" / f.parent.name / f.name
+                old.parent.mkdir(parents=True, exist_ok=True)
+                with np.load(f) as z:
+                    np.savez(old, **{k: z[k] for k in z.files if k != "depth"})
+            (work / "old" / "dataset.json").write_text((work / "data" / "dataset.json").read_text())
+            r = run([PY, TOOLS / "make_denoise_data.py", work / "old", "--quick", "--scenes", work / "data" / "scenes",
+                     "--osr-vk", osr_vk])
+            self.assertIn("0 spp rendered", r.stderr)
+            for name, view in data.views.items():
+                guide = np.load(work / "old" / Path(name).name / "depth.npz")["depth"]
+                self.assertEqual(guide.shape, (1, 32, 32))
+                self.assertLess(float(np.median(np.abs(guide - view.depth[-1]) / view.depth[-1])), 0.01)
             r = run([PY, TOOLS / "make_denoise_data.py", work / "x", "--size", "30", "--seeds", "1",
                      "--osr-vk", osr_vk], expect=2)
             self.assertIn("--size", r.stderr.strip().splitlines()[-1])
