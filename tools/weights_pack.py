@@ -36,6 +36,7 @@ from __future__ import annotations
 import argparse
 import datetime
 import json
+import math
 import os
 import re
 import struct
@@ -258,12 +259,13 @@ def pack(model, k: int, fp16: bool, source: str, fmt: dict, metadata: dict) -> b
 
 
 def checkpoint_metadata(path: str, obj) -> dict:
-    """Scalar entries of a checkpoint dict (epoch, loss, ...) plus where the file came from."""
+    """Scalar entries of a checkpoint dict (epoch, loss, ...) plus where the file came from;
+    not a NaN or infinity, which JSON cannot hold."""
     meta: dict = {"source": os.path.basename(path),
                   "packed_at": datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds")}
     if isinstance(obj, dict):
         for key, value in obj.items():
-            if isinstance(value, (int, float, str, bool)):
+            if isinstance(value, (int, float, str, bool)) and not (isinstance(value, float) and not math.isfinite(value)):
                 meta[key] = value
     return meta
 
