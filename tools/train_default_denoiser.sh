@@ -27,7 +27,7 @@ while (($#)); do
     --work) work="$2"; shift ;;
     --osr-vk) osrvk="$2"; shift ;;
     --minutes) minutes="$2"; shift ;;
-    -h|--help) sed -n '2,17p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '2,18p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "train_default_denoiser.sh: unknown option $1 (see --help)" >&2; exit 2 ;;
   esac
   shift
