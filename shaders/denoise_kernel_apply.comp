@@ -8,9 +8,14 @@
 // last (kLast) inverts that, re-modulates and writes the tile's core pixels into the image.
 // Between levels the colour lives in tile-sized vec4 buffers. A pixel that saw light directly
 // (normal.w > 0, shared/denoise.h) keeps its own colour and is no other pixel's tap; the
-// softmax runs over the taps that remain. kGuided (osr_image_kpn_v2): each tap's logit gets the
-// logarithm of the fixed normal and depth edge-stopping factors added (shared/denoise.h), so
-// the network only learns what the geometry cannot tell.
+// softmax runs over the taps that remain. kGuided (shared/denoise.h kKernelFactors*): with
+// kKernelFactorsGeometry (osr_image_kpn_v2) each tap's logit gets the logarithm of the fixed
+// normal and depth edge-stopping factors added, so the network only learns what the geometry
+// cannot tell; with kKernelFactorsFilter (osr_image_kpn_v3) also those of the a-trous filter's
+// B3-spline and variance-scaled luminance factors, so the kernels start as the filter. Like the
+// filter it averages linear colour (its factors keep fireflies out of their neighbours, which
+// the compression does for the others) and the variance of its luminance (image colour .w, the
+// film's, demodulated and exposed at the first level), passed on in the tile buffers' w.
 #extension GL_GOOGLE_include_directive : require
 #include "shared/denoise.h"
 #include "lib/sampling.glsl"  // luminance
@@ -76,13 +81,46 @@ float guideLogit(ivec2 t, ivec2 q, vec3 np, float zp, float gradZ) {
   return kGuideSigmaNormal * log(max(cosine, kGuideCosMin)) - abs(zp - zq) / max(scale, 1e-30);
 }
 
-vec3 levelInput(ivec2 t) {
+// The level's input at tile pixel t: the colour (compressed, or linear with the filter's
+// factors) and with them the variance of its luminance: the film's, demodulated and exposed.
+vec4 levelInput(ivec2 t) {
   if (kFirst != 0u) {
     const uint p = imagePixel(t);
-    const vec3 x = max(gColour[p].rgb, vec3(0.0)) / modulator(p) * gSums[kExposurePartials].exposure;
-    return x / (1.0 + luminance(x));
+    const vec3 m = modulator(p);
+    const float e = gSums[kExposurePartials].exposure;
+    const vec4 c = gColour[p];
+    const vec3 x = max(c.rgb, vec3(0.0)) / m * e;
+    if (kGuided == kKernelFactorsFilter) {
+      const float lm = luminance(m);
+      return vec4(x, max(c.w, 0.0) * e * e / (lm * lm));
+    }
+    return vec4(x / (1.0 + luminance(x)), 0.0);
   }
-  return gColour[uint(t.y) * gPush.tileWidth + uint(t.x)].rgb;
+  return gColour[uint(t.y) * gPush.tileWidth + uint(t.x)];
+}
+
+// image_unet.filter_logits: the luminance factor's scale at tile pixel t, from the level's
+// variance blurred 3 x 3 (weights 1 2 1 per axis, over the pixels inside the tile).
+float filterSigma(ivec2 t) {
+  const float g[2] = float[2](0.5, 0.25);
+  float sum = 0.0, weight = 0.0;
+  for (int dy = -1; dy <= 1; ++dy)
+    for (int dx = -1; dx <= 1; ++dx) {
+      const ivec2 q = t + ivec2(dx, dy);
+      if (any(lessThan(q, ivec2(0))) || q.x >= int(gPush.tileWidth) || q.y >= int(gPush.tileHeight)) continue;
+      const float k = g[abs(dx)] * g[abs(dy)];
+      sum += k * levelInput(q).w;
+      weight += k;
+    }
+  return kFilterSigmaLuminance * sqrt(max(sum / weight, 0.0)) + kFilterVarianceFloor;
+}
+
+// The logarithm of the a-trous filter's factors on tap i whose luminance is lq, for a pixel of
+// luminance lp and scale sigma.
+float filterLogit(uint i, float lp, float lq, float sigma) {
+  const float h[3] = float[3](0.375, 0.25, 0.0625);
+  const ivec2 offset = abs(ivec2(i % kKernelSize, i / kKernelSize) - int(kKernelSize / 2u));
+  return log(h[offset.x] * h[offset.y]) - abs(lp - lq) / sigma;
 }
 
 // Tap i of pixel t's kernel at this level's step, or (-1, -1) when it is outside the tile or
@@ -108,6 +146,11 @@ void main() {
   const bool lit = seesLight(t);
   vec3 np = vec3(0.0);
   float zp = 0.0, gradZ = 0.0;
+  float lp = 0.0, sigma = 1.0;
+  if (kGuided == kKernelFactorsFilter) {
+    lp = luminance(levelInput(t).rgb);
+    sigma = filterSigma(t);
+  }
   if (kGuided != 0u) {
     const ivec2 g = ivec2(gPush.tileX, gPush.tileY) + t;
     np = unitNormal(imagePixel(t));
@@ -120,23 +163,26 @@ void main() {
     const ivec2 q = tapAt(t, i, lit);
     if (q.x < 0) continue;
     logits[i] = gTensor[base + i * plane] + (kGuided != 0u ? guideLogit(t, q, np, zp, gradZ) : 0.0);
+    if (kGuided == kKernelFactorsFilter) logits[i] += filterLogit(i, lp, luminance(levelInput(q).rgb), sigma);
     top = max(top, logits[i]);
   }
   vec3 sum = vec3(0.0);
-  float weights = 0.0;
+  float weights = 0.0, sumVariance = 0.0;
   for (uint i = 0u; i < kKernelTaps; ++i) {
     const ivec2 q = tapAt(t, i, lit);
     if (q.x < 0) continue;
     const float w = exp(logits[i] - top);
-    sum += w * levelInput(q);
+    const vec4 c = levelInput(q);
+    sum += w * c.rgb;
+    sumVariance += w * w * c.w;
     weights += w;
   }
   const vec3 d = sum / weights;
   if (kLast != 0u) {
     const uint p = imagePixel(t);
-    const vec3 x = d / max(1.0 - luminance(d), 1e-6);
+    const vec3 x = kGuided == kKernelFactorsFilter ? d : d / max(1.0 - luminance(d), 1e-6);
     gOut[p] = vec4(x / gSums[kExposurePartials].exposure * modulator(p), 0.0);
   } else {
-    gOut[uint(t.y) * gPush.tileWidth + uint(t.x)] = vec4(d, 0.0);
+    gOut[uint(t.y) * gPush.tileWidth + uint(t.x)] = vec4(d, sumVariance / (weights * weights));
   }
 }

@@ -44,8 +44,10 @@ from torch import nn
 ARCHITECTURE = "osr_image_unet_v1"
 KPN_ARCHITECTURE = "osr_image_kpn_v1"
 GUIDED_ARCHITECTURE = "osr_image_kpn_v2"
-KERNEL_ARCHITECTURES = (GUIDED_ARCHITECTURE, KPN_ARCHITECTURE)
-ARCHITECTURES = (GUIDED_ARCHITECTURE, KPN_ARCHITECTURE, ARCHITECTURE)
+VARIANCE_ARCHITECTURE = "osr_image_kpn_v3"
+GEOMETRY_GUIDED = (VARIANCE_ARCHITECTURE, GUIDED_ARCHITECTURE)  # need the depth
+KERNEL_ARCHITECTURES = (VARIANCE_ARCHITECTURE, GUIDED_ARCHITECTURE, KPN_ARCHITECTURE)
+ARCHITECTURES = (VARIANCE_ARCHITECTURE, GUIDED_ARCHITECTURE, KPN_ARCHITECTURE, ARCHITECTURE)
 STAGE = "image_denoiser"
 IN_CHANNELS = 9
 OUT_CHANNELS = 3
@@ -66,6 +68,12 @@ GUIDE_SIGMA_DEPTH = 1.0
 GUIDE_DEPTH_FLOOR = 1e-3
 GUIDE_COS_MIN = 1e-30  # log(cos) below this is (almost) -inf: no weight, but a finite gradient
 GUIDE_SLOPE_NONE = 1e30  # a one-sided depth difference past the image's edge: never the smaller
+# osr_image_kpn_v3 adds the rest of the a-trous filter's weight to each tap: the B3-spline
+# kernel's and exp(-|l_p - l_q| / (SIGMA_LUMINANCE sqrt(v_p) + VARIANCE_FLOOR)), l the linear
+# luminance of the level's colour (exposed and demodulated), v_p its variance blurred 3 x 3.
+B3_SPLINE = (0.0625, 0.25, 0.375, 0.25, 0.0625)
+SIGMA_LUMINANCE = 4.0
+VARIANCE_FLOOR = 1e-6
 
 
 def image_exposure(colour: torch.Tensor) -> torch.Tensor:
@@ -132,7 +140,7 @@ def guide_logits(normal: torch.Tensor, depth: torch.Tensor, level: int) -> torch
     nq = nn.functional.unfold(unit, KERNEL_SIZE, dilation=step, padding=pad).view(n, 3, taps, h, w)
     cos = (unit.unsqueeze(2) * nq).sum(1)
     zq = nn.functional.unfold(depth, KERNEL_SIZE, dilation=step, padding=pad).view(n, taps, h, w)
-    offsets = torch.arange(taps, dtype=depth.dtype)
+    offsets = torch.arange(taps, dtype=depth.dtype, device=depth.device)
     dist = torch.hypot(offsets % KERNEL_SIZE - KERNEL_SIZE // 2, torch.div(offsets, KERNEL_SIZE,
                        rounding_mode="floor") - KERNEL_SIZE // 2).view(1, taps, 1, 1) * step
     scale = GUIDE_SIGMA_DEPTH * depth_gradient(depth) * dist + GUIDE_DEPTH_FLOOR * depth
@@ -144,9 +152,38 @@ def guide_logits(normal: torch.Tensor, depth: torch.Tensor, level: int) -> torch
     return g
 
 
+def _blur3(v: torch.Tensor) -> torch.Tensor:
+    """The 3 x 3 Gaussian (1 2 1 / 4 per axis) of N x 1 x H x W, normalized by the weights
+    inside the image, as the a-trous filter blurs the variance."""
+    k = torch.tensor([0.25, 0.5, 0.25], dtype=v.dtype, device=v.device)
+    k2 = (k[:, None] * k[None, :]).view(1, 1, 3, 3)
+    ones = torch.ones_like(v[:1])
+    return nn.functional.conv2d(v, k2, padding=1) / nn.functional.conv2d(ones, k2, padding=1)
+
+
+def filter_logits(d: torch.Tensor, v: torch.Tensor, level: int) -> torch.Tensor:
+    """osr_image_kpn_v3's fixed a-trous factors on each tap (N x 25 x H x W) at this level, as
+    logarithms: the B3-spline weight h_i h_j and the luminance factor
+    -|l_p - l_q| / (SIGMA_LUMINANCE sqrt(blur3(v)_p) + VARIANCE_FLOOR) of the level's colour d
+    (N x 3 x H x W, linear: v3 averages exposed demodulated colour as the filter does) and
+    variance v (N x 1 x H x W)."""
+    n, _, h, w = d.shape
+    step = 1 << level
+    pad = (KERNEL_SIZE // 2) * step
+    taps = KERNEL_SIZE * KERNEL_SIZE
+    lum = _luminance(d)
+    lq = nn.functional.unfold(lum, KERNEL_SIZE, dilation=step, padding=pad).view(n, taps, h, w)
+    # (clamped above 0: the square root's gradient at 0 is infinite; 1e-20 moves sigma by 1e-10)
+    sigma = SIGMA_LUMINANCE * torch.sqrt(_blur3(v).clamp(min=1e-20)) + VARIANCE_FLOOR
+    b = torch.tensor(B3_SPLINE, dtype=d.dtype, device=d.device)
+    prior = torch.log(b[:, None] * b[None, :]).reshape(1, taps, 1, 1)
+    return prior - (lum - lq).abs() / sigma
+
+
 def apply_kernels(logits: torch.Tensor, colour: torch.Tensor, albedo: torch.Tensor,
                   e: torch.Tensor, light: torch.Tensor | None = None,
-                  guides: tuple[torch.Tensor, torch.Tensor] | None = None) -> torch.Tensor:
+                  guides: tuple[torch.Tensor, torch.Tensor] | None = None,
+                  variance: torch.Tensor | None = None) -> torch.Tensor:
     """The kernel-predicting network's colour (N x 3 x H x W) from its logits. Per level, each
     pixel's 25 logits are a softmax over the taps inside the image (taps outside get no weight,
     as the shader's tile edge does), applied to the previous level's colour. The kernels
@@ -157,13 +194,26 @@ def apply_kernels(logits: torch.Tensor, colour: torch.Tensor, albedo: torch.Tens
     light (N x 1 x H x W, optional): the share of each pixel's camera rays that saw light
     directly; such a pixel keeps its colour and is no other pixel's tap, as in the shader.
     guides (normal N x 3 x H x W, depth N x 1 x H x W; osr_image_kpn_v2): each tap's logit
-    gets guide_logits added, i.e. its weight is multiplied by the fixed edge-stopping factors."""
+    gets guide_logits added, i.e. its weight is multiplied by the fixed edge-stopping factors.
+    variance (N x 1 x H x W; osr_image_kpn_v3): the variance of each pixel's luminance,
+    demodulated and exposed as the colour is; each level's logits get filter_logits added, and
+    each level passes on the variance of its average (the sum of squared weights times the
+    taps' variances), as the a-trous filter does."""
     n, _, h, w = colour.shape
     scale = demodulator(albedo)
     x = colour.clamp(min=0) / scale * e.view(-1, 1, 1, 1)
-    d = x / (1 + _luminance(x))
+    v = None
+    if variance is not None:
+        # The filter's factors keep a firefly out of its neighbours' averages (its luminance is
+        # far from theirs in units of their noise), so v3 averages linear colour, unbiased,
+        # as the filter does; the others average the compressed colour.
+        ev = e.view(-1, 1, 1, 1)
+        v = variance.clamp(min=0) * ev * ev / _luminance(scale) ** 2
+        d = x
+    else:
+        d = x / (1 + _luminance(x))
     taps = KERNEL_SIZE * KERNEL_SIZE
-    ones = torch.ones(1, 1, h, w, dtype=d.dtype)
+    ones = torch.ones(1, 1, h, w, dtype=d.dtype, device=d.device)
     for level in range(KERNEL_LEVELS):
         step = 1 << level
         pad = (KERNEL_SIZE // 2) * step
@@ -178,21 +228,33 @@ def apply_kernels(logits: torch.Tensor, colour: torch.Tensor, albedo: torch.Tens
         lg = logits[:, level * taps:(level + 1) * taps]
         if guides is not None:
             lg = lg + guide_logits(*guides, level)
+        if v is not None:
+            lg = lg + filter_logits(d, v, level)
         lg = lg.masked_fill(counts == 0, -torch.inf)
-        d = (shifted * torch.softmax(lg, 1).unsqueeze(1)).sum(2)
-    x = d / (1 - _luminance(d)).clamp(min=1e-6)
+        weights = torch.softmax(lg, 1)
+        d = (shifted * weights.unsqueeze(1)).sum(2)
+        if v is not None:
+            vq = nn.functional.unfold(v, KERNEL_SIZE, dilation=step, padding=pad).view(n, taps, h, w)
+            v = (weights * weights * vq).sum(1, keepdim=True)
+    x = d if v is not None else d / (1 - _luminance(d)).clamp(min=1e-6)
     return x / e.view(-1, 1, 1, 1) * scale
 
 
 def denoise(model: "ImageUNet", colour: torch.Tensor, albedo: torch.Tensor, normal: torch.Tensor,
-            e: torch.Tensor | None = None, depth: torch.Tensor | None = None) -> torch.Tensor:
+            e: torch.Tensor | None = None, depth: torch.Tensor | None = None,
+            variance: torch.Tensor | None = None) -> torch.Tensor:
     """The denoised colour (N x 3 x H x W, H and W multiples of 8) by any architecture;
-    osr_image_kpn_v2 needs the depth (N x 1 x H x W)."""
+    osr_image_kpn_v2 and _v3 need the depth (N x 1 x H x W), _v3 also the variance of each
+    pixel's luminance estimate (N x 1 x H x W, the renderer's `variance` layer)."""
     x, e = make_input(colour, albedo, normal, e)
     y = model(x)
-    if model.architecture == GUIDED_ARCHITECTURE:
+    if model.architecture in GEOMETRY_GUIDED:
         if depth is None:
-            raise ValueError(f"{GUIDED_ARCHITECTURE} needs the depth")
+            raise ValueError(f"{model.architecture} needs the depth")
+        if model.architecture == VARIANCE_ARCHITECTURE:
+            if variance is None:
+                raise ValueError(f"{VARIANCE_ARCHITECTURE} needs the variance")
+            return apply_kernels(y, colour, albedo, e, guides=(normal, depth), variance=variance)
         return apply_kernels(y, colour, albedo, e, guides=(normal, depth))
     if model.architecture == KPN_ARCHITECTURE:
         return apply_kernels(y, colour, albedo, e)

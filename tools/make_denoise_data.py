@@ -3,21 +3,23 @@
 (tools/image_unet.py, tools/train_denoiser.py).
 
 usage: make_denoise_data.py OUT --seeds A-B [--cameras 2] [--size 128]
-                            [--spp-list 1,2,4,8,16,32] [--target-spp 0] [--osr-vk build/osr-vk]
+                            [--spp-list 1,2,4,8,16,32] [--target-spp 0] [--chunk-spp 128]
+                            [--osr-vk build/osr-vk]
        make_denoise_data.py OUT --validation [--target-spp 512]
        make_denoise_data.py OUT --quick
 
 For each seed, tools/make_interiors.py makes the scene (OUT/scenes/SEED, or --scenes DIR) and,
 for each of its first --cameras cameras, `osr-vk --mode path --offline` renders it once per
 entry of --spp-list, each with its own --seed, so the renders are independent. Each render is
-kept as OUT/SEED_cCAM/in_SPP.npz (colour float32 3 x H x W, linear; albedo and normal float16;
-depth float32 1 x H x W, the first hit's view-axis distance, 0 where none: the layers osr-vk
+kept as OUT/SEED_cCAM/in_SPP.npz (colour float32 3 x H x W, linear, unfiltered; albedo and
+normal float16; depth float32 1 x H x W, the first hit's view-axis distance, 0 where none;
+variance float32 1 x H x W, the variance of the pixel's luminance estimate: the layers osr-vk
 writes in the same EXR). A view whose renders were made before depth was kept gets
 OUT/SEED_cCAM/depth.npz instead: the depth of one `--mode preview` render of 16 samples (the
 same first hits; only the pixel jitter differs, so edges are as sharp as a 16-sample render's),
 rendered before anything else. So an older dataset gains depth in minutes:
 `cp -al OLD NEW` and run this on NEW with the seeds it holds. With --target-spp N > 0 the view also gets a
-reference of N samples, rendered in chunks of at most 128 samples (OUT/SEED_cCAM/ref_K.npz,
+reference of N samples, rendered in chunks of at most --chunk-spp (128) samples (OUT/SEED_cCAM/ref_K.npz,
 each with its own seed; the reference is their spp-weighted mean).
 
 Training needs no reference: the renders of one view are independent, so any subset of them
@@ -28,7 +30,9 @@ where a clean reference would cost 256 or more samples per view.
 
 --validation: the held-out interiors 9001-9003 (camera 0; never in training), 256 x 256,
 inputs at 1, 4, 16 and 64 samples and a reference of --target-spp samples (default 512). Run
-it again with a larger --target-spp to add reference chunks.
+it again with a larger --target-spp to add reference chunks. Its inputs are rendered with the
+a-trous filter on, and each keeps the filter's image too (`filtered`), so that validation
+measures a network against the filter on the same renders.
 
 Resumable: a render whose .npz exists is kept, so a run stopped anywhere continues where it
 was. OUT/dataset.json holds the settings and the rendering seconds per view. --quick: two
@@ -78,8 +82,10 @@ DEPTH_GUIDE_SPP = 16  # samples of the preview render that gives an older view i
 
 
 def read_render(path: Path) -> dict[str, np.ndarray]:
-    """An osr-vk EXR as colour (float32) and albedo, normal (float16), 3 x H x W each, and
-    depth (float32, 1 x H x W)."""
+    """An osr-vk EXR as colour (float32) and albedo, normal (float16), 3 x H x W each, depth
+    (float32, 1 x H x W), and where the EXR has them the variance of each pixel's luminance
+    (float32, 1 x H x W) and, for a filtered render, the filtered colour (float32, 3 x H x W;
+    the raw colour is then its `noisy` layer)."""
     try:
         _, _, planes = exr.read_layers(str(path))
     except exr.ExrError as e:
@@ -91,10 +97,16 @@ def read_render(path: Path) -> dict[str, np.ndarray]:
             raise DataError(f"{path}: no layer {missing[0]} (not an osr-vk path-mode EXR)")
         return np.stack([planes[n] for n in names]).astype(dtype)
 
-    return {"colour": stack(["R", "G", "B"], np.float32),
-            "albedo": stack(["albedo.R", "albedo.G", "albedo.B"], np.float16),
-            "normal": stack(["normal.X", "normal.Y", "normal.Z"], np.float16),
-            "depth": stack(["depth.Z"], np.float32)}
+    filtered = "noisy.R" in planes
+    layers = {"colour": stack(["noisy.R", "noisy.G", "noisy.B"] if filtered else ["R", "G", "B"], np.float32),
+              "albedo": stack(["albedo.R", "albedo.G", "albedo.B"], np.float16),
+              "normal": stack(["normal.X", "normal.Y", "normal.Z"], np.float16),
+              "depth": stack(["depth.Z"], np.float32)}
+    if "variance.Y" in planes:
+        layers["variance"] = stack(["variance.Y"], np.float32)
+    if filtered:
+        layers["filtered"] = stack(["R", "G", "B"], np.float32)
+    return layers
 
 
 def lacks_depth(render_file: Path) -> bool:
@@ -104,12 +116,17 @@ def lacks_depth(render_file: Path) -> bool:
 
 
 def render(osr_vk: str, scene_dir: Path, env: str | None, camera: int, size: int, spp: int, seed: int,
-           out: Path, mode: str = "path") -> float:
+           out: Path, mode: str = "path", filtered: bool = False) -> float:
     """One render (path-traced; `preview` for a depth guide) into out (.npz, written
-    atomically); its seconds."""
+    atomically); its seconds. filtered: the a-trous filter runs too and its image is kept
+    beside the raw colour (validation inputs, so that networks are measured against it)."""
     with tempfile.TemporaryDirectory(dir=out.parent) as tmp:
         image = Path(tmp) / "render.exr"
-        cmd = [osr_vk, "--mode", mode, "--offline", str(image), "--exr-float", "--spp", str(spp),
+        # No learned stage; the filter only where asked (its image is then the default layer and
+        # the raw estimate the "noisy" one, read_render).
+        cmd = [osr_vk, "--mode", mode, "--filter", "atrous" if filtered else "none", "--network", "none",
+               "--offline", str(image),
+               "--exr-float", "--spp", str(spp),
                "--seed", str(seed), "--width", str(size), "--height", str(size), "--camera", str(camera),
                "--quiet", str(scene_dir / "scene.gltf")]
         if env:
@@ -131,14 +148,15 @@ def render(osr_vk: str, scene_dir: Path, env: str | None, camera: int, size: int
     return seconds
 
 
-def view_jobs(seed: int, camera: int, spp_list: list[int], target_spp: int) -> list[tuple[str, int, int]]:
+def view_jobs(seed: int, camera: int, spp_list: list[int], target_spp: int,
+              chunk_spp: int = CHUNK_SPP) -> list[tuple[str, int, int]]:
     """(file name, spp, render seed) of one view: the inputs, then the reference chunks. The
     render seeds are distinct across seeds, cameras and renders."""
     base = (seed * 8 + camera) * 256
     jobs = [(f"in_{i}_{spp}.npz", spp, base + i) for i, spp in enumerate(spp_list)]
     left, k = target_spp, 0
     while left > 0:
-        n = min(left, CHUNK_SPP)
+        n = min(left, chunk_spp)
         jobs.append((f"ref_{k}_{n}.npz", n, base + 128 + k))
         left -= n
         k += 1
@@ -157,6 +175,9 @@ def main(argv: list[str] | None = None) -> int:
                    "validation 1,4,16,64)")
     p.add_argument("--target-spp", type=int,
                    help="samples of a reference per view, 0 for none (default 0; validation 512)")
+    p.add_argument("--chunk-spp", type=positive_int, default=CHUNK_SPP,
+                   help=f"most samples of one reference render (default {CHUNK_SPP}; larger on a GPU, "
+                   "where a process's start costs more than its samples)")
     p.add_argument("--validation", action="store_true", help=f"the held-out set: seeds {VALIDATION_SEEDS}, "
                    "camera 0, 256 x 256, with references")
     p.add_argument("--quick", action="store_true", help="two 32 x 32 views of seed 1 (tests)")
@@ -215,7 +236,7 @@ def main(argv: list[str] | None = None) -> int:
         name = f"{seed}_c{cam}"
         (out / name).mkdir(exist_ok=True)
         views.setdefault(name, {"seed": seed, "camera": cam, "seconds": 0.0})
-        jobs = view_jobs(seed, cam, args.spp_list, args.target_spp)
+        jobs = view_jobs(seed, cam, args.spp_list, args.target_spp, args.chunk_spp)
         inputs.append([(name, scene_dir, info, cam, job) for job in jobs[:len(args.spp_list)]])
         chunks.append([(name, scene_dir, info, cam, job) for job in jobs[len(args.spp_list):]])
     groups = inputs + [[c[k] for c in chunks if k < len(c)] for k in range(max(map(len, chunks), default=0))]
@@ -238,7 +259,7 @@ def main(argv: list[str] | None = None) -> int:
                 continue
             try:
                 seconds = render(args.osr_vk, scene_dir, info.get("env"), cam, args.size, spp, render_seed,
-                                 out / name / file)
+                                 out / name / file, filtered=args.validation and file.startswith("in_"))
             except DataError as e:
                 print(f"make_denoise_data.py: {e}", file=sys.stderr)
                 return 2

@@ -4,9 +4,10 @@ whose kernels are multiplied by fixed normal and depth edge-stopping factors; wi
 "osr_image_kpn_v1", without them; with --arch unet the direct "osr_image_unet_v1") on noisy
 renders.
 
-usage: train_denoiser.py DATA [DATA ...] --val VAL --out RUN [--arch kpn2|kpn|unet] [--k 16]
+usage: train_denoiser.py DATA [DATA ...] --val VAL --out RUN [--arch kpn3|kpn2|kpn|unet] [--k 16]
                          [--steps N | --minutes M]
-                         [--resume] [--batch 8] [--crop 64] [--lr 2e-3] [--threads 2] [--quick]
+                         [--resume] [--batch 8] [--crop 64] [--lr 2e-3] [--threads 2] [--device cpu]
+                         [--quick]
 
 DATA and VAL are make_denoise_data.py folders; VAL holds other interiors than DATA, with
 references (make_denoise_data.py VAL --validation). The run folder RUN gets:
@@ -26,7 +27,8 @@ sample count is drawn log-uniformly over the counts the subsets reach, keeping t
 least a quarter of the input's samples; a view with a reference (ref_*.npz) uses it as the
 target instead. Albedo, normal and depth are averaged over the input's renders as the
 renderer averages them (a view rendered before depth was kept has one depth.npz for all its
-renders; kpn2 needs depth, the others do not read it). The exposure e is computed on the whole input image (as the renderer does),
+renders; kpn2 and kpn3 need depth, the others do not read it; kpn3 also the renders' variance
+layer, the variance of the mean being the sum of w_i^2 var_i over the averaged renders). The exposure e is computed on the whole input image (as the renderer does),
 then a random crop (a multiple of 8) is taken and one of the 8 symmetries of the square
 applied to colour, albedo, normal and target alike. Normals are world-space directions:
 turning or mirroring the image does not turn them, so their values are moved with the
@@ -74,7 +76,7 @@ from arg_types import positive_float, positive_int  # noqa: E402
 
 RELMSE_EPSILON = 0.01  # as osr-vk compare (src/image/image_metrics.h)
 MIN_TARGET_SHARE = 0.25  # a Noise2Noise target keeps at least this share of the input's spp
-ARCHS = {"kpn2": "osr_image_kpn_v2", "kpn": "osr_image_kpn_v1", "unet": "osr_image_unet_v1"}  # image_unet's
+ARCHS = {"kpn3": "osr_image_kpn_v3", "kpn2": "osr_image_kpn_v2", "kpn": "osr_image_kpn_v1", "unet": "osr_image_unet_v1"}  # image_unet's
 
 
 class DataError(Exception):
@@ -122,6 +124,15 @@ class View:
             except (OSError, ValueError, KeyError, EOFError) as e:
                 raise DataError(f"{folder / 'depth.npz'}: not a make_denoise_data.py depth render ({e})") from None
             self.depth = np.broadcast_to(guide, (len(renders), *guide.shape))
+        # The renderer's variance of each pixel's luminance estimate per render (R x 1 x H x W),
+        # where the renders kept it (osr_image_kpn_v3 needs it).
+        self.variance = None
+        if all("variance" in r for r in renders):
+            self.variance = np.stack([r["variance"] for r in renders]).astype(np.float32)
+        # Validation renders also keep the a-trous filter's image of each render.
+        self.filtered = None
+        if all("filtered" in r for r in renders):
+            self.filtered = np.stack([r["filtered"] for r in renders])
         self.ref = None
         self.ref_spp = 0
         if refs:
@@ -151,44 +162,51 @@ class View:
         try:
             with np.load(path) as z:
                 out = {k: z[k] for k in ("spp", "colour", "albedo", "normal")}
-                if "depth" in z.files:
-                    out["depth"] = z["depth"]
+                for optional in ("depth", "variance", "filtered"):
+                    if optional in z.files:
+                        out[optional] = z[optional]
                 return out
         except (OSError, ValueError, KeyError, EOFError) as e:
             raise DataError(f"{path}: not a make_denoise_data.py render ({e})") from None
 
     def mean(self, idx: list[int]) -> tuple[np.ndarray, ...]:
         """The spp-weighted mean of renders idx: colour, albedo, normal, depth (zeros when the
-        view has none)."""
+        view has none) and the variance of the mean's luminance (sum of w_i^2 var_i over the
+        independent renders; zeros when the view has none)."""
         w = self.spp[idx].astype(np.float32)
         w /= w.sum()
         depth = self.depth if self.depth is not None else np.zeros_like(self.colour[:, :1])
-        return tuple(np.tensordot(w, a[idx], 1) for a in (self.colour, self.albedo, self.normal, depth))
+        variance = self.variance if self.variance is not None else np.zeros_like(self.colour[:, :1])
+        means = tuple(np.tensordot(w, a[idx], 1) for a in (self.colour, self.albedo, self.normal, depth))
+        return (*means, np.tensordot(w * w, variance[idx], 1))
 
     def example(self, rng: np.random.Generator) -> tuple[np.ndarray, ...]:
-        """A random (input colour, albedo, normal, depth, target colour, input spp), whole images."""
+        """A random (input colour, albedo, normal, depth, variance, target colour, input spp),
+        whole images."""
         # Log-uniform over the reachable sample counts: the nearest level to exp(u).
         u = rng.uniform(0, math.log(self.levels[-1] + 0.5))
         level = int(self.levels[np.abs(np.log(self.levels) - u).argmin()])
         choices = self.subsets[level]
         chosen = list(choices[int(rng.integers(len(choices)))])
-        colour, albedo, normal, depth = self.mean(chosen)
+        colour, albedo, normal, depth, variance = self.mean(chosen)
         if self.ref is not None:
             target = self.ref
         else:
             rest = [i for i in range(len(self.spp)) if i not in chosen]
             target = self.mean(rest)[0]
-        return colour, albedo, normal, depth, target, level
+        return colour, albedo, normal, depth, variance, target, level
 
 
 class Dataset:
     """The complete views of make_denoise_data.py folders; reload() picks up views that were
     completed since (a dataset still being rendered)."""
 
-    def __init__(self, folders: list[str], with_reference: bool = False, need_depth: bool = False) -> None:
+    def __init__(self, folders: list[str], with_reference: bool = False, need_depth: bool = False,
+                 need_variance: bool = False) -> None:
         self.folders = [Path(f) for f in folders]
         self.with_reference = with_reference
         self.need_depth = need_depth
+        self.need_variance = need_variance
         for f in self.folders:
             if not (f / "dataset.json").is_file():
                 raise DataError(f"{f}: no dataset.json (not a make_denoise_data.py folder)")
@@ -213,6 +231,9 @@ class Dataset:
                 if self.need_depth and view.depth is None:
                     raise DataError(f"{view_dir}: no depth (renders from before depth was kept: run "
                                     "make_denoise_data.py on the folder again to add depth.npz)")
+                if self.need_variance and view.variance is None:
+                    raise DataError(f"{view_dir}: no variance (renders from before osr-vk wrote its "
+                                    "variance layer: render the folder again)")
                 self.views[key] = view
                 added += 1
         self.keys = sorted(self.views)
@@ -233,35 +254,37 @@ def symmetry(a: np.ndarray, k: int) -> np.ndarray:
     return np.rot90(a, k & 3, axes=(-2, -1))
 
 
-def make_batch(data: Dataset, rng: np.random.Generator, batch: int, crop: int):
-    """(colour, albedo, normal, depth, e, target) tensors of `batch` random crops, and the mean
-    input spp."""
+def make_batch(data: Dataset, rng: np.random.Generator, batch: int, crop: int, device: str = "cpu"):
+    """(colour, albedo, normal, depth, variance, e, target) tensors of `batch` random crops on
+    `device`, and the mean input spp."""
     import torch
     from image_unet import image_exposure
-    colours, albedos, normals, depths, targets, es, spps = [], [], [], [], [], [], []
+    colours, albedos, normals, depths, variances, targets, es, spps = [], [], [], [], [], [], [], []
     for _ in range(batch):
         view = data.views[data.keys[int(rng.integers(len(data.keys)))]]
-        colour, albedo, normal, depth, target, spp = view.example(rng)
+        colour, albedo, normal, depth, variance, target, spp = view.example(rng)
         es.append(image_exposure(torch.from_numpy(colour)[None]))
         size = min(crop, view.height, view.width) // 8 * 8
         y0 = int(rng.integers(view.height - size + 1))
         x0 = int(rng.integers(view.width - size + 1))
         k = int(rng.integers(8))
         window = (slice(None), slice(y0, y0 + size), slice(x0, x0 + size))
-        for out, a in ((colours, colour), (albedos, albedo), (normals, normal), (depths, depth), (targets, target)):
+        for out, a in ((colours, colour), (albedos, albedo), (normals, normal), (depths, depth),
+                       (variances, variance), (targets, target)):
             out.append(np.ascontiguousarray(symmetry(a[window], k)))
         spps.append(spp)
-    e = torch.cat(es)
-    tensors = [torch.from_numpy(np.stack(a)) for a in (colours, albedos, normals, depths)]
-    return (*tensors, e, torch.from_numpy(np.stack(targets)), float(np.mean(spps)))
+    e = torch.cat(es).to(device)
+    tensors = [torch.from_numpy(np.stack(a)).to(device)
+               for a in (colours, albedos, normals, depths, variances, targets)]
+    return (*tensors[:5], e, tensors[5], float(np.mean(spps)))
 
 
-def loss_fn(model, colour, albedo, normal, depth, e, target):
+def loss_fn(model, colour, albedo, normal, depth, variance, e, target):
     import torch
     import image_unet
     scale = e.view(-1, 1, 1, 1)
     if model.architecture in image_unet.KERNEL_ARCHITECTURES:
-        y = image_unet.denoise(model, colour, albedo, normal, e, depth) * scale
+        y = image_unet.denoise(model, colour, albedo, normal, e, depth, variance) * scale
     else:
         x, _ = image_unet.make_input(colour, albedo, normal, e)
         y = torch.expm1(model(x))  # exposure-scaled colour, unclamped (see the docstring)
@@ -273,20 +296,26 @@ def relmse(a: np.ndarray, ref: np.ndarray) -> float:
     return float(np.mean((a.astype(np.float64) - ref) ** 2 / (ref.astype(np.float64) ** 2 + RELMSE_EPSILON)))
 
 
-def denoise(model, colour: np.ndarray, albedo: np.ndarray, normal: np.ndarray, depth: np.ndarray) -> np.ndarray:
-    """The network's colour for one whole image (3 x H x W, depth 1 x H x W, H and W multiples of 8)."""
+def denoise(model, colour: np.ndarray, albedo: np.ndarray, normal: np.ndarray, depth: np.ndarray,
+            variance: np.ndarray) -> np.ndarray:
+    """The network's colour for one whole image (3 x H x W, depth and variance 1 x H x W, H and
+    W multiples of 8)."""
     import torch
     import image_unet
+    device = next(model.parameters()).device
     with torch.no_grad():
-        c, a, n, z = (torch.from_numpy(np.ascontiguousarray(x))[None] for x in (colour, albedo, normal, depth))
-        return image_unet.denoise(model, c, a, n, depth=z)[0].numpy()
+        c, a, n, z, v = (torch.from_numpy(np.ascontiguousarray(x))[None].to(device)
+                         for x in (colour, albedo, normal, depth, variance))
+        return image_unet.denoise(model, c, a, n, depth=z, variance=v)[0].cpu().numpy()
 
 
 def evaluate(model, val: Dataset) -> dict:
-    """relMSE of the network and of its noisy input against the reference, per input spp."""
+    """relMSE of the network and of its noisy input against the reference, per input spp, and
+    of the a-trous filter's image where the validation renders kept it."""
     model.eval()
     net: dict[int, list[float]] = {}
     noisy: dict[int, list[float]] = {}
+    filtered: dict[int, list[float]] = {}
     ref_noise = []
     for key in val.keys:
         view = val.views[key]
@@ -295,9 +324,11 @@ def evaluate(model, val: Dataset) -> dict:
         top = int(view.spp.argmax())
         ref_noise.append(relmse(view.colour[top], view.ref) / (view.ref_spp / view.spp[top] + 1))
         for i, spp in enumerate(view.spp.tolist()):
-            colour, albedo, normal, depth = view.mean([i])
-            net.setdefault(spp, []).append(relmse(denoise(model, colour, albedo, normal, depth), view.ref))
+            colour, albedo, normal, depth, variance = view.mean([i])
+            net.setdefault(spp, []).append(relmse(denoise(model, colour, albedo, normal, depth, variance), view.ref))
             noisy.setdefault(spp, []).append(relmse(colour, view.ref))
+            if view.filtered is not None:
+                filtered.setdefault(spp, []).append(relmse(view.filtered[i], view.ref))
     model.train()
     every = [v for vs in net.values() for v in vs]
     out = {"val_relmse": float(np.mean(every)),
@@ -306,6 +337,12 @@ def evaluate(model, val: Dataset) -> dict:
     for spp in sorted(net):
         out[f"val_relmse_{spp}spp"] = float(np.mean(net[spp]))
         out[f"val_noisy_relmse_{spp}spp"] = float(np.mean(noisy[spp]))
+    if filtered and len(filtered) == len(net):
+        every_filtered = [v for vs in filtered.values() for v in vs]
+        out["val_filter_relmse_geomean"] = float(np.exp(np.mean(np.log(np.maximum(every_filtered, 1e-12)))))
+        out["val_over_filter_geomean"] = out["val_relmse_geomean"] / out["val_filter_relmse_geomean"]
+        for spp in sorted(filtered):
+            out[f"val_filter_relmse_{spp}spp"] = float(np.mean(filtered[spp]))
     return out
 
 
@@ -344,7 +381,9 @@ def write_synthetic(folder: Path, seed: int, views: int, size: int, spp_list: li
 
         def write(file: str, spp: int) -> None:
             noisy = rng.gamma(spp, 1.0 / spp, clean.shape).astype(np.float32) * clean
+            lum = 0.2126 * clean[0] + 0.7152 * clean[1] + 0.0722 * clean[2]
             np.savez(folder / name / file, spp=np.int32(spp), seed=np.int64(0), seconds=np.float32(0),
+                     variance=(lum * lum / spp)[None].astype(np.float32),
                      colour=noisy, albedo=albedo.astype(np.float16), normal=normal.astype(np.float16), depth=depth)
         for i, spp in enumerate(spp_list):
             write(f"in_{i}_{spp}.npz", spp)
@@ -373,7 +412,9 @@ def main(argv: list[str] | None = None) -> int:
                    help="start from this checkpoint's weights (a best.pt of the same width; kpn and kpn2 "
                    "have the same weights, so a trained kpn model can start a kpn2 run)")
     p.add_argument("--arch", choices=tuple(ARCHS), default="kpn2",
-                   help="kpn2: the network predicts filter kernels, multiplied by fixed normal and depth "
+                   help="kpn3: the kernels of kpn2 times the a-trous filter's B3-spline and variance-scaled "
+                   "luminance factors, so the network starts as the filter and learns what it misses; "
+                   "kpn2: the network predicts filter kernels, multiplied by fixed normal and depth "
                    "edge-stopping factors (default); kpn: without them; unet: it predicts the colour")
     p.add_argument("--k", type=positive_int, default=16, help="base width K of the U-Net (default 16)")
     p.add_argument("--minutes", type=positive_float, default=30.0, help="training time budget (default 30)")
@@ -382,6 +423,9 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--crop", type=positive_int, default=64, help="crop size, a multiple of 8 (default 64)")
     p.add_argument("--lr", type=positive_float, default=2e-3, help="initial Adam learning rate (default 2e-3)")
     p.add_argument("--threads", type=positive_int, default=2, help="PyTorch CPU threads (default 2)")
+    p.add_argument("--device", default="cpu",
+                   help="where the network trains: cpu, or cuda (a GPU; the batches are still made on the "
+                   "CPU) (default cpu)")
     p.add_argument("--ema", type=float, default=0.99,
                    help="decay of the weights' running average, which is validated and saved (default 0.99)")
     p.add_argument("--seed", type=int, default=1, help="seed of initialization and batches (default 1)")
@@ -404,6 +448,13 @@ def main(argv: list[str] | None = None) -> int:
     import torch
     import image_unet
     torch.set_num_threads(args.threads)
+    if args.device != "cpu":
+        try:
+            torch.empty(1, device=args.device)
+        except (RuntimeError, AssertionError) as e:
+            print(f"train_denoiser.py: --device {args.device}: not usable here ({str(e).splitlines()[0]})",
+                  file=sys.stderr)
+            return 2
     run = Path(args.out)
     ckpt_path, best_path, log_path = run / "checkpoint.pt", run / "best.pt", run / "train.log"
     if ckpt_path.is_file() and not args.resume and not args.evaluate:
@@ -430,9 +481,10 @@ def main(argv: list[str] | None = None) -> int:
     if args.evaluate:
         return evaluate_checkpoint(args.evaluate, args.val, run, args.record)
     architecture = ARCHS[args.arch]
-    guided = architecture == image_unet.GUIDED_ARCHITECTURE
-    train = Dataset(args.data, need_depth=guided)
-    val = Dataset([args.val], with_reference=True, need_depth=guided)
+    guided = architecture in image_unet.GEOMETRY_GUIDED
+    with_variance = architecture == image_unet.VARIANCE_ARCHITECTURE
+    train = Dataset(args.data, need_depth=guided, need_variance=with_variance)
+    val = Dataset([args.val], with_reference=True, need_depth=guided, need_variance=with_variance)
     if not train.keys:
         raise DataError(f"{', '.join(args.data)}: no complete views yet")
     if not val.keys:
@@ -455,6 +507,12 @@ def main(argv: list[str] | None = None) -> int:
             if (start_arch in kernels) != (architecture in kernels):
                 raise DataError(f"--init {args.init}: a {start_arch} model cannot start a {architecture} run")
             model.load_state_dict(start_from["model"])
+            if architecture == image_unet.VARIANCE_ARCHITECTURE and start_arch != architecture:
+                # The other kernel models' logits make a blur of their own; v3's starts as the
+                # a-trous filter (its fixed factors), so its head starts near zero.
+                with torch.no_grad():
+                    model.dec0[-1].weight.mul_(0.1)
+                    model.dec0[-1].bias.zero_()
         except DataError:
             raise
         except Exception as e:  # torch raises many kinds for a file that is not a checkpoint
@@ -468,10 +526,12 @@ def main(argv: list[str] | None = None) -> int:
                 head.bias.fill_(math.log1p(image_unet.EXPOSURE_KEY))
             else:
                 taps = image_unet.KERNEL_SIZE ** 2
-                head.bias.copy_(torch.tensor([4.0 if i % taps == taps // 2 else 0.0
+                centre = 0.0 if architecture == image_unet.VARIANCE_ARCHITECTURE else 4.0  # v3: the filter's
+                head.bias.copy_(torch.tensor([centre if i % taps == taps // 2 else 0.0
                                               for i in range(image_unet.KPN_OUT_CHANNELS)]))
+    model.to(args.device)
     opt = torch.optim.Adam(model.parameters(), lr=args.lr)
-    ema = image_unet.ImageUNet(args.k, architecture)
+    ema = image_unet.ImageUNet(args.k, architecture).to(args.device)
     ema.load_state_dict(model.state_dict())
     state = {"step": 0, "crops": 0, "pixels": 0, "elapsed": 0.0, "best": math.inf}
     if args.resume:
@@ -547,8 +607,8 @@ def main(argv: list[str] | None = None) -> int:
             break
         for group in opt.param_groups:  # cosine decay over the budget
             group["lr"] = args.lr * 0.5 * (1 + math.cos(math.pi * frac))
-        colour, albedo, normal, depth, e, target, _ = make_batch(train, rng, args.batch, args.crop)
-        loss = loss_fn(model, colour, albedo, normal, depth, e, target)
+        colour, albedo, normal, depth, variance, e, target, _ = make_batch(train, rng, args.batch, args.crop, args.device)
+        loss = loss_fn(model, colour, albedo, normal, depth, variance, e, target)
         opt.zero_grad()
         loss.backward()
         torch.nn.utils.clip_grad_norm_(model.parameters(), 1.0)
@@ -604,7 +664,8 @@ def evaluate_checkpoint(path: str, val_folder: str, run: Path, record_path: str 
     except Exception as e:  # torch raises many kinds for a file that is not a checkpoint
         raise DataError(f"{path}: not an image denoiser checkpoint ({type(e).__name__})") from None
     val = Dataset([val_folder], with_reference=True,
-                  need_depth=model.architecture == image_unet.GUIDED_ARCHITECTURE)
+                  need_depth=model.architecture in image_unet.GEOMETRY_GUIDED,
+                  need_variance=model.architecture == image_unet.VARIANCE_ARCHITECTURE)
     if not val.keys:
         raise DataError(f"{val_folder}: no view with a reference (make_denoise_data.py --validation)")
     final = evaluate(model, val)
@@ -620,8 +681,10 @@ def evaluate_checkpoint(path: str, val_folder: str, run: Path, record_path: str 
     for key in sorted((k for k in final if k.startswith("val_relmse_") and k.endswith("spp")),
                       key=lambda k: int(k[len("val_relmse_"):-3])):
         spp = key[len("val_relmse_"):-3]
+        against = (f", a-trous filter {final[f'val_filter_relmse_{spp}spp']:.5f}"
+                   if f"val_filter_relmse_{spp}spp" in final else "")
         print(f"train_denoiser.py: {spp} spp: relMSE {final[key]:.5f} (noisy input "
-              f"{final[f'val_noisy_relmse_{spp}spp']:.5f}), {len(val.keys)} views, reference "
+              f"{final[f'val_noisy_relmse_{spp}spp']:.5f}{against}), {len(val.keys)} views, reference "
               f"{record['val_ref_spp']} spp", file=sys.stderr)
     print(f"train_denoiser.py: the reference's own noise adds about {final['val_reference_noise']:.5f} "
           "to each figure", file=sys.stderr)

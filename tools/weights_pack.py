@@ -194,7 +194,8 @@ def header_fields(model, k: int, fmt: dict, metadata: dict) -> dict:
         for key in ("inputs", "input_transform"):
             metadata.pop(key, None)
         kpn = model.architecture in image_unet.KERNEL_ARCHITECTURES
-        arch = {image_unet.GUIDED_ARCHITECTURE: "kImageGuidedKpnArchitecture",
+        arch = {image_unet.VARIANCE_ARCHITECTURE: "kImageVarianceKpnArchitecture",
+                image_unet.GUIDED_ARCHITECTURE: "kImageGuidedKpnArchitecture",
                 image_unet.KPN_ARCHITECTURE: "kImageKpnArchitecture"}.get(model.architecture, "kImageArchitecture")
         return {"stage": fmt["kStageImageDenoiser"], "architecture": fmt[arch],
                 "base_width": k, "in_channels": fmt["kImageInChannels"],
@@ -270,10 +271,11 @@ def checkpoint_metadata(path: str, obj) -> dict:
     return meta
 
 
-def golden_image_denoise(model, colour, albedo, normal, depth=None):
-    """The renderer's image denoising in PyTorch (1 x 3 x H x W each, depth 1 x 1 x H x W, any
-    H, W): pad to multiples of 8 by repeating the last row and column, exposure over the
-    padded image, the network, the output transform or the predicted kernels, crop."""
+def golden_image_denoise(model, colour, albedo, normal, depth=None, variance=None):
+    """The renderer's image denoising in PyTorch (1 x 3 x H x W each, depth and variance
+    1 x 1 x H x W, any H, W): pad to multiples of 8 by repeating the last row and column,
+    exposure over the padded image, the network, the output transform or the predicted
+    kernels, crop."""
     import image_unet
     import torch.nn.functional as F
     h, w = colour.shape[2], colour.shape[3]
@@ -281,7 +283,8 @@ def golden_image_denoise(model, colour, albedo, normal, depth=None):
     pad = (0, -w % m, 0, -h % m)
     padded = [F.pad(t, pad, mode="replicate") for t in (colour, albedo, normal)]
     z = F.pad(depth, pad, mode="replicate") if depth is not None else None
-    return image_unet.denoise(model, *padded, depth=z)[:, :, :h, :w]
+    v = F.pad(variance, pad, mode="replicate") if variance is not None else None
+    return image_unet.denoise(model, *padded, depth=z, variance=v)[:, :, :h, :w]
 
 
 def write_image_golden(model, directory: str, size: tuple[int, int], seed: int, k: int) -> None:
@@ -296,8 +299,8 @@ def write_image_golden(model, directory: str, size: tuple[int, int], seed: int, 
     albedo = torch.rand((1, 3, h, w), generator=g)
     normal = torch.nn.functional.normalize(torch.randn((1, 3, h, w), generator=g), dim=1)
     layers = [("colour", colour), ("albedo", albedo), ("normal", normal)]
-    depth = None
-    if model.architecture == image_unet.GUIDED_ARCHITECTURE:
+    depth = variance = None
+    if model.architecture in image_unet.GEOMETRY_GUIDED:
         # Geometry the edge-stopping factors act on: four tilted planes (slightly noisy normals,
         # a depth ramp with a step at each band's edge) and a few misses (depth 0).
         band = (torch.arange(w) * 4 // w).view(1, 1, 1, w).expand(1, 1, h, w)
@@ -310,8 +313,14 @@ def write_image_golden(model, directory: str, size: tuple[int, int], seed: int, 
         depth = 2.0 + band.float() * 0.7 + 0.03 * x + 0.02 * y0 + 0.001 * torch.randn((1, 1, h, w), generator=g)
         depth = depth * (torch.rand((1, 1, h, w), generator=g) > 0.03)
         layers = [("colour", colour), ("albedo", albedo), ("normal", normal), ("depth", depth)]
+    if model.architecture == image_unet.VARIANCE_ARCHITECTURE:
+        # A variance of the order of the colour's luminance squared (a few samples' worth),
+        # over a range of levels, so that the luminance factors are neither all 1 nor all 0.
+        lum = 0.2126 * colour[:, 0:1] + 0.7152 * colour[:, 1:2] + 0.0722 * colour[:, 2:3]
+        variance = lum * lum * torch.exp(torch.randn((1, 1, h, w), generator=g) * 1.5 - 1.0)
+        layers.append(("variance", variance))
     with torch.no_grad():
-        y = golden_image_denoise(model.float(), colour, albedo, normal, depth)
+        y = golden_image_denoise(model.float(), colour, albedo, normal, depth, variance)
     for name, t in (*layers, ("output", y)):
         Path(directory, name + ".f32").write_bytes(t.numpy().astype("<f4").tobytes())
     Path(directory, "golden.json").write_text(json.dumps(

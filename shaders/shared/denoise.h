@@ -85,6 +85,17 @@ OSR_CONST(float, kGuideSigmaDepth, 1.0);
 OSR_CONST(float, kGuideDepthFloor, 1e-3);
 OSR_CONST(float, kGuideCosMin, 1e-30);
 OSR_CONST(float, kGuideSlopeNone, 1e30);
+// The value of kSpecKernelGuided: what each tap's weight is multiplied by besides the
+// network's. kKernelFactorsFilter (osr_image_kpn_v3, image_unet.filter_logits): also the
+// a-trous filter's B3-spline weight h_i h_j and exp(-|l_p - l_q| / (kFilterSigmaLuminance
+// sqrt(v_p) + kFilterVarianceFloor)), l the luminance of the level's compressed colour and v_p
+// its variance (carried into the compressed space, passed on by each level as the sum of
+// squared weights times the taps' variances) blurred 3 x 3.
+OSR_CONST(uint, kKernelFactorsNone, 0);
+OSR_CONST(uint, kKernelFactorsGeometry, 1);
+OSR_CONST(uint, kKernelFactorsFilter, 2);
+OSR_CONST(float, kFilterSigmaLuminance, 4.0);
+OSR_CONST(float, kFilterVarianceFloor, 1e-6);
 
 OSR_NAMESPACE_END
 #endif

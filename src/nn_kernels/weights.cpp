@@ -414,9 +414,10 @@ ImageUNetWeights ImageUNetWeights::parse(std::span<const uint8_t> file, const st
     const nlohmann::json& header = p.header;
     // Any of the three image architectures; requireStage names the file's when it is none.
     const std::string declared = header.value("architecture", std::string());
-    w.architecture = declared == kImageGuidedKpnArchitecture ? kImageGuidedKpnArchitecture
-                     : declared == kImageKpnArchitecture    ? kImageKpnArchitecture
-                                                            : kImageArchitecture;
+    w.architecture = declared == kImageVarianceKpnArchitecture ? kImageVarianceKpnArchitecture
+                     : declared == kImageGuidedKpnArchitecture ? kImageGuidedKpnArchitecture
+                     : declared == kImageKpnArchitecture       ? kImageKpnArchitecture
+                                                               : kImageArchitecture;
     requireStage(path, header, kStageImageDenoiser, w.architecture.c_str());
     w.k = readBaseWidth(path, header);
     // The renderer feeds the first-hit colour, albedo and normal; a model asking for anything

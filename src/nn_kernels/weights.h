@@ -81,14 +81,19 @@ extern const ImageConvSpec kImageConvSpecs[kImageConvCount];
 
 struct ImageUNetWeights {
   uint32_t k = 0;
-  // kImageGuidedKpnArchitecture or kImageKpnArchitecture (kernel logits out; the first's
-  // kernels are multiplied by fixed normal and depth factors) or kImageArchitecture (colour out).
+  // kImageVarianceKpnArchitecture, kImageGuidedKpnArchitecture or kImageKpnArchitecture (kernel
+  // logits out; the first two's kernels are multiplied by fixed normal and depth factors, the
+  // first's also by the a-trous filter's luminance and B3-spline factors) or kImageArchitecture
+  // (colour out).
   std::string architecture = kImageKpnArchitecture;
   std::string source;
   std::vector<ConvWeights> convs;  // kImageConvSpecs order, no BatchNorm
 
   bool predictsKernels() const { return architecture == kImageKpnArchitecture || guided(); }
-  bool guided() const { return architecture == kImageGuidedKpnArchitecture; }
+  // Reads the depth: the kernels have the normal and depth factors.
+  bool guided() const { return architecture == kImageGuidedKpnArchitecture || filterGuided(); }
+  // Reads the film's variance: the kernels also have the a-trous filter's factors.
+  bool filterGuided() const { return architecture == kImageVarianceKpnArchitecture; }
   uint32_t outChannels() const { return predictsKernels() ? kImageKpnOutChannels : kOutChannels; }
   // Random weights (uniform, variance 2 / fan_in; biases in +-0.1) for tests and benchmarks.
   static ImageUNetWeights random(uint32_t k, uint32_t seed,

@@ -52,6 +52,11 @@ inline constexpr char kImageKpnArchitecture[] = "osr_image_kpn_v1";
 // The same network, input and outputs; each kernel tap's weight is multiplied by fixed normal
 // and depth edge-stopping factors (image_unet.guide_logits), so it also reads the depth.
 inline constexpr char kImageGuidedKpnArchitecture[] = "osr_image_kpn_v2";
+// The same network, input and outputs; each tap's weight is also multiplied by the a-trous
+// filter's B3-spline weight and its luminance factor, scaled by each pixel's variance, which
+// every level carries on (image_unet.filter_logits): the kernels start as the filter, so it
+// also reads the depth and the film's variance.
+inline constexpr char kImageVarianceKpnArchitecture[] = "osr_image_kpn_v3";
 inline constexpr uint32_t kImageKpnOutChannels = 100;
 inline constexpr uint32_t kImageInChannels = 9;
 inline constexpr uint32_t kImageMultiple = 8;

@@ -60,11 +60,11 @@ void NetOutputPass::record(VkCommandBuffer cmd, const DenoiseBindings& b, const 
   vk::computeBarrier(cmd);
 }
 
-KernelApplyPass::KernelApplyPass(const vk::Context& ctx, bool first, bool last, bool guided)
+KernelApplyPass::KernelApplyPass(const vk::Context& ctx, bool first, bool last, uint32_t factors)
     : last_(last),
       pipeline_(makePipeline(ctx, shaders::Id::denoise_kernel_apply,
                              {vk::specUint(g::kSpecKernelFirst, first), vk::specUint(g::kSpecKernelLast, last),
-                              vk::specUint(g::kSpecKernelGuided, guided)})) {}
+                              vk::specUint(g::kSpecKernelGuided, factors)})) {}
 
 void KernelApplyPass::record(VkCommandBuffer cmd, const DenoiseBindings& b, const g::DenoisePush& push) const {
   bindAll(cmd, pipeline_, b, push);

@@ -50,11 +50,13 @@ class NetOutputPass {
 // One level of the kernel-predicting network's kernels on a tile (denoise_kernel_apply.comp):
 // the first reads the image colour (b.colour) and demodulates it, the others the previous
 // level's tile buffer (b.colour); the last writes the core's re-modulated colour to the image
-// (b.out), the others the whole tile to a tile buffer (b.out). b.tensor: the logits. guided
-// (osr_image_kpn_v2): each tap's weight times the fixed normal and depth factors.
+// (b.out), the others the whole tile to a tile buffer (b.out). b.tensor: the logits. factors:
+// what each tap's weight is multiplied by besides the network's (gpu::denoise::KernelFactors:
+// nothing, the fixed normal and depth factors of osr_image_kpn_v2, or those and the a-trous
+// filter's of osr_image_kpn_v3).
 class KernelApplyPass {
  public:
-  KernelApplyPass(const vk::Context& ctx, bool first, bool last, bool guided);
+  KernelApplyPass(const vk::Context& ctx, bool first, bool last, uint32_t factors);
   void record(VkCommandBuffer cmd, const DenoiseBindings& b, const gpu::denoise::DenoisePush& push) const;
 
  private:

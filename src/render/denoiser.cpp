@@ -123,10 +123,12 @@ NetworkDenoiser::NetworkDenoiser(const vk::Context& ctx, const nn::ImageUNetWeig
   sums_ = vk::Buffer(ctx, sizeof(g::ExposureSums) * (g::kExposurePartials + 1), vk::MemoryUse::DeviceLocal,
                      "denoise exposure");
   if (kernels) {
-    const bool guided = weights.guided();
-    firstKernel_.emplace(ctx, true, false, guided);
-    middleKernel_.emplace(ctx, false, false, guided);
-    lastKernel_.emplace(ctx, false, true, guided);
+    const uint32_t factors = weights.filterGuided() ? g::kKernelFactorsFilter
+                             : weights.guided()     ? g::kKernelFactorsGeometry
+                                                    : g::kKernelFactorsNone;
+    firstKernel_.emplace(ctx, true, false, factors);
+    middleKernel_.emplace(ctx, false, false, factors);
+    lastKernel_.emplace(ctx, false, true, factors);
     const VkDeviceSize bytes = VkDeviceSize(largest) * largest * 16;
     kernelPing_ = vk::Buffer(ctx, bytes, vk::MemoryUse::DeviceLocal, "denoise kernel ping");
     kernelPong_ = vk::Buffer(ctx, bytes, vk::MemoryUse::DeviceLocal, "denoise kernel pong");

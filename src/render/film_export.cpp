@@ -29,13 +29,17 @@ image::LayeredImage toLayeredImage(FilmLayers&& f) {
   img.width = f.width;
   img.height = f.height;
   const std::vector<std::string> rgb = {"R", "G", "B"}, xyz = {"X", "Y", "Z"};
-  img.layers.reserve(7);
+  img.layers.reserve(8);
   img.layers.push_back({"", rgb, std::move(f.combined)});
   img.layers.push_back({"direct", rgb, std::move(f.direct)});
   img.layers.push_back({"indirect", rgb, std::move(f.indirect)});
   img.layers.push_back({"albedo", rgb, std::move(f.albedo)});
   img.layers.push_back({"normal", xyz, std::move(f.normal)});
   img.layers.push_back({"depth", {"Z"}, std::move(f.depth)});
+  // The variance of each pixel's luminance estimate (film.h), what the a-trous filter weighs
+  // by and what training data for a denoiser keeps; absent where the integrator has none.
+  if (f.variance.size() == size_t(f.width) * size_t(f.height))
+    img.layers.push_back({"variance", {"Y"}, std::move(f.variance)});
   // A denoised film keeps its raw colour beside the default (denoised) layer.
   if (!f.noisy.empty()) img.layers.push_back({"noisy", rgb, std::move(f.noisy)});
   return img;

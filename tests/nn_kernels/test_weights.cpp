@@ -266,6 +266,7 @@ TEST(Weights, PackerDetectsTheArchitecture) {
   const std::string tools = std::string(OSR_SOURCE_DIR) + "/tools";
   const std::string image = (dir / "image.pt").string(), liar = (dir / "liar.pt").string();
   const std::string kpn = (dir / "kpn.pt").string(), kpn2 = (dir / "kpn2.pt").string();
+  const std::string kpn3 = (dir / "kpn3.pt").string();
   const std::string make =
       std::string(py) + " -c \"import sys; sys.path.insert(0, '" + tools + "'); import image_unet, torch; " +
       "m = image_unet.ImageUNet(4, 'osr_image_unet_v1'); image_unet.randomize(m, 3); " +
@@ -273,7 +274,8 @@ TEST(Weights, PackerDetectsTheArchitecture) {
       image + "'); torch.save({'model': m.state_dict(), 'architecture': 'osr_unet_v1'}, '" + liar + "'); " +
       "torch.save({'model': image_unet.ImageUNet(4).state_dict()}, '" + kpn + "'); " +
       "torch.save({'model': image_unet.ImageUNet(4).state_dict(), 'architecture': 'osr_image_kpn_v2'}, '" + kpn2 +
-      "')\"";
+      "'); torch.save({'model': image_unet.ImageUNet(4).state_dict(), 'architecture': 'osr_image_kpn_v3'}, '" +
+      kpn3 + "')\"";
   ASSERT_EQ(std::system(make.c_str()), 0);
   const std::string packed = (dir / "image.osrw").string();
   ASSERT_EQ(std::system((std::string(py) + " " + tools + "/weights_pack.py " + image + " " + packed).c_str()), 0);
@@ -294,6 +296,14 @@ TEST(Weights, PackerDetectsTheArchitecture) {
   EXPECT_TRUE(k2.predictsKernels());
   EXPECT_TRUE(k2.guided());
   EXPECT_EQ(k2.architecture, nn::kImageGuidedKpnArchitecture);
+  EXPECT_FALSE(k2.filterGuided());
+  const std::string packedKpn3 = (dir / "kpn3.osrw").string();
+  ASSERT_EQ(std::system((std::string(py) + " " + tools + "/weights_pack.py " + kpn3 + " " + packedKpn3).c_str()), 0);
+  const nn::ImageUNetWeights k3 = nn::ImageUNetWeights::load(packedKpn3);
+  EXPECT_TRUE(k3.predictsKernels());
+  EXPECT_TRUE(k3.guided());
+  EXPECT_TRUE(k3.filterGuided());
+  EXPECT_EQ(k3.architecture, nn::kImageVarianceKpnArchitecture);
   auto text = readFile(packed);
   EXPECT_NE(std::string(text.begin(), text.end()).find("\"epoch\":7"), std::string::npos);
   const std::string err = (dir / "err.txt").string();

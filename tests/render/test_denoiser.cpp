@@ -50,7 +50,8 @@ render::FilmLayers film(int w, int h) {
 
 // A random HDR image with random guides; with `surfaces`, normals and depth of tilted planes
 // in vertical bands (slightly noisy normals, a depth ramp stepping at each band) and a few
-// misses, so that the guided kernels' edge-stopping factors are neither all 1 nor all 0.
+// misses, so that the guided kernels' edge-stopping factors are neither all 1 nor all 0, and a
+// variance of a few samples' worth (the luminance squared times 0 to 0.5).
 render::FilmLayers randomFilm(int w, int h, uint32_t seed, bool surfaces = false) {
   render::FilmLayers f = film(w, h);
   std::mt19937 rng(seed);
@@ -67,6 +68,8 @@ render::FilmLayers randomFilm(int w, int h, uint32_t seed, bool surfaces = false
       f.normal[3 * i + 1] = 0.05f * (uni(rng) - 0.5f);
       f.normal[3 * i + 2] = 1.0f;
       f.depth[i] = uni(rng) < 0.03f ? 0.0f : 2.0f + 0.5f * float(band) + 0.01f * float(x + y);
+      const float lum = 0.2126f * f.combined[3 * i] + 0.7152f * f.combined[3 * i + 1] + 0.0722f * f.combined[3 * i + 2];
+      f.variance[i] = 0.5f * uni(rng) * lum * lum;
     }
   return f;
 }
@@ -110,11 +113,12 @@ double maxAbsDiff(const std::vector<float>& a, const std::vector<float>& b) {
 
 }  // namespace
 
-// tests/data/image_{unet,kpn,kpn2}_k8_golden: a 37 x 21 image (padded to 40 x 24) through
+// tests/data/image_{unet,kpn,kpn2,kpn3}_k8_golden: a 37 x 21 image (padded to 40 x 24) through
 // PyTorch, by a direct model and kernel-predicting ones without and with the fixed edge-stopping
 // factors (random weights, tools/weights_pack.py --golden; the kpn2 one from
 // image_unet.randomize(ImageUNet(8, "osr_image_kpn_v2"), 3) saved with its "architecture",
-// whose golden image has banded normals, a stepped depth ramp and misses: depth.f32).
+// whose golden image has banded normals, a stepped depth ramp and misses: depth.f32; the kpn3
+// one likewise with "osr_image_kpn_v3", whose golden image also has a variance.f32).
 void expectGolden(const std::string& name) {
   const nn::ImageUNetWeights w = nn::ImageUNetWeights::load(test::dataPath(name + ".osrw"));
   const int width = 37, height = 21;
@@ -124,6 +128,7 @@ void expectGolden(const std::string& name) {
   f.albedo = interleave(readFloats(test::dataPath(name + "_golden/albedo.f32")), n);
   f.normal = interleave(readFloats(test::dataPath(name + "_golden/normal.f32")), n);
   if (w.guided()) f.depth = readFloats(test::dataPath(name + "_golden/depth.f32"));
+  if (w.filterGuided()) f.variance = readFloats(test::dataPath(name + "_golden/variance.f32"));
   const std::vector<float> want = interleave(readFloats(test::dataPath(name + "_golden/output.f32")), n);
   const std::vector<float> got = runNetwork(w, f, 0);
   const double err = maxAbsDiff(got, want);
@@ -135,6 +140,7 @@ void expectGolden(const std::string& name) {
 TEST(Denoiser, NetworkMatchesPyTorchGolden) { expectGolden("image_unet_k8"); }
 TEST(Denoiser, KernelNetworkMatchesPyTorchGolden) { expectGolden("image_kpn_k8"); }
 TEST(Denoiser, GuidedKernelNetworkMatchesPyTorchGolden) { expectGolden("image_kpn2_k8"); }
+TEST(Denoiser, FilterGuidedKernelNetworkMatchesPyTorchGolden) { expectGolden("image_kpn3_k8"); }
 
 // Tiles against one tile: the same image, when every margin holds the receptive field.
 void expectTiledEqualsUntiled(const std::string& architecture, int width, int height, uint32_t tile,
@@ -163,6 +169,9 @@ TEST(Denoiser, KernelTiledEqualsUntiled) {
 }
 TEST(Denoiser, GuidedKernelTiledEqualsUntiled) {
   expectTiledEqualsUntiled(nn::kImageGuidedKpnArchitecture, 250, 220, 200, 5u * 4u);
+}
+TEST(Denoiser, FilterGuidedKernelTiledEqualsUntiled) {
+  expectTiledEqualsUntiled(nn::kImageVarianceKpnArchitecture, 250, 220, 200, 5u * 4u);
 }
 
 TEST(Denoiser, TilesCoverTheImageOnce) {

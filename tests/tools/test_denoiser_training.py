@@ -5,6 +5,8 @@ input and target are spp-weighted means of disjoint renders; train_denoiser.py -
 validates, writes the checkpoint the packer reads and resumes, and --init starts the guided
 kernels (osr_image_kpn_v2) from a kpn_v1 run; the guided kernels do not average across a
 geometric edge; a view without depth takes its depth.npz, and kpn2 refuses data with neither;
+the variance of a mean of renders is their weighted sum, kpn3 refuses data without it, and its
+kernels with zero logits smooth noise by the variance they are told;
 bad data and options are one line, exit 2; tools/train_default_denoiser.sh --quick renders
 real interiors with osr-vk, trains and packs, a second make_denoise_data.py run renders
 nothing, and renders from before depth was kept get a depth.npz that matches their depth.
@@ -35,12 +37,13 @@ def run(cmd, expect=0):
     return r
 
 
-def write_view(folder: Path, name: str, spps, colour_of, albedo, normal) -> None:
+def write_view(folder: Path, name: str, spps, colour_of, albedo, normal, variance_of=None) -> None:
     (folder / name).mkdir(parents=True)
     for i, spp in enumerate(spps):
+        extra = {"variance": variance_of(i).astype(np.float32)} if variance_of else {}
         np.savez(folder / name / f"in_{i}_{spp}.npz", spp=np.int32(spp), seed=np.int64(i), seconds=np.float32(0),
                  colour=colour_of(i).astype(np.float32), albedo=albedo.astype(np.float16),
-                 normal=normal.astype(np.float16))
+                 normal=normal.astype(np.float16), **extra)
 
 
 class Examples(unittest.TestCase):
@@ -63,7 +66,7 @@ class Examples(unittest.TestCase):
         rng = np.random.default_rng(3)
         moved = 0
         for _ in range(12):
-            colour, albedo, normal, depth, e, target, _ = td.make_batch(data, rng, 2, 24)
+            colour, albedo, normal, depth, _, e, target, _ = td.make_batch(data, rng, 2, 24)
             np.testing.assert_array_equal(depth.numpy(), 0.0)  # a view without depth gets zeros
             np.testing.assert_allclose(colour.numpy(), albedo.numpy(), rtol=2e-3, atol=1e-4)
             np.testing.assert_allclose(target.numpy(), albedo.numpy(), rtol=2e-3, atol=1e-4)
@@ -85,7 +88,7 @@ class Examples(unittest.TestCase):
         rng = np.random.default_rng(1)
         seen = set()
         for _ in range(200):
-            colour, _, _, _, target, spp = view.example(rng)
+            colour, _, _, _, _, target, spp = view.example(rng)
             seen.add(spp)
             # Recover the subset from the level (binary, as the counts are powers of two).
             chosen = [i for i in range(4) if spp >> i & 1]
@@ -98,6 +101,20 @@ class Examples(unittest.TestCase):
             self.assertAlmostEqual(float(target[0, 0, 0]), expect_t, places=2)
         self.assertIn(1, seen)
         self.assertTrue(any(s >= 8 for s in seen), f"only low counts drawn: {sorted(seen)}")
+
+    def test_variance_of_a_mean_of_independent_renders(self):
+        # The mean of renders of 1 and 3 samples weighs them 1/4 and 3/4: its variance is
+        # (1/4)^2 v0 + (3/4)^2 v1. Views without variance give zeros; kpn3 refuses them.
+        flat = np.zeros((3, 8, 8), np.float32)
+        with tempfile.TemporaryDirectory() as tmp:
+            write_view(Path(tmp), "1_c0", [1, 3], lambda i: flat, flat, flat,
+                       variance_of=lambda i: np.full((1, 8, 8), [16.0, 4.0][i]))
+            write_view(Path(tmp), "2_c0", [1, 3], lambda i: flat, flat, flat)
+            np.testing.assert_allclose(td.View(Path(tmp) / "1_c0").mean([0, 1])[4], 16 / 16 + 4 * 9 / 16)
+            np.testing.assert_array_equal(td.View(Path(tmp) / "2_c0").mean([0, 1])[4], 0.0)
+            (Path(tmp) / "dataset.json").write_text('{"spp_list": [1, 3], "views": {"1_c0": {}, "2_c0": {}}}')
+            with self.assertRaisesRegex(td.DataError, "2_c0: no variance"):
+                td.Dataset([tmp], need_variance=True)
 
     def test_depth_per_render_or_from_the_views_depth_npz(self):
         flat = np.zeros((3, 8, 8), np.float32)
@@ -141,6 +158,48 @@ class GuidedKernels(unittest.TestCase):
         for normal, depth in ((turned, plane), (facing, stepped)):
             out = image_unet.apply_kernels(logits, c, a, e, guides=(t(normal), t(depth)))[0, 1, :, edge].numpy()
             self.assertLess(np.abs(out / truth - 1).max(), 0.15)
+
+
+class FilterGuidedKernels(unittest.TestCase):
+    def test_zero_logits_filter_noise_by_its_variance(self):
+        # osr_image_kpn_v3 with zero logits is the a-trous filter: a flat grey wall with noise
+        # of a known variance comes out closer to its level the larger the variance it is told
+        # (the luminance factors let more of the noise through when the variance is small), and
+        # a variance of 0 keeps the pixels nearly as they are.
+        import torch
+        import image_unet
+        rng = np.random.default_rng(2)
+        h, w = 32, 32
+        sd = 0.3
+        colour = torch.from_numpy((0.5 + sd * rng.standard_normal((1, 1, h, w))).clip(0.01).repeat(3, 1)
+                                  .astype(np.float32))
+        albedo = torch.full((1, 3, h, w), 0.5)
+        normal = torch.zeros(1, 3, h, w)
+        normal[:, 2] = 1
+        depth = torch.full((1, 1, h, w), 2.0)
+        e = image_unet.image_exposure(colour)
+        logits = torch.zeros(1, image_unet.KPN_OUT_CHANNELS, h, w)
+        errors = []
+        for var in (0.0, sd * sd / 16, sd * sd):
+            v = torch.full((1, 1, h, w), var)
+            out = image_unet.apply_kernels(logits, colour, albedo, e, guides=(normal, depth), variance=v)
+            errors.append(float(((out[0, 1] - 0.5) ** 2).mean()))
+        noisy = float(((colour[0, 1] - 0.5) ** 2).mean())
+        self.assertGreater(errors[0], 0.5 * noisy)
+        self.assertLess(errors[2], errors[1])
+        self.assertLess(errors[2], 0.05 * noisy)
+
+    def test_quick_run_and_pack(self):
+        import torch
+        with tempfile.TemporaryDirectory() as tmp:
+            out = Path(tmp) / "run"
+            r = run([PY, TOOLS / "train_denoiser.py", "--out", out, "--quick", "--arch", "kpn3"])
+            self.assertIn("1 spp: relMSE", r.stderr)
+            best = torch.load(out / "best.pt", map_location="cpu")
+            self.assertEqual(best["architecture"], "osr_image_kpn_v3")
+            run([PY, TOOLS / "weights_pack.py", out / "best.pt", out / "model.osrw"])
+            header = (out / "model.osrw").read_bytes()[:4096]
+            self.assertIn(b"osr_image_kpn_v3", header)
 
 
 class QuickTraining(unittest.TestCase):
