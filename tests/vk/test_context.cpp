@@ -110,6 +110,11 @@ TEST(Context, StagingRoundTripAtOffsets) {
 TEST(Context, BindingPastMaxStorageBufferRangeIsRefused) {
   auto& ctx = test::context();
   VkDeviceSize limit = ctx.caps().maxStorageBufferRange;
+  // GPUs whose storage range (4 GiB on NVIDIA's drivers) reaches their largest allocation
+  // cannot hold a buffer past it: the allocation is refused first (app/test_cli_errors).
+  if (limit + 1024 > ctx.caps().maxMemoryAllocationSize)
+    GTEST_SKIP() << "maxStorageBufferRange " << limit << " is not below maxMemoryAllocationSize "
+                 << ctx.caps().maxMemoryAllocationSize;
   vk::Buffer big(ctx, limit + 1024, vk::MemoryUse::DeviceLocal, "too big");
   vk::ComputePipeline pass(ctx, shaders::Id::util_fill, 1, sizeof(fill::Push));
   try {
