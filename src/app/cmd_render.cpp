@@ -327,8 +327,19 @@ render::RenderStats OfflineRenderer::render(const scene::Camera& camera,
   render::ProgressiveDriver driver(ctx_, *integrator_, ds);
   driver.restart(camera, uint32_t(o_.seed.value_or(0)));
   interrupt::renderLoopStarts();
+  const auto sinceStart = [&] {
+    return std::chrono::duration<double>(std::chrono::steady_clock::now() - o_.started).count();
+  };
+  const double loopStart = sinceStart();
   const render::RenderStats stats =
       driver.run([&](const render::Progress& p) { progress(p); }, interrupt::stopFlag());
+  // Where the budget went, on --time's clock (from osr-vk's start): set-up, the render loop,
+  // and the seconds held back after it.
+  if (o_.timeLimit && !o_.frames && !o_.quiet)
+    std::fprintf(stderr,
+                 "osr-vk: note: --time %g: the render loop ran from %.2f to %.2f s, holding back "
+                 "%.2f s for the resolve and write\n",
+                 *o_.timeLimit, loopStart, sinceStart(), ds.reserveS);
   integrator_->resolveInto(film);
   if (imageDenoiser_) imageDenoiser_->apply(film);
   progress.finish();

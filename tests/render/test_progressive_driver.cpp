@@ -103,6 +103,24 @@ TEST(ProgressiveDriver, TimeBudgetStopsNearTheBudget) {
   expectContiguous(integ.ranges, stats.units, 1000);
 }
 
+// The seconds held back for what follows the loop (the CLI's resolve and write) end it that
+// much earlier: a budget of 0.8 s less 0.5 s is about 0.3 s of 20 ms units.
+TEST(ProgressiveDriver, TimeBudgetStopsEarlierByWhatIsHeldBack) {
+  auto& ctx = test::context();
+  const double unitS = 0.02, budgetS = 0.8, heldS = 0.5;
+  ScriptedIntegrator integ(ctx, unitS, 1000);
+  render::DriverSettings settings{1u << 20, budgetS, 0.05};
+  settings.reserveS = heldS;
+  render::ProgressiveDriver driver(ctx, integ, settings);
+  driver.restart({}, 0);
+  const render::RenderStats& stats = driver.run();
+  EXPECT_EQ(stats.stoppedBy, render::StopReason::Time);
+  EXPECT_GE(stats.units, 5u);
+  EXPECT_LE(stats.units, uint32_t((budgetS - heldS) / unitS) + 1);
+  EXPECT_LT(stats.seconds, budgetS - heldS + 0.25);  // host scheduling slack on a loaded machine
+  expectContiguous(integ.ranges, stats.units, 1000);
+}
+
 TEST(ProgressiveDriver, CancelStopsBetweenSubmissions) {
   auto& ctx = test::context();
   ScriptedIntegrator integ(ctx, 0.0, 1);
