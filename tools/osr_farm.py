@@ -370,6 +370,10 @@ def connect(args):
     import logging
     from distributed import Client, LocalCluster
     logging.getLogger("distributed").setLevel(logging.ERROR)  # the farm's own lines say what happens
+    # Nor asyncio's: on a loaded machine an internal future of Dask's client can time out while
+    # it closes, and asyncio logs "Future exception was never retrieved" with the TimeoutError
+    # at exit, after the farm's one line (seen in tools/osr_farm_bad under a cold full run).
+    logging.getLogger("asyncio").setLevel(logging.CRITICAL)
     timeout = args.connect_timeout
     try:
         if args.scheduler:
