@@ -2,8 +2,10 @@
 # Regenerates the shipped image denoiser (models/osr_image_denoiser.osrw) from nothing: the
 # generated interiors, the noisy training renders, the validation renders with references,
 # the training, the evaluation and the packed weights (docs/training.md, "Image denoiser").
-# Two trainings: the kernel predictor without edge-stopping factors (osr_image_kpn_v1, run1),
-# whose weights then start the shipped one with them (osr_image_kpn_v2, run; the same weights).
+# Three trainings, each started from the last one's weights (the kernel architectures share
+# them): the kernel predictor without fixed factors (osr_image_kpn_v1, run1), with the normal
+# and depth factors (osr_image_kpn_v2, run2), and the shipped one with the a-trous filter's
+# factors too (osr_image_kpn_v3, run), which reads the renders' variance.
 #
 #   tools/train_default_denoiser.sh [--quick] [--work DIR] [--osr-vk PATH] [--minutes M] [--install]
 #
@@ -27,7 +29,7 @@ while (($#)); do
     --work) work="$2"; shift ;;
     --osr-vk) osrvk="$2"; shift ;;
     --minutes) minutes="$2"; shift ;;
-    -h|--help) sed -n '2,18p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '2,20p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "train_default_denoiser.sh: unknown option $1 (see --help)" >&2; exit 2 ;;
   esac
   shift
@@ -44,16 +46,22 @@ if ((quick)); then
   $py "$t/make_denoise_data.py" "$work/data" --quick --osr-vk "$osrvk"
   train=(--quick)
 else
-  $py "$t/make_denoise_data.py" "$work/val" --validation --osr-vk "$osrvk"
-  $py "$t/make_denoise_data.py" "$work/data" --seeds 1-28 --cameras 1 --osr-vk "$osrvk"
+  $py "$t/make_denoise_data.py" "$work/val" --validation --spp-list 1,4,16,64,256 --target-spp 4096 \
+    --chunk-spp 512 --osr-vk "$osrvk"
+  $py "$t/make_denoise_data.py" "$work/data" --seeds 1-28 --cameras 1 --spp-list 1,2,4,8,16,32,64,128 \
+    --osr-vk "$osrvk"
   train=(--k 8 --minutes "$minutes")
 fi
-if [ ! -f "$work/run/checkpoint.pt" ]; then
+if [ ! -f "$work/run2/checkpoint.pt" ] && [ ! -f "$work/run/checkpoint.pt" ]; then
   $py "$t/train_denoiser.py" "$work/data" --val "$work/val" --out "$work/run1" --arch kpn "${train[@]}" \
     $(resume_of "$work/run1")
 fi
-$py "$t/train_denoiser.py" "$work/data" --val "$work/val" --out "$work/run" --arch kpn2 --init "$work/run1/best.pt" \
-  --lr 1e-3 --eval-s 600 "${train[@]}" $(resume_of "$work/run")
+if [ ! -f "$work/run/checkpoint.pt" ]; then
+  $py "$t/train_denoiser.py" "$work/data" --val "$work/val" --out "$work/run2" --arch kpn2 --init "$work/run1/best.pt" \
+    --lr 1e-3 --eval-s 600 "${train[@]}" $(resume_of "$work/run2")
+fi
+$py "$t/train_denoiser.py" "$work/data" --val "$work/val" --out "$work/run" --arch kpn3 --init "$work/run2/best.pt" \
+  --lr 1e-3 --eval-s 300 "${train[@]}" $(resume_of "$work/run")
 $py "$t/weights_pack.py" "$work/run/best.pt" "$work/run/model.osrw"
 if ((install)); then
   cp "$work/run/model.osrw" "$root/models/osr_image_denoiser.osrw"

@@ -226,22 +226,24 @@ void DenoiseSettings::check() const {
 
 Denoiser::Denoiser(const vk::Context& ctx, const DenoiseSettings& settings, uint32_t width, uint32_t height)
     : ctx_(ctx), settings_(settings), image_(ctx, width, height) {
-  if (settings.network != DenoiseSettings::Network::None) {
+  if (settings.network != DenoiseSettings::Network::None)
     network_ = std::make_unique<NetworkDenoiser>(ctx, loadModel(settings), width, height);
-  } else if (settings.atrous) {
-    filter_ = std::make_unique<AtrousFilter>(ctx, width, height);
-  }
+  if (settings.atrous) filter_ = std::make_unique<AtrousFilter>(ctx, width, height);
+  lastRanNetwork_ = network_ != nullptr;
   out_ = vk::Buffer(ctx, VkDeviceSize(width) * height * 16, vk::MemoryUse::DeviceLocal, "denoised colour");
 }
 
-const char* Denoiser::name() const { return network_ ? "network" : filter_ ? "atrous" : "none"; }
+const char* Denoiser::name() const {
+  return lastRanNetwork_ ? "network" : filter_ ? "atrous" : "none";
+}
 
 void Denoiser::apply(FilmLayers& film) {
   if (!network_ && !filter_) return;
   const auto start = std::chrono::steady_clock::now();
+  lastRanNetwork_ = network_ && (!filter_ || film.samples >= kNetworkMinSamples);
   image_.upload(film);
   ctx_.submitAndWait([&](VkCommandBuffer cmd) {
-    if (network_)
+    if (lastRanNetwork_)
       network_->record(cmd, image_, out_);
     else
       filter_->record(cmd, image_, out_);

@@ -96,7 +96,8 @@ class AtrousFilter {
 };
 
 // The front ends' switch (--network, --filter): which model, if any, and whether the filter
-// runs when no network does.
+// runs when no network does. With both, the filter runs on films of fewer than
+// kNetworkMinSamples samples per pixel and the network on the others.
 struct DenoiseSettings {
   enum class Network { None, Default, File };
   Network network = Network::None;
@@ -112,6 +113,10 @@ struct DenoiseSettings {
 // The model the executable carries (models/osr_image_denoiser.osrw), or none.
 std::optional<nn::ImageUNetWeights> defaultImageModel();
 inline constexpr char kDefaultImageModelName[] = "built-in model models/osr_image_denoiser.osrw";
+// The fewest samples per pixel the network denoises when the filter is on too: at 1 sample the
+// shipped network is worse than the filter, from 4 better (docs/denoise.md, "The variance-guided
+// kernels"), so the viewer's first images after a move are filtered.
+inline constexpr uint32_t kNetworkMinSamples = 4;
 
 class Denoiser {
  public:
@@ -121,6 +126,7 @@ class Denoiser {
   // already denoised is denoised again from its noisy colour.
   void apply(FilmLayers& film);
   double lastSeconds() const { return lastSeconds_; }
+  // What the last apply ran ("network" or "atrous"), before any what it will run.
   const char* name() const;
   uint32_t width() const { return image_.width(); }
   uint32_t height() const { return image_.height(); }
@@ -133,6 +139,7 @@ class Denoiser {
   std::unique_ptr<AtrousFilter> filter_;
   vk::Buffer out_;
   double lastSeconds_ = 0;
+  bool lastRanNetwork_ = true;
 };
 
 }  // namespace osr::render
