@@ -6,7 +6,7 @@ cd "$(dirname "$0")"
 tools/install_deps.sh
 cmake -S . -B build -G Ninja -DCMAKE_BUILD_TYPE=Release >/dev/null
 cmake --build build
-# The default integrator (path tracing, a-trous filtered: the lowest error at equal time
+# The default integrator (path tracing with the learned denoiser: the lowest error at equal time
 # measured, docs/denoise.md) for 60 s. Arguments given to run.sh replace these defaults
 # (e.g. ./run.sh --mode osr --time 60).
 if [ $# -eq 0 ]; then set -- --time 60; fi

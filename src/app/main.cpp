@@ -30,8 +30,8 @@ constexpr const char* kUsage =
     "                        (without --offline and --png: the live viewer, below)\n"
     "  --png out.png         also write a tone-mapped PNG preview\n"
     "                        (an output may not be an input or the other output: exit 2)\n"
-    "  --mode path|osr|preview  integrator (default path): path tracing (with the a-trous\n"
-    "                        filter, the lowest error at equal time measured: docs/denoise.md),\n"
+    "  --mode path|osr|preview  integrator (default path): path tracing (denoised by the learned\n"
+    "                        denoiser, the lowest error at equal time measured: docs/denoise.md),\n"
     "                        osr (One Shot Radiance: noise-free early, converges to path) or\n"
     "                        preview (albedo x headlight cosine, instant)\n";
 // Then osr::app::unitOptionsHelp(): --spp and --passes with the registry's defaults.

@@ -138,12 +138,12 @@ class Farm(unittest.TestCase):
 
     def test_tiles(self):
         # Path: the assembled image is the single render, every layer, bit for bit. Tiles are
-        # not filtered by default (osr-vk --help, --filter), so neither is the single render.
+        # not denoised by default (osr-vk --help, --filter), so neither is the single render.
         path = ["--mode", "path", "--spp", "4", "--seed", "5", "--width", "128", "--height", "96"]
         s = summary(farm("tiles", "2x2", "--workers", 2, "--osr-vk", OSR_VK, "--", *path,
                          "--offline", self.tmp / "tiled.exr", CORNELL))
         self.assertEqual((s["tasks"], s["margin"]), (4, 0))
-        subprocess.run([OSR_VK, *path, "--filter", "none", "--quiet", "--offline", self.tmp / "one.exr", CORNELL],
+        subprocess.run([OSR_VK, *path, "--network", "none", "--filter", "none", "--quiet", "--offline", self.tmp / "one.exr", CORNELL],
                        check=True)
         tiled, one = layers(self.tmp / "tiled.exr"), layers(self.tmp / "one.exr")
         self.assertEqual(sorted(tiled), sorted(one))

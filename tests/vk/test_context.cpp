@@ -26,8 +26,9 @@ TEST(Context, ChoosesADeviceWithCompute) {
   EXPECT_GE(ctx.caps().subgroupSize, 1u);
   // CI sets the size it asked lavapipe for (LP_NATIVE_VECTOR_WIDTH 256: 8 lanes, 128: 4), so
   // that a run meant for one size cannot pass at the other.
-  if (const char* want = std::getenv("OSR_TEST_EXPECT_SUBGROUP_SIZE"))
+  if (const char* want = std::getenv("OSR_TEST_EXPECT_SUBGROUP_SIZE")) {
     EXPECT_EQ(ctx.caps().subgroupSize, uint32_t(std::stoul(want))) << ctx.caps().deviceName;
+  }
   EXPECT_GE(ctx.caps().maxStorageBufferRange, 1u << 27);
   EXPECT_FALSE(vk::listDevices().empty());
 }
