@@ -229,23 +229,40 @@ class OfflineRenderer {
                                                           host.width, host.height);
   }
   // The seconds --time holds back for the denoiser, which runs after the budget: its time on a
-  // small image (run twice, the first builds its pipelines) scaled by the pixels. A default
-  // denoiser that would take more than half the budget is dropped, with a warning; one asked
-  // for is kept.
+  // small image (run twice, the first builds its pipelines) scaled by the pixels, timed on a
+  // film with enough samples that the network runs where there is one (the dearer of the two
+  // path's default holds). A default network that would take more than half the budget gives
+  // way to the filter, and a default filter that would is dropped, each with a warning; a
+  // denoiser asked for is kept.
   double denoiseReserve() {
-    constexpr int kProbe = 128;
-    const render::DenoiseSettings& settings = o_.integrator.everyMode.denoise;
-    render::Denoiser probe(ctx_, settings, kProbe, kProbe);
-    render::FilmLayers empty;
-    empty.allocate(kProbe, kProbe);
-    probe.apply(empty);
-    probe.apply(empty);
-    const double estimate = probe.lastSeconds() * double(host_.width) * host_.height / (kProbe * kProbe);
-    if (settings.chosen || estimate <= 0.5 * *o_.timeLimit) return estimate;
-    std::fprintf(stderr,
-                 "osr-vk: warning: --time %g: the default %s denoiser would take about %.0f s of it at "
-                 "%ux%u; not denoised (--filter atrous or --network to insist)\n",
-                 *o_.timeLimit, imageDenoiser_->name(), estimate, host_.width, host_.height);
+    render::DenoiseSettings settings = o_.integrator.everyMode.denoise;
+    const double pixels = double(host_.width) * host_.height;
+    const auto estimate = [&](const render::DenoiseSettings& s) {
+      constexpr int kProbe = 128;
+      render::Denoiser probe(ctx_, s, kProbe, kProbe);
+      render::FilmLayers empty;
+      empty.allocate(kProbe, kProbe);
+      empty.samples = render::kNetworkMinSamples;
+      probe.apply(empty);
+      probe.apply(empty);
+      return probe.lastSeconds() * pixels / (kProbe * kProbe);
+    };
+    double seconds = estimate(settings);
+    if (settings.chosen || seconds <= 0.5 * *o_.timeLimit) return seconds;
+    const auto warn = [&](const char* what, const char* instead) {
+      std::fprintf(stderr,
+                   "osr-vk: warning: --time %g: the default %s would take about %.0f s of it at %ux%u; %s "
+                   "(--network or --filter to insist)\n",
+                   *o_.timeLimit, what, seconds, host_.width, host_.height, instead);
+    };
+    if (settings.network != render::DenoiseSettings::Network::None && settings.atrous) {
+      warn("network", "the a-trous filter instead");
+      settings.network = render::DenoiseSettings::Network::None;
+      imageDenoiser_ = std::make_unique<render::Denoiser>(ctx_, settings, host_.width, host_.height);
+      seconds = estimate(settings);
+      if (seconds <= 0.5 * *o_.timeLimit) return seconds;
+    }
+    warn(imageDenoiser_->name() == std::string("network") ? "network" : "a-trous filter", "not denoised");
     imageDenoiser_.reset();
     return 0.0;
   }
