@@ -157,22 +157,24 @@ void main() {
     zp = depthAt(g);
     gradZ = max(depthSlope(g, ivec2(1, 0)), depthSlope(g, ivec2(0, 1)));
   }
+  // Each tap's input is read once: the filter's factors need its luminance before the softmax.
   float logits[kKernelTaps];
+  vec4 inputs[kKernelTaps];
   float top = -3.0e38;
   for (uint i = 0u; i < kKernelTaps; ++i) {
     const ivec2 q = tapAt(t, i, lit);
     if (q.x < 0) continue;
+    inputs[i] = levelInput(q);
     logits[i] = gTensor[base + i * plane] + (kGuided != 0u ? guideLogit(t, q, np, zp, gradZ) : 0.0);
-    if (kGuided == kKernelFactorsFilter) logits[i] += filterLogit(i, lp, luminance(levelInput(q).rgb), sigma);
+    if (kGuided == kKernelFactorsFilter) logits[i] += filterLogit(i, lp, luminance(inputs[i].rgb), sigma);
     top = max(top, logits[i]);
   }
   vec3 sum = vec3(0.0);
   float weights = 0.0, sumVariance = 0.0;
   for (uint i = 0u; i < kKernelTaps; ++i) {
-    const ivec2 q = tapAt(t, i, lit);
-    if (q.x < 0) continue;
+    if (tapAt(t, i, lit).x < 0) continue;
     const float w = exp(logits[i] - top);
-    const vec4 c = levelInput(q);
+    const vec4 c = inputs[i];
     sum += w * c.rgb;
     sumVariance += w * w * c.w;
     weights += w;

@@ -88,9 +88,10 @@ OSR_CONST(float, kGuideSlopeNone, 1e30);
 // The value of kSpecKernelGuided: what each tap's weight is multiplied by besides the
 // network's. kKernelFactorsFilter (osr_image_kpn_v3, image_unet.filter_logits): also the
 // a-trous filter's B3-spline weight h_i h_j and exp(-|l_p - l_q| / (kFilterSigmaLuminance
-// sqrt(v_p) + kFilterVarianceFloor)), l the luminance of the level's compressed colour and v_p
-// its variance (carried into the compressed space, passed on by each level as the sum of
-// squared weights times the taps' variances) blurred 3 x 3.
+// sqrt(v_p) + kFilterVarianceFloor)), l the luminance of the level's colour (linear: v3
+// averages exposed, demodulated colour, as the filter does) and v_p its variance (the film's,
+// demodulated and exposed, passed on by each level as the sum of squared weights times the
+// taps' variances) blurred 3 x 3.
 OSR_CONST(uint, kKernelFactorsNone, 0);
 OSR_CONST(uint, kKernelFactorsGeometry, 1);
 OSR_CONST(uint, kKernelFactorsFilter, 2);

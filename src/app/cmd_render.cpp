@@ -262,7 +262,7 @@ class OfflineRenderer {
       seconds = estimate(settings);
       if (seconds <= 0.5 * *o_.timeLimit) return seconds;
     }
-    warn(imageDenoiser_->name() == std::string("network") ? "network" : "a-trous filter", "not denoised");
+    warn(settings.network != render::DenoiseSettings::Network::None ? "network" : "a-trous filter", "not denoised");
     imageDenoiser_.reset();
     return 0.0;
   }

@@ -126,7 +126,7 @@ class Denoiser {
   // already denoised is denoised again from its noisy colour.
   void apply(FilmLayers& film);
   double lastSeconds() const { return lastSeconds_; }
-  // What the last apply ran ("network" or "atrous"), before any what it will run.
+  // What the last apply ran ("network", "atrous"); before the first, the network if there is one.
   const char* name() const;
   uint32_t width() const { return image_.width(); }
   uint32_t height() const { return image_.height(); }
