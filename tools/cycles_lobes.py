@@ -11,6 +11,11 @@ MODE "matched" also rewrites what the importer maps differently from the glTF de
 MODE "lambert" replaces the Principled BSDF of every plain diffuse material (metallic 0, no
 specular: specularFactor 0 or specularColorFactor 0) by a Diffuse BSDF of roughness 0, the
 Lambertian lobe the glTF asks for; the importer's Principled BSDF is Disney's diffuse there.
+MODE "onesided" makes an emissive material that is not doubleSided emit from its front only
+(Cycles emits from both sides of a mesh).
+MODE "coat" builds KHR_materials_clearcoat as the extension defines it, in place of Principled
+v1's clearcoat: a Mix Shader of the base and a GGX Glossy BSDF (roughness as the extension's,
+so the same alpha) by clearcoatFactor x Fresnel (IOR 1.5, about glTF's Schlick with F0 0.04).
 """
 import argparse
 import json
@@ -82,6 +87,37 @@ def rewrite_material(gm: dict, modes: list) -> None:
             nt.links.new(diffuse.outputs[0], link.to_socket)
         nt.nodes.remove(pbr[0])
         pbr = []
+    if "onesided" in modes and pbr and max(gm.get("emissiveFactor", [0])) > 0 and not gm.get(
+            "doubleSided", False):
+        strength = pbr[0].inputs["Emission Strength"]
+        front = nt.nodes.new("ShaderNodeMath")
+        front.operation = "SUBTRACT"
+        front.inputs[0].default_value = 1.0
+        nt.links.new(nt.nodes.new("ShaderNodeNewGeometry").outputs["Backfacing"], front.inputs[1])
+        scaled = nt.nodes.new("ShaderNodeMath")
+        scaled.operation = "MULTIPLY"
+        scaled.inputs[1].default_value = strength.default_value
+        nt.links.new(front.outputs[0], scaled.inputs[0])
+        nt.links.new(scaled.outputs[0], strength)
+    if "coat" in modes and "KHR_materials_clearcoat" in ext and pbr:
+        c = ext["KHR_materials_clearcoat"]
+        pbr[0].inputs["Clearcoat"].default_value = 0.0
+        glossy = nt.nodes.new("ShaderNodeBsdfGlossy")
+        glossy.distribution = "GGX"
+        glossy.inputs["Color"].default_value = (1, 1, 1, 1)
+        glossy.inputs["Roughness"].default_value = c.get("clearcoatRoughnessFactor", 0.0)
+        fresnel = nt.nodes.new("ShaderNodeFresnel")
+        fresnel.inputs["IOR"].default_value = 1.5
+        weight = nt.nodes.new("ShaderNodeMath")
+        weight.operation = "MULTIPLY"
+        weight.inputs[1].default_value = c.get("clearcoatFactor", 0.0)
+        nt.links.new(fresnel.outputs[0], weight.inputs[0])
+        out = [n for n in nt.nodes if n.type == "OUTPUT_MATERIAL"][0]
+        mix = nt.nodes.new("ShaderNodeMixShader")
+        nt.links.new(weight.outputs[0], mix.inputs[0])
+        nt.links.new(out.inputs["Surface"].links[0].from_socket, mix.inputs[1])
+        nt.links.new(glossy.outputs[0], mix.inputs[2])
+        nt.links.new(mix.outputs[0], out.inputs["Surface"])
     if "KHR_materials_anisotropy" in ext and pbr:
         a = ext["KHR_materials_anisotropy"]
         r = gm["pbrMetallicRoughness"].get("roughnessFactor", 1.0)
@@ -123,10 +159,10 @@ def main() -> None:
     parser.add_argument("out", help="the EXR to write")
     parser.add_argument("spp", type=int)
     # No choices= here: Python 3.10's argparse checks an empty "*" list against them and fails.
-    parser.add_argument("modes", nargs="*", help="matched, lambert (see above)")
+    parser.add_argument("modes", nargs="*", help="matched, lambert, onesided, coat (see above)")
     args = parser.parse_args(sys.argv[sys.argv.index("--") + 1:])
     for mode in args.modes:
-        if mode not in ("matched", "lambert"):
+        if mode not in ("matched", "lambert", "onesided", "coat"):
             parser.error("unknown mode " + mode)
     with open(args.scene) as f:
         gltf = json.load(f)
