@@ -161,6 +161,8 @@ def main() -> None:
     # No choices= here: Python 3.10's argparse checks an empty "*" list against them and fails.
     parser.add_argument("modes", nargs="*", help="matched, lambert, onesided, coat (see above)")
     args = parser.parse_args(sys.argv[sys.argv.index("--") + 1:])
+    if args.spp < 1:
+        parser.error("spp must be at least 1")
     for mode in args.modes:
         if mode not in ("matched", "lambert", "onesided", "coat"):
             parser.error("unknown mode " + mode)
