@@ -15,15 +15,8 @@
 // ours at 1024 spp), so a lobe that stops working fails here.
 #include <gtest/gtest.h>
 
-#include <cstdio>
-
-#include "bvh/bvh.h"
-#include "common/vk_test.h"
+#include "cycles_comparison.h"
 #include "image/image_io.h"
-#include "image/image_metrics.h"
-#include "pt/path_integrator.h"
-#include "scene/scene.h"
-#include "scene_gpu/gpu_scene.h"
 
 using namespace osr;
 
@@ -31,50 +24,22 @@ namespace {
 
 constexpr uint32_t kSize = 128;
 
-struct Comparison {
-  double relmse = 0, noise = 0, lumRatio = 0;
-};
-
-Comparison compareLobeScene(const std::string& name, const std::string& reference,
-                            uint32_t sppEach) {
-  auto& ctx = test::context();
-  scene::Scene sc = scene::loadScene(test::referencePath("lobes/" + name + ".gltf"));
-  scene::Camera cam = scene::selectCamera(sc, "", 1.f);
-  scene::GpuScene gs(ctx, sc);
-  bvh::Bvh tree = bvh::buildGpu(ctx, gs.vertices, gs.triangles, gs.triangleCount);
+test::CyclesComparison compareLobeScene(const std::string& name, const std::string& reference,
+                                        uint32_t sppEach) {
   const image::RgbImage ref =
       image::readExrRgb(test::referencePath("lobes/" + reference + "_4096spp.exr"));
   EXPECT_EQ(ref.width, int(kSize));
   pt::RenderSettings s;
   s.width = s.height = kSize;
   s.spp = sppEach;
-  s.seed = 21;
-  render::FilmLayers a = pt::render(ctx, gs, tree, cam, s);
-  s.seed = 22;
-  render::FilmLayers b = pt::render(ctx, gs, tree, cam, s);
-  image::RgbImage m{int(kSize), int(kSize), a.combined};
-  double noise = 0;
-  for (size_t i = 0; i < m.rgb.size(); ++i) {
-    double d = double(a.combined[i]) - b.combined[i];
-    noise += d * d / (4.0 * (double(ref.rgb[i]) * ref.rgb[i] + image::kRelMseEpsilon));
-    m.rgb[i] = 0.5f * (a.combined[i] + b.combined[i]);
-  }
-  Comparison c;
-  c.noise = noise / double(m.rgb.size());
-  c.relmse = image::relMse(m, ref);
-  c.lumRatio = image::meanLuminance(m) / image::meanLuminance(ref);
-  std::printf(
-      "%s %ux%u, 2 x %u spp: relmse %.5f, estimated noise %.5f, relmse - noise %.5f, "
-      "lum_ratio %.4f\n",
-      name.c_str(), kSize, kSize, sppEach, c.relmse, c.noise, c.relmse - c.noise, c.lumRatio);
-  return c;
+  return test::compareTwoRenders(name, test::referencePath("lobes/" + name + ".gltf"), s, ref, 21);
 }
 
 // maxBias bounds relMSE minus our noise; the luminance ratio (ours / Cycles) must lie in
 // [lumLow, lumHigh].
 void expectLobe(const std::string& name, const std::string& reference, double maxBias,
                 double lumLow, double lumHigh) {
-  Comparison c = compareLobeScene(name, reference, 64);
+  test::CyclesComparison c = compareLobeScene(name, reference, 64);
   EXPECT_LE(c.relmse - c.noise, maxBias) << name;
   EXPECT_LE(c.relmse, maxBias + 3 * c.noise) << name;
   EXPECT_GE(c.lumRatio, lumLow) << name;

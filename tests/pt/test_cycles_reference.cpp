@@ -15,6 +15,7 @@
 
 #include <cmath>
 
+#include "cycles_comparison.h"
 #include "image/image_io.h"
 #include "image/image_metrics.h"
 #include "bvh/bvh.h"
@@ -27,16 +28,7 @@ using namespace osr;
 
 namespace {
 
-struct Comparison {
-  double relmse = 0, noise = 0, lumRatio = 0;
-};
-
-Comparison compareWithCycles(const std::string& name, uint32_t size, uint32_t sppEach) {
-  auto& ctx = test::context();
-  scene::Scene sc = scene::loadScene(test::referencePath(name + "/" + name + ".gltf"));
-  scene::Camera cam = scene::selectCamera(sc, "", 1.f);
-  scene::GpuScene gs(ctx, sc);
-  bvh::Bvh tree = bvh::buildGpu(ctx, gs.vertices, gs.triangles, gs.triangleCount);
+test::CyclesComparison compareWithCycles(const std::string& name, uint32_t size, uint32_t sppEach) {
   image::RgbImage ref =
       image::readExrRgb(test::referencePath(name + "/" + name + "_cycles_4096spp.exr"));
   ref = image::downsample(ref, ref.width / int(size));
@@ -44,39 +36,20 @@ Comparison compareWithCycles(const std::string& name, uint32_t size, uint32_t sp
   s.width = s.height = size;
   s.spp = sppEach;
   s.pixelFilter = gpu::camera::kPixelFilterBox;
-  s.seed = 11;
-  render::FilmLayers a = pt::render(ctx, gs, tree, cam, s);
-  s.seed = 12;
-  render::FilmLayers b = pt::render(ctx, gs, tree, cam, s);
-  image::RgbImage m{int(size), int(size), a.combined};
-  double noise = 0;
-  for (size_t i = 0; i < m.rgb.size(); ++i) {
-    double d = double(a.combined[i]) - b.combined[i];
-    noise += d * d / (4.0 * (double(ref.rgb[i]) * ref.rgb[i] + image::kRelMseEpsilon));
-    m.rgb[i] = 0.5f * (a.combined[i] + b.combined[i]);
-  }
-  Comparison c;
-  c.noise = noise / double(m.rgb.size());
-  c.relmse = image::relMse(m, ref);
-  c.lumRatio = image::meanLuminance(m) / image::meanLuminance(ref);
-  std::printf(
-      "%s %ux%u, 2 x %u spp: relmse %.5f, estimated noise %.5f, relmse - noise %.5f, "
-      "lum_ratio %.4f\n",
-      name.c_str(), size, size, sppEach, c.relmse, c.noise, c.relmse - c.noise, c.lumRatio);
-  return c;
+  return test::compareTwoRenders(name, test::referencePath(name + "/" + name + ".gltf"), s, ref, 11);
 }
 
 }  // namespace
 
 TEST(CyclesReference, Cornell) {
-  Comparison c = compareWithCycles("cornell", 64, 32);
+  test::CyclesComparison c = compareWithCycles("cornell", 64, 32);
   EXPECT_LE(c.relmse - c.noise, 0.01);
   EXPECT_LE(c.relmse, 0.01 + 3 * c.noise);
   EXPECT_NEAR(c.lumRatio, 1.0, 0.02);
 }
 
 TEST(CyclesReference, Room) {
-  Comparison c = compareWithCycles("room", 32, 64);
+  test::CyclesComparison c = compareWithCycles("room", 32, 64);
   EXPECT_LE(c.relmse - c.noise, 0.02);
   EXPECT_LE(c.relmse, 0.02 + 3 * c.noise);
   EXPECT_NEAR(c.lumRatio, 1.0, 0.02);
