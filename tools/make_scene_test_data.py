@@ -157,14 +157,14 @@ def materials(out: Path) -> None:
     primitive without material (gets the default material)."""
     g = Gltf(GENERATOR)
     g.doc["extensionsUsed"] = ["KHR_materials_specular", "KHR_materials_ior", "KHR_materials_transmission",
-                               "KHR_materials_emissive_strength", "KHR_materials_iridescence"]
+                               "KHR_materials_emissive_strength", "KHR_materials_dispersion"]
     g.add("materials", {"name": "glass", "pbrMetallicRoughness": {"baseColorFactor": [0.9, 0.95, 1, 1],
                                                                   "metallicFactor": 0, "roughnessFactor": 0.1},
                         "extensions": {"KHR_materials_ior": {"ior": 1.33},
                                        "KHR_materials_transmission": {"transmissionFactor": 1.0},
                                        "KHR_materials_specular": {"specularFactor": 0.5,
                                                                   "specularColorFactor": [0.2, 0.4, 0.6]},
-                                       "KHR_materials_iridescence": {"iridescenceFactor": 1.0}}})
+                                       "KHR_materials_dispersion": {"dispersion": 0.5}}})
     g.add("materials", {"name": "lamp", "emissiveFactor": [1, 0.5, 0.25], "doubleSided": True,
                         "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 40}}})
     g.add("materials", {"name": "dim", "emissiveFactor": [0.5, 0.5, 0.5]})
@@ -179,6 +179,31 @@ def materials(out: Path) -> None:
     g.node(name="lines", mesh=3)
     g.node(name="plain", mesh=4, translation=[0, 0, 3])
     g.gltf(out / "materials.gltf")
+
+
+def iridescence(out: Path) -> None:
+    """KHR_materials_iridescence: every field and both textures, the draft's "iridescenceIOR"
+    spelling, and the defaults."""
+    g = Gltf(GENERATOR)
+    g.doc["extensionsUsed"] = ["KHR_materials_iridescence"]
+    # Factor in R, thickness in G (each texture read for its own channel only).
+    g.doc["images"] = [{"uri": data_uri(png(2, 1, [(128, 10, 20, 255), (255, 200, 30, 255)]), "image/png")},
+                       {"uri": data_uri(png(1, 2, [(5, 0, 6, 255), (7, 255, 8, 255)]), "image/png")}]
+    g.doc["samplers"] = [{"wrapS": CLAMP, "wrapT": CLAMP}]
+    g.doc["textures"] = [{"source": 0, "sampler": 0}, {"source": 1, "sampler": 0}]
+    g.add("materials", {"name": "film", "pbrMetallicRoughness": {"metallicFactor": 1, "roughnessFactor": 0.2},
+                        "extensions": {"KHR_materials_iridescence": {
+                            "iridescenceFactor": 0.8, "iridescenceTexture": {"index": 0},
+                            "iridescenceIor": 1.8, "iridescenceThicknessMinimum": 250,
+                            "iridescenceThicknessMaximum": 650,
+                            "iridescenceThicknessTexture": {"index": 1, "texCoord": 1}}}})
+    g.add("materials", {"name": "draft", "extensions": {"KHR_materials_iridescence": {
+        "iridescenceFactor": 1.0, "iridescenceIOR": 1.6}}})
+    g.add("materials", {"name": "defaults", "extensions": {"KHR_materials_iridescence": {}}})
+    for m in range(3):
+        g.mesh(QUAD_P, QUAD_I, QUAD_N, QUAD_UV, material=m)
+        g.node(name=f"quad{m}", mesh=m, translation=[2.0 * m, 0, 0])
+    g.gltf(out / "iridescence.gltf")
 
 
 def binary(out: Path) -> None:
@@ -444,7 +469,7 @@ def main() -> None:
     args = parser.parse_args()
     args.out.mkdir(parents=True, exist_ok=True)
     for make in [hierarchy, nonindexed, index_types, textured, alpha_mask, lights, cameras, materials,
-                 binary, sparse, quantized, texture16, degenerate_attributes, vertex_attributes,
+                 iridescence, binary, sparse, quantized, texture16, degenerate_attributes, vertex_attributes,
                  texture_transform, animated, camera_path, bad_inputs]:
         make(args.out)
 

@@ -16,6 +16,12 @@
 //                1 - max(sheenColor) E(|wi.z|))     (KHR_materials_sheen, albedo scaling)
 //   coat(x)    = x * (1 - c Fc(wo.nc)) + c Fc(wo.hc) D G / (4 |wo.nc| |wi.nc|)
 //                Fc: Schlick with F0 = 0.04, nc the coat's own normal (KHR_materials_clearcoat)
+// KHR_materials_iridescence: every Fresnel of the base layer (metal, dielectric, the glass
+// interface entered from outside) becomes mix(F(v.h), F_film(wo.z), iridescence), F_film the
+// thin film over a base of that F0 (shared/thin_film.h, clamped to [0, 1]) at the outgoing
+// direction, as the Khronos sample renderer has it; the diffuse weight 1 - specular * max(F)
+// and glass's refraction 1 - F follow it. The film sees air above it, also under a coat (the
+// extension would take the coat's ior).
 // D: GGX (Trowbridge-Reitz), anisotropic with alpha_t = mix(alpha, 1, strength^2) along the
 // anisotropy direction (KHR_materials_anisotropy); G: height-correlated Smith (Heitz 2014);
 // the GGX lobes are sampled by visible normals (Heitz 2018), sheen by the cosine. F90 of the
@@ -27,6 +33,7 @@
 #define OSR_LIB_BSDF_GLSL
 #include "lib/sampling.glsl"
 #include "lib/sheen_albedo.glsl"
+#include "shared/thin_film.h"
 
 // False where the includer knows no material transmits (pt_trace: kSceneFeatureTransmission):
 // the glass lobe's code is then compiled out (on lavapipe a divergent branch costs all lanes).
@@ -34,7 +41,7 @@
 #define OSR_BSDF_TRANSMISSION true
 #endif
 // False where the includer knows no material has a layered lobe (kSceneFeatureLayers): the
-// clearcoat, sheen, diffuse transmission and anisotropy code is compiled out.
+// clearcoat, sheen, diffuse transmission, anisotropy and iridescence code is compiled out.
 #ifndef OSR_BSDF_LAYERS
 #define OSR_BSDF_LAYERS true
 #endif
@@ -71,6 +78,10 @@ BsdfParams bsdfBlack() {
   p.anisotropyDirection = vec2(1.0, 0.0);
   p.anisotropy = 0.0;
   p.clearcoatRoughness = 0.0;
+  p.iridescence = 0.0;
+  p.iridescenceIor = 1.3;
+  p.iridescenceThickness = 0.0;
+  p._pad1 = 0.0;
   return p;
 }
 
@@ -158,10 +169,44 @@ vec3 dielectricF0(BsdfParams p) {
   return min(vec3(r * r) * p.specularColor, vec3(1.0));
 }
 
-vec3 dielectricFresnel(BsdfParams p, float voh) {
+bool bsdfHasFilm(BsdfParams p) { return OSR_BSDF_LAYERS && p.iridescence > 0.0; }
+
+// f, the Fresnel of a base of normal-incidence reflectance f0, mixed towards the thin film's
+// by the iridescence factor. The film's is taken at wo (cosO = wo.z), as the Khronos sample
+// renderer takes it at n.v: constant over wi, it keeps the layer's energy below 1 (a white
+// dielectric reflects F_film times the GGX albedo plus 1 - F_film diffusely). At v.h instead,
+// the film's peaks can sit under the specular lobe and miss the diffuse weight: a white
+// furnace of 1.035 (roughness 0.5, wo at 70 degrees, film ior 2.2, 250 nm).
+vec3 withFilm(BsdfParams p, vec3 f, vec3 f0, float cosO) {
+  if (!bsdfHasFilm(p)) return f;
+  vec3 film = thinFilmFresnel(1.0, p.iridescenceIor, p.iridescenceThickness, f0, cosO);
+  return mix(f, film, clamp(p.iridescence, 0.0, 1.0));
+}
+
+// The dielectric's Fresnel at v.h for the outgoing direction of cosine cosO.
+vec3 dielectricFresnel(BsdfParams p, float voh, float cosO) {
   vec3 f0 = dielectricF0(p);
   float f90 = clamp(50.0 * maxComponent(f0), 0.0, 1.0);
-  return mix(f0, vec3(f90), schlickWeight(voh));
+  return withFilm(p, mix(f0, vec3(f90), schlickWeight(voh)), f0, cosO);
+}
+
+// The metal's Fresnel (glTF: Schlick from baseColor to 1).
+vec3 metalFresnel(BsdfParams p, float voh, float cosO) {
+  return withFilm(p, mix(p.baseColor, vec3(1.0), schlickWeight(voh)), p.baseColor, cosO);
+}
+
+// The glass interface's reflectance at v.h (exact, rgb with a film) and the probability of
+// choosing reflection: the film's mean, so that without it both are the exact Fresnel. The
+// film is on the outside only: from inside (eta < 1) the interface is bare.
+vec3 glassFresnel(BsdfParams p, float voh, float cosO, out float reflectProbability) {
+  float fr = fresnelDielectric(voh, p.eta);
+  vec3 f = vec3(fr);
+  if (bsdfHasFilm(p) && p.eta > 1.0) {
+    float r = (p.eta - 1.0) / (p.eta + 1.0);
+    f = withFilm(p, f, vec3(r * r), cosO);
+  }
+  reflectProbability = clamp((f.x + f.y + f.z) / 3.0, 0.0, 1.0);
+  return f;
 }
 
 // ---- Layers ------------------------------------------------------------------------------
@@ -235,8 +280,8 @@ struct BsdfLobes {
 BsdfLobes bsdfLobeProbabilities(BsdfParams p, vec3 wo) {
   float m = clamp(p.metallic, 0.0, 1.0);
   float t = OSR_BSDF_TRANSMISSION ? clamp(p.transmission, 0.0, 1.0) : 0.0;
-  vec3 fm = mix(p.baseColor, vec3(1.0), schlickWeight(wo.z));
-  float fd = p.specular * maxComponent(dielectricFresnel(p, wo.z));
+  vec3 fm = metalFresnel(p, wo.z, wo.z);
+  float fd = p.specular * maxComponent(dielectricFresnel(p, wo.z, wo.z));
   BsdfLobes l;
   float dr = luminance(p.baseColor), dtw = 0.0;
   if (OSR_BSDF_LAYERS) {
@@ -277,23 +322,25 @@ vec3 bsdfEvalBase(BsdfParams p, BsdfLobes prob, vec3 wo, vec3 wi, inout float pd
     float voh = max(0.0, dot(wo, h));
     float spec = ggxD(h, alpha) * ggxG2(wo, wi, alpha) / (4.0 * wo.z * wi.z);
     float hPdf = ggxVisiblePdf(wo, h, alpha) / (4.0 * max(voh, 1e-8));
-    vec3 fm = mix(p.baseColor, vec3(1.0), schlickWeight(voh));
-    vec3 fd = dielectricFresnel(p, voh);
+    vec3 fm = metalFresnel(p, voh, wo.z);
+    vec3 fd = dielectricFresnel(p, voh, wo.z);
     f += m * fm * spec;
     f += (1.0 - m) * (1.0 - t) *
          ((1.0 - p.specular * maxComponent(fd)) * (1.0 - dt) * p.baseColor * kInvPi +
           p.specular * fd * spec);
     pdf += prob.reflection * hPdf + prob.diffuse * (1.0 - prob.diffuseSplit) * wi.z * kInvPi;
     if (roughGlass) {
-      float fr = fresnelDielectric(voh, p.eta);
+      float q;
+      vec3 fr = glassFresnel(p, voh, wo.z, q);
       f += (1.0 - m) * t * fr * spec;
-      pdf += prob.glass * fr * hPdf;
+      pdf += prob.glass * q * hPdf;
     }
   } else {
     if (OSR_BSDF_LAYERS && dt > 0.0) {
       // Diffuse transmission: the Lambertian lobe's other half, its Fresnel weight at wo.
-      f += (1.0 - m) * (1.0 - t) * (1.0 - p.specular * maxComponent(dielectricFresnel(p, wo.z))) *
-           dt * p.diffuseTransmissionColor * kInvPi;
+      float fo = maxComponent(dielectricFresnel(p, wo.z, wo.z));
+      f += (1.0 - m) * (1.0 - t) * (1.0 - p.specular * fo) * dt * p.diffuseTransmissionColor *
+           kInvPi;
       pdf += prob.diffuse * prob.diffuseSplit * -wi.z * kInvPi;
     }
     if (roughGlass) {
@@ -303,14 +350,15 @@ vec3 bsdfEvalBase(BsdfParams p, BsdfLobes prob, vec3 wo, vec3 wi, inout float pd
       float voh = dot(wo, h);
       float ioh = dot(wi, h);
       if (voh > 0.0 && ioh < 0.0) {
-        float fr = fresnelDielectric(voh, p.eta);
+        float q;
+        vec3 fr = glassFresnel(p, voh, wo.z, q);
         float denom = ioh + voh / p.eta;
         denom *= denom;
         float d = ggxD(h, alpha);
         float g = ggxG2(wo, wi, alpha);
         f += (1.0 - m) * t * (1.0 - fr) * p.baseColor * d * g * abs(ioh * voh) /
              (wo.z * abs(wi.z) * denom);
-        pdf += prob.glass * (1.0 - fr) * ggxVisiblePdf(wo, h, alpha) * abs(ioh) / denom;
+        pdf += prob.glass * (1.0 - q) * ggxVisiblePdf(wo, h, alpha) * abs(ioh) / denom;
       }
     }
   }
@@ -400,23 +448,26 @@ bool bsdfSample(BsdfParams p, vec3 woIn, vec3 u, out BsdfSample s) {
     float m = clamp(pr.metallic, 0.0, 1.0);
     float t = clamp(pr.transmission, 0.0, 1.0);
     if (glassIsDelta(pr)) {
-      float fr = fresnelDielectric(wo.z, pr.eta);
+      float q;
+      vec3 fr = glassFresnel(pr, wo.z, wo.z, q);
       s.delta = true;
       s.pdf = 0.0;
-      if (uc < fr) {
+      if (uc < q) {
         wi = vec3(-wo.xy, wo.z);
-        s.weight = vec3((1.0 - m) * t / prob.glass);
+        s.weight = (1.0 - m) * t * fr / (q * prob.glass);
       } else {
         wi = refract(-wo, vec3(0.0, 0.0, 1.0), 1.0 / pr.eta);
-        s.weight = (1.0 - m) * t * pr.baseColor / prob.glass;
+        // (q = 1 leaves no refraction: 1 - fr is 0 then, and the weight with it.)
+        s.weight = (1.0 - m) * t * (1.0 - fr) * pr.baseColor / (max(1.0 - q, 1e-12) * prob.glass);
       }
       if (OSR_BSDF_LAYERS) s.weight *= sheenScaling(pr, wo, wi) * (1.0 - coatWeight(pr, wo));
       s.wi = aniso ? bsdfAnisoUnrotate(p, wi) : wi;
       return true;
     }
     vec3 h = ggxSampleVisible(wo, alpha, u.yz);
-    float fr = fresnelDielectric(dot(wo, h), pr.eta);
-    if (uc < fr) {
+    float q;
+    glassFresnel(pr, dot(wo, h), wo.z, q);
+    if (uc < q) {
       wi = reflect(-wo, h);
       if (wi.z <= 0.0) return false;
     } else {
@@ -456,7 +507,7 @@ vec3 bsdfEvalDiffuse(BsdfParams p, vec3 wo, vec3 wi) {
   float dt = OSR_BSDF_LAYERS ? clamp(p.diffuseTransmission, 0.0, 1.0) : 0.0;
   float voh = max(0.0, dot(wo, normalize(wo + wi)));
   return (1.0 - m) * (1.0 - t) * (1.0 - dt) * bsdfBaseScaling(p, wo, wi) *
-         (1.0 - p.specular * maxComponent(dielectricFresnel(p, voh))) * p.baseColor * kInvPi * wi.z;
+         (1.0 - p.specular * maxComponent(dielectricFresnel(p, voh, wo.z))) * p.baseColor * kInvPi * wi.z;
 }
 
 // A Lambertian reflectance standing in for the diffuse lobe at wo (its Fresnel weight and the
@@ -467,7 +518,8 @@ vec3 bsdfDiffuseReflectance(BsdfParams p, vec3 wo) {
   float t = OSR_BSDF_TRANSMISSION ? clamp(p.transmission, 0.0, 1.0) : 0.0;
   float dt = OSR_BSDF_LAYERS ? clamp(p.diffuseTransmission, 0.0, 1.0) : 0.0;
   return (1.0 - m) * (1.0 - t) * (1.0 - dt) * bsdfBaseScaling(p, wo, wo) *
-         (1.0 - p.specular * maxComponent(dielectricFresnel(p, max(wo.z, 0.0)))) * p.baseColor;
+         (1.0 - p.specular * maxComponent(dielectricFresnel(p, max(wo.z, 0.0), max(wo.z, 0.0)))) *
+         p.baseColor;
 }
 
 // The base layer's GGX reflection lobes (metal, dielectric specular, rough glass's reflection)
@@ -485,10 +537,11 @@ vec3 bsdfEvalGlossy(BsdfParams p, vec3 woIn, vec3 wiIn) {
   vec3 h = normalize(wo + wi);
   float voh = max(0.0, dot(wo, h));
   float spec = ggxD(h, alpha) * ggxG2(wo, wi, alpha) / (4.0 * wo.z * wi.z);
-  vec3 f = m * mix(p.baseColor, vec3(1.0), schlickWeight(voh)) * spec +
-           (1.0 - m) * (1.0 - t) * p.specular * dielectricFresnel(p, voh) * spec;
+  vec3 f = m * metalFresnel(p, voh, wo.z) * spec +
+           (1.0 - m) * (1.0 - t) * p.specular * dielectricFresnel(p, voh, wo.z) * spec;
+  float q;
   if (OSR_BSDF_TRANSMISSION && !glassIsDelta(p) && t > 0.0 && m < 1.0)
-    f += (1.0 - m) * t * fresnelDielectric(voh, p.eta) * spec;
+    f += (1.0 - m) * t * glassFresnel(p, voh, wo.z, q) * spec;
   return f * bsdfBaseScaling(p, woIn, wiIn) * wi.z;
 }
 

@@ -36,6 +36,10 @@ BsdfParams bsdfParams(SurfaceSample surf, bool front, vec3 t, vec3 b, vec3 n) {
   p.anisotropyDirection = vec2(1.0, 0.0);
   p.anisotropy = 0.0;
   p.clearcoatRoughness = 0.0;
+  p.iridescence = 0.0;
+  p.iridescenceIor = 1.3;
+  p.iridescenceThickness = 0.0;
+  p._pad1 = 0.0;
   if (sceneHas(kSceneFeatureLayers)) {
     // The coat is on the outside of the surface only (a coat seen from inside glass is not
     // the layer the file describes).
@@ -58,6 +62,10 @@ BsdfParams bsdfParams(SurfaceSample surf, bool front, vec3 t, vec3 b, vec3 n) {
       p.anisotropyDirection = l > 1e-6 ? d / l : vec2(1.0, 0.0);
       if (!(l > 1e-6)) p.anisotropy = 0.0;  // no tangent (degenerate uvs): isotropic
     }
+    // The film lies on the outside, like the coat.
+    p.iridescence = front || m.doubleSided ? m.iridescence : 0.0;
+    p.iridescenceIor = m.iridescenceIor;
+    p.iridescenceThickness = m.iridescenceThickness;
   }
   return p;
 }

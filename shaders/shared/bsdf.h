@@ -24,6 +24,10 @@ struct BsdfParams {
   vec2 anisotropyDirection;  // local frame xy, unit: direction of increased roughness
   float anisotropy;          // KHR_materials_anisotropy strength
   float clearcoatRoughness;  // perceptual
+  float iridescence;           // KHR_materials_iridescence factor (0: no thin film)
+  float iridescenceIor;        // the film's ior
+  float iridescenceThickness;  // nanometres, > 0 where iridescence > 0
+  float _pad1;
 };
 
 // pt_bsdf_probe.comp: for each case, either evaluates f*cos and pdf on a (theta, phi) grid

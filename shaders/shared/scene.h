@@ -85,7 +85,15 @@ struct Material {
   float anisotropyStrength;  // KHR_materials_anisotropy
   float anisotropyRotation;  // radians, counter-clockwise from the uv tangent
   float thickness;           // KHR_materials_volume thicknessFactor; 0 = thin-walled
+  float iridescence;                  // KHR_materials_iridescence iridescenceFactor
+  float iridescenceIor;               // the film's ior (default 1.3)
+  float iridescenceThicknessMinimum;  // nanometres (default 100)
+  float iridescenceThicknessMaximum;  // nanometres (default 400): the thickness without texture
+  int iridescenceTexture;             // R; linear
+  int iridescenceThicknessTexture;    // G: mix(minimum, maximum, g); linear
   float _pad0;
+  float _pad1;
+  float _pad2;
 };
 
 // Material read as RGBA32UI texels (lib/scene.glsl sceneMaterial with texel fetch): element i
@@ -93,7 +101,7 @@ struct Material {
 // word is w sits in texel w / 4, lane w % 4 (vec3/vec4 fields continue in the next lanes).
 // The word offsets are the std430 offsets of Material / 4; C++ static_asserts them against
 // offsetof (src/scene_gpu/gpu_scene.cpp, tests/vk/test_shared_layout.cpp).
-OSR_CONST(uint, kMaterialTexels, 13u);  // sizeof(Material) / 16
+OSR_CONST(uint, kMaterialTexels, 15u);  // sizeof(Material) / 16
 // Texels of the base material alone (words 0-24): passes that know the scene uses no layered
 // lobe (kSceneFeatureLayers) fetch only these.
 OSR_CONST(uint, kMaterialBaseTexels, 7u);
@@ -135,6 +143,12 @@ OSR_CONST(uint, kMaterialWordAnisotropyTexture, 47u);
 OSR_CONST(uint, kMaterialWordAnisotropyStrength, 48u);
 OSR_CONST(uint, kMaterialWordAnisotropyRotation, 49u);
 OSR_CONST(uint, kMaterialWordThickness, 50u);
+OSR_CONST(uint, kMaterialWordIridescence, 51u);
+OSR_CONST(uint, kMaterialWordIridescenceIor, 52u);
+OSR_CONST(uint, kMaterialWordIridescenceThicknessMinimum, 53u);
+OSR_CONST(uint, kMaterialWordIridescenceThicknessMaximum, 54u);
+OSR_CONST(uint, kMaterialWordIridescenceTexture, 55u);
+OSR_CONST(uint, kMaterialWordIridescenceThicknessTexture, 56u);
 
 #ifdef __cplusplus
 // The texel layout above is Material's: a field moved or added without its constant fails here.
@@ -179,6 +193,12 @@ OSR_MATERIAL_WORD(anisotropyTexture, kMaterialWordAnisotropyTexture);
 OSR_MATERIAL_WORD(anisotropyStrength, kMaterialWordAnisotropyStrength);
 OSR_MATERIAL_WORD(anisotropyRotation, kMaterialWordAnisotropyRotation);
 OSR_MATERIAL_WORD(thickness, kMaterialWordThickness);
+OSR_MATERIAL_WORD(iridescence, kMaterialWordIridescence);
+OSR_MATERIAL_WORD(iridescenceIor, kMaterialWordIridescenceIor);
+OSR_MATERIAL_WORD(iridescenceThicknessMinimum, kMaterialWordIridescenceThicknessMinimum);
+OSR_MATERIAL_WORD(iridescenceThicknessMaximum, kMaterialWordIridescenceThicknessMaximum);
+OSR_MATERIAL_WORD(iridescenceTexture, kMaterialWordIridescenceTexture);
+OSR_MATERIAL_WORD(iridescenceThicknessTexture, kMaterialWordIridescenceThicknessTexture);
 #undef OSR_MATERIAL_WORD
 static_assert(sizeof(Material) == 16 * kMaterialTexels, "kMaterialTexels");
 #endif
@@ -262,8 +282,8 @@ OSR_CONST(uint, kSceneFeatureTextures, 2u);     // some texture
 OSR_CONST(uint, kSceneFeaturePunctual, 4u);     // some KHR_lights_punctual light
 OSR_CONST(uint, kSceneFeatureEnvironment, 8u);  // an environment map
 OSR_CONST(uint, kSceneFeatureTransmission, 16u);  // some material with transmission > 0
-// Some material with a layered lobe: clearcoat, sheen, diffuse transmission, anisotropy or an
-// absorbing volume (KHR_materials_*; the material words past kMaterialBaseTexels).
+// Some material with a layered lobe: clearcoat, sheen, diffuse transmission, anisotropy,
+// iridescence or an absorbing volume (KHR_materials_*; the material words past kMaterialBaseTexels).
 OSR_CONST(uint, kSceneFeatureLayers, 32u);
 OSR_CONST(uint, kSceneFeatureVertexAttributes, 64u);  // some COLOR_0 or TEXCOORD_1
 OSR_CONST(uint, kSceneFeatureAlphaBlend, 128u);  // some material is blended (hashed coverage)

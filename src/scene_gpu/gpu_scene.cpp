@@ -116,7 +116,8 @@ GpuScene::GpuScene(const vk::Context& ctx, const Scene& scene, const Environment
     bool absorbs = m.thickness > 0.0f && m.attenuationDistance > 0.0f &&
                    glm::any(glm::lessThan(m.attenuationColor, glm::vec3(1.0f)));
     if (m.clearcoat > 0.0f || glm::any(glm::greaterThan(m.sheenColor, glm::vec3(0.0f))) ||
-        m.diffuseTransmission > 0.0f || m.anisotropyStrength > 0.0f || absorbs)
+        m.diffuseTransmission > 0.0f || m.anisotropyStrength > 0.0f || m.iridescence > 0.0f ||
+        absorbs)
       features |= gpu::kSceneFeatureLayers;
   }
   if (!scene.attributes.empty()) features |= gpu::kSceneFeatureVertexAttributes;

@@ -3,8 +3,9 @@
 // integrates to the fraction of valid samples, and a chi-square test of the sampled directions
 // against bsdfEval's pdf, as pbrt-v4 and Mitsuba test their BSDFs), a Lambertian material is
 // exactly baseColor / pi, a smooth white dielectric conserves energy, and the layered lobes
-// (clearcoat, sheen, diffuse transmission, anisotropy) keep white furnaces at or below 1, at 1
-// where the lobe conserves energy.
+// (clearcoat, sheen, diffuse transmission, anisotropy, iridescence) keep white furnaces at or
+// below 1, at 1 where the lobe conserves energy. The thin-film Fresnel (shared/thin_film.h) is
+// also checked on the host.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -12,6 +13,7 @@
 #include <cstdio>
 
 #include "common/vk_test.h"
+#include "shaders/shared/thin_film.h"
 #include "support/bsdf_probe.h"
 
 using namespace osr;
@@ -37,22 +39,25 @@ probe::ProbeCase makeCase(glm::vec3 base, float metallic, float roughness, float
   c.params.clearcoatNormal = {0, 0, 1};
   c.params.diffuseTransmissionColor = {1, 1, 1};
   c.params.anisotropyDirection = {1, 0};
+  c.params.iridescenceIor = 1.3f;
   float t = thetaDeg * float(kPi) / 180.f;
   c.wo = glm::vec4(std::sin(t), 0.f, std::cos(t), 0.f);
   return c;
 }
 
 std::string describe(const probe::ProbeCase& c) {
-  char buf[400];
+  char buf[480];
   std::snprintf(buf, sizeof buf,
                 "base (%g %g %g) metallic %g roughness %g transmission %g eta %g wo (%g %g %g) "
-                "coat %g/%g n (%g %g %g) sheen %g/%g dt %g aniso %g dir (%g %g)",
+                "coat %g/%g n (%g %g %g) sheen %g/%g dt %g aniso %g dir (%g %g) "
+                "film %g ior %g %g nm",
                 c.params.baseColor.x, c.params.baseColor.y, c.params.baseColor.z, c.params.metallic,
                 c.params.roughness, c.params.transmission, c.params.eta, c.wo.x, c.wo.y, c.wo.z,
                 c.params.clearcoat, c.params.clearcoatRoughness, c.params.clearcoatNormal.x,
                 c.params.clearcoatNormal.y, c.params.clearcoatNormal.z, c.params.sheenColor.x,
                 c.params.sheenRoughness, c.params.diffuseTransmission, c.params.anisotropy,
-                c.params.anisotropyDirection.x, c.params.anisotropyDirection.y);
+                c.params.anisotropyDirection.x, c.params.anisotropyDirection.y,
+                c.params.iridescence, c.params.iridescenceIor, c.params.iridescenceThickness);
   return buf;
 }
 
@@ -209,6 +214,13 @@ probe::ProbeCase anisotropy(probe::ProbeCase c, float strength, float rotation) 
   return c;
 }
 
+probe::ProbeCase film(probe::ProbeCase c, float factor, float ior, float thicknessNm) {
+  c.params.iridescence = factor;
+  c.params.iridescenceIor = ior;
+  c.params.iridescenceThickness = thicknessNm;
+  return c;
+}
+
 // Chi-square statistic of the sampled directions against bsdfEval's pdf on a coarse
 // (theta, phi) binning of the sphere, bins with fewer than 5 expected samples pooled (pbrt-v4's
 // rule), and its p-value by the Wilson-Hilferty approximation of the chi-square distribution.
@@ -278,6 +290,11 @@ std::vector<probe::ProbeCase> layeredCases() {
     cases.push_back(diffuseTransmission(makeCase(base, 0.f, 0.5f, theta), 0.6f, {0.3f, 0.9f, 0.5f}));
     cases.push_back(anisotropy(makeCase(base, 1.f, 0.4f, theta), 0.8f, 0.7f));
     cases.push_back(anisotropy(makeCase(base, 0.f, 0.5f, theta), 0.5f, 2.1f));
+    // Thin films over a metal, a dielectric, and rough glass entered from outside and inside.
+    cases.push_back(film(makeCase(base, 1.f, 0.3f, theta), 1.f, 1.8f, 380.f));
+    cases.push_back(film(makeCase(base, 0.f, 0.5f, theta), 0.7f, 1.3f, 550.f));
+    for (float eta : {1.5f, 1.f / 1.5f})
+      cases.push_back(film(makeCase(glm::vec3(1.f), 0.f, 0.5f, theta, 1.f, eta), 1.f, 2.0f, 300.f));
   }
   // Everything at once, over rough glass.
   probe::ProbeCase all = makeCase(base, 0.2f, 0.5f, 35.f, 0.3f, 1.5f);
@@ -285,7 +302,7 @@ std::vector<probe::ProbeCase> layeredCases() {
                                              {0.5f, 0.5f, 0.9f}, 0.4f),
                                        0.5f, {1.f, 0.8f, 0.6f}),
                    0.6f, 1.0f);
-  cases.push_back(all);
+  cases.push_back(film(all, 0.9f, 1.5f, 420.f));
   return cases;
 }
 
@@ -335,7 +352,15 @@ TEST(BsdfProbe, LayeredLobesWhiteFurnace) {
     bounded.push_back(sheen(makeCase(white, 0.f, 1.f, theta, 0.f, 1.5f, none), white, 1.f));
     bounded.push_back(anisotropy(makeCase(white, 1.f, 0.3f, theta), 1.f, 0.3f));
     bounded.push_back(anisotropy(makeCase(white, 0.f, 0.2f, theta, 1.f, 1.5f), 0.7f, 1.3f));
+    bounded.push_back(film(makeCase(white, 1.f, 0.3f, theta), 1.f, 1.8f, 400.f));
+    bounded.push_back(film(makeCase(white, 0.f, 0.5f, theta), 1.f, 2.2f, 250.f));
+    bounded.push_back(film(makeCase(white, 0.f, 0.5f, theta, 1.f, 1.5f), 1.f, 1.4f, 600.f));
   }
+  // A film over white glass only splits light between reflection and refraction: each
+  // channel's R + T is 1 (smooth glass, whose samples are delta).
+  for (float theta : {0.f, 40.f, 70.f})
+    for (float nm : {150.f, 500.f})
+      conserving.push_back(film(makeCase(white, 0.f, 0.f, theta, 1.f, 1.5f), 1.f, 1.8f, nm));
   // Sampled (the smooth coat's peak is narrower than the quadrature grid's cells).
   auto sc = sample(p, conserving);
   for (size_t c = 0; c < conserving.size(); ++c) {
@@ -375,4 +400,40 @@ TEST(BsdfProbe, AnisotropyFollowsItsDirection) {
     // Turning the direction a quarter turn changes what the lobe reflects.
     EXPECT_GT(std::abs(q[0].albedo[k] - q[2].albedo[k]), 0.01);
   }
+}
+
+// The shared thin-film Fresnel on the host: in [0, 1] per channel over the extension's whole
+// range (the series it specifies is not, so it is clamped), 1 at grazing incidence, and
+// coloured where a film of about half a wavelength interferes.
+TEST(ThinFilm, FresnelIsAReflectanceWithTheRightLimits) {
+  namespace tf = osr::gpu::thin_film;
+  for (float ior : {1.0f, 1.3f, 1.8f, 2.5f})
+    for (float nm : {1.f, 100.f, 250.f, 400.f, 800.f, 1200.f})
+      for (float f0 : {0.f, 0.04f, 0.3f, 0.9f, 1.f})
+        for (int i = 0; i <= 20; ++i) {
+          float c = i / 20.f;
+          glm::vec3 f = tf::thinFilmFresnel(1.f, ior, nm, glm::vec3(f0), c);
+          for (int k = 0; k < 3; ++k) {
+            ASSERT_TRUE(f[k] >= 0.f && f[k] <= 1.f)
+                << "ior " << ior << " " << nm << " nm F0 " << f0 << " cos " << c << " channel " << k
+                << ": " << f[k];
+          }
+          if (c == 0.f) {
+            EXPECT_NEAR(f.x, 1.f, 1e-3f);
+          }
+        }
+  // It is coloured: at 380 nm, ior 1.8, normal incidence, the channels differ.
+  glm::vec3 f = tf::thinFilmFresnel(1.f, 1.8f, 380.f, glm::vec3(0.04f), 1.f);
+  EXPECT_GT(std::max({f.x, f.y, f.z}) - std::min({f.x, f.y, f.z}), 0.05f);
+}
+
+// The film colours what a grey metal reflects, and a factor of 0 is no film at all.
+TEST(BsdfProbe, IridescenceColoursTheSpecularLayer) {
+  pt::BsdfProbe p(test::context());
+  probe::ProbeCase plain = makeCase(glm::vec3(0.5f), 1.f, 0.3f, 45.f);
+  auto q = integrate(p, {plain, film(plain, 1.f, 1.8f, 380.f), film(plain, 0.f, 1.8f, 380.f)});
+  double lo = std::min({q[1].albedo.x, q[1].albedo.y, q[1].albedo.z});
+  double hi = std::max({q[1].albedo.x, q[1].albedo.y, q[1].albedo.z});
+  EXPECT_GT(hi - lo, 0.05) << q[1].albedo.x << " " << q[1].albedo.y << " " << q[1].albedo.z;
+  for (int k = 0; k < 3; ++k) EXPECT_EQ(q[2].albedo[k], q[0].albedo[k]);
 }

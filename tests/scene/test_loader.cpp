@@ -354,11 +354,11 @@ TEST(Loader, PunctualLights) {
 TEST(Loader, MaterialExtensionsWarningsAndEmissivePower) {
   scene::Scene s = scene::loadScene(data("materials.gltf"));
   EXPECT_EQ(s.triangles.size(), 8u);  // the LINES primitive is skipped
-  EXPECT_TRUE(hasWarning(s, "KHR_materials_iridescence"));
-  int iridescence = 0;  // named in extensionsUsed and by a material: warned once
+  EXPECT_TRUE(hasWarning(s, "KHR_materials_dispersion"));
+  int dispersion = 0;  // named in extensionsUsed and by a material: warned once
   for (const auto& w : s.warnings)
-    iridescence += w.find("KHR_materials_iridescence") != std::string::npos;
-  EXPECT_EQ(iridescence, 1);
+    dispersion += w.find("KHR_materials_dispersion") != std::string::npos;
+  EXPECT_EQ(dispersion, 1);
   EXPECT_TRUE(hasWarning(s, "mode 1"));
   ASSERT_EQ(s.materials.size(), 4u);  // three + the default for the primitive without one
   const gs::Material& glass = s.materials[0];
@@ -382,6 +382,40 @@ TEST(Loader, MaterialExtensionsWarningsAndEmissivePower) {
   EXPECT_NEAR(s.emissive[0].area + s.emissive[1].area, 6.0f, 1e-5f);
   EXPECT_NEAR(s.emissive[1].cdf, lamp / (lamp + dim), 1e-5f);
   EXPECT_FLOAT_EQ(s.emissive[3].cdf, 1.0f);
+}
+
+TEST(Loader, IridescenceFieldsAndTextures) {
+  scene::Scene s = scene::loadScene(data("iridescence.gltf"));
+  EXPECT_FALSE(hasWarning(s, "iridescence"));
+  ASSERT_EQ(s.materials.size(), 3u);
+  const gs::Material &film = s.materials[0], &draft = s.materials[1], &defaults = s.materials[2];
+  EXPECT_FLOAT_EQ(film.iridescence, 0.8f);
+  EXPECT_FLOAT_EQ(film.iridescenceIor, 1.8f);
+  EXPECT_FLOAT_EQ(film.iridescenceThicknessMinimum, 250.0f);
+  EXPECT_FLOAT_EQ(film.iridescenceThicknessMaximum, 650.0f);
+  // The factor texture (R) on TEXCOORD_0, the thickness texture (G) on TEXCOORD_1.
+  ASSERT_GE(film.iridescenceTexture, 0);
+  ASSERT_GE(film.iridescenceThicknessTexture, 0);
+  EXPECT_EQ(film.iridescenceTexture & gs::kTextureTexCoord1, 0);
+  EXPECT_NE(film.iridescenceThicknessTexture & gs::kTextureTexCoord1, 0);
+  const scene::Texture& factor = s.textures[film.iridescenceTexture & gs::kTextureIndexMask];
+  const scene::Texture& thickness =
+      s.textures[film.iridescenceThicknessTexture & gs::kTextureIndexMask];
+  ASSERT_EQ(factor.width, 2u);
+  EXPECT_EQ(factor.texels[0] & 0xFFu, 128u);
+  ASSERT_EQ(thickness.height, 2u);
+  EXPECT_EQ((thickness.texels[1] >> 8) & 0xFFu, 255u);
+  EXPECT_FLOAT_EQ(draft.iridescence, 1.0f);
+  EXPECT_FLOAT_EQ(draft.iridescenceIor, 1.6f);  // the draft's "iridescenceIOR"
+  // The extension's defaults: factor 0 (no film), ior 1.3, 100-400 nm, no textures.
+  EXPECT_FLOAT_EQ(defaults.iridescence, 0.0f);
+  EXPECT_FLOAT_EQ(defaults.iridescenceIor, 1.3f);
+  EXPECT_FLOAT_EQ(defaults.iridescenceThicknessMinimum, 100.0f);
+  EXPECT_FLOAT_EQ(defaults.iridescenceThicknessMaximum, 400.0f);
+  EXPECT_EQ(defaults.iridescenceTexture, gs::kNoTexture);
+  EXPECT_EQ(defaults.iridescenceThicknessTexture, gs::kNoTexture);
+  // A material without the extension has no film either.
+  EXPECT_FLOAT_EQ(scene::loadScene(data("textured.gltf")).materials[0].iridescence, 0.0f);
 }
 
 TEST(Loader, BinaryGlbWithEmbeddedImage) {

@@ -14,7 +14,7 @@ namespace gs = osr::gpu::scene;
 // std430 layout of the shared structs (the GLSL side is checked by test_scene_probe).
 static_assert(sizeof(gs::Vertex) == 32 && offsetof(gs::Vertex, normal) == 16);
 static_assert(sizeof(gs::Triangle) == 16);
-static_assert(sizeof(gs::Material) == 208);
+static_assert(sizeof(gs::Material) == 240);
 static_assert(offsetof(gs::Material, emission) == 16 &&
               offsetof(gs::Material, specularColor) == 32);
 static_assert(offsetof(gs::Material, baseColorTexture) == 64 &&
@@ -50,6 +50,9 @@ TEST(GpuScene, FeaturesNameWhatTheSceneUses) {
   auto& ctx = test::context();
   scene::Scene s = scene::loadScene(test::referencePath("cornell/cornell.gltf"));
   EXPECT_EQ(scene::GpuScene(ctx, s).features, 0u);  // no alpha, texture, light or map
+  s.materials[0].iridescence = 0.5f;  // a thin film alone is a layer
+  EXPECT_EQ(scene::GpuScene(ctx, s).features, gs::kSceneFeatureLayers);
+  s.materials[0].iridescence = 0.0f;
   s.materials[0].flags |= gs::kMaterialAlphaBlend;
   EXPECT_EQ(scene::GpuScene(ctx, s).features,
             gs::kSceneFeatureAlphaTest | gs::kSceneFeatureAlphaBlend);
