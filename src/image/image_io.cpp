@@ -27,6 +27,7 @@
 #include <stb/stb_image_write.h>
 
 #include "common/error.h"
+#include "common/exr_header.h"
 
 namespace osr::image {
 
@@ -163,10 +164,11 @@ void writeExr(const std::string& path, const LayeredImage& image, ExrPixelType t
 }
 
 RgbImage readExrRgb(const std::string& path, const std::string& layer) {
+  if (auto problem = exrHeaderProblem(path)) throw InputError(path + ": " + *problem);
   try {
     Imf::InputFile file(path.c_str());
     const Imath::Box2i dw = file.header().dataWindow();
-    RgbImage img;
+    RgbImage img;  // exrHeaderProblem has refused an empty or vast data window
     img.width = dw.max.x - dw.min.x + 1;
     img.height = dw.max.y - dw.min.y + 1;
     img.rgb.assign(size_t(img.width) * img.height * 3, 0.f);
@@ -198,6 +200,7 @@ RgbImage readExrRgb(const std::string& path, const std::string& layer) {
 }
 
 std::vector<ExrAttribute> readExrAttributes(const std::string& path) {
+  if (auto problem = exrHeaderProblem(path)) throw InputError(path + ": " + *problem);
   try {
     Imf::InputFile file(path.c_str());
     std::vector<ExrAttribute> out;

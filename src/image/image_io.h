@@ -48,7 +48,8 @@ enum class ExrPixelType { Half, Float };
 // Throws InputError ("<path>: ...") when the file cannot be written.
 void writeExr(const std::string& path, const LayeredImage& image, ExrPixelType type);
 // Reads the default layer's R, G, B (or Y as grey), or those of `layer` ("noisy" reads
-// noisy.R, noisy.G, noisy.B). Throws InputError naming the file.
+// noisy.R, noisy.G, noisy.B). Throws InputError naming the file, also for a header that
+// OpenEXR must not open and an empty or vast data window (common/exr_header.h).
 RgbImage readExrRgb(const std::string& path, const std::string& layer = "");
 // The header's int, float and string attributes (others are left out), in the header's order.
 // Throws InputError naming the file.

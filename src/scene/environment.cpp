@@ -8,12 +8,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <cstring>
 #include <filesystem>
-#include <fstream>
 #include <optional>
 
 #include "common/error.h"
+#include "common/exr_header.h"
 #include "common/input_file.h"
 
 namespace osr::scene {
@@ -32,40 +31,6 @@ std::string oneLine(std::string s) {
   return s;
 }
 
-// OpenEXR 3.1 allocates each header attribute at the size the file states before reading it,
-// so a 500-byte file claiming a 2 GiB attribute cost 2 GiB and seconds (found by
-// tests/fuzz/fuzz_env.cpp). Walks the header (every header of a multi-part file) and refuses
-// an attribute that runs past the end of the file.
-std::optional<std::string> exrHeaderProblem(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  in.seekg(0, std::ios::end);
-  const std::streamoff fileSize = in.tellg();
-  in.seekg(0);
-  char start[8];
-  if (!in.read(start, 8)) return "truncated OpenEXR header";
-  uint32_t magic, version;
-  std::memcpy(&magic, start, 4);
-  std::memcpy(&version, start + 4, 4);
-  if (magic != 20000630) return std::nullopt;  // not OpenEXR at all: OpenEXR says so
-  const bool multipart = version & 0x1000;  // the version field's multi-part bit
-  for (int attribute = 0;; ++attribute) {
-    std::string name, type;
-    if (!std::getline(in, name, '\0')) return "truncated OpenEXR header";
-    if (name.empty()) {  // the end of a header; a multi-part file's list ends with an empty one
-      if (!multipart || in.peek() == 0 || in.peek() == std::char_traits<char>::eof())
-        return std::nullopt;
-      continue;
-    }
-    int32_t size = 0;
-    if (!std::getline(in, type, '\0') || !in.read(reinterpret_cast<char*>(&size), 4))
-      return "truncated OpenEXR header";
-    if (size < 0 || in.tellg() + std::streamoff(size) > fileSize)
-      return "OpenEXR header attribute " + std::to_string(attribute) + " of " +
-             std::to_string(size) + " bytes runs past the end of the file";
-    in.seekg(size, std::ios::cur);
-  }
-}
-
 }  // namespace
 
 Environment loadEnvironment(const std::string& path) {
@@ -78,8 +43,8 @@ Environment loadEnvironment(const std::string& path) {
     try {
       Imf::RgbaInputFile file(path.c_str());
       Imath::Box2i dw = file.dataWindow();
-      long w = long(dw.max.x) - dw.min.x + 1, h = long(dw.max.y) - dw.min.y + 1;
-      if (w <= 0 || h <= 0) throw InputError(path + ": empty image");
+      // exrHeaderProblem has refused an empty or vast data window.
+      const int64_t w = int64_t(dw.max.x) - dw.min.x + 1, h = int64_t(dw.max.y) - dw.min.y + 1;
       Imf::Array2D<Imf::Rgba> pixels(h, w);
       file.setFrameBuffer(&pixels[0][0] - dw.min.x - dw.min.y * w, 1, size_t(w));
       file.readPixels(dw.min.y, dw.max.y);

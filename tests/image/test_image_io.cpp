@@ -1,8 +1,10 @@
 // OpenEXR/PNG writers and the EXR reader: layers round-trip (float exactly, half within half
-// precision), the reference EXRs read, failures leave an existing file untouched.
+// precision), the reference EXRs read, failures leave an existing file untouched, a vast or
+// empty data window is refused.
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <fstream>
 
@@ -78,6 +80,46 @@ TEST(ImageIo, FailuresAreInputErrorsAndKeepExistingFiles) {
   std::string content;
   in >> content;
   EXPECT_EQ(content, "precious");
+  fs::remove_all(d);
+}
+
+// A header's data window is the file's word: patched to a vast or an inverted window, a small
+// file is refused by its header before OpenEXR opens it (the reader allocated all of a vast
+// window's pixels: 30 s and 2.4 GB for an 878-byte file claiming 16777216 x 8).
+TEST(ImageIo, ReadingRefusesAVastOrEmptyDataWindow) {
+  fs::path d = tempDir();
+  const std::string good = (d / "good.exr").string();
+  image::writeExr(good, testImage(4, 2), image::ExrPixelType::Half);
+  std::string bytes;
+  {
+    std::ifstream in(good, std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), {});
+  }
+  // "dataWindow\0box2i\0", the size (16), then xMin, yMin, xMax, yMax.
+  const std::string key = std::string("dataWindow") + '\0' + "box2i" + '\0';
+  const size_t at = bytes.find(key);
+  ASSERT_NE(at, std::string::npos);
+  auto patched = [&](const char* name, int32_t xMax, int32_t yMax) {
+    std::string b = bytes;
+    std::memcpy(&b[at + key.size() + 4 + 8], &xMax, 4);
+    std::memcpy(&b[at + key.size() + 4 + 12], &yMax, 4);
+    const std::string path = (d / name).string();
+    std::ofstream(path, std::ios::binary) << b;
+    return path;
+  };
+  auto message = [](const std::string& path) {
+    try {
+      image::readExrRgb(path);
+    } catch (const InputError& e) {
+      return std::string(e.what());
+    }
+    return std::string("read");
+  };
+  const std::string vast = patched("vast.exr", (1 << 24) - 1, 1);  // as many lines as before
+  EXPECT_EQ(message(vast), vast + ": 16777216 x 2 pixels, more than osr-vk reads (65536 a side, 268435456 in all)");
+  const std::string empty = patched("empty.exr", -5, 1);
+  EXPECT_EQ(message(empty), empty + ": empty OpenEXR data window");
+  EXPECT_EQ(image::readExrRgb(good).width, 4);
   fs::remove_all(d);
 }
 
