@@ -6,7 +6,8 @@
 //   osr        OSR without the map cache, --passes per frame
 //   osr+cache  OSR with the world-space map cache carried from frame to frame, --cache-passes
 //   path       the path tracer for osr+cache's mean CPU seconds per frame (equal time)
-//   path+atrous the same with osr-vk's default a-trous filter on each frame, its time included
+//   path+atrous the same with the a-trous filter on each frame, its time included
+//   path+network the same with the default learned denoiser (osr-vk --frames' default)
 // and, per sequence: seconds per frame (wall and this process's CPU time: on shared cores the
 // wall time of a frame moves with the others' load, the CPU time it took much less), relMSE on the reference frames, and flicker
 // (render/flicker.h) between consecutive reference frames, measured on the pixels that the
@@ -320,21 +321,31 @@ int runAnimation(const std::vector<std::string>& args) {
   const uint32_t pathSpp =
       uint32_t(std::max(1.0, std::round(sequences[1].meanCpuSeconds / cpuPerSpp)));
   sequences.push_back(runSequence("path", *path, pathSpp));
-  // The filter's CPU time comes out of the samples (the second of two runs: the first makes
-  // its pipelines).
+  // The denoised sequences, as osr-vk --frames gives them: path tracing with the a-trous
+  // filter, and with the default learned denoiser (the filter below its fewest samples). The
+  // denoiser's CPU time comes out of the samples (the second of two runs: the first makes its
+  // pipelines).
+  auto denoisedPath = [&](const std::string& name, const render::DenoiseSettings& denoise) {
+    render::Denoiser denoiser(ctx, denoise, size, size);
+    double denoiseCpu = 0.0;
+    for (int i = 0; i < 2; ++i) {
+      render::FilmLayers film = path->resolve();
+      const double cpu0 = processCpuSeconds();
+      denoiser.apply(film);
+      denoiseCpu = processCpuSeconds() - cpu0;
+    }
+    const uint32_t spp = uint32_t(
+        std::max(1.0, std::round((sequences[1].meanCpuSeconds - denoiseCpu) / cpuPerSpp)));
+    sequences.push_back(runSequence(name, *path, spp, &denoiser));
+  };
   render::DenoiseSettings filterSettings;
   filterSettings.atrous = true;
-  render::Denoiser filter(ctx, filterSettings, size, size);
-  double filterCpu = 0.0;
-  for (int i = 0; i < 2; ++i) {
-    render::FilmLayers film = path->resolve();
-    const double cpu0 = processCpuSeconds();
-    filter.apply(film);
-    filterCpu = processCpuSeconds() - cpu0;
+  denoisedPath("path+atrous", filterSettings);
+  if (render::defaultImageModel()) {
+    render::DenoiseSettings networkSettings = filterSettings;
+    networkSettings.network = render::DenoiseSettings::Network::Default;
+    denoisedPath("path+network", networkSettings);
   }
-  const uint32_t filteredSpp = uint32_t(
-      std::max(1.0, std::round((sequences[1].meanCpuSeconds - filterCpu) / cpuPerSpp)));
-  sequences.push_back(runSequence("path+atrous", *path, filteredSpp, &filter));
 
   // Verification: a render whose mean is far from its reference's is broken, not noisy.
   for (const Sequence& s : sequences)
@@ -404,12 +415,15 @@ int runAnimation(const std::vector<std::string>& args) {
   flickers["converged"] = flickerOf([&](int f) -> const std::vector<float>& { return refs[f].rgb; });
   line("converged").integer("reference_spp", refSpp).num("flicker", flickers["converged"])
       .integer("flicker_pairs", long(pairs.size())).str("device", ctx.caps().deviceName).print();
-  line("summary").num("cache_seconds_ratio", sequences[1].meanSeconds / sequences[0].meanSeconds)
+  JsonLine summary = line("summary");
+  summary.num("cache_seconds_ratio", sequences[1].meanSeconds / sequences[0].meanSeconds)
       .num("cache_cpu_seconds_ratio", sequences[1].meanCpuSeconds / sequences[0].meanCpuSeconds)
       .num("cache_flicker_over_path", flickers["osr+cache"] / flickers["path"])
       .num("nocache_flicker_over_path", flickers["osr"] / flickers["path"])
-      .num("path_atrous_flicker_over_path", flickers["path+atrous"] / flickers["path"])
-      .integer("passes", passes).integer("cache_passes", cachePasses).integer("map_cache", cacheMaps)
+      .num("path_atrous_flicker_over_path", flickers["path+atrous"] / flickers["path"]);
+  if (flickers.count("path+network"))
+    summary.num("path_network_flicker_over_path", flickers["path+network"] / flickers["path"]);
+  summary.integer("passes", passes).integer("cache_passes", cachePasses).integer("map_cache", cacheMaps)
       .integer("mature_passes", maturePasses)
       .str("device", ctx.caps().deviceName).print();
   return kExitOk;
