@@ -23,12 +23,33 @@ inline std::optional<std::string> exrDataWindowProblem(int64_t w, int64_t h) {
   return std::nullopt;
 }
 
-// Why OpenEXR must not open `path`, or nothing. OpenEXR 3.1 allocates each header attribute at
-// the size the file states before reading it, so a 500-byte file claiming a 2 GiB attribute
-// cost 2 GiB and seconds (found by tests/fuzz/fuzz_env.cpp). Walks the header (every header of
-// a multi-part file) and refuses an attribute that runs past the end of the file, and a data
-// window that is empty or vast (kMaxExrSide, kMaxExrPixels); a
-// file that is not OpenEXR at all passes (OpenEXR says so).
+// The value's size in bytes of OpenEXR's attribute types that OpenEXR reads by their type,
+// not by the size the file states (OpenEXR 3.1, TypedAttribute<T>::readValueFrom), or 0.
+inline int32_t exrFixedValueSize(const std::string& type) {
+  static const struct {
+    const char* type;
+    int32_t size;
+  } kTypes[] = {{"box2i", 16},  {"box2f", 16},  {"chromaticities", 32}, {"compression", 1},
+                {"double", 8},  {"envmap", 1},  {"float", 4},           {"int", 4},
+                {"keycode", 28}, {"lineOrder", 1}, {"m33f", 36},        {"m33d", 72},
+                {"m44f", 64},   {"m44d", 128},  {"rational", 8},        {"tiledesc", 9},
+                {"timecode", 8}, {"v2i", 8},    {"v2f", 8},             {"v2d", 16},
+                {"v3i", 12},    {"v3f", 12},    {"v3d", 24},            {"deepImageState", 1}};
+  for (const auto& t : kTypes)
+    if (type == t.type) return t.size;
+  return 0;
+}
+
+// Why OpenEXR must not open `path`, or nothing. OpenEXR 3.1 allocates an attribute at the size
+// the file states before reading it, so a 500-byte file claiming a 2 GiB attribute cost 2 GiB
+// and seconds (found by tests/fuzz/fuzz_env.cpp). This walks the header as OpenEXR reads it
+// (every header of a multi-part file) and refuses an attribute that runs past the end of the
+// file, a data window that is empty or vast (kMaxExrSide, kMaxExrPixels), and anything that
+// would make OpenEXR's reading and this walk part ways: OpenEXR reads a channel list, a
+// preview and the fixed-size types by their content, whatever size the file states, so a
+// wrong size there let a later attribute hide from the walk (tests/fuzz/fuzz_exr.cpp found
+// one claiming 1.8 GB behind a channel list 12 bytes longer than stated), and it stops a name
+// at 255 characters. A file that is not OpenEXR at all passes (OpenEXR says so).
 inline std::optional<std::string> exrHeaderProblem(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   in.seekg(0, std::ios::end);
@@ -41,21 +62,45 @@ inline std::optional<std::string> exrHeaderProblem(const std::string& path) {
   std::memcpy(&version, start + 4, 4);
   if (magic != 20000630) return std::nullopt;  // not OpenEXR at all: OpenEXR says so
   const bool multipart = version & 0x1000;  // the version field's multi-part bit
+  constexpr size_t kMaxName = 255;          // OpenEXR's Name::MAX_LENGTH
+  const auto readName = [&](std::string& out) {
+    return std::getline(in, out, '\0') && out.size() <= kMaxName;
+  };
   for (int attribute = 0;; ++attribute) {
+    const std::string which = "OpenEXR header attribute " + std::to_string(attribute);
     std::string name, type;
-    if (!std::getline(in, name, '\0')) return "truncated OpenEXR header";
+    if (!readName(name)) return "truncated OpenEXR header or a name over 255 characters";
     if (name.empty()) {  // the end of a header; a multi-part file's list ends with an empty one
       if (!multipart || in.peek() == 0 || in.peek() == std::char_traits<char>::eof())
         return std::nullopt;
       continue;
     }
     int32_t size = 0;
-    if (!std::getline(in, type, '\0') || !in.read(reinterpret_cast<char*>(&size), 4))
-      return "truncated OpenEXR header";
-    if (size < 0 || in.tellg() + std::streamoff(size) > fileSize)
-      return "OpenEXR header attribute " + std::to_string(attribute) + " of " +
-             std::to_string(size) + " bytes runs past the end of the file";
-    if (name == "dataWindow" && type == "box2i" && size == 16) {
+    if (!readName(type) || !in.read(reinterpret_cast<char*>(&size), 4))
+      return "truncated OpenEXR header or a name over 255 characters";
+    const std::streamoff valueStart = in.tellg();
+    if (size < 0 || valueStart + std::streamoff(size) > fileSize)
+      return which + " of " + std::to_string(size) + " bytes runs past the end of the file";
+    const int32_t fixed = exrFixedValueSize(type);
+    if (fixed && size != fixed)
+      return which + " (" + type + ") states " + std::to_string(size) + " bytes, not " +
+             std::to_string(fixed);
+    if (type == "chlist") {  // channels: a name and 16 bytes each, up to an empty name
+      std::string channel;
+      while (readName(channel) && !channel.empty()) in.seekg(16, std::ios::cur);
+      if (!in || in.tellg() - valueStart != size)
+        return which + " (chlist) does not hold the " + std::to_string(size) + " bytes it states";
+      continue;
+    }
+    if (type == "preview") {  // width, height, then 4 bytes a pixel
+      uint32_t wh[2];
+      if (size < 8 || !in.read(reinterpret_cast<char*>(wh), 8) ||
+          8 + 4 * uint64_t(wh[0]) * wh[1] != uint64_t(size))
+        return which + " (preview) does not hold the " + std::to_string(size) + " bytes it states";
+      in.seekg(size - 8, std::ios::cur);
+      continue;
+    }
+    if (name == "dataWindow" && type == "box2i") {
       int32_t box[4];  // xMin, yMin, xMax, yMax
       if (!in.read(reinterpret_cast<char*>(box), 16)) return "truncated OpenEXR header";
       if (auto problem = exrDataWindowProblem(int64_t(box[2]) - box[0] + 1, int64_t(box[3]) - box[1] + 1))
