@@ -8,7 +8,7 @@
 
 #include <array>
 #include <cmath>
-#include <chrono>
+#include <algorithm>
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
@@ -87,14 +87,23 @@ TEST(CmdRender, SizeFollowsTheCameraAspectAndCamerasAreSelectable) {
   fs::remove_all(d);
 }
 
+// Checked on osr-vk's own clock, which it prints: the command's wall time, start-up with cold
+// shader caches included, took 44 s on 2 cores at load 8 (docs/testing.md "Tests that time").
 TEST(CmdRender, TimeLimitStopsTheRenderWithProgress) {
   fs::path d = tempDir();
   std::string exr = (d / "t.exr").string();
-  auto t0 = std::chrono::steady_clock::now();
   Result r = run("--mode path --width 16 --spp 1000000 --time 1 --offline " + exr + " " + kCornell);
-  double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   ASSERT_EQ(r.code, 0) << r.out;
-  EXPECT_LT(s, 30.0);
+  double from = -1, to = -1, held = -1;
+  const size_t note = r.out.find("the render loop ran from ");
+  ASSERT_NE(note, std::string::npos) << r.out;
+  ASSERT_EQ(std::sscanf(r.out.c_str() + note, "the render loop ran from %lf to %lf s, holding back %lf",
+                        &from, &to, &held),
+            3)
+      << r.out;
+  // A million samples per pixel would take minutes: the loop stops within a second of the
+  // budget less what it holds back (the first submission always runs).
+  EXPECT_LT(to, std::max(1.0 - held, from) + 1.0) << r.out;
   EXPECT_NE(r.out.find("spp"), std::string::npos) << r.out;  // progress line
   EXPECT_NE(r.out.find("remaining"), std::string::npos) << r.out;
   EXPECT_TRUE(fs::exists(exr));
