@@ -1,0 +1,31 @@
+#!/usr/bin/env bash
+# The figures of docs/denoise.md "The default today": the default (path + the shipped network)
+# against raw path tracing at 5-120 s and against OSR at 5-30 s, on cornell, room and the
+# held-out generated interiors 9001-9003 (made here with their path-traced references, which
+# are kept: about an hour of lavapipe the first time). Appends to bench/results/denoise.jsonl.
+#   bench/denoise_default.sh [DATA_DIR] [SCENE...]    (default: $TMPDIR/osr-denoise-default, all)
+set -euo pipefail
+root=$(cd "$(dirname "$0")/.." && pwd)
+data=${1:-${TMPDIR:-/tmp}/osr-denoise-default}
+if (($#)); then shift; fi
+if (($#)); then scenes=("$@"); else scenes=(cornell room 9001 9002 9003); fi
+vk=$root/build/osr-vk bench=$root/build/osr-bench
+mkdir -p "$data"
+for s in "${scenes[@]}"; do
+  case $s in
+    cornell | room) args=(--scene "$s") ;;
+    *)
+      [[ -f $data/$s/scene.gltf ]] || /usr/bin/python3 "$root/tools/make_interiors.py" "$data" --seeds "$s" >/dev/null
+      env=()
+      [[ -f $data/$s/sky.hdr ]] && env=(--env "$data/$s/sky.hdr")
+      spp=2048
+      [[ $s == 9001 ]] && spp=4096
+      ref=$data/ref${s}_$spp.exr
+      [[ -f $ref ]] || "$vk" --mode path --spp $spp --seed 777 --width 256 --height 256 --camera 0 "${env[@]}" \
+        --network none --filter none --exr-float --quiet --offline "$ref" "$data/$s/scene.gltf"
+      args=(--scene "$data/$s/scene.gltf" --camera 0 --reference "$ref" "${env[@]}") ;;
+  esac
+  "$bench" denoise "${args[@]}" --rows path,path+network,osr+atrous,osr+network --budgets 5,10,30 \
+    --network default --record
+  "$bench" denoise "${args[@]}" --rows path,path+network --budgets 60,120 --network default --record
+done
