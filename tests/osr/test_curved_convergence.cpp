@@ -249,8 +249,8 @@ TEST(CurvedConvergence, InsideAHalfEmissiveSphere) {
   EXPECT_LT(std::abs(z), 3.0);
 }
 
-// Every layered lobe at once (clearcoat, sheen, anisotropy, diffuse transmission, absorbing
-// glass): the composite takes only the diffuse and base glossy lobes from the maps, the
+// Every layered lobe at once (clearcoat, sheen, anisotropy with an iridescent film, diffuse
+// transmission, absorbing glass): the composite takes only the diffuse and base glossy lobes from the maps, the
 // residual path-traces the rest (docs/osr.md), so OSR still converges to the path tracer. The
 // paper screen between the window and the objects glows only through the residual's paths.
 TEST(CurvedConvergence, LayeredLobesConvergeToThePathTracer) {
@@ -280,7 +280,10 @@ TEST(CurvedConvergence, LayeredLobesConvergeToThePathTracer) {
   int tinted = g.material(glass);
   json metal = {{"pbrMetallicRoughness", {{"baseColorFactor", {0.9, 0.8, 0.6, 1.0}},
                                           {"metallicFactor", 1.0}, {"roughnessFactor", 0.4}}},
-                {"extensions", {{"KHR_materials_anisotropy", {{"anisotropyStrength", 0.8}}}}}};
+                {"extensions", {{"KHR_materials_anisotropy", {{"anisotropyStrength", 0.8}}},
+                                {"KHR_materials_iridescence", {{"iridescenceFactor", 1.0},
+                                                               {"iridescenceIor", 1.8},
+                                                               {"iridescenceThicknessMaximum", 380.0}}}}}};
   int brushed = g.material(metal);
   g.quad({-2, 0, 2}, {2, 0, 2}, {2, 0, -2}, {-2, 0, -2}, white);
   g.quad({-2, 0, -2}, {2, 0, -2}, {2, 2.5f, -2}, {-2, 2.5f, -2}, white);
