@@ -19,6 +19,27 @@ class DeviceError : public std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+// A library's message (tinygltf's, OpenEXR's) as one printable line for an error: they span
+// lines and may quote raw bytes of a broken file (a channel name with a newline in it).
+inline std::string oneLine(const std::string& text) {
+  std::string out;
+  bool space = false;
+  for (char c : text) {
+    if (static_cast<unsigned char>(c) >= 0x80 ||
+        (c != '\n' && c != '\r' && (c < 0x20 || c == 0x7f)))
+      c = '?';
+    if (c == '\n' || c == '\r') {
+      space = !out.empty();
+      continue;
+    }
+    if (space) out += "; ";
+    space = false;
+    out += c;
+  }
+  while (!out.empty() && (out.back() == ' ' || out.back() == ';')) out.pop_back();
+  return out;
+}
+
 inline constexpr int kExitOk = 0;
 inline constexpr int kExitInternal = 1;
 inline constexpr int kExitBadInput = 2;

@@ -158,7 +158,7 @@ void writeExr(const std::string& path, const LayeredImage& image, ExrPixelType t
     }
   } catch (const std::exception& e) {
     discard(tmp);
-    throw InputError(path + ": cannot write OpenEXR (" + e.what() + ")");
+    throw InputError(path + ": cannot write OpenEXR (" + oneLine(e.what()) + ")");
   }
   commit(tmp, path);
 }
@@ -195,7 +195,7 @@ RgbImage readExrRgb(const std::string& path, const std::string& layer) {
   } catch (const InputError&) {
     throw;
   } catch (const std::exception& e) {
-    throw InputError(path + ": cannot read OpenEXR (" + e.what() + ")");
+    throw InputError(path + ": cannot read OpenEXR (" + oneLine(e.what()) + ")");
   }
 }
 
@@ -215,7 +215,7 @@ std::vector<ExrAttribute> readExrAttributes(const std::string& path) {
     }
     return out;
   } catch (const std::exception& e) {
-    throw InputError(path + ": cannot read OpenEXR (" + e.what() + ")");
+    throw InputError(path + ": cannot read OpenEXR (" + oneLine(e.what()) + ")");
   }
 }
 

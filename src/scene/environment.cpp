@@ -26,11 +26,6 @@ std::string lowerExtension(const std::string& path) {
   return ext;
 }
 
-std::string oneLine(std::string s) {
-  std::replace(s.begin(), s.end(), '\n', ' ');
-  return s;
-}
-
 }  // namespace
 
 Environment loadEnvironment(const std::string& path) {

@@ -101,27 +101,6 @@ const std::set<std::string> kSupportedExtensions = {
 // point/spot candela / 683 = W/sr, directional lux / 683 = W/m^2.
 constexpr float kLumensPerWatt = 683.0f;
 
-// tinygltf's messages span lines and may quote raw bytes of a broken file; errors here are one
-// printable line.
-std::string oneLine(const std::string& text) {
-  std::string out;
-  bool space = false;
-  for (char c : text) {
-    if (static_cast<unsigned char>(c) >= 0x80 ||
-        (c != '\n' && c != '\r' && (c < 0x20 || c == 0x7f)))
-      c = '?';
-    if (c == '\n' || c == '\r') {
-      space = !out.empty();
-      continue;
-    }
-    if (space) out += "; ";
-    space = false;
-    out += c;
-  }
-  while (!out.empty() && (out.back() == ' ' || out.back() == ';')) out.pop_back();
-  return out;
-}
-
 size_t componentBytes(int componentType) {
   switch (componentType) {
     case TINYGLTF_COMPONENT_TYPE_BYTE:
