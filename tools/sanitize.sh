@@ -3,7 +3,8 @@
 # runs the fast suites in it, with the validation layer on and cold shader caches (an empty
 # XDG_CACHE_HOME, removed afterwards). What CI runs (.ci/run); docs/testing.md, "Sanitizers".
 #   tools/sanitize.sh            the fast suites: loaders, image I/O, packed weights, the Vulkan
-#                                core, osr-vk's and osr-bench's command-line checks
+#                                core, osr-vk's and osr-bench's command-line checks, and the
+#                                OpenEXR fuzz targets' seeds and regression inputs
 #   tools/sanitize.sh --all      every suite (builds everything; many times slower: the path
 #                                tracer's and OSR's integrator suites take 10 minutes and more,
 #                                app/test_cmd_render 5, under ASan with cold caches on 2 loaded
@@ -13,7 +14,7 @@ set -euo pipefail
 cd "$(dirname "$0")/.."
 fast=(scene/test_loader scene/test_environment image/test_image_io nn_kernels/test_weights
       vk/test_context vk/test_exception_safety vk/test_shared_layout vk/test_spirv_info
-      app/test_cli_errors)
+      app/test_cli_errors fuzz/exr fuzz/env)
 all=0
 if [[ ${1:-} == --all ]]; then all=1; shift; fi
 
@@ -24,7 +25,12 @@ if ((all)); then
   select=()
 else
   targets=(osr-vk osr-bench)  # the app/ tests run the built osr-vk and osr-bench
-  for t in "${fast[@]}"; do targets+=("${t/\//_}"); done
+  # A fuzz target's CTest replay (fuzz/NAME) is the executable fuzz_NAME_replay.
+  for t in "${fast[@]}"; do
+    target=${t/\//_}
+    [[ $t == fuzz/* ]] && target+=_replay
+    targets+=("$target")
+  done
   cmake --build build-asan --target "${targets[@]}"
   regex=$(IFS='|'; echo "^(${fast[*]})\$")
   select=(-R "$regex")

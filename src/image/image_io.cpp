@@ -181,12 +181,13 @@ RgbImage readExrRgb(const std::string& path, const std::string& layer) {
       throw InputError(path + ": no R, G, B (or Y) channels in the " +
                        (layer.empty() ? std::string("default layer") : "layer '" + layer + "'"));
     Imf::FrameBuffer fb;
-    char* base = reinterpret_cast<char*>(img.rgb.data()) -
-                 (size_t(dw.min.x) + size_t(dw.min.y) * img.width) * 3 * sizeof(float);
-    // A grey image reads Y into the R slot once, then copies it to G and B.
+    // Slice::Make places the data window's origin at the buffer's start without pointing
+    // outside it (the classic base - origin pointer is undefined for a window far from 0: found
+    // by tests/fuzz/fuzz_exr.cpp under UBSan). A grey image reads Y into the R slot once, then
+    // copies it to G and B.
     for (int c = 0; c < (rgb ? 3 : 1); ++c)
-      fb.insert(rgb ? names[c] : y, Imf::Slice(Imf::FLOAT, base + c * sizeof(float),
-                                                 3 * sizeof(float), 3 * sizeof(float) * img.width));
+      fb.insert(rgb ? names[c] : y, Imf::Slice::Make(Imf::FLOAT, img.rgb.data() + c, dw, 3 * sizeof(float),
+                                                       3 * sizeof(float) * size_t(img.width)));
     file.setFrameBuffer(fb);
     file.readPixels(dw.min.y, dw.max.y);
     if (!rgb)

@@ -41,7 +41,11 @@ Environment loadEnvironment(const std::string& path) {
       // exrHeaderProblem has refused an empty or vast data window.
       const int64_t w = int64_t(dw.max.x) - dw.min.x + 1, h = int64_t(dw.max.y) - dw.min.y + 1;
       Imf::Array2D<Imf::Rgba> pixels(h, w);
-      file.setFrameBuffer(&pixels[0][0] - dw.min.x - dw.min.y * w, 1, size_t(w));
+      // The frame buffer's base is where pixel (0, 0) would be, outside the array for a window
+      // far from 0: computed as an integer, since such a pointer is undefined behaviour.
+      const uintptr_t base = reinterpret_cast<uintptr_t>(&pixels[0][0]) -
+                             uintptr_t(dw.min.x + dw.min.y * w) * sizeof(Imf::Rgba);
+      file.setFrameBuffer(reinterpret_cast<Imf::Rgba*>(base), 1, size_t(w));
       file.readPixels(dw.min.y, dw.max.y);
       env.width = uint32_t(w);
       env.height = uint32_t(h);
