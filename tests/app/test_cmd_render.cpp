@@ -94,16 +94,11 @@ TEST(CmdRender, TimeLimitStopsTheRenderWithProgress) {
   std::string exr = (d / "t.exr").string();
   Result r = run("--mode path --width 16 --spp 1000000 --time 1 --offline " + exr + " " + kCornell);
   ASSERT_EQ(r.code, 0) << r.out;
-  double from = -1, to = -1, held = -1;
-  const size_t note = r.out.find("the render loop ran from ");
-  ASSERT_NE(note, std::string::npos) << r.out;
-  ASSERT_EQ(std::sscanf(r.out.c_str() + note, "the render loop ran from %lf to %lf s, holding back %lf",
-                        &from, &to, &held),
-            3)
-      << r.out;
+  const auto loop = test::renderLoopNote(r.out);
+  ASSERT_TRUE(loop) << r.out;
   // A million samples per pixel would take minutes: the loop stops within a second of the
   // budget less what it holds back (the first submission always runs).
-  EXPECT_LT(to, std::max(1.0 - held, from) + 1.0) << r.out;
+  EXPECT_LT(loop->to, std::max(1.0 - loop->held, loop->from) + 1.0) << r.out;
   EXPECT_NE(r.out.find("spp"), std::string::npos) << r.out;  // progress line
   EXPECT_NE(r.out.find("remaining"), std::string::npos) << r.out;
   EXPECT_TRUE(fs::exists(exr));

@@ -14,6 +14,7 @@
 #include <sstream>
 #include <string>
 
+#include "app/cli_runner.h"
 #include "common/test_paths.h"
 #include "image/image_io.h"
 
@@ -148,13 +149,9 @@ TEST(CmdRenderStop, TimeBudgetHoldsBackTheResolveAndWrite) {
   const double budget = std::max(4.0, 1.5 * fixed);
   const Timed run = timed(budget);
   EXPECT_EQ(attribute(exr, "osr-vk:stopped-by"), "time") << run.err;
-  double from = -1, to = -1, held = -1;
-  const size_t note = run.err.find("the render loop ran from ");
-  ASSERT_NE(note, std::string::npos) << run.err;
-  ASSERT_EQ(std::sscanf(run.err.c_str() + note, "the render loop ran from %lf to %lf s, holding back %lf",
-                        &from, &to, &held),
-            3)
-      << run.err;
+  const auto loop = osr::test::renderLoopNote(run.err);
+  ASSERT_TRUE(loop) << run.err;
+  const double from = loop->from, to = loop->to, held = loop->held;
   const std::string why = "budget " + std::to_string(budget) + " s\n" + run.err;
   EXPECT_GT(held, 0.0) << why;
   // The loop stops once the next submission would end past the budget less `held` (the first
