@@ -28,7 +28,9 @@ inline constexpr char kCompareUsage[] =
     "usage: osr-vk compare TEST.exr REF.exr\n"
     "  compares the image under test with the reference (second): prints one JSON line with\n"
     "  relmse (mean (TEST - REF)^2 / (REF^2 + 0.01)), psnr and ssim (tone-mapped), and\n"
-    "  lum_ratio (mean luminance of TEST over REF's)\n";
+    "  lum_ratio (mean luminance of TEST over REF's); a TEST k times REF's size in both\n"
+    "  directions (a 512 x 512 render against a 256 x 256 reference) is box-filtered down\n"
+    "  first, and the line says by how much (test_downsampled_by)\n";
 int runCompare(const std::vector<std::string>& args);
 // osr-vk maps scene.gltf --out DIR (--grid R | --pixels x,y;...)
 inline constexpr char kMapsUsage[] =
