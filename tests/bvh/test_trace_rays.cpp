@@ -1,6 +1,7 @@
 // bvh_trace_rays(.comp) and lib/bvh_traverse.glsl against a brute-force CPU loop over every
-// triangle: closest hits (same triangle or a tie, t within 1e-4 relative), any-hit agreeing
-// with the closest hit, and alpha-masked triangles skipped by both queries. Trees come from the
+// triangle: closest hits (the loop's, t within 1e-4 relative, or a rare near-tie that exact
+// arithmetic cannot separate from it: closest_hit_rule.h), any-hit agreeing with the closest
+// hit, and alpha-masked triangles skipped by both queries. Trees come from the
 // CPU builder here; tests/bvh/test_gpu_builder.cpp runs the same checks on GPU-built trees.
 #include <gtest/gtest.h>
 
@@ -148,14 +149,7 @@ TEST(TraceRays, AlphaMaskedTrianglesAreSkipped) {
   // Any-hit with the same mask: occluded exactly when the masked closest hit exists.
   auto occl = test::randomRays(mesh, 20000, 10, /*randomTMax=*/true);
   auto any = test::traceOnDevice(ctx, tree, occl, gpu::bvh_trace::kModeAny, &mask);
-  uint32_t bad = 0;
-  test::BruteForce brute(mesh);
-  for (size_t i = 0; i < occl.size(); ++i) {
-    bool ref = brute.closest(occl[i], &mask).triangle != gpu::bvh_trace::kNoHit;
-    bool got = any[i].triangle != gpu::bvh_trace::kNoHit;
-    if (ref != got && ++bad <= 5) ADD_FAILURE() << "alpha any-hit ray " << i << " expected " << ref;
-  }
-  EXPECT_EQ(bad, 0u);
+  EXPECT_EQ(test::compareOccluded("alpha any-hit", mesh, occl, any, &mask), 0u);
   // The mask changes the answer for some rays, so the test can tell it is applied.
   auto unmasked = test::traceOnDevice(ctx, tree, rays, gpu::bvh_trace::kModeClosest);
   uint32_t changed = 0;
