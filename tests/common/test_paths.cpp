@@ -3,11 +3,17 @@
 #include <sys/stat.h>
 #include <unistd.h>
 
+#include <cstdlib>
 #include <stdexcept>
 
 namespace osr::test {
 
-std::string dataPath(const std::string& name) { return std::string(OSR_TEST_DATA_DIR) + "/" + name; }
+std::string sourcePath(const std::string& name) {
+  const char* env = std::getenv("OSR_SOURCE_DIR");
+  return std::string(env && *env ? env : OSR_SOURCE_DIR) + "/" + name;
+}
+
+std::string dataPath(const std::string& name) { return sourcePath("tests/data/" + name); }
 
 std::filesystem::path tempDir(const std::string& tag) {
   std::filesystem::path d = std::filesystem::temp_directory_path() /
@@ -24,7 +30,7 @@ std::string makeFifo(const std::string& tag, const std::string& name) {
 }
 
 std::string referencePath(const std::string& name) {
-  return std::string(OSR_REFERENCE_DIR) + "/" + name;
+  return sourcePath("scenes/" + name);
 }
 
 }  // namespace osr::test

@@ -5,6 +5,10 @@
 
 namespace osr::test {
 
+// Path of a file of the checkout, e.g. sourcePath("tools"): under $OSR_SOURCE_DIR when that is
+// set (test executables carried to a machine beside a copy of the checkout, as for the GPU runs
+// of docs/device_notes.md), else under the checkout this build was configured from.
+std::string sourcePath(const std::string& name);
 // Path of a file under tests/data.
 std::string dataPath(const std::string& name);
 // A fresh-or-existing scratch folder under the system temp dir, unique to this process and

@@ -122,7 +122,7 @@ TEST(UNet, FreshPyTorchModelEndToEnd) {
   namespace fs = std::filesystem;
   const fs::path dir = fs::temp_directory_path() / ("osr_unet_e2e_" + std::to_string(::getpid()));
   fs::create_directories(dir);
-  const std::string tools = std::string(OSR_SOURCE_DIR) + "/tools";
+  const std::string tools = test::sourcePath("tools");
   const std::string ckpt = (dir / "model.pt").string(), packed = (dir / "model.osrw").string();
   const std::string make = std::string(py) + " -c \"import sys; sys.path.insert(0, '" + tools +
                            "'); import unet, torch; m = unet.UNet(16); unet.randomize(m, 4242); "

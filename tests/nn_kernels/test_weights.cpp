@@ -263,7 +263,7 @@ TEST(Weights, PackerDetectsTheArchitecture) {
     GTEST_SKIP() << "/usr/bin/python3 has no torch";
   namespace fs = std::filesystem;
   const fs::path dir = test::tempDir("weights_stages");
-  const std::string tools = std::string(OSR_SOURCE_DIR) + "/tools";
+  const std::string tools = test::sourcePath("tools");
   const std::string image = (dir / "image.pt").string(), liar = (dir / "liar.pt").string();
   const std::string kpn = (dir / "kpn.pt").string(), kpn2 = (dir / "kpn2.pt").string();
   const std::string kpn3 = (dir / "kpn3.pt").string();
@@ -335,7 +335,7 @@ TEST(Weights, PackerRejectsBadCheckpoints) {
   namespace fs = std::filesystem;
   const fs::path dir = fs::temp_directory_path() / ("osr_pack_bad_" + std::to_string(::getpid()));
   fs::create_directories(dir);
-  const std::string tools = std::string(OSR_SOURCE_DIR) + "/tools";
+  const std::string tools = test::sourcePath("tools");
   // Three broken state_dicts of a K=8 model: a key removed, a key added, a shape changed.
   const std::string make =
       std::string(py) + " -c \"import sys; sys.path.insert(0, '" + tools + "'); import unet, torch; " +
@@ -372,7 +372,7 @@ TEST(Weights, PackerWritesTheTrainingConventions) {
     GTEST_SKIP() << "/usr/bin/python3 has no torch";
   namespace fs = std::filesystem;
   const fs::path dir = test::tempDir("weights_conventions");
-  const std::string tools = std::string(OSR_SOURCE_DIR) + "/tools";
+  const std::string tools = test::sourcePath("tools");
   const std::string plain = (dir / "plain.pt").string(), other = (dir / "other.pt").string();
   const std::string make =
       std::string(py) + " -c \"import sys; sys.path.insert(0, '" + tools + "'); import unet, torch; " +

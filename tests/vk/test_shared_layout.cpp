@@ -20,6 +20,7 @@
 #include <string>
 #include <vector>
 
+#include "common/test_paths.h"
 #include "shaders/shader_id.h"
 #include "shaders/shared/bsdf.h"
 #include "shaders/shared/bvh.h"
@@ -227,7 +228,7 @@ TEST(SharedLayout, EveryStructOfTheSharedHeadersIsListed) {
   std::set<std::string> listed, declared;
   for (const Layout& s : layouts()) listed.insert(s.ns + "::" + s.name);
   const std::regex nsRe(R"(OSR_NAMESPACE_BEGIN\((\w+)\))"), structRe(R"(^struct (\w+)\b)");
-  const std::filesystem::path dir = std::filesystem::path(OSR_SOURCE_DIR) / "shaders" / "shared";
+  const std::filesystem::path dir = test::sourcePath("shaders/shared");
   for (const auto& entry : std::filesystem::directory_iterator(dir)) {
     if (entry.path().extension() != ".h") continue;
     std::ifstream in(entry.path());
