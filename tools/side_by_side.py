@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """Images side by side in one PNG, for looking at renders against each other (docs/images).
 
-usage: side_by_side.py OUT.png A.exr B.exr ... [--exposure EV] [--gap 4]
+usage: side_by_side.py OUT.png A.exr B.exr ... [--exposure EV] [--gap 4] [--scale N]
 
 Each EXR's default RGB layer, scaled by 2^EV, clamped to [0, 1] and sRGB-encoded as
 `osr-vk --png --tonemap clamp` does, left to right in the order given, with a black gap
@@ -35,6 +35,8 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("images", nargs="+")
     p.add_argument("--exposure", type=float, default=0.0, help="EV applied to every image (default 0)")
     p.add_argument("--gap", type=int, default=4, help="pixels between images (default 4)")
+    p.add_argument("--scale", type=int, default=1,
+                   help="each pixel shown as N x N, to look at small renders (default 1)")
     args = p.parse_args(argv)
     panels = []
     for path in args.images:
@@ -44,7 +46,8 @@ def main(argv: list[str] | None = None) -> int:
         except (exr.ExrError, KeyError, OSError) as e:
             print(f"side_by_side.py: {path}: not an RGB EXR ({e})", file=sys.stderr)
             return 2
-        panels.append(srgb8(rgb * 2.0 ** args.exposure))
+        scale = max(args.scale, 1)
+        panels.append(srgb8(rgb * 2.0 ** args.exposure).repeat(scale, 0).repeat(scale, 1))
     height = panels[0].shape[0]
     if any(q.shape[0] != height for q in panels):
         print("side_by_side.py: the images differ in height", file=sys.stderr)

@@ -44,6 +44,13 @@ struct FilmLayers {
 // SVGF estimates the variance spatially the same way while a pixel's history is short.
 void estimateVarianceFromNeighbours(FilmLayers& film);
 
+// `from` resized to `into`'s width x height (set by the caller; every layer is sized here) by
+// bilinear interpolation between pixel centres (colour layers as x / (1 + x), so a lamp does not
+// spread over its neighbours, though its own pixels keep only part of its radiance; the others
+// as they are; normals are not renormalised; `noisy` only where `from` has one). The viewer shows a coarse film this way
+// until the full-resolution one has a sample.
+void upsampleBilinear(const FilmLayers& from, FilmLayers& into);
+
 // Pixel windows start at multiples of this many pixels, so that a window's byte offset is a
 // multiple of 256, the largest minStorageBufferOffsetAlignment Vulkan allows, for any pixel
 // struct whose size is a multiple of 16 bytes (std430 vec4 rows).

@@ -18,6 +18,7 @@
 #include "render/film_export.h"
 #include "render/progressive_driver.h"
 #include "viewer/camera_controller.h"
+#include "viewer/coarse_start.h"
 #include "viewer/imgui_layer.h"
 #include "viewer/presenter.h"
 #include "viewer/viewer_script.h"
@@ -112,7 +113,11 @@ class Viewer {
   std::unique_ptr<render::Integrator> integrator_;
   std::unique_ptr<render::ProgressiveDriver> driver_;
   uint32_t renderWidth_, renderHeight_;
-  int targetUnits_ = 0;  // panel edits, applied by restart
+  // The first images after a restart, coarse, until the film has a whole unit.
+  CoarseStart coarse_;
+  bool coarseChanged_ = false;  // a coarse sample landed since the last resolve
+  bool coarseShown_ = false;    // the image on screen is the coarse one
+  int targetUnits_ = 0;         // panel edits, applied by restart
   float timeLimit_ = 0.f;
   int seed_ = 0;
   bool restartPending_ = true;
@@ -170,7 +175,8 @@ Viewer::Viewer(const vk::Context& ctx, const ViewerConfig& config,
       imgui_(ctx, window_, presenter_),
       camera_(config.camera, config.scene->boundsMin, config.scene->boundsMax),
       renderWidth_(config.width),
-      renderHeight_(config.height) {
+      renderHeight_(config.height),
+      coarse_(ctx, config.makeIntegrator, config.denoise, kStepTargetS) {
   glfwSetWindowUserPointer(window_.handle(), this);
   // ImGui installed its callbacks first and would chain to none; ours chain to ImGui's.
   static GLFWkeyfun imguiKey = nullptr;
@@ -240,6 +246,12 @@ void Viewer::stepRender() {
         driver_->settings().timeLimitS != ds.timeLimitS)
       driver_ = std::make_unique<render::ProgressiveDriver>(ctx_, *integrator_, ds);
     driver_->restart(camera_.camera(), uint32_t(seed_));
+    // The preview's own first sample is as quick as a coarse one.
+    if (mode_ != "preview")
+      coarse_.restart(camera_.camera(), uint32_t(seed_), renderWidth_, renderHeight_);
+    else
+      coarse_.cancel();
+    coarseChanged_ = coarseShown_ = false;
     ++restarts_;
     restartPending_ = false;
     paused_ = false;
@@ -248,15 +260,32 @@ void Viewer::stepRender() {
     shownUnits_ = 0;
   }
   if (!rendering()) return;
+  if (coarse_.running()) {
+    if (coarse_.step()) coarseChanged_ = true;
+    return;
+  }
   if (driver_->step()) filmChanged_ = true;
 }
 
 void Viewer::refreshImage() {
-  if (!filmChanged_) return;
-  // Shown as soon as the first slice after a restart lands: the new view fills in band by
-  // band over black (pixels without a sample resolve to 0), never over the old view.
   const render::Progress p = driver_->progress();
-  const bool first = (moveTime_ && !firstMoveShown_) || (p.units >= 1 && shownUnits_ == 0);
+  // Each coarse sample is shown at once, until the film has a whole unit.
+  if (coarseChanged_ && p.units == 0) {
+    coarse_.resolveInto(film_);
+    lastResolve_ = Clock::now();
+    coarseChanged_ = false;
+    coarseShown_ = true;
+    shownUnits_ = 0;
+    shownFinal_ = false;
+    retonemap();
+    return;
+  }
+  if (!filmChanged_ || (coarseShown_ && p.units == 0)) return;
+  // Without a coarse image, shown as soon as the first slice after a restart lands: the new
+  // view fills in band by band over black (pixels without a sample resolve to 0), never over
+  // the old view.
+  const bool first =
+      (moveTime_ && !firstMoveShown_) || (p.units >= 1 && shownUnits_ == 0) || coarseShown_;
   if (!first && !driver_->finished() && secondsSince(lastResolve_) < kResolveIntervalS) return;
   // Denoised progressively, after each new complete unit as long as the denoiser's time stays
   // a small share of the render's (the network costs about a unit's time on lavapipe).
@@ -268,12 +297,15 @@ void Viewer::refreshImage() {
   // second) left the heap fragmented over a long session (docs/benchmarks.md, "soak").
   integrator_->resolveInto(film_);
   if (config_.denoise.active()) {
-    if (!denoiser_ || denoiser_->width() != uint32_t(film_.width) || denoiser_->height() != uint32_t(film_.height))
-      denoiser_ = std::make_unique<render::Denoiser>(ctx_, config_.denoise, film_.width, film_.height);
+    if (!denoiser_ || denoiser_->width() != uint32_t(film_.width) ||
+        denoiser_->height() != uint32_t(film_.height))
+      denoiser_ =
+          std::make_unique<render::Denoiser>(ctx_, config_.denoise, film_.width, film_.height);
     denoiser_->apply(film_);
   }
   lastResolve_ = Clock::now();
   filmChanged_ = false;
+  coarseShown_ = false;
   shownUnits_ = p.units;
   shownFinal_ = driver_->finished();
   retonemap();
@@ -426,6 +458,7 @@ bool Viewer::runScript() {
     if (c.name == "wait-units" && (restartPending_ || moveTime_ || shownUnits_ < uint32_t(n[0])))
       return true;
     if (c.name == "wait-done" && (restartPending_ || !shownFinal_)) return true;
+    if (c.name == "wait-image" && (restartPending_ || (moveTime_ && !firstMoveShown_))) return true;
     if (c.name == "resize") {
       int w = 0, h = 0;
       window_.framebufferSize(w, h);
@@ -647,7 +680,11 @@ void Viewer::drawPanel() {
   if (driver_ && driver_->finished()) whole = 1.0;
   std::snprintf(overlay, sizeof overlay, "render: %.0f%%", 100.0 * std::min(1.0, whole));
   ImGui::ProgressBar(float(std::min(1.0, whole)), ImVec2(-1, 0), overlay);
-  ImGui::Text("%.1f s, ~%.1f s left; shown: %u", p.elapsedS, p.remainingS, shownUnits_);
+  if (coarseShown_)
+    ImGui::Text("%.1f s, ~%.1f s left; shown: coarse (1/%u size, %u spp)", p.elapsedS, p.remainingS,
+                coarse_.factor(), coarse_.samples());
+  else
+    ImGui::Text("%.1f s, ~%.1f s left; shown: %u", p.elapsedS, p.remainingS, shownUnits_);
   if (ImGui::Button(paused_ ? "Resume (Space)" : "Pause (Space)")) paused_ = !paused_;
   ImGui::SameLine();
   ImGui::TextUnformatted("save");

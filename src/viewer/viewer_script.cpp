@@ -19,12 +19,12 @@ struct Syntax {
   bool text;    // one word argument after them
 };
 constexpr Syntax kSyntax[] = {
-    {"at", 1, false},        {"wait", 1, false},  {"wait-units", 1, false},
-    {"wait-done", 0, false}, {"key", 0, true},    {"orbit", 2, false},
-    {"pan", 2, false},       {"zoom", 1, false},  {"fly", 3, false},
-    {"camera", 1, false},    {"reset", 0, false}, {"resize", 2, false},
-    {"screenshot", 0, true}, {"stats", 0, false}, {"quit", 0, false},
-    {"mode", 0, true},
+    {"at", 1, false},        {"wait", 1, false},       {"wait-units", 1, false},
+    {"wait-done", 0, false}, {"wait-image", 0, false}, {"key", 0, true},
+    {"orbit", 2, false},     {"pan", 2, false},        {"zoom", 1, false},
+    {"fly", 3, false},       {"camera", 1, false},     {"reset", 0, false},
+    {"resize", 2, false},    {"screenshot", 0, true},  {"stats", 0, false},
+    {"quit", 0, false},      {"mode", 0, true},
 };
 // Every number's bound: far beyond any use (degrees, scene radii, seconds, counts), and well
 // inside float's and int32's range.

@@ -5,6 +5,7 @@
 //   wait SECONDS        wait this long after the previous command
 //   wait-units N        wait until the image on screen has N units (spp or passes)
 //   wait-done           wait until the render's stop rule holds and its image is on screen
+//   wait-image          wait until the first image since the last restart is on screen
 //   key NAME            press a key: s, space, 1-6, plus, minus, f, escape (see --help)
 //   orbit YAW PITCH     degrees, as a left-button drag
 //   pan RIGHT UP        fractions of the view height, as a middle-button drag

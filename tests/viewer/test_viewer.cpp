@@ -227,6 +227,46 @@ TEST(Viewer, CameraBackShowsAFilteredPathTracedImageAfterFourSamples) {
   EXPECT_LT(eFiltered, 0.2 * eRaw);
 }
 
+TEST(Viewer, FirstImageAfterAMoveIsWholeWithGlobalIllumination) {
+  // Above 128 x 128 the first images after a camera move are a coarse path-traced film,
+  // denoised and upsampled (viewer/coarse_start.h), not the full film's first sample band by
+  // band over black. The EXR saved as soon as the first image back at the file's camera is on
+  // screen covers the whole view and has the room's light, direct and indirect.
+  const fs::path d = test::tempDir("viewer_coarse");
+  fs::remove_all(d / "saved");
+  fs::create_directories(d / "saved");
+  const std::string script = writeScript(d, "s.txt",
+                                         "wait-units 1\n"
+                                         "orbit 40 0\n"
+                                         "wait-units 1\n"
+                                         "reset\n"
+                                         "wait-image\n"
+                                         "key s\n"
+                                         "quit\n");
+  test::CliResult r = test::runOsrVk("--width 256 --height 256 --viewer-script " + script +
+                                     " --save-dir " + (d / "saved").string() + " " + kRoom);
+  ASSERT_EQ(r.code, 0) << r.out;
+  expectClean(r);
+  const image::RgbImage ref =
+      image::readExrRgb(test::referencePath("room/room_cycles_4096spp.exr"));
+  const image::RgbImage first = image::readExrRgb((d / "saved" / "room-001.exr").string());
+  ASSERT_EQ(first.width, ref.width);
+  size_t dark = 0, lit = 0;
+  for (size_t i = 0; i < size_t(ref.width) * ref.height; ++i) {
+    if (ref.luminance(i) < 0.05) continue;
+    ++lit;
+    if (first.luminance(i) < 1e-3) ++dark;
+  }
+  const double lumRatio = image::meanLuminance(first) / image::meanLuminance(ref);
+  const double e = image::relMse(first, ref);
+  std::printf("first image back: %zu of %zu lit pixels black, relMSE %.4f, luminance %.3f\n",
+              dark, lit, e, lumRatio);
+  EXPECT_LT(double(dark), 0.005 * double(lit));
+  EXPECT_GT(lumRatio, 0.7);  // the filter keeps 0.79 of the light at 1 sample
+  EXPECT_LT(lumRatio, 1.25);
+  EXPECT_LT(e, 0.2);
+}
+
 TEST(Viewer, ResizeMidRenderIsClean) {
   const fs::path d = test::tempDir("viewer_resize");
   const std::string c = (d / "c.png").string();
