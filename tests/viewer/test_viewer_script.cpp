@@ -33,8 +33,9 @@ TEST(ViewerScript, ReadsEveryCommand) {
             "at 1.5\n\n"
             "wait 0.25   # trailing comment\n"
             "wait-units 4\nwait-done\nkey space\norbit 10 -5\npan 0.1 0\nzoom 0.8\n"
-            "fly 0.1 0 -0.2\ncamera 0\nreset\nresize 640 480\nscreenshot out.png\nstats\nquit\n"));
-  ASSERT_EQ(cmds.size(), 15u);
+            "fly 0.1 0 -0.2\ncamera 0\nreset\nresize 640 480\nscreenshot out.png\nstats\nquit\n"
+            "wait-image\n"));
+  ASSERT_EQ(cmds.size(), 16u);
   EXPECT_EQ(cmds[0].name, "at");
   EXPECT_EQ(cmds[0].numbers, std::vector<double>{1.5});
   EXPECT_EQ(cmds[0].line, 2);
@@ -45,6 +46,8 @@ TEST(ViewerScript, ReadsEveryCommand) {
   EXPECT_EQ(cmds[11].numbers, (std::vector<double>{640, 480}));
   EXPECT_EQ(cmds[12].text, "out.png");
   EXPECT_EQ(cmds[14].name, "quit");
+  EXPECT_EQ(cmds[15].name, "wait-image");
+  EXPECT_TRUE(cmds[15].numbers.empty());
 }
 
 TEST(ViewerScript, MistakesNameTheLine) {
