@@ -20,6 +20,7 @@
 
 #include <glm/glm.hpp>
 
+#include "bvh/ray_triangle.h"
 #include "bvh/synthetic_mesh.h"
 #include "shaders/shared/bvh_trace.h"
 
@@ -51,8 +52,8 @@ struct Crossing {
   // the depths (a lot on grazing rays and on slivers).
   double t = std::numeric_limits<double>::quiet_NaN();
   double tSlack = std::numeric_limits<double>::infinity();
-  // The triangle's extent along the ray, widened by slack: the watertight test's t is a convex
-  // combination of the vertices' depths, so it lies inside whatever the rounding.
+  // The range of the vertices' depths as the watertight test computes them, widened by slack:
+  // a hit's t is a convex combination of those whatever the rounding (see crossing()).
   double tLo = 0.0, tHi = 0.0;
 
   // The smallest and largest t a float test could give for this triangle.
@@ -94,12 +95,23 @@ inline Crossing crossing(const gpu::bvh_trace::TraceRay& ray, glm::vec3 v0, glm:
   const double dLen = glm::length(d);
   if (!(dLen > 0.0) || alpha == gpu::bvh_trace::kAlphaCutAll) return c;
   c.slack = kRoundingSlack * std::max({glm::length(a[0]), glm::length(a[1]), glm::length(a[2])});
-  // Depths along the ray, in units of dir.
+  // Depths in units of dir as the watertight test has them: a[kz] / dir[kz], kz the ray's
+  // dominant axis (the vertex's depth where the plane of constant kz through it crosses the
+  // ray), not the orthogonal depth dot(a, dir) / |dir|^2. Both give the plane's exact t when
+  // interpolated, but the test interpolates these with the weights of its float edge functions,
+  // and on a sliver the ray grazes those weights can be anything in the simplex: t can then be
+  // anywhere between the least and greatest of these depths, which a sliver's orthogonal depths
+  // may not span (NVIDIA gave t 1.0173 on huge_coordinates triangle 1375, whose orthogonal
+  // depths end at 1.0155 and these at 1.0568). Each is a few ulps of |a| / |dir[kz]| off in
+  // float (a subtraction, a division, a product), and t, a sum of same-signed terms over their
+  // sum, a few more: widening by slack / |dir[kz]| (32 ulps) covers that.
+  const int kz = bvh::ShearedRay(ray.origin, ray.dir).kz;
+  const double dz = std::abs(d[kz]);
   double depth[3];
-  for (int i = 0; i < 3; ++i) depth[i] = glm::dot(a[i], d) / (dLen * dLen);
+  for (int i = 0; i < 3; ++i) depth[i] = a[i][kz] / d[kz];
   const double depthLo = std::min({depth[0], depth[1], depth[2]}), depthHi = std::max({depth[0], depth[1], depth[2]});
-  c.tLo = depthLo - c.slack / dLen;
-  c.tHi = depthHi + c.slack / dLen;
+  c.tLo = depthLo - c.slack / dz;
+  c.tHi = depthHi + c.slack / dz;
   // Across the ray: project onto a frame perpendicular to it (Duff et al. 2017).
   const glm::dvec3 z = d / dLen;
   const double sign = std::copysign(1.0, z.z), e = -1.0 / (sign + z.z), f = z.x * z.y * e;
@@ -114,7 +126,7 @@ inline Crossing crossing(const gpu::bvh_trace::TraceRay& ray, glm::vec3 v0, glm:
   const double wSlack = 2.0 * c.slack * (glm::length(p[0]) + glm::length(p[1]) + glm::length(p[2]));
   if (area != 0.0) {
     c.t = (w[0] * depth[0] + w[1] * depth[1] + w[2] * depth[2]) / area;
-    c.tSlack = c.slack / dLen + wSlack / std::abs(area) * (depthHi - depthLo);
+    c.tSlack = c.slack / dz + wSlack / std::abs(area) * (depthHi - depthLo);
   }
   const bool inside = area != 0.0 && ((w[0] >= 0 && w[1] >= 0 && w[2] >= 0) || (w[0] <= 0 && w[1] <= 0 && w[2] <= 0));
   const double edges = std::min({detail::segmentDistance(p[0], p[1]), detail::segmentDistance(p[1], p[2]),

@@ -134,6 +134,27 @@ TEST(ClosestHitRule, SameTriangleFartherOnlyWhereTheRayGrazes) {
   EXPECT_EQ(test::judgeClosest(m, headOn, ref2, hitOn(0, ref2.t * (1 + 1.5e-4f))), Verdict::Wrong);
 }
 
+// A sliver the ray grazes: its float edge functions are all error, so the test's weights can be
+// anything and its t anything between the vertices' depths along the dominant axis (z here,
+// a[z] / dir[z]), which the NVIDIA H200 gave on degenerate_soup and huge_coordinates. Seen
+// obliquely, this sliver's orthogonal depths are all 1, its depths along z 0.9 to 1.1: a hit at
+// 1.05 is a near-tie, one at 1.15 is not, nor is 1.05 on a ray that passes 0.01 away.
+TEST(ClosestHitRule, SliverHitAnywhereBetweenItsDepthsAlongTheDominantAxis) {
+  // The ray meets z = 0 at (0.5, -1e-7, 0) at t = 1; the sliver runs from (0.3, 0, -0.1) to
+  // (0.7, 0, 0.1), perpendicular to the ray, with its third vertex 1e-7 off that edge.
+  const auto m = meshOf({{0.3f, 0, -0.1f}, {0.7f, 0, 0.1f}, {0.5f, 1e-7f, 0}}, {{0, 1, 2}});
+  const glm::vec3 dir(0.5f, 0, -1);
+  const TraceRay grazing{glm::vec3(0.5f, -1e-7f, 0) - dir, 0.0f, dir, std::numeric_limits<float>::infinity()};
+  const TraceRay clear{glm::vec3(0.5f, -0.01f, 0) - dir, 0.0f, dir, std::numeric_limits<float>::infinity()};
+  ASSERT_EQ(reference(m, grazing).triangle, kNoHit);
+  ASSERT_EQ(reference(m, clear).triangle, kNoHit);
+  EXPECT_EQ(test::judgeClosest(m, grazing, kMiss, hitOn(0, 1.05f)), Verdict::NearTie);
+  EXPECT_EQ(test::judgeClosest(m, grazing, kMiss, hitOn(0, 0.95f)), Verdict::NearTie);
+  EXPECT_EQ(test::judgeClosest(m, grazing, kMiss, hitOn(0, 1.15f)), Verdict::Wrong);
+  EXPECT_EQ(test::judgeClosest(m, grazing, kMiss, hitOn(0, 0.85f)), Verdict::Wrong);
+  EXPECT_EQ(test::judgeClosest(m, clear, kMiss, hitOn(0, 1.05f)), Verdict::Wrong);
+}
+
 // Through the shared edge either triangle is right, at (nearly) the same t; away from the edge
 // the neighbour behind is wrong, however close.
 TEST(ClosestHitRule, NeighbourOnlyAcrossAnEdgeTheRayGrazes) {
