@@ -111,73 +111,120 @@ class Cancelled(Exception):
     pass
 
 
+class Child:
+    """A running osr-vk whose output is read when asked (pump): run() reads one to its end, an
+    animation keeps one across Blender's per-frame engine calls (shot.py). stop() terminates
+    and reaps it; call it in every case (it also closes the output)."""
+
+    def __init__(self, command):
+        # osr-vk rewrites its progress line in place on a terminal (every ~0.25 s) but prints
+        # one only every 5 s into a pipe: give it a pseudo-terminal where there is one.
+        self._master = slave = None
+        if sys.platform != "win32":
+            try:
+                import pty
+                self._master, slave = pty.openpty()
+            except OSError:
+                self._master = slave = None
+        kwargs = {"stdin": subprocess.DEVNULL}
+        if slave is not None:
+            kwargs.update(stdout=slave, stderr=slave)
+        else:
+            kwargs.update(stdout=subprocess.PIPE, stderr=subprocess.STDOUT)
+        if _DIE_WITH_PARENT is not None:
+            kwargs["preexec_fn"] = _DIE_WITH_PARENT
+        try:
+            self.proc = subprocess.Popen(command, **kwargs)
+        except OSError:
+            if self._master is not None:
+                os.close(self._master)
+                os.close(slave)
+            raise
+        if slave is not None:
+            os.close(slave)
+        self._fd = self._master if self._master is not None else self.proc.stdout.fileno()
+        self.tail, self._pending, self._open = [], "", True
+
+    @property
+    def pid(self):
+        return self.proc.pid
+
+    def _emit(self, line, on_line):
+        self.tail = (self.tail + [line])[-20:]
+        on_line(line)
+
+    def pump(self, timeout_s, on_line):
+        """Waits up to timeout_s for output and calls on_line(text) for each whole line.
+        Returns False once the output is closed (the process ended or is ending)."""
+        if not self._open:
+            return False
+        ready, _, _ = select.select([self._fd], [], [], timeout_s)
+        if not ready:
+            if self.proc.poll() is not None and self._master is None:
+                self._close(on_line)
+            return self._open
+        try:
+            chunk = os.read(self._fd, 65536)
+        except OSError:  # EIO: the pty's other side is closed
+            chunk = b""
+        if not chunk:
+            self._close(on_line)
+            return False
+        self._pending += chunk.decode("utf-8", "replace")
+        *lines, self._pending = re.split(r"[\r\n]+", self._pending)
+        if self._pending[-1:].isspace():  # a tty progress line is padded, not ended
+            lines.append(self._pending)
+            self._pending = ""
+        for line in lines:
+            line = line.strip()
+            if line:
+                self._emit(line, on_line)
+        return True
+
+    def _close(self, on_line):
+        self._open = False
+        if self._pending.strip():
+            self._emit(self._pending.strip(), on_line)
+        self._pending = ""
+
+    def wait(self, should_stop, poll_s=0.1):
+        """The exit code once the process has ended; Cancelled (process stopped) when
+        should_stop() turns true first."""
+        while self.proc.poll() is None:
+            if should_stop():
+                self.stop()
+                raise Cancelled()
+            time.sleep(poll_s)
+        return self.proc.returncode
+
+    def stop(self):
+        """Terminates the process if it still runs (killed after 5 s), reaps it and closes its
+        output; safe to call twice."""
+        if self.proc.poll() is None:
+            self.proc.terminate()
+            try:
+                self.proc.wait(timeout=5)
+            except subprocess.TimeoutExpired:
+                self.proc.kill()
+                self.proc.wait()
+        if self._fd is not None:
+            if self._master is not None:
+                os.close(self._master)
+            elif self.proc.stdout:
+                self.proc.stdout.close()
+            self._fd = None
+        self._open = False
+
+
 def run(command, on_line, should_stop, poll_s=0.1):
     """Runs `command`; calls on_line(text) for each stderr/stdout line. should_stop() is polled
     every poll_s; when it turns true the process is terminated, reaped and Cancelled raised.
     Returns (exit code, the output's last lines)."""
-    # osr-vk rewrites its progress line in place on a terminal (every ~0.25 s) but prints one
-    # only every 5 s into a pipe: give it a pseudo-terminal where there is one.
-    master = slave = None
-    if sys.platform != "win32":
-        try:
-            import pty
-            master, slave = pty.openpty()
-        except OSError:
-            master = slave = None
-    kwargs = {"stdin": subprocess.DEVNULL}
-    if slave is not None:
-        kwargs.update(stdout=slave, stderr=slave)
-    else:
-        kwargs.update(stdout=subprocess.PIPE, stderr=subprocess.STDOUT)
-    if _DIE_WITH_PARENT is not None:
-        kwargs["preexec_fn"] = _DIE_WITH_PARENT
-    proc = subprocess.Popen(command, **kwargs)
-    if slave is not None:
-        os.close(slave)
-    fd = master if master is not None else proc.stdout.fileno()
-    tail, pending = [], ""
+    child = Child(command)
     try:
-        while True:
+        while child.pump(poll_s, on_line):
             if should_stop():
                 raise Cancelled()
-            ready, _, _ = select.select([fd], [], [], poll_s)
-            if not ready:
-                if proc.poll() is not None and master is None:
-                    break
-                continue
-            try:
-                chunk = os.read(fd, 65536)
-            except OSError:  # EIO: the pty's other side is closed
-                chunk = b""
-            if not chunk:
-                break
-            pending += chunk.decode("utf-8", "replace")
-            *lines, pending = re.split(r"[\r\n]+", pending)
-            if pending[-1:].isspace():  # a tty progress line is padded, not ended
-                lines.append(pending)
-                pending = ""
-            for line in lines:
-                line = line.strip()
-                if line:
-                    tail = (tail + [line])[-20:]
-                    on_line(line)
-        if pending.strip():
-            tail = (tail + [pending.strip()])[-20:]
-            on_line(pending.strip())
-        while proc.poll() is None:  # output closed; wait for the exit, still cancellable
-            if should_stop():
-                raise Cancelled()
-            time.sleep(poll_s)
-        return proc.returncode, tail
+        return child.wait(should_stop, poll_s), child.tail
     finally:
-        if proc.poll() is None:
-            proc.terminate()
-            try:
-                proc.wait(timeout=5)
-            except subprocess.TimeoutExpired:
-                proc.kill()
-                proc.wait()
-        if master is not None:
-            os.close(master)
-        elif proc.stdout:
-            proc.stdout.close()
+        child.stop()
