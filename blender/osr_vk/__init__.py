@@ -59,6 +59,11 @@ class OsrVkSettings(bpy.types.PropertyGroup):
     device: bpy.props.StringProperty(
         name="Device", default="",
         description="Vulkan device index or name (osr-vk --list-devices); empty: the default")
+    one_run_per_animation: bpy.props.BoolProperty(
+        name="One run per animation", default=True,
+        description="Render Animation: export the scene once with its animation and render "
+                    "every frame in one osr-vk --frames run (off: a fresh export and osr-vk run "
+                    "per frame, as for scenes whose animation glTF cannot carry)")
     keep_directory: bpy.props.StringProperty(
         name="Keep files in", subtype="DIR_PATH", default="",
         description="Write the exported glTF, the command line, the log and the EXR here and "
@@ -93,6 +98,7 @@ class RENDER_PT_osr_vk(bpy.types.Panel):
         prefs = engine.addon_preferences(context)
         if prefs is not None:
             layout.prop(prefs, "executable", text="Executable")
+        layout.prop(settings, "one_run_per_animation")
         layout.prop(settings, "keep_directory")
 
 
@@ -108,15 +114,33 @@ def _compatible_panels():
 classes = (OsrVkPreferences, OsrVkSettings, engine.OsrVkRenderEngine, RENDER_PT_osr_vk)
 
 
+@bpy.app.handlers.persistent
+def _render_job_edge(*_):
+    # A render job starts or ends (complete or cancelled): a shot still running (Render
+    # Animation stopped between frames) is stopped, and the per-job decisions forgotten.
+    engine.ANIMATIONS.reset()
+
+
+_JOB_HANDLERS = (bpy.app.handlers.render_init, bpy.app.handlers.render_complete,
+                 bpy.app.handlers.render_cancel)
+
+
 def register():
     for cls in classes:
         bpy.utils.register_class(cls)
     bpy.types.Scene.osr_vk = bpy.props.PointerProperty(type=OsrVkSettings)
     for panel in _compatible_panels():
         panel.COMPAT_ENGINES.add(engine.OsrVkRenderEngine.bl_idname)
+    for handlers in _JOB_HANDLERS:
+        if _render_job_edge not in handlers:
+            handlers.append(_render_job_edge)
 
 
 def unregister():
+    for handlers in _JOB_HANDLERS:
+        if _render_job_edge in handlers:
+            handlers.remove(_render_job_edge)
+    engine.ANIMATIONS.reset()
     for panel in _compatible_panels():
         panel.COMPAT_ENGINES.discard(engine.OsrVkRenderEngine.bl_idname)
     del bpy.types.Scene.osr_vk

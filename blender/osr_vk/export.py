@@ -107,15 +107,150 @@ def survey(depsgraph):
     return parts
 
 
-def _run_gltf_exporter(depsgraph, path):
+# What osr-vk --frames replays from the glTF: object transforms keyed in each object's action
+# (docs/blender.md, "Render Animation"). Keyed delta_scale and delta_rotation_quaternion are
+# not among them: the 3.4 exporter writes no animation for them (measured).
+_TRANSFORMS = {"location", "rotation_euler", "rotation_quaternion", "rotation_axis_angle", "scale",
+               "delta_location", "delta_rotation_euler"}
+# Modifiers whose result changes with the frame by themselves (simulations, caches, effects).
+_TIME_MODIFIERS = {"CLOTH", "SOFT_BODY", "FLUID", "DYNAMIC_PAINT", "PARTICLE_SYSTEM", "OCEAN",
+                   "EXPLODE", "WAVE", "BUILD", "MESH_CACHE", "MESH_SEQUENCE_CACHE", "NODES"}
+
+
+def _node_trees(tree, seen):
+    """`tree` and the node groups inside it."""
+    # By address: a material's own node tree is called "Shader Nodetree" in every material.
+    if tree is None or tree.as_pointer() in seen:
+        return
+    seen.add(tree.as_pointer())
+    yield tree
+    for node in tree.nodes:
+        if node.type == "GROUP":
+            yield from _node_trees(node.node_tree, seen)
+
+
+def _moves(obj):
+    """Whether `obj` or a parent of it is keyed (its action has F-curves)."""
+    while obj is not None:
+        ad = obj.animation_data
+        if ad is not None and ad.action is not None and ad.action.fcurves:
+            return True
+        obj = obj.parent
+    return False
+
+
+def animation_problems(depsgraph, frames):
+    """Why the scene's animation over Blender frames `frames` cannot come through one glTF
+    export to osr-vk --frames (a list of reasons; empty: it can). Only object transforms keyed
+    in actions can: anything else that Blender evaluates per frame (materials, lights' and
+    cameras' data, shape keys, armatures, drivers, constraints, NLA strips, simulations,
+    geometry nodes, image sequences, camera switches) needs a fresh export per frame."""
+    scene = depsgraph.scene.original
+    reasons, ids, seen = [], [], set()
+
+    def add(id_, label):
+        if id_ is not None and id_.as_pointer() not in seen:
+            seen.add(id_.as_pointer())
+            ids.append((id_, label))
+
+    add(scene, "scene %s" % scene.name)
+    if scene.world is not None:
+        add(scene.world, "world %s" % scene.world.name)
+        for tree in _node_trees(scene.world.node_tree, set()):
+            add(tree, "world %s" % scene.world.name)
+    objects = []
+    for obj in list(_renderable_objects(depsgraph)) + [scene.camera]:
+        while obj is not None and obj.name not in {o.name for o in objects}:
+            objects.append(obj)
+            obj = obj.parent  # a parent moves its children
+    trees = set()
+    for obj in objects:
+        add(obj, "object %s" % obj.name)
+        data = obj.data
+        if data is not None:
+            add(data, "%s data of %s" % (obj.type.lower(), obj.name))
+            add(getattr(data, "shape_keys", None), "shape keys of %s" % obj.name)
+        for slot in getattr(obj, "material_slots", []):
+            if slot.material is not None:
+                add(slot.material, "material %s" % slot.material.name)
+                for tree in _node_trees(slot.material.node_tree, trees):
+                    add(tree, "material %s" % slot.material.name)
+        if any(not c.mute for c in obj.constraints):
+            reasons.append("constraints on %s" % obj.name)
+        if obj.rigid_body is not None:
+            reasons.append("rigid body %s" % obj.name)
+        for mod in getattr(obj, "modifiers", []):
+            if not mod.show_render:
+                continue
+            if mod.type in _TIME_MODIFIERS:
+                reasons.append("%s on %s" % (mod.bl_rna.name, obj.name))
+                continue
+            # A modifier that reads another object (Armature, Boolean, Hook, Curve, ...)
+            # changes the mesh as that object moves, and the glTF has the mesh once.
+            for prop in mod.bl_rna.properties:
+                if prop.type == "POINTER" and getattr(prop.fixed_type, "identifier", "") == "Object":
+                    other = getattr(mod, prop.identifier)
+                    if other is not None and _moves(other):
+                        reasons.append("%s on %s follows %s" % (mod.bl_rna.name, obj.name, other.name))
+        if obj.type == "LIGHT" and obj.data.type == "AREA" and _moves(obj):
+            # Written as an emissive polygon in world space at the first frame.
+            reasons.append("area light %s moves" % obj.name)
+    for id_, label in ids:
+        ad = getattr(id_, "animation_data", None)
+        if ad is None:
+            continue
+        if len(ad.drivers):
+            reasons.append("drivers on %s" % label)
+        if any(not t.mute and len(t.strips) for t in ad.nla_tracks):
+            reasons.append("NLA strips on %s" % label)
+        if ad.action is None:
+            continue
+        for fc in ad.action.fcurves:
+            if fc.mute:
+                continue
+            if not isinstance(id_, bpy.types.Object) or fc.data_path not in _TRANSFORMS:
+                reasons.append("animated %s (%s)" % (label, fc.data_path))
+                break
+            if fc.extrapolation != "CONSTANT" or len(fc.modifiers):
+                # The exporter samples the keyed range; the glTF holds the end keys outside it.
+                reasons.append("F-curve extrapolation or modifiers on %s (%s)" % (label, fc.data_path))
+                break
+            if fc.range()[0] % 1.0:
+                # Sampled from the first key at whole-frame steps: keys between frames would
+                # put every sample between frames.
+                reasons.append("keys between frames on %s (%s)" % (label, fc.data_path))
+                break
+    images = set()
+    for id_, label in ids:
+        if isinstance(id_, bpy.types.NodeTree):
+            for node in id_.nodes:
+                image = getattr(node, "image", None)
+                if image is not None and image.source in {"SEQUENCE", "MOVIE"} and image.name not in images:
+                    images.add(image.name)
+                    reasons.append("image %s is a %s" % (image.name, image.source.lower()))
+    if scene.rigidbody_world is not None and scene.rigidbody_world.enabled and scene.rigidbody_world.collection:
+        reasons.append("the rigid body world")
+    first, last = min(frames), max(frames)
+    # A marker at or before the first frame chose the camera already; one after it switches.
+    if any(m.camera is not None and first < m.frame <= last for m in scene.timeline_markers):
+        reasons.append("markers that switch the camera")
+    return reasons
+
+
+def _run_gltf_exporter(depsgraph, path, animation):
     scene = depsgraph.scene.original
     view_layer = scene.view_layers.get(depsgraph.view_layer.name)
     settings = dict(filepath=path, export_format="GLTF_SEPARATE", export_cameras=True,
                     export_lights=True, use_renderable=True, use_active_scene=True,
-                    export_apply=True, export_yup=True, export_animations=False,
+                    export_apply=True, export_yup=True, export_animations=animation,
+                    # Animations sampled at every frame, so that each frame Blender renders
+                    # is a key (exact, whatever the F-curves' interpolation), and the assigned
+                    # actions as one glTF animation (osr-vk plays all at once anyway).
+                    export_force_sampling=True, export_frame_step=1, export_nla_strips=False,
+                    export_optimize_animation_size=False,
                     # The frame being rendered: by default the exporter poses the scene at
                     # frame 0, so F12 at another frame and every frame of Render Animation
-                    # rendered frame 0's pose (measured: tests/blender, case animation).
+                    # rendered frame 0's pose (measured: tests/blender, case animation_fallback).
                     export_current_frame=True,
                     # Materials with their KHR_materials_* extensions and emission strength,
                     # every UV map (a texture on the second one reads TEXCOORD_1) and the
@@ -139,8 +274,11 @@ def _run_gltf_exporter(depsgraph, path):
             # Render Animation moves the scene's frame but leaves the view layer's evaluated
             # state, which the exporter reads, at the last one evaluated: evaluate the frame
             # being rendered.
-            scene.frame_set(depsgraph.scene.frame_current, subframe=depsgraph.scene.frame_subframe)
+            frame, subframe = depsgraph.scene.frame_current, depsgraph.scene.frame_subframe
+            scene.frame_set(frame, subframe=subframe)
             result = bpy.ops.export_scene.gltf(**settings)
+            if animation:  # sampling moved the frame, and "current frame" does not restore it
+                scene.frame_set(frame, subframe=subframe)
     except (RuntimeError, AttributeError) as e:
         raise ExportError("glTF export failed: %s" % str(e).strip().splitlines()[-1])
     finally:
@@ -350,8 +488,31 @@ def _world_env(world, directory, warnings):
     return path
 
 
-def export(depsgraph, directory):
-    """Writes scene.gltf (+ world.exr) into `directory`; returns an Export."""
+def _hold_still(gltf, bin_path):
+    """Gives a glTF without animations one: the camera's translation, one key. osr-vk --frames
+    refuses a file without animation, and Render Animation of a still scene is one still."""
+    if gltf.get("animations"):
+        return
+    node = next(i for i, n in enumerate(gltf["nodes"]) if "camera" in n)
+    translation = gltf["nodes"][node].get("translation", [0.0, 0.0, 0.0])
+    with open(bin_path, "wb") as f:
+        f.write(struct.pack("<4f", 0.0, *translation))
+    buffer = len(gltf.setdefault("buffers", []))
+    gltf["buffers"].append({"uri": os.path.basename(bin_path), "byteLength": 16})
+    views, accessors = gltf.setdefault("bufferViews", []), gltf.setdefault("accessors", [])
+    views += [{"buffer": buffer, "byteOffset": 0, "byteLength": 4},
+              {"buffer": buffer, "byteOffset": 4, "byteLength": 12}]
+    accessors += [{"bufferView": len(views) - 2, "componentType": 5126, "count": 1,
+                   "type": "SCALAR", "min": [0.0], "max": [0.0]},
+                  {"bufferView": len(views) - 1, "componentType": 5126, "count": 1, "type": "VEC3"}]
+    gltf["animations"] = [{"name": "still", "samplers": [{
+        "input": len(accessors) - 2, "output": len(accessors) - 1, "interpolation": "STEP"}],
+        "channels": [{"sampler": 0, "target": {"node": node, "path": "translation"}}]}]
+
+
+def export(depsgraph, directory, animation=False):
+    """Writes scene.gltf (+ world.exr) into `directory`; returns an Export. animation: with the
+    scene's animation (animation_problems must have found none), for osr-vk --frames."""
     scene = depsgraph.scene
     if scene.camera is None:
         raise ExportError("the scene has no active camera")
@@ -363,7 +524,7 @@ def export(depsgraph, directory):
         raise ExportError("nothing to render: the scene has no visible mesh objects or area lights")
     warnings = survey(depsgraph)
     gltf_path = os.path.join(directory, "scene.gltf")
-    _run_gltf_exporter(depsgraph, gltf_path)
+    _run_gltf_exporter(depsgraph, gltf_path, animation)
     with open(gltf_path, encoding="utf-8") as f:
         gltf = json.load(f)
     _keep_active_camera(gltf, scene.camera.original.name if scene.camera.original else scene.camera.name)
@@ -374,6 +535,8 @@ def export(depsgraph, directory):
             seen.add(obj.name)
             area_lights.append(obj)
     _add_area_lights(gltf, area_lights, os.path.join(directory, "area_lights.bin"))
+    if animation:
+        _hold_still(gltf, os.path.join(directory, "still.bin"))
     with open(gltf_path, "w", encoding="utf-8") as f:
         json.dump(gltf, f)
     env = _world_env(scene.world, directory, warnings)

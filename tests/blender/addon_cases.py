@@ -12,8 +12,12 @@
 # CASE border: resolution percentage, render region and two view layers.
 # CASE world: the world colour and image as --env files (export only).
 # CASE cycles: the area light's direct light against Cycles' (light units).
-# CASE animation: Render Animation of two frames in which the sphere moves (a fresh export per
-#   frame), frame 2 compared with osr-vk run by hand on its export.
+# CASE animation: Render Animation of a shot (camera and sphere moving) through one osr-vk
+#   --frames run, each frame compared with osr-vk run by hand on its single-frame export.
+# CASE animation_cancel: Ctrl-C during the shot's second frame: osr-vk gone, no more frames.
+# CASE animation_fallback: a keyed material colour: frame by frame, a fresh export per frame,
+#   frame 2 compared with osr-vk run by hand on its export.
+# CASE animation_timing (not a test): seconds per frame in one run and frame by frame.
 # CASE materials: Principled BSDF materials the exporter must keep for osr-vk: a colour
 #   attribute feeding Base Color (COLOR_0 kept) and one no material reads (dropped), alpha
 #   blending, an emission texture with strength, a texture on the second UV map (TEXCOORD_1).
@@ -71,6 +75,22 @@ def _relmse(a, b, eps=0.01):
     return float(np.mean((a - b) ** 2 / (b * b + eps)))
 
 
+def _reference(executable, gltf, env, out, spp=SAMPLES, width=WIDTH, height=HEIGHT):
+    """osr-vk run by hand on `gltf` with the test's settings, into `out`."""
+    run = subprocess.run(
+        [executable, "--offline", out, "--exr-float", "--quiet", "--mode", "path", "--spp",
+         str(spp), "--seed", str(SEED), "--width", str(width), "--height", str(height)]
+        + (["--env", env] if env else []) + [gltf], check=True, capture_output=True, text=True)
+    if "validation" in run.stderr:
+        raise AssertionError("osr-vk reported validation messages:\n" + run.stderr)
+    return out
+
+
+def _compare(executable, test, ref):
+    out = subprocess.run([executable, "compare", test, ref], check=True, capture_output=True, text=True)
+    return json.loads(out.stdout)["relmse"]
+
+
 def check_against_reference(executable, work, keep, mine):
     """Runs osr-vk by hand on the glTF the add-on exported, with the test's settings, and
     compares Blender's saved result `mine` with it. Returns the reference EXR's path."""
@@ -79,20 +99,13 @@ def check_against_reference(executable, work, keep, mine):
     if "validation" in log:
         raise AssertionError("osr-vk reported validation messages:\n" + log)
     env = os.path.join(keep, "world.exr")
-    ref = os.path.join(work, "reference.exr")
-    ref_run = subprocess.run(
-        [executable, "--offline", ref, "--exr-float", "--quiet", "--mode", "path", "--spp",
-         str(SAMPLES), "--seed", str(SEED), "--width", str(WIDTH), "--height", str(HEIGHT)]
-        + (["--env", env] if os.path.isfile(env) else []) + [os.path.join(keep, "scene.gltf")],
-        check=True, capture_output=True, text=True)
-    if "validation" in ref_run.stderr:
-        raise AssertionError("osr-vk reported validation messages:\n" + ref_run.stderr)
-    out = subprocess.run([executable, "compare", mine, ref], check=True, capture_output=True, text=True)
-    metrics = json.loads(out.stdout)
+    ref = _reference(executable, os.path.join(keep, "scene.gltf"), env if os.path.isfile(env) else None,
+                     os.path.join(work, "reference.exr"))
+    relmse = _compare(executable, mine, ref)
     print("osr-vk test: Blender's result against osr-vk --offline: relMSE %g (tolerance %g)"
-          % (metrics["relmse"], RELMSE_TOLERANCE))
-    if not metrics["relmse"] <= RELMSE_TOLERANCE:
-        raise AssertionError("relMSE %g over %g" % (metrics["relmse"], RELMSE_TOLERANCE))
+          % (relmse, RELMSE_TOLERANCE))
+    if not relmse <= RELMSE_TOLERANCE:
+        raise AssertionError("relMSE %g over %g" % (relmse, RELMSE_TOLERANCE))
     return ref
 
 
@@ -141,32 +154,233 @@ def case_render(executable, work):
         raise AssertionError("the floor's normal is %g along +Z, expected 1" % up)
 
 
+class _Watch:
+    """Pids of this process's osr-vk children seen while the block runs (polled every 20 ms:
+    each osr-vk run of the add-on lasts a second or more on lavapipe)."""
+
+    def __enter__(self):
+        self.pids, self._stop = set(), threading.Event()
+
+        def poll():
+            while not self._stop.wait(0.02):
+                self.pids.update(pid for pid, _ in _children("osr-vk"))
+        self._thread = threading.Thread(target=poll)
+        self._thread.start()
+        return self
+
+    def __exit__(self, *_):
+        self._stop.set()
+        self._thread.join()
+
+
+# A shot: the camera on a rig (an empty) that rises and turns, and the sphere crossing the
+# room, keyed (Bezier) a frame before the first and after the last frame rendered, from 2 to
+# 5: frame f of the glTF is at f / fps s, so a shot read from 0 would show frame 1's pose first.
+SHOT_FIRST, SHOT_LAST, SHOT_SIZE, SHOT_SPP = 2, 5, (64, 48), 8
+
+
+def _animated_scene(executable, work, first=SHOT_FIRST, last=SHOT_LAST, size=SHOT_SIZE, spp=SHOT_SPP):
+    return _animate(blender_scene.build_scene(executable, *size), work, first, last, spp)
+
+
+def _animate(scene, work, first=SHOT_FIRST, last=SHOT_LAST, spp=SHOT_SPP):
+    scene.osr_vk.mode, scene.osr_vk.samples, scene.osr_vk.seed = "path", spp, SEED
+    scene.osr_vk.keep_directory = os.path.join(work, "keep")
+    sphere = bpy.data.objects["sphere"]
+    for frame, x in ((first - 1, -1.2), (last + 1, 1.2)):
+        sphere.location.x = x
+        sphere.keyframe_insert("location", frame=frame)
+    rig = bpy.data.objects.new("rig", None)
+    scene.collection.objects.link(rig)
+    scene.camera.parent = rig
+    for frame, z, turn in ((first - 1, 0.0, -0.15), (last + 1, 0.5, 0.15)):
+        rig.location.z, rig.rotation_euler.z = z, turn
+        rig.keyframe_insert("location", frame=frame)
+        rig.keyframe_insert("rotation_euler", frame=frame)
+    scene.frame_start, scene.frame_end = first, last
+    scene.render.filepath = os.path.join(work, "frame_")
+    settings = scene.render.image_settings
+    settings.file_format, settings.color_depth = "OPEN_EXR", "32"
+    return scene
+
+
 def case_animation(executable, work):
-    """Render Animation: Blender calls the engine once per frame, and the add-on exports the
-    scene as posed at that frame. The sphere moves between frames 1 and 2: the two frames must
-    differ, and frame 2 must equal osr-vk run by hand on the export of frame 2."""
+    """Render Animation through one osr-vk --frames run: one process for the shot, and each
+    frame equal to osr-vk run by hand on the add-on's single-frame export of that frame (the
+    F12 path), but not to its neighbours' (the frame numbers line up)."""
+    scene = _animated_scene(executable, work)
+    frames = list(range(SHOT_FIRST, SHOT_LAST + 1))
+    start = time.monotonic()
+    with _Watch() as watch:
+        bpy.ops.render.render(animation=True)
+    took = time.monotonic() - start
+    print("osr-vk test: Render Animation of %d frames took %.2f s (%.2f s a frame), osr-vk pids %s"
+          % (len(frames), took, took / len(frames), sorted(watch.pids)))
+    keep = scene.osr_vk.keep_directory
+    command = open(os.path.join(keep, "command.txt")).read()
+    if "--frames %d-%d --fps 24.0" % (SHOT_FIRST, SHOT_LAST) not in command:
+        raise AssertionError("not one osr-vk --frames run: %s" % command)
+    if len(watch.pids) != 1:
+        raise AssertionError("%d osr-vk processes for the shot, expected 1" % len(watch.pids))
+    if _children("osr-vk"):
+        raise AssertionError("osr-vk left running after the shot")
+    _check_shot_frames(executable, work, scene)
+    _check_still_shot(executable, work)
+
+
+def _check_shot_frames(executable, work, scene):
+    """Each frame of the shot against osr-vk on the add-on's single-frame export of it, and
+    of the frames before and after it."""
+    frames = list(range(SHOT_FIRST, SHOT_LAST + 1))
+    from osr_vk import export
+    refs = {}
+    for f in [SHOT_FIRST - 1] + frames + [SHOT_LAST + 1]:  # one frame beyond each end too
+        scene.frame_set(f)
+        directory = os.path.join(work, "single_%d" % f)
+        os.makedirs(directory)
+        single = export.export(bpy.context.evaluated_depsgraph_get(), directory)
+        refs[f] = _reference(executable, single.gltf_path, single.env_path,
+                             os.path.join(directory, "reference.exr"), SHOT_SPP, *SHOT_SIZE)
+    for f in frames:
+        mine = os.path.join(work, "frame_%04d.exr" % f)
+        if not os.path.isfile(mine):
+            raise AssertionError("Render Animation wrote no %s" % mine)
+        same = _compare(executable, mine, refs[f])
+        before, after = _compare(executable, mine, refs[f - 1]), _compare(executable, mine, refs[f + 1])
+        print("osr-vk test: frame %d against osr-vk on its own export: relMSE %g; on frame %d's "
+              "%g, on frame %d's %g" % (f, same, f - 1, before, f + 1, after))
+        if not same <= RELMSE_TOLERANCE:
+            raise AssertionError("frame %d: relMSE %g over %g" % (f, same, RELMSE_TOLERANCE))
+        if not min(before, after) > 100 * max(same, 1e-6):
+            raise AssertionError("frame %d is as close to a neighbour's pose as to its own" % f)
+    print("osr-vk test: %d frames from one osr-vk run, each its own frame" % len(frames))
+
+
+def _check_still_shot(executable, work):
+    """Render Animation of a scene where nothing moves: one osr-vk --frames run (the export
+    gets a one-key animation), every frame the same image."""
+    scene = blender_scene.build_scene(executable, *SHOT_SIZE)
+    scene.osr_vk.mode, scene.osr_vk.samples, scene.osr_vk.seed = "path", SHOT_SPP, SEED
+    scene.frame_start, scene.frame_end = 1, 2
+    scene.render.filepath = os.path.join(work, "still_")
+    settings = scene.render.image_settings
+    settings.file_format, settings.color_depth = "OPEN_EXR", "32"
+    with _Watch() as watch:
+        bpy.ops.render.render(animation=True)
+    a, b = (_layers(os.path.join(work, "still_%04d.exr" % f)) for f in (1, 2))
+    print("osr-vk test: still shot, osr-vk pids %s" % sorted(watch.pids))
+    if len(watch.pids) != 1 or not all(np.array_equal(a[c], b[c]) for c in "RGB"):
+        raise AssertionError("a still shot: %d osr-vk runs, frames equal: %s"
+                             % (len(watch.pids), all(np.array_equal(a[c], b[c]) for c in "RGB")))
+
+
+def case_animation_cancel(executable, work):
+    """Esc (here SIGINT, as Ctrl-C) while the second frame of a shot renders: osr-vk is
+    terminated and reaped, Blender writes no further frame, and a render afterwards works."""
+    scene = _animated_scene(executable, work, 1, 4)
+    scene.osr_vk.samples, scene.osr_vk.time_limit = 1 << 20, 6.0  # 6 s a frame
+    first = os.path.join(work, "frame_0001.exr")
+    seen, interrupted = [], []
+
+    def interrupt():
+        deadline = time.monotonic() + 120
+        while time.monotonic() < deadline and not os.path.isfile(first):
+            seen.extend(p for p in _children("osr-vk") if p not in seen)
+            time.sleep(0.05)
+        time.sleep(1.5)  # frame 2 is under way
+        seen.extend(p for p in _children("osr-vk") if p not in seen)
+        interrupted.append(time.monotonic())
+        os.kill(os.getpid(), signal.SIGINT)
+
+    thread = threading.Thread(target=interrupt)
+    thread.start()
+    start = time.monotonic()
+    try:
+        bpy.ops.render.render(animation=True)
+    except RuntimeError as e:
+        print("osr-vk test: render raised %s" % e)
+    end = time.monotonic()
+    thread.join()
+    left = _children("osr-vk")
+    pids = sorted({pid for pid, _ in seen})
+    print("osr-vk test: shot interrupted after %.2f s, render returned %.2f s later; osr-vk pid "
+          "%s; children left: %s" % (interrupted[0] - start, end - interrupted[0],
+                                     " ".join(map(str, pids)), left))
+    if end - interrupted[0] > 10:  # osr-vk stops at its next check, else is killed at 5 s
+        raise AssertionError("cancel took %.1f s" % (end - interrupted[0]))
+    if not os.path.isfile(first):
+        raise AssertionError("frame 1 was not written before the cancel")
+    if len(pids) != 1:
+        raise AssertionError("osr-vk processes %s, expected one for the shot" % pids)
+    if left:
+        raise AssertionError("osr-vk left behind after cancel: %s" % left)
+    written = sorted(f for f in os.listdir(work) if f.startswith("frame_"))
+    if written != ["frame_0001.exr"]:
+        raise AssertionError("frames written: %s" % written)
+    scene.osr_vk.samples, scene.osr_vk.time_limit = 2, 0.0
+    bpy.ops.render.render()
+    print("osr-vk test: rendered again after the cancel")
+
+
+def case_animation_fallback(executable, work):
+    """Render Animation of what glTF cannot carry (here the sphere's keyed colour) goes frame
+    by frame, each a fresh export of the frame being rendered: the sphere moves between frames
+    1 and 2, the frames differ, and frame 2 equals osr-vk run by hand on the export of frame 2.
+    (Before the add-on exported the current frame, both frames showed frame 0's pose.)"""
     scene = blender_scene.build_scene(executable, WIDTH, HEIGHT)
     scene.osr_vk.mode, scene.osr_vk.samples, scene.osr_vk.seed = "path", SAMPLES, SEED
     scene.osr_vk.keep_directory = keep = os.path.join(work, "keep")
     sphere = bpy.data.objects["sphere"]
+    colour = sphere.data.materials[0].node_tree.nodes["Principled BSDF"].inputs["Base Color"]
     for frame, x in ((1, -0.8), (2, 0.8)):
         sphere.location.x = x
         sphere.keyframe_insert("location", frame=frame)
+        colour.default_value = (0.9, 0.5 * frame, 0.3, 1.0)
+        colour.keyframe_insert("default_value", frame=frame)
     scene.frame_start, scene.frame_end = 1, 2
     scene.render.filepath = os.path.join(work, "frame_")
     settings = scene.render.image_settings
     settings.file_format, settings.color_depth = "OPEN_EXR", "32"
-    bpy.ops.render.render(animation=True)
+    with _Watch() as watch:
+        bpy.ops.render.render(animation=True)
+    if len(watch.pids) != 2:
+        raise AssertionError("%d osr-vk runs for 2 frames, expected one each" % len(watch.pids))
+    if "--frames" in open(os.path.join(keep, "command.txt")).read():
+        raise AssertionError("rendered with --frames")
     frames = [os.path.join(work, "frame_%04d.exr" % f) for f in (1, 2)]
     for f in frames:
         if not os.path.isfile(f):
             raise AssertionError("Render Animation wrote no %s" % f)
     first, second = (_layers(f)["R"] for f in frames)
     moved = float(np.mean(np.abs(first - second)))
-    print("osr-vk test: frames 1 and 2 differ by %g on average (red)" % moved)
+    print("osr-vk test: frame by frame (osr-vk pids %s); frames 1 and 2 differ by %g on "
+          "average (red)" % (sorted(watch.pids), moved))
     if not moved > 1e-3:
         raise AssertionError("frames 1 and 2 are alike: the sphere did not move")
     check_against_reference(executable, work, keep, frames[1])
+
+
+def case_animation_timing(executable, work):
+    """Not a test (docs/blender.md quotes it): seconds per frame of Render Animation in one
+    osr-vk run and frame by frame (One run per animation off), 8 frames at 96 x 72 and 16 spp
+    of the shot of case animation (camera and sphere moving) and of its camera alone, each
+    twice, alternating. Wall time, and CPU time of Blender and its osr-vk children (less
+    dependent on other jobs on shared cores)."""
+    for shot in ("camera and sphere", "camera only"):
+        for repeat in range(2):
+            for one_run in (True, False):
+                name = "%s_%d_%d" % (shot.split()[-1], repeat, one_run)
+                scene = _animated_scene(executable, os.path.join(work, name), 1, 8, (WIDTH, HEIGHT), SAMPLES)
+                if shot == "camera only":
+                    bpy.data.objects["sphere"].animation_data_clear()
+                scene.osr_vk.one_run_per_animation = one_run
+                scene.osr_vk.keep_directory = ""
+                start, cpu = time.monotonic(), os.times()
+                bpy.ops.render.render(animation=True)
+                took, end = time.monotonic() - start, os.times()
+                cpu_s = sum(end[:4]) - sum(cpu[:4])
+                print("osr-vk test: %s, %s: 8 frames in %.1f s, %.2f s a frame (CPU %.2f s a frame)"
+                      % (shot, "one osr-vk run" if one_run else "frame by frame", took, took / 8, cpu_s / 8))
 
 
 def _children(name):
@@ -223,10 +437,10 @@ def case_cancel(executable, work):
     print("osr-vk test: rendered again after the cancel")
 
 
-def _expect_report(accept, what):
+def _expect_report(accept, what, animation=False):
     """Renders, expecting a failure whose report `accept` (a function of its text) takes."""
     try:
-        bpy.ops.render.render()
+        bpy.ops.render.render(animation=animation)
     except RuntimeError as e:
         print("osr-vk test: report: %s" % e)
         if not accept(str(e)):
@@ -245,6 +459,16 @@ def case_failed(executable, work):
     scene.osr_vk.mode, scene.osr_vk.weights = "osr", os.path.join(work, "missing.osrw")
     _expect_report(lambda r: "osr-vk failed (exit 2)" in r and "missing.osrw" in r,
                    "a failed osr-vk run")
+    # Render Animation: the shot's one osr-vk run fails the same way; the error report ends
+    # Render Animation (Blender stops at a frame that reports an error).
+    scene.frame_start, scene.frame_end = 1, 3
+    scene.render.filepath = os.path.join(work, "anim_")
+    with _Watch() as watch:
+        _expect_report(lambda r: "osr-vk failed (exit 2)" in r and "missing.osrw" in r,
+                       "a failed shot", animation=True)
+    written = [f for f in os.listdir(work) if f.startswith("anim_")]
+    if len(watch.pids) > 1 or written:
+        raise AssertionError("a failed shot: %d osr-vk runs, frames written %s" % (len(watch.pids), written))
     # Nothing renderable: the export says so.
     scene.osr_vk.weights = ""
     for obj in list(scene.objects):
@@ -509,6 +733,41 @@ def case_f12(executable, work):
     return "later"
 
 
+def case_animation_f12(executable, work):
+    # Ctrl-F12 in Blender's UI (under Xvfb): Render Animation in a job thread, the animation
+    # exported on the main thread while the job waits; one osr-vk run, frames as in animation.
+    def start():
+        window = bpy.context.window_manager.windows[0]
+        view3d = max((a for a in window.screen.areas if a.type == "VIEW_3D"),
+                     key=lambda a: a.width * a.height)
+        with bpy.context.temp_override(window=window, area=view3d):
+            scene = blender_scene.build_scene(executable, *SHOT_SIZE, reset=False)
+        _animate(scene, work)
+        state["pids"] = watch.__enter__().pids
+        with bpy.context.temp_override(window=window, area=view3d):
+            bpy.ops.render.render("INVOKE_DEFAULT", animation=True)
+        bpy.app.timers.register(finish, first_interval=1.0)
+
+    def finish():
+        if bpy.app.is_job_running("RENDER"):
+            return 0.25
+        watch.__exit__()
+        scene = bpy.context.scene
+        command = open(os.path.join(scene.osr_vk.keep_directory, "command.txt")).read()
+        pids = sorted(state["pids"])
+        print("osr-vk test: Ctrl-F12, osr-vk pids %s" % pids)
+        if "--frames %d-%d" % (SHOT_FIRST, SHOT_LAST) not in command or len(pids) != 1:
+            raise AssertionError("not one osr-vk --frames run: %s %s" % (pids, command))
+        _check_shot_frames(executable, work, scene)
+        print("osr-vk test: case animation_f12 done")
+        bpy.ops.wm.quit_blender()
+        return None
+
+    watch, state = _Watch(), {}
+    bpy.app.timers.register(start, first_interval=0.5)
+    return "later"
+
+
 def main():
     args = sys.argv[sys.argv.index("--") + 1:]
     case, executable, work = args[:3]
@@ -516,7 +775,10 @@ def main():
     cases = {"render": case_render, "cancel": case_cancel, "missing": case_missing,
              "failed": case_failed, "install": case_install, "cycles": case_cycles,
              "world": case_world, "border": case_border, "f12": case_f12,
-             "animation": case_animation, "materials": case_materials}
+             "animation": case_animation, "animation_cancel": case_animation_cancel,
+             "animation_fallback": case_animation_fallback,
+             "animation_timing": case_animation_timing, "animation_f12": case_animation_f12,
+             "materials": case_materials}
     if cases[case](executable, work, *args[3:]) != "later":
         print("osr-vk test: case %s done" % case)
 

@@ -17,6 +17,16 @@ import time
 HERE = os.path.dirname(os.path.abspath(__file__))
 
 
+# Output a case must produce: the add-on's reports (Blender prints an operator's reports when
+# it ends) and its status lines (background Blender prints each, after "Fra:N ... |").
+EXPECTED_OUTPUT = {
+    "animation": ["Info: osr-vk: frames 2-5 in one run",
+                  "| osr-vk: frame 3 (2/4 of the shot): 8/8 spp"],
+    "animation_cancel": ["Info: osr-vk: frames 1-4 in one run", "Info: osr-vk: render cancelled"],
+    "animation_fallback": ["Warning: osr-vk: Render Animation frame by frame", "animated material copper"],
+}
+
+
 def osr_vk_processes(executable):
     """Pids of running processes whose executable is `executable`."""
     target, pids = os.path.realpath(executable), []
@@ -33,7 +43,8 @@ def osr_vk_processes(executable):
 def main() -> int:
     parser = argparse.ArgumentParser(description=__doc__)
     parser.add_argument("case", choices=["render", "cancel", "missing", "failed", "install", "cycles", "world", "border", "f12",
-                                           "animation", "materials"])
+                                           "animation", "animation_cancel", "animation_fallback",
+                                           "animation_timing", "animation_f12", "materials"])
     parser.add_argument("--blender", required=True)
     parser.add_argument("--osr-vk", required=True)
     parser.add_argument("--zip", help="osr_vk.zip, for the install case")
@@ -44,7 +55,7 @@ def main() -> int:
     cmd = [args.blender, "-b", "--factory-startup", "--python-exit-code", "1",
            "--python", os.path.join(HERE, "addon_cases.py"), "--",
            args.case, os.path.abspath(args.osr_vk), os.path.abspath(args.work)]
-    if args.case == "f12":  # Blender's UI, on a virtual display
+    if args.case in {"f12", "animation_f12"}:  # Blender's UI, on a virtual display
         cmd = ["xvfb-run", "-a", "-s", "-screen 0 1280x800x24"] + [c for c in cmd if c != "-b"]
     env = dict(os.environ, PYTHONDONTWRITEBYTECODE="1")  # no __pycache__ in the source tree
     if args.case == "install":  # a user directory of its own, not the user's
@@ -75,6 +86,9 @@ def main() -> int:
         failures.append("blender exited with %d" % run.returncode)
     if "Traceback" in out:
         failures.append("a Python traceback in Blender's output")
+    for line in EXPECTED_OUTPUT.get(args.case, ()):
+        if line not in out:
+            failures.append("no '%s' in the output" % line)
     # The osr-vk the cancel case interrupted must be gone now that Blender is (other tests may
     # run osr-vk meanwhile: only that pid is checked).
     for pid in re.findall(r"osr-vk pid (\d+)", out):
