@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <random>
 #include <vector>
 
@@ -82,6 +83,25 @@ TEST(Hemisphere, FrameIsOrthonormalWithZAlongTheNormal) {
   }
 }
 
+namespace {
+// The GPU's hemiSquareToDirection agrees with the C++ twin's `cpu` within what Vulkan lets a
+// device's arithmetic differ ("Precision and Operation of SPIR-V Instructions", GLSL.std.450
+// table): sin and cos each within 2^-11 absolute on [-pi, pi] (theta lies in [-pi/4, 3pi/4]),
+// so the disk point (x, y) = r (cos, sin), r <= 1, within sqrt(2) 2^-11; the division that
+// makes theta (2.5 ulp) and the products add ulps, 1e-6 covers them. z = sqrt(1 - x^2 - y^2)
+// is compared as z^2: near the rim dz = -(x dx + y dy) / z grows without bound (case 3899,
+// z = 0.0107, r = 0.99994: an NVIDIA H200's direction was 1.6e-5 off, what (x, y) 1.7e-7
+// farther out makes there),
+// while z^2 moves by at most 2 |(x, y)| e + e^2 for a disk error e, plus the rounding of
+// 1 - x^2 - y^2 and of sqrt (1 / inversesqrt: 2 ulp and 2.5 ulp), under 1e-6. A wrong mapping
+// (swapped or mirrored axes, a lost sqrt) is off by order 1 and fails.
+bool directionAgrees(glm::vec3 gpu, glm::vec3 cpu) {
+  const float disk = std::sqrt(2.0f) * std::ldexp(1.0f, -11) + 1e-6f;
+  return glm::length(glm::vec2(gpu) - glm::vec2(cpu)) < disk && gpu.z >= 0.0f &&
+         std::abs(gpu.z * gpu.z - cpu.z * cpu.z) < 2.0f * disk + disk * disk + 1e-6f;
+}
+}  // namespace
+
 TEST(Hemisphere, GpuMatchesCpp) {
   auto& ctx = test::context();
   std::mt19937 rng(5);
@@ -107,16 +127,28 @@ TEST(Hemisphere, GpuMatchesCpp) {
     pipe.dispatch(cmd, vk::groupCount(count, hemi::kHemiProbeWorkgroupSize));
   });
   auto out = buf.downloadVector<hemi::HemiProbeCase>(cases.size());
+  size_t swappedCaught = 0, mirroredCaught = 0, sqrtLostCaught = 0;
   for (size_t i = 0; i < cases.size(); ++i) {
     const auto& c = cases[i];
     glm::vec3 d = hemi::hemiSquareToDirection(glm::vec2(c.square));
     glm::vec2 back = hemi::hemiDirectionToSquare(d);
     glm::vec2 s = hemi::hemiDirectionToSquare(glm::vec3(c.direction));
     glm::mat3 f = hemi::hemiFrame(glm::vec3(c.normal));
-    ASSERT_LT(glm::length(glm::vec3(out[i].toDirection) - d), 1e-5f) << "case " << i;
+    ASSERT_TRUE(directionAgrees(glm::vec3(out[i].toDirection), d))
+        << "case " << i << ": gpu " << out[i].toDirection.x << " " << out[i].toDirection.y << " "
+        << out[i].toDirection.z << ", c++ " << d.x << " " << d.y << " " << d.z;
+    // The check itself: wrong mappings of the same square fail it.
+    swappedCaught += !directionAgrees(glm::vec3(d.y, d.x, d.z), d);
+    mirroredCaught += !directionAgrees(glm::vec3(-d.x, d.y, d.z), d);
+    sqrtLostCaught += !directionAgrees(glm::vec3(d.x, d.y, d.z * d.z), d);
     ASSERT_LT(glm::length(glm::vec2(out[i].square.z, out[i].square.w) - back), 1e-4f) << i;
     ASSERT_LT(glm::length(glm::vec2(out[i].toSquare) - s), 1e-4f) << "case " << i;
     ASSERT_LT(glm::length(glm::vec3(out[i].frameT) - f[0]), 1e-5f) << "case " << i;
     ASSERT_LT(glm::length(glm::vec3(out[i].frameB) - f[1]), 1e-5f) << "case " << i;
   }
+  EXPECT_GT(swappedCaught, cases.size() * 99 / 100);
+  EXPECT_GT(mirroredCaught, cases.size() * 99 / 100);
+  EXPECT_GT(sqrtLostCaught, cases.size() * 99 / 100);
+  std::printf("wrong mappings caught: swapped axes %zu, mirrored x %zu, lost sqrt %zu of %zu\n", swappedCaught,
+              mirroredCaught, sqrtLostCaught, cases.size());
 }
