@@ -408,6 +408,67 @@ def camera_path(out: Path) -> None:
     g.gltf(out / "camera_path.gltf")
 
 
+def moving_object(out: Path) -> None:
+    """A closed 4 m x 4 m x 2.5 m room lit by a ceiling panel and a point light, with a 0.3 m
+    cube on the floor: the cube slides 0.4 m along +X from 0 to 1 s and holds; the point light
+    moves 1 m along +Z from 2 to 3 s. A still camera sees the room from a corner. OSR's map
+    cache tests (tests/osr/test_map_cache.cpp) and the command-line frame tests pose it."""
+    g = Gltf(GENERATOR)
+    g.add("materials", {"pbrMetallicRoughness": {"baseColorFactor": [0.7, 0.7, 0.7, 1],
+                                                  "metallicFactor": 0}})
+    g.add("materials", {"pbrMetallicRoughness": {"baseColorFactor": [0.7, 0.25, 0.2, 1],
+                                                  "metallicFactor": 0}})
+    g.add("materials", {"emissiveFactor": [1, 1, 1],
+                        "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": 6}}})
+    g.add("materials", {"pbrMetallicRoughness": {"baseColorFactor": [0.2, 0.4, 0.8, 1],
+                                                  "metallicFactor": 0}})
+    g.doc["extensionsUsed"] = ["KHR_materials_emissive_strength", "KHR_lights_punctual"]
+    g.doc["extensions"] = {"KHR_lights_punctual": {"lights": [
+        {"type": "point", "color": [1, 0.9, 0.8], "intensity": 60}]}}
+
+    def box(lo: tuple, hi: tuple, inward: bool) -> tuple[list, list, list]:
+        """The six faces of a box, four vertices each, facing out (or in)."""
+        p, n, idx = [], [], []
+        for axis in range(3):
+            for side in (0, 1):
+                u, v = (axis + 1) % 3, (axis + 2) % 3
+                normal = [0.0, 0.0, 0.0]
+                normal[axis] = (1.0 if side else -1.0) * (-1.0 if inward else 1.0)
+                base = len(p)
+                for a, b in [(0, 0), (1, 0), (1, 1), (0, 1)]:
+                    c = [0.0, 0.0, 0.0]
+                    c[axis] = hi[axis] if side else lo[axis]
+                    c[u] = hi[u] if a else lo[u]
+                    c[v] = hi[v] if b else lo[v]
+                    p.append(tuple(c))
+                    n.append(tuple(normal))
+                # (u, v) is counter-clockwise seen from +axis.
+                ccw = (side == 1) != inward
+                idx += [base, base + 1, base + 2, base, base + 2, base + 3] if ccw else \
+                       [base, base + 2, base + 1, base, base + 3, base + 2]
+        return p, n, idx
+
+    walls_p, walls_n, walls_i = box((-2, 0, -2), (2, 2.5, 2), inward=True)
+    g.mesh(walls_p[4:], [i - 4 for i in walls_i[6:]], walls_n[4:], material=0)  # all but x = -2
+    g.mesh(walls_p[:4], walls_i[:6], walls_n[:4], material=1)  # a red wall at x = -2
+    panel = [(-0.5, 2.49, -0.5), (0.5, 2.49, -0.5), (0.5, 2.49, 0.5), (-0.5, 2.49, 0.5)]
+    g.mesh(panel, [0, 1, 2, 0, 2, 3], [(0, -1, 0)] * 4, material=2)  # facing down
+    cube_p, cube_n, cube_i = box((-0.15, 0, -0.15), (0.15, 0.3, 0.15), inward=False)
+    g.mesh(cube_p, cube_i, cube_n, material=3)
+    g.node(name="walls", mesh=0)
+    g.node(name="red_wall", mesh=1)
+    g.node(name="panel", mesh=2)
+    cube = g.node(name="cube", mesh=3, translation=[-1, 0, 0.5])
+    g.animate(cube, "translation", [0, 1], [(-1, 0, 0.5), (-0.6, 0, 0.5)])
+    lamp = g.node(name="lamp", translation=[1, 1.8, -1], extensions={"KHR_lights_punctual": {"light": 0}})
+    g.animate(lamp, "translation", [2, 3], [(1, 1.8, -1), (1, 1.8, 0)])
+    g.doc["cameras"] = [{"type": "perspective", "perspective": {"yfov": 1.1, "znear": 0.05}}]
+    # In the +X +Z corner at 1.6 m, looking down across the room towards (-0.3, 0.5, -0.3).
+    g.node(name="camera", camera=0, translation=[1.8, 1.6, 1.8],
+           rotation=[-0.163, 0.3767, 0.0675, 0.9094])
+    g.gltf(out / "moving_object.gltf")
+
+
 def bad_inputs(out: Path) -> None:
     """One file per kind of bad input the loader must refuse with one line."""
     def quad_file(name: str, edit=None, positions=QUAD_P, indices=QUAD_I, **kw: Any) -> None:
@@ -470,7 +531,7 @@ def main() -> None:
     args.out.mkdir(parents=True, exist_ok=True)
     for make in [hierarchy, nonindexed, index_types, textured, alpha_mask, lights, cameras, materials,
                  iridescence, binary, sparse, quantized, texture16, degenerate_attributes, vertex_attributes,
-                 texture_transform, animated, camera_path, bad_inputs]:
+                 texture_transform, animated, camera_path, moving_object, bad_inputs]:
         make(args.out)
 
 

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <glm/gtc/matrix_transform.hpp>
+#include <optional>
 
 #include "scene/emissive.h"
 #include "scene/scene.h"
@@ -97,7 +98,9 @@ std::vector<glm::mat4> worldTransforms(const Animation& a, double t) {
   return world;
 }
 
-void posePrimitive(Scene& scene, MovingPrimitive& p, const glm::mat4& worldFromObject) {
+// Poses one primitive; returns its bounds before and after when a vertex moved.
+std::optional<MovedPrimitive> posePrimitive(Scene& scene, MovingPrimitive& p,
+                                            const glm::mat4& worldFromObject) {
   const glm::mat3 linear(worldFromObject);
   const bool mirrored = glm::determinant(linear) < 0.0f;
   gpu::Triangle* triangles = scene.triangles.data() + p.firstTriangle;
@@ -106,8 +109,24 @@ void posePrimitive(Scene& scene, MovingPrimitive& p, const glm::mat4& worldFromO
     for (uint32_t i = 0; i < p.triangleCount; ++i) std::swap(triangles[i].v1, triangles[i].v2);
   p.mirrored = mirrored;
   gpu::Vertex* vertices = scene.vertices.data() + p.firstVertex;
-  for (size_t i = 0; i < p.positions.size(); ++i)
-    vertices[i].position = glm::vec3(worldFromObject * glm::vec4(p.positions[i], 1.0f));
+  MovedPrimitive moved;
+  moved.beforeLo = moved.afterLo = glm::vec3(INFINITY);
+  moved.beforeHi = moved.afterHi = glm::vec3(-INFINITY);
+  bool changed = false;
+  for (size_t i = 0; i < p.positions.size(); ++i) {
+    const glm::vec3 before = vertices[i].position;
+    const glm::vec3 after = glm::vec3(worldFromObject * glm::vec4(p.positions[i], 1.0f));
+    changed = changed || before != after;
+    moved.beforeLo = glm::min(moved.beforeLo, before);
+    moved.beforeHi = glm::max(moved.beforeHi, before);
+    moved.afterLo = glm::min(moved.afterLo, after);
+    moved.afterHi = glm::max(moved.afterHi, after);
+    vertices[i].position = after;
+  }
+  for (uint32_t i = 0; i < p.triangleCount && !moved.emissive; ++i)
+    moved.emissive = luminance(scene.materials[triangles[i].material].emission) > 0.0f;
+  const std::optional<MovedPrimitive> result =
+      changed ? std::optional<MovedPrimitive>(moved) : std::nullopt;
   if (p.flatShaded) {
     for (uint32_t i = 0; i < p.triangleCount; ++i) {
       const gpu::Triangle& t = triangles[i];
@@ -117,7 +136,7 @@ void posePrimitive(Scene& scene, MovingPrimitive& p, const glm::mat4& worldFromO
       n = len > 0.0f && std::isfinite(len) ? n / len : glm::vec3(0.0f);
       for (gpu::Vertex* vertex : v) vertex->normal = n;
     }
-    return;
+    return result;
   }
   const glm::mat3 normalFromObject = glm::transpose(glm::inverse(linear));
   for (size_t i = 0; i < p.normals.size(); ++i) {
@@ -126,6 +145,7 @@ void posePrimitive(Scene& scene, MovingPrimitive& p, const glm::mat4& worldFromO
     // As at load: a zero or broken normal falls back to the face normal in the shader.
     vertices[i].normal = len > 0.0f && std::isfinite(len) ? n / len : glm::vec3(0.0f);
   }
+  return result;
 }
 
 }  // namespace
@@ -145,10 +165,14 @@ PoseChange poseScene(Scene& scene, double t) {
   for (size_t i = 0; i < scene.lights.size() && i < a.lightNodes.size(); ++i) {
     const int node = a.lightNodes[i];
     if (node < 0 || !a.moving[node]) continue;
+    const gpu::PunctualLight before = scene.lights[i];
     placeLight(scene.lights[i], world[node]);
     change.lights = true;
+    change.lightMoved = change.lightMoved || before.position != scene.lights[i].position ||
+                        before.direction != scene.lights[i].direction;
   }
-  for (MovingPrimitive& p : a.primitives) posePrimitive(scene, p, world[p.node]);
+  for (MovingPrimitive& p : a.primitives)
+    if (auto moved = posePrimitive(scene, p, world[p.node])) change.moved.push_back(*moved);
   if (!a.primitives.empty()) {
     change.geometry = true;
     updateBounds(scene);

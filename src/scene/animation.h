@@ -77,11 +77,23 @@ struct Animation {
   bool movesGeometry() const;  // meshes or lights
 };
 
-// What poseScene changed.
+// A mesh primitive that one poseScene call moved: its world bounds at the pose before and at
+// the new one, and whether it emits light (some triangle's material has emission).
+struct MovedPrimitive {
+  glm::vec3 beforeLo{0.0f}, beforeHi{0.0f}, afterLo{0.0f}, afterHi{0.0f};
+  bool emissive = false;
+};
+
+// What poseScene changed. The flags say what lies under an animated node and was rewritten
+// (what a device scene must upload again); `moved` and `lightMoved` what did move since the
+// pose before (the last poseScene call, or the file's rest pose), for caches of light
+// (OSR's map cache keeps the maps away from what moved).
 struct PoseChange {
   bool cameras = false;
   bool lights = false;
   bool geometry = false;  // vertices (and so triangles' winding, emissive, bounds)
+  std::vector<MovedPrimitive> moved;  // primitives with a vertex that changed position
+  bool lightMoved = false;            // a punctual light's position or direction changed
 };
 
 // Poses `scene` at time t (seconds): node transforms from scene.animation, then the vertices of

@@ -3,6 +3,7 @@
 // tools/make_scene_test_data.py): moving meshes, their children, mirrored winding, cameras.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 
 #include "common/test_paths.h"
@@ -175,6 +176,65 @@ TEST(Animation, CameraOnlyAnimationLeavesGeometryAlone) {
   ASSERT_EQ(s.vertices.size(), vertices.size());
   for (size_t i = 0; i < vertices.size(); ++i)
     EXPECT_EQ(s.vertices[i].position, vertices[i].position);
+}
+
+// PoseChange::moved lists exactly the primitives whose vertices changed since the pose before,
+// with their bounds at both poses (a CPU twin over the vertices); a STEP key that holds moves
+// nothing, and posing at the same time again moves nothing, though the flags stay set.
+TEST(Animation, PoseChangeListsWhatMovedWithItsBounds) {
+  scene::Scene s = loadAnimated();
+  scene::poseScene(s, 1.0);
+  const auto before = s.vertices;
+  const scene::PoseChange change = scene::poseScene(s, 1.5);
+  EXPECT_TRUE(change.geometry);
+  EXPECT_FALSE(change.lightMoved);
+  size_t expected = 0;
+  for (const scene::MovingPrimitive& p : s.animation.primitives) {
+    glm::vec3 lo0(INFINITY), hi0(-INFINITY), lo1(INFINITY), hi1(-INFINITY);
+    bool moved = false;
+    for (size_t i = p.firstVertex; i < p.firstVertex + p.positions.size(); ++i) {
+      moved = moved || before[i].position != s.vertices[i].position;
+      lo0 = glm::min(lo0, before[i].position), hi0 = glm::max(hi0, before[i].position);
+      lo1 = glm::min(lo1, s.vertices[i].position), hi1 = glm::max(hi1, s.vertices[i].position);
+    }
+    if (!moved) continue;
+    ++expected;
+    const auto same = [&](const scene::MovedPrimitive& m) {
+      return m.beforeLo == lo0 && m.beforeHi == hi0 && m.afterLo == lo1 && m.afterHi == hi1;
+    };
+    EXPECT_TRUE(std::any_of(change.moved.begin(), change.moved.end(), same))
+        << "primitive at vertex " << p.firstVertex;
+  }
+  EXPECT_EQ(change.moved.size(), expected);
+  // From 1 to 1.5 s the STEP stepper and flipper hold their keys; the others move.
+  EXPECT_EQ(expected, s.animation.primitives.size() - 2);
+  for (const scene::MovedPrimitive& m : change.moved) EXPECT_FALSE(m.emissive);
+  const scene::PoseChange again = scene::poseScene(s, 1.5);
+  EXPECT_TRUE(again.geometry);
+  EXPECT_TRUE(again.moved.empty());
+}
+
+// moving_object.gltf: the cube slides from 0 to 1 s, the point light moves from 2 to 3 s.
+TEST(Animation, PoseChangeSaysWhetherALightMoved) {
+  scene::Scene s = scene::loadScene(test::dataPath("scene/moving_object.gltf"));
+  ASSERT_EQ(s.lights.size(), 1u);
+  scene::PoseChange change = scene::poseScene(s, 0.0);  // the file's rest pose
+  EXPECT_TRUE(change.lights && change.geometry);
+  EXPECT_TRUE(change.moved.empty());
+  EXPECT_FALSE(change.lightMoved);
+  change = scene::poseScene(s, 0.5);
+  ASSERT_EQ(change.moved.size(), 1u);
+  expectNear(change.moved[0].beforeLo, {-1.15f, 0, 0.35f});
+  expectNear(change.moved[0].afterHi, {-0.65f, 0.3f, 0.65f});
+  EXPECT_FALSE(change.lightMoved);
+  change = scene::poseScene(s, 2.5);
+  ASSERT_EQ(change.moved.size(), 1u);  // the cube's last stretch, 0.5 to 1 s
+  EXPECT_TRUE(change.lightMoved);
+  expectNear(s.lights[0].position, {1, 1.8f, -0.5f});
+  change = scene::poseScene(s, 4.0);
+  EXPECT_TRUE(change.moved.empty());
+  EXPECT_TRUE(change.lightMoved);
+  EXPECT_FALSE(scene::poseScene(s, 4.0).lightMoved);
 }
 
 TEST(Animation, StaticSceneHasNoAnimation) {
