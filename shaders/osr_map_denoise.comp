@@ -7,13 +7,16 @@
 //  - kDenoiserBlur: a fixed Gaussian (sigma 1 texel, 5 x 5, clamped at the square's edges)
 //    of the one-shot radiance, renormalized to keep each channel's mean;
 //  - kDenoiserNone: the one-shot radiance as traced.
-// One invocation per map; none for the maps the cache gave (MapCacheRef kMapCacheReuse).
+// One invocation per map (kMapByGroup 0: lavapipe's SIMD lanes run maps side by side, no
+// barriers), or a workgroup per map whose invocations share its texels and sum the mean in
+// shared memory (1: a GPU); nothing for the maps the cache gave (MapCacheRef kMapCacheReuse).
 // In: one-shot maps, MapStats, U-Net output, MapCacheRef. Out: clean maps.
 #extension GL_GOOGLE_include_directive : require
 #include "shared/osr.h"
 
 layout(constant_id = kOsrSpecDenoiser) const uint kDenoiser = kDenoiserUnet;
 layout(constant_id = kOsrSpecNetOutput) const uint kNetOutput = kNetOutputRescaled;
+layout(constant_id = kOsrSpecMapByGroup) const uint kMapByGroup = 0u;
 layout(local_size_x = kOsrWorkgroupSize) in;
 layout(std430, binding = kOsrBindingMapClean) buffer OsrMapClean { float gMapClean[]; };
 layout(std430, binding = kOsrBindingMapOneShot) readonly buffer OsrOneShot { float gOneShot[]; };
@@ -44,40 +47,65 @@ float blurred(uint local, uint c, uint t) {
   return sum / wsum;
 }
 
+shared float gPartial[kOsrWorkgroupSize];
+
+// The sum of `value` over the workgroup (every invocation gets it).
+float workgroupSum(float value) {
+  uint lane = gl_LocalInvocationID.x;
+  gPartial[lane] = value;
+  barrier();
+  for (uint half_ = kOsrWorkgroupSize / 2u; half_ > 0u; half_ /= 2u) {
+    if (lane < half_) gPartial[lane] += gPartial[lane + half_];
+    barrier();
+  }
+  float total = gPartial[0];
+  barrier();  // before the next call overwrites it
+  return total;
+}
+
+// The map's texels this invocation writes: all of them (one per map), or every
+// kOsrWorkgroupSize-th (a workgroup per map).
+uint firstTexel() { return kMapByGroup != 0u ? gl_LocalInvocationID.x : 0u; }
+uint texelStep() { return kMapByGroup != 0u ? kOsrWorkgroupSize : 1u; }
+
 void main() {
-  uint local = gl_GlobalInvocationID.x;
+  uint local = kMapByGroup != 0u ? gl_WorkGroupID.x + gl_WorkGroupID.y * gl_NumWorkGroups.x
+                                 : gl_GlobalInvocationID.x;
+  // Both returns are uniform in a workgroup per map, so its barriers stay in uniform flow.
   if (local >= gPush.mapCount) return;
   // A map the cache gave was not traced: osr_cache_lookup wrote its clean map.
   if (gCacheRefs[gPush.mapOffset + local].action == kMapCacheReuse) return;
   uint out0 = local * 3u * kMapTexels;  // gMapClean's window starts at map mapOffset
   vec3 target = gStats[local].meanRadiance.rgb;
+  uint t0 = firstTexel(), dt = texelStep();
   for (uint c = 0u; c < 3u; ++c) {
+    uint base = out0 + c * kMapTexels;
     if (kDenoiser == kDenoiserUnet && kNetOutput == kNetOutputAbsolute) {
       // The network predicts the level too (a 1-path map's mean is its noisiest statistic).
       float unit = 10.0 * gStats[local].meanRadiance.w;
-      for (uint t = 0u; t < kMapTexels; ++t)
-        gMapClean[out0 + c * kMapTexels + t] = unit * max(sourceValue(local, c, t), 0.0);
+      for (uint t = t0; t < kMapTexels; t += dt)
+        gMapClean[base + t] = unit * max(sourceValue(local, c, t), 0.0);
       continue;
     }
     if (kDenoiser == kDenoiserNone) {
-      for (uint t = 0u; t < kMapTexels; ++t)
-        gMapClean[out0 + c * kMapTexels + t] = gOneShot[(local * kMapChannels + c) * kMapTexels + t];
+      for (uint t = t0; t < kMapTexels; t += dt)
+        gMapClean[base + t] = gOneShot[(local * kMapChannels + c) * kMapTexels + t];
       continue;
     }
     // Each texel's value is computed once, stored, and rescaled in place once the mean is
-    // known (computing it again for the rescale doubled the blur's 25 taps: half of a 4K OSR
-    // pass on a GPU).
-    uint base = out0 + c * kMapTexels;
+    // known (computing it again for the rescale doubled the blur's 25 taps). Each invocation
+    // rescales only the texels it wrote.
     float sum = 0.0;
-    for (uint t = 0u; t < kMapTexels; ++t) {
+    for (uint t = t0; t < kMapTexels; t += dt) {
       float v = max(kDenoiser == kDenoiserBlur ? blurred(local, c, t) : sourceValue(local, c, t), 0.0);
       gMapClean[base + t] = v;
       sum += v;
     }
+    if (kMapByGroup != 0u) sum = workgroupSum(sum);
     float mean = sum / float(kMapTexels);
     // A map the network made black while the traced one is not: fall back to a flat map.
     float scale = mean > 0.0 ? target[c] / mean : 0.0;
-    for (uint t = 0u; t < kMapTexels; ++t)
+    for (uint t = t0; t < kMapTexels; t += dt)
       gMapClean[base + t] = mean > 0.0 ? gMapClean[base + t] * scale : target[c];
   }
 }

@@ -65,6 +65,7 @@ OSR_CONST(uint, kOsrBindingCount, 32u);
 OSR_CONST(uint, kOsrSpecSceneFeatures, 0u);  // the scene's kSceneFeature* bits
 OSR_CONST(uint, kOsrSpecDenoiser, 1u);       // osr_map_denoise: kDenoiser*
 OSR_CONST(uint, kOsrSpecNetOutput, 2u);      // osr_map_denoise: kNetOutput*
+OSR_CONST(uint, kOsrSpecMapByGroup, 3u);     // osr_map_denoise: 1 = a workgroup per map
 OSR_CONST(uint, kDenoiserUnet, 0u);   // the U-Net's output, denormalized
 OSR_CONST(uint, kDenoiserBlur, 1u);   // a fixed Gaussian blur of the one-shot radiance
 OSR_CONST(uint, kDenoiserNone, 2u);   // the one-shot radiance as traced

@@ -126,9 +126,10 @@ std::vector<OsrWindow> OsrPass::mapWindows(const OsrBindings& bindings, const o:
 
 glm::uvec2 OsrPass::groupsOf(const OsrWindow& w) const {
   if (domain_ == Domain::Pixels) return {vk::groupCount(w.pixelCount, o::kOsrWorkgroupSize), 1u};
-  const uint64_t items = domain_ == Domain::MapTexels
-                             ? uint64_t(w.mapCount) * gpu::hemi::kMapTexels
-                             : uint64_t(w.mapCount);
+  const uint64_t perMap = domain_ == Domain::MapTexels   ? gpu::hemi::kMapTexels
+                          : domain_ == Domain::MapGroups ? o::kOsrWorkgroupSize
+                                                         : 1;
+  const uint64_t items = uint64_t(w.mapCount) * perMap;
   uint32_t x, y;
   nn::splitGroups(vk::groupCount(items, o::kOsrWorkgroupSize), x, y);
   return {x, y};

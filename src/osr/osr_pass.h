@@ -14,7 +14,9 @@
 
 namespace osr::oneshot {
 
-enum class Domain { Pixels, MapTexels, Maps };
+// What one invocation of a pass covers: a pixel, a map texel, a map; MapGroups: a map per
+// workgroup of kOsrWorkgroupSize invocations.
+enum class Domain { Pixels, MapTexels, Maps, MapGroups };
 
 class OsrPass {
  public:

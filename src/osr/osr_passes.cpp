@@ -67,10 +67,12 @@ void MapNormalizePass::record(VkCommandBuffer cmd, const OsrBindings& b, MapChun
 }
 
 MapDenoisePass::MapDenoisePass(const vk::Context& ctx, uint32_t features, bool texelFetch,
-                               uint32_t denoiser, uint32_t netOutput)
-    : PassWithPush(ctx, Id::osr_map_denoise, Domain::Maps, features, texelFetch,
+                               uint32_t denoiser, uint32_t netOutput, bool byGroup)
+    : PassWithPush(ctx, Id::osr_map_denoise, byGroup ? Domain::MapGroups : Domain::Maps, features,
+                   texelFetch,
                    {vk::specUint(o::kOsrSpecDenoiser, denoiser),
-                    vk::specUint(o::kOsrSpecNetOutput, netOutput)}) {}
+                    vk::specUint(o::kOsrSpecNetOutput, netOutput),
+                    vk::specUint(o::kOsrSpecMapByGroup, byGroup ? 1u : 0u)}) {}
 
 void MapDenoisePass::record(VkCommandBuffer cmd, const OsrBindings& b, MapChunk maps) const {
   recordMaps(cmd, b, kNoMaps, maps, [](const OsrWindow& w) { return o::MapDenoisePush{w.mapFirst, w.mapCount}; });

@@ -47,8 +47,11 @@ class MapNormalizePass : public PassWithPush<gpu::osr::MapNormalizePush> {
 class MapDenoisePass : public PassWithPush<gpu::osr::MapDenoisePush> {
  public:
   // denoiser: gpu::osr::kDenoiser*; netOutput: how the U-Net's output becomes radiance.
+  // byGroup: a workgroup per map, its invocations sharing the texels (a GPU: one invocation
+  // looping over a map's 3 x 1024 texels left an H200 with 512 slow threads per chunk), else
+  // an invocation per map (lavapipe's SIMD lanes over maps, no barriers).
   MapDenoisePass(const vk::Context& ctx, uint32_t sceneFeatures, bool sceneTexelFetch,
-                 uint32_t denoiser, uint32_t netOutput);
+                 uint32_t denoiser, uint32_t netOutput, bool byGroup);
   void record(VkCommandBuffer cmd, const OsrBindings& bindings, MapChunk maps) const;
 };
 

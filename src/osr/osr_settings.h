@@ -2,6 +2,7 @@
 // --denoiser, --weights, --grid-start, --grid-min and friends.
 #pragma once
 #include <cstdint>
+#include <optional>
 #include <string>
 
 #include "shaders/shared/osr.h"
@@ -71,6 +72,9 @@ struct OsrSettings {
   uint32_t mapCacheMaturePasses = 0;
   uint32_t maxChunkMaps = 512;   // maps traced and denoised per chunk (memory bound)
   bool keepAllMaps = false;      // one chunk for all maps of a pass (for --dump-maps)
+  // osr_map_denoise's layout (MapDenoisePass): a workgroup per map, or an invocation per map;
+  // unset: by group on a GPU, by map on a CPU device.
+  std::optional<bool> mapDenoiseByGroup;
   // Resolve the film after every submission (a front end that shows it, the viewer); false:
   // only when resolve() downloads it (offline: the resolve's 9 x 9 blend costs about 5% of
   // a 256 x 256 pass on lavapipe).

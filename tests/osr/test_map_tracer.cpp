@@ -9,6 +9,8 @@
 #include <cstring>
 #include <fstream>
 #include <iterator>
+#include <optional>
+#include <utility>
 
 #include "nn_kernels/unet_cpu.h"
 #include "nn_kernels/weights.h"
@@ -61,9 +63,11 @@ struct TracedPass {
 
 // One OSR pass over cornell at 48 x 48 (r = 8: 36 maps), all maps kept for download.
 oneshot::OsrIntegrator::MapDump onePass(const test::LoadedScene& s, oneshot::Denoiser d,
-                                        const std::string& weights = "") {
+                                        const std::string& weights = "",
+                                        std::optional<bool> denoiseByGroup = {}) {
   oneshot::OsrSettings set;
   set.denoiser = d;
+  set.mapDenoiseByGroup = denoiseByGroup;
   set.weightsPath = weights;
   set.gridStart = set.gridMin = 8;
   set.keepAllMaps = true;
@@ -82,9 +86,14 @@ void expectClose(const std::vector<float>& a, const float* b, double tol, const 
 }  // namespace
 
 TEST(MapPasses, DenoiseAndProjectMatchCpuTwins) {
+  // Both layouts of osr_map_denoise (an invocation per map, a workgroup per map) on any device.
   auto s = test::loadForTest(test::referencePath("cornell/cornell.gltf"));
-  for (auto d : {oneshot::Denoiser::None, oneshot::Denoiser::Blur}) {
-    auto dump = onePass(s, d);
+  for (auto [d, byGroup] : {std::pair{oneshot::Denoiser::None, false},
+                            std::pair{oneshot::Denoiser::Blur, false},
+                            std::pair{oneshot::Denoiser::None, true},
+                            std::pair{oneshot::Denoiser::Blur, true}}) {
+    SCOPED_TRACE(byGroup ? "a workgroup per map" : "an invocation per map");
+    auto dump = onePass(s, d, "", byGroup);
     ASSERT_EQ(dump.maps, 36u);
     ASSERT_EQ(dump.oneShot.size(), size_t(36) * o::kMapChannels * kT);
     int valid = 0;
@@ -138,9 +147,17 @@ TEST(MapPasses, UnetInsideOsrMatchesTheCpuNetwork) {
   auto s = test::loadForTest(test::referencePath("cornell/cornell.gltf"));
   const std::string rescaled = test::dataPath("unet_k8.osrw");
   const std::string absolute = withNormalization(rescaled, nn::kNormalizationLogMean10Absolute);
-  for (auto [weights, netOutput] : {std::pair{rescaled, o::kNetOutputRescaled},
-                                    std::pair{absolute, o::kNetOutputAbsolute}}) {
-    auto dump = onePass(s, oneshot::Denoiser::Unet, weights);
+  // The rescaled output's mean is a workgroup's sum in the GPU layout: checked in both layouts.
+  struct Case {
+    std::string weights;
+    uint32_t netOutput;
+    bool byGroup;
+  };
+  for (const auto& [weights, netOutput, byGroup] :
+       {Case{rescaled, o::kNetOutputRescaled, false}, Case{rescaled, o::kNetOutputRescaled, true},
+        Case{absolute, o::kNetOutputAbsolute, false}}) {
+    SCOPED_TRACE(byGroup ? "a workgroup per map" : "an invocation per map");
+    auto dump = onePass(s, oneshot::Denoiser::Unet, weights, byGroup);
     auto w = nn::UNetWeights::load(weights);
     const uint32_t n = 6;  // maps checked (the CPU network is slow)
     nn::Tensor in(n, o::kMapChannels, 32, 32);
