@@ -7,17 +7,16 @@
 //  - kDenoiserBlur: a fixed Gaussian (sigma 1 texel, 5 x 5, clamped at the square's edges)
 //    of the one-shot radiance, renormalized to keep each channel's mean;
 //  - kDenoiserNone: the one-shot radiance as traced.
-// One invocation per map (kMapByGroup 0: lavapipe's SIMD lanes run maps side by side, no
-// barriers), or a workgroup per map whose invocations share its texels and sum the mean in
-// shared memory (1: a GPU); nothing for the maps the cache gave (MapCacheRef kMapCacheReuse).
+// An invocation or a workgroup per map (lib/osr_map_group.glsl); nothing for the maps the cache
+// gave (MapCacheRef kMapCacheReuse).
 // In: one-shot maps, MapStats, U-Net output, MapCacheRef. Out: clean maps.
 #extension GL_GOOGLE_include_directive : require
 #include "shared/osr.h"
 
 layout(constant_id = kOsrSpecDenoiser) const uint kDenoiser = kDenoiserUnet;
 layout(constant_id = kOsrSpecNetOutput) const uint kNetOutput = kNetOutputRescaled;
-layout(constant_id = kOsrSpecMapByGroup) const uint kMapByGroup = 0u;
 layout(local_size_x = kOsrWorkgroupSize) in;
+#include "lib/osr_map_group.glsl"
 layout(std430, binding = kOsrBindingMapClean) buffer OsrMapClean { float gMapClean[]; };
 layout(std430, binding = kOsrBindingMapOneShot) readonly buffer OsrOneShot { float gOneShot[]; };
 layout(std430, binding = kOsrBindingMapStats) readonly buffer OsrStats { MapStats gStats[]; };
@@ -47,37 +46,14 @@ float blurred(uint local, uint c, uint t) {
   return sum / wsum;
 }
 
-shared float gPartial[kOsrWorkgroupSize];
-
-// The sum of `value` over the workgroup (every invocation gets it).
-float workgroupSum(float value) {
-  uint lane = gl_LocalInvocationID.x;
-  gPartial[lane] = value;
-  barrier();
-  for (uint half_ = kOsrWorkgroupSize / 2u; half_ > 0u; half_ /= 2u) {
-    if (lane < half_) gPartial[lane] += gPartial[lane + half_];
-    barrier();
-  }
-  float total = gPartial[0];
-  barrier();  // before the next call overwrites it
-  return total;
-}
-
-// The map's texels this invocation writes: all of them (one per map), or every
-// kOsrWorkgroupSize-th (a workgroup per map).
-uint firstTexel() { return kMapByGroup != 0u ? gl_LocalInvocationID.x : 0u; }
-uint texelStep() { return kMapByGroup != 0u ? kOsrWorkgroupSize : 1u; }
-
 void main() {
-  uint local = kMapByGroup != 0u ? gl_WorkGroupID.x + gl_WorkGroupID.y * gl_NumWorkGroups.x
-                                 : gl_GlobalInvocationID.x;
-  // Both returns are uniform in a workgroup per map, so its barriers stay in uniform flow.
+  uint local = mapOfInvocation();
   if (local >= gPush.mapCount) return;
   // A map the cache gave was not traced: osr_cache_lookup wrote its clean map.
   if (gCacheRefs[gPush.mapOffset + local].action == kMapCacheReuse) return;
   uint out0 = local * 3u * kMapTexels;  // gMapClean's window starts at map mapOffset
   vec3 target = gStats[local].meanRadiance.rgb;
-  uint t0 = firstTexel(), dt = texelStep();
+  uint t0 = firstMapTexel(), dt = mapTexelStep();
   for (uint c = 0u; c < 3u; ++c) {
     uint base = out0 + c * kMapTexels;
     if (kDenoiser == kDenoiserUnet && kNetOutput == kNetOutputAbsolute) {
@@ -101,7 +77,7 @@ void main() {
       gMapClean[base + t] = v;
       sum += v;
     }
-    if (kMapByGroup != 0u) sum = workgroupSum(sum);
+    sum = mapSum(vec4(sum)).x;
     float mean = sum / float(kMapTexels);
     // A map the network made black while the traced one is not: fall back to a flat map.
     float scale = mean > 0.0 ? target[c] / mean : 0.0;

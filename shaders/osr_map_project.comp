@@ -3,23 +3,25 @@
 // map's normal) and its irradiance as 9 SH coefficients (Ramamoorthi & Hanrahan 2001), in the
 // map's frame, for the composite's Lambertian closed form at other normals. Texel solid angle:
 // every texel covers pi / 1024 of projected solid angle, so d(omega) = pi / (1024 cos theta).
-// One invocation per map of the chunk. In: clean maps. Out: MapProjection.
+// An invocation or a workgroup per map of the chunk (lib/osr_map_group.glsl). In: clean maps.
+// Out: MapProjection.
 #extension GL_GOOGLE_include_directive : require
 #include "lib/osr_common.glsl"
 #include "lib/osr_maps.glsl"
 
 layout(local_size_x = kOsrWorkgroupSize) in;
+#include "lib/osr_map_group.glsl"
 layout(push_constant) uniform OsrPushBlock { MapProjectPush gPush; };
 
 void main() {
-  uint local = gl_GlobalInvocationID.x;
+  uint local = mapOfInvocation();
   if (local >= gPush.mapCount) return;
   uint map = gPush.mapOffset + local;
   vec3 sh[9];
   for (int i = 0; i < 9; ++i) sh[i] = vec3(0.0);
   vec3 sum = vec3(0.0);
   uint base = local * 3u * kMapTexels;  // gMapClean's window starts at map mapOffset
-  for (uint t = 0u; t < kMapTexels; ++t) {
+  for (uint t = firstMapTexel(); t < kMapTexels; t += mapTexelStep()) {
     vec3 l = vec3(gMapClean[base + t], gMapClean[base + kMapTexels + t],
                   gMapClean[base + 2u * kMapTexels + t]);
     sum += l;
@@ -30,6 +32,9 @@ void main() {
     shBasis(w, y);
     for (int i = 0; i < 9; ++i) sh[i] += l * (y[i] * dOmega);
   }
+  sum = mapSum(vec4(sum, 0.0)).rgb;
+  for (int i = 0; i < 9; ++i) sh[i] = mapSum(vec4(sh[i], 0.0)).rgb;
+  if (firstMapTexel() != 0u) return;
   // Convolution with the clamped cosine (kShCosine: A0 = pi, A1 = 2 pi / 3, A2 = pi / 4).
   gMapProjections[map].mean = vec4(sum / float(kMapTexels), 0.0);
   for (int i = 0; i < 9; ++i) gMapProjections[map].sh[i] = vec4(sh[i] * kShCosine[i], 0.0);

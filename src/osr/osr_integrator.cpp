@@ -52,6 +52,11 @@ std::unique_ptr<nn::UNet> loadNetwork(const vk::Context& ctx, const OsrSettings&
   return std::make_unique<nn::UNet>(ctx, w);
 }
 
+// The layout of the passes over whole maps (lib/osr_map_group.glsl).
+bool mapPassesByGroup(const vk::Context& ctx, const OsrSettings& s) {
+  return s.mapPassesByGroup.value_or(!ctx.caps().isCpu());
+}
+
 }  // namespace
 
 OsrIntegrator::OsrIntegrator(const vk::Context& ctx, const scene::GpuScene& scene,
@@ -72,10 +77,10 @@ OsrIntegrator::OsrIntegrator(const vk::Context& ctx, const scene::GpuScene& scen
       gbuffer_(ctx, scene.features, scene.texelFetch),
       direct_(ctx, scene.features, scene.texelFetch),
       maps_(ctx, scene.features, scene.texelFetch),
-      normalize_(ctx, scene.features, scene.texelFetch),
+      normalize_(ctx, scene.features, scene.texelFetch, mapPassesByGroup(ctx, settings)),
       denoise_(ctx, scene.features, scene.texelFetch, uint32_t(settings.denoiser), netOutput_,
-               settings.mapDenoiseByGroup.value_or(!ctx.caps().isCpu())),
-      project_(ctx, scene.features, scene.texelFetch),
+               mapPassesByGroup(ctx, settings)),
+      project_(ctx, scene.features, scene.texelFetch, mapPassesByGroup(ctx, settings)),
       cacheLookup_(ctx, scene.features, scene.texelFetch),
       cacheClaim_(ctx, scene.features, scene.texelFetch),
       cacheStore_(ctx, scene.features, scene.texelFetch),

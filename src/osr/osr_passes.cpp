@@ -58,8 +58,18 @@ void MapsPass::record(VkCommandBuffer cmd, const OsrBindings& b, const Args& a) 
   });
 }
 
-MapNormalizePass::MapNormalizePass(const vk::Context& ctx, uint32_t features, bool texelFetch)
-    : PassWithPush(ctx, Id::osr_map_normalize, Domain::Maps, features, texelFetch) {}
+namespace {
+// The domain and specialization of a pass over whole maps (lib/osr_map_group.glsl).
+Domain mapDomain(bool byGroup) { return byGroup ? Domain::MapGroups : Domain::Maps; }
+vk::SpecConstant mapLayout(bool byGroup) {
+  return vk::specUint(o::kOsrSpecMapByGroup, byGroup ? 1u : 0u);
+}
+}  // namespace
+
+MapNormalizePass::MapNormalizePass(const vk::Context& ctx, uint32_t features, bool texelFetch,
+                                   bool byGroup)
+    : PassWithPush(ctx, Id::osr_map_normalize, mapDomain(byGroup), features, texelFetch,
+                   {mapLayout(byGroup)}) {}
 
 void MapNormalizePass::record(VkCommandBuffer cmd, const OsrBindings& b, MapChunk maps) const {
   recordMaps(cmd, b, kNoMaps, maps,
@@ -68,18 +78,18 @@ void MapNormalizePass::record(VkCommandBuffer cmd, const OsrBindings& b, MapChun
 
 MapDenoisePass::MapDenoisePass(const vk::Context& ctx, uint32_t features, bool texelFetch,
                                uint32_t denoiser, uint32_t netOutput, bool byGroup)
-    : PassWithPush(ctx, Id::osr_map_denoise, byGroup ? Domain::MapGroups : Domain::Maps, features,
-                   texelFetch,
+    : PassWithPush(ctx, Id::osr_map_denoise, mapDomain(byGroup), features, texelFetch,
                    {vk::specUint(o::kOsrSpecDenoiser, denoiser),
-                    vk::specUint(o::kOsrSpecNetOutput, netOutput),
-                    vk::specUint(o::kOsrSpecMapByGroup, byGroup ? 1u : 0u)}) {}
+                    vk::specUint(o::kOsrSpecNetOutput, netOutput), mapLayout(byGroup)}) {}
 
 void MapDenoisePass::record(VkCommandBuffer cmd, const OsrBindings& b, MapChunk maps) const {
   recordMaps(cmd, b, kNoMaps, maps, [](const OsrWindow& w) { return o::MapDenoisePush{w.mapFirst, w.mapCount}; });
 }
 
-MapProjectPass::MapProjectPass(const vk::Context& ctx, uint32_t features, bool texelFetch)
-    : PassWithPush(ctx, Id::osr_map_project, Domain::Maps, features, texelFetch) {}
+MapProjectPass::MapProjectPass(const vk::Context& ctx, uint32_t features, bool texelFetch,
+                               bool byGroup)
+    : PassWithPush(ctx, Id::osr_map_project, mapDomain(byGroup), features, texelFetch,
+                   {mapLayout(byGroup)}) {}
 
 void MapProjectPass::record(VkCommandBuffer cmd, const OsrBindings& b, MapChunk maps) const {
   recordMaps(cmd, b, kNoMaps, maps,

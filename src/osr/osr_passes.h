@@ -40,16 +40,16 @@ class MapsPass : public PassWithPush<gpu::osr::MapsPush> {
 // The per-map passes after tracing: statistics and network input, clean maps, projections.
 class MapNormalizePass : public PassWithPush<gpu::osr::MapNormalizePush> {
  public:
-  MapNormalizePass(const vk::Context& ctx, uint32_t sceneFeatures, bool sceneTexelFetch);
+  // byGroup: a workgroup per map, else an invocation per map (lib/osr_map_group.glsl).
+  MapNormalizePass(const vk::Context& ctx, uint32_t sceneFeatures, bool sceneTexelFetch,
+                   bool byGroup);
   void record(VkCommandBuffer cmd, const OsrBindings& bindings, MapChunk maps) const;
 };
 
 class MapDenoisePass : public PassWithPush<gpu::osr::MapDenoisePush> {
  public:
   // denoiser: gpu::osr::kDenoiser*; netOutput: how the U-Net's output becomes radiance.
-  // byGroup: a workgroup per map, its invocations sharing the texels (a GPU: one invocation
-  // looping over a map's 3 x 1024 texels left an H200 with 512 slow threads per chunk), else
-  // an invocation per map (lavapipe's SIMD lanes over maps, no barriers).
+  // byGroup: as MapNormalizePass.
   MapDenoisePass(const vk::Context& ctx, uint32_t sceneFeatures, bool sceneTexelFetch,
                  uint32_t denoiser, uint32_t netOutput, bool byGroup);
   void record(VkCommandBuffer cmd, const OsrBindings& bindings, MapChunk maps) const;
@@ -57,7 +57,9 @@ class MapDenoisePass : public PassWithPush<gpu::osr::MapDenoisePush> {
 
 class MapProjectPass : public PassWithPush<gpu::osr::MapProjectPush> {
  public:
-  MapProjectPass(const vk::Context& ctx, uint32_t sceneFeatures, bool sceneTexelFetch);
+  // byGroup: as MapNormalizePass.
+  MapProjectPass(const vk::Context& ctx, uint32_t sceneFeatures, bool sceneTexelFetch,
+                 bool byGroup);
   void record(VkCommandBuffer cmd, const OsrBindings& bindings, MapChunk maps) const;
 };
 

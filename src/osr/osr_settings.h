@@ -72,9 +72,10 @@ struct OsrSettings {
   uint32_t mapCacheMaturePasses = 0;
   uint32_t maxChunkMaps = 512;   // maps traced and denoised per chunk (memory bound)
   bool keepAllMaps = false;      // one chunk for all maps of a pass (for --dump-maps)
-  // osr_map_denoise's layout (MapDenoisePass): a workgroup per map, or an invocation per map;
-  // unset: by group on a GPU, by map on a CPU device.
-  std::optional<bool> mapDenoiseByGroup;
+  // The layout of the passes over whole maps (normalize, denoise, project;
+  // lib/osr_map_group.glsl): a workgroup per map, or an invocation per map; unset: by group
+  // on a GPU, by map on a CPU device.
+  std::optional<bool> mapPassesByGroup;
   // Resolve the film after every submission (a front end that shows it, the viewer); false:
   // only when resolve() downloads it (offline: the resolve's 9 x 9 blend costs about 5% of
   // a 256 x 256 pass on lavapipe).

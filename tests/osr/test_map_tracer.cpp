@@ -64,10 +64,10 @@ struct TracedPass {
 // One OSR pass over cornell at 48 x 48 (r = 8: 36 maps), all maps kept for download.
 oneshot::OsrIntegrator::MapDump onePass(const test::LoadedScene& s, oneshot::Denoiser d,
                                         const std::string& weights = "",
-                                        std::optional<bool> denoiseByGroup = {}) {
+                                        std::optional<bool> byGroup = {}) {
   oneshot::OsrSettings set;
   set.denoiser = d;
-  set.mapDenoiseByGroup = denoiseByGroup;
+  set.mapPassesByGroup = byGroup;
   set.weightsPath = weights;
   set.gridStart = set.gridMin = 8;
   set.keepAllMaps = true;
@@ -86,7 +86,8 @@ void expectClose(const std::vector<float>& a, const float* b, double tol, const 
 }  // namespace
 
 TEST(MapPasses, DenoiseAndProjectMatchCpuTwins) {
-  // Both layouts of osr_map_denoise (an invocation per map, a workgroup per map) on any device.
+  // Both layouts of the map passes (an invocation per map, a workgroup per map) on any device:
+  // normalize's statistics feed the CPU twins, denoise and project are compared with them.
   auto s = test::loadForTest(test::referencePath("cornell/cornell.gltf"));
   for (auto [d, byGroup] : {std::pair{oneshot::Denoiser::None, false},
                             std::pair{oneshot::Denoiser::Blur, false},
