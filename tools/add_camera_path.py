@@ -57,10 +57,10 @@ def local_matrix(node: dict) -> Mat:
         [[0, 0, 0, 1]]
 
 
-def scene_bounds(doc: dict) -> tuple[Vec, Vec]:
-    """World bounds of every mesh of the default scene, from its POSITION accessors' min/max
-    (which glTF requires) at the eight corners, under each node's world transform."""
-    lo, hi = [math.inf] * 3, [-math.inf] * 3
+def mesh_node_bounds(doc: dict) -> dict[int, tuple[Vec, Vec]]:
+    """World bounds of each mesh node of the default scene, from its POSITION accessors'
+    min/max (which glTF requires) at the eight corners, under the node's world transform."""
+    bounds: dict[int, tuple[Vec, Vec]] = {}
     scenes = doc.get("scenes", [])
     roots = scenes[doc.get("scene", 0)]["nodes"] if scenes else range(len(doc.get("nodes", [])))
     stack = [(n, [[float(i == j) for j in range(4)] for i in range(4)]) for n in roots]
@@ -68,6 +68,7 @@ def scene_bounds(doc: dict) -> tuple[Vec, Vec]:
         index, parent = stack.pop()
         node = doc["nodes"][index]
         world = mat_mul(parent, local_matrix(node))
+        lo, hi = [math.inf] * 3, [-math.inf] * 3
         for prim in doc["meshes"][node["mesh"]]["primitives"] if "mesh" in node else []:
             acc = doc["accessors"][prim["attributes"]["POSITION"]]
             if "min" not in acc or "max" not in acc:
@@ -77,10 +78,19 @@ def scene_bounds(doc: dict) -> tuple[Vec, Vec]:
                 w = [sum(world[i][k] * p[k] for k in range(3)) + world[i][3] for i in range(3)]
                 lo = [min(a, b) for a, b in zip(lo, w)]
                 hi = [max(a, b) for a, b in zip(hi, w)]
+        if all(math.isfinite(v) for v in lo + hi):
+            bounds[index] = (tuple(lo), tuple(hi))
         stack += [(c, world) for c in node.get("children", [])]
-    if not all(math.isfinite(v) for v in lo + hi):
+    return bounds
+
+
+def scene_bounds(doc: dict) -> tuple[Vec, Vec]:
+    """World bounds of every mesh of the default scene (mesh_node_bounds)."""
+    boxes = mesh_node_bounds(doc).values()
+    if not boxes:
         raise ValueError("no mesh with POSITION bounds in the default scene")
-    return tuple(lo), tuple(hi)
+    return (tuple(min(b[0][k] for b in boxes) for k in range(3)),
+            tuple(max(b[1][k] for b in boxes) for k in range(3)))
 
 
 def look_rotation(eye: Vec, target: Vec) -> tuple[float, float, float, float]:
@@ -147,11 +157,10 @@ def rebase_uri(uri: str, src_dir: Path, out_dir: Path) -> str:
     return os.path.relpath(src_dir / uri, out_dir).replace(os.sep, "/")
 
 
-def add_camera_path(doc: dict, frames: int, fps: float, orbit: bool, arc: float,
-                    yfov: float) -> dict:
-    lo, hi = scene_bounds(doc)
-    keys = camera_keys(lo, hi, frames, orbit, arc)
-    times = [f / fps for f in range(frames)]
+def add_animation(doc: dict, name: str, times: list[float],
+                  tracks: list[tuple[int, str, list[tuple[float, ...]]]]) -> None:
+    """Appends a glTF animation `name` with one LINEAR channel per (node, path, values) track,
+    every track keyed at `times` (seconds); its data goes into a new embedded buffer."""
     blob = bytearray()
     views: list[dict] = []
     accessors: list[dict] = []
@@ -169,12 +178,23 @@ def add_camera_path(doc: dict, frames: int, fps: float, orbit: bool, arc: float,
         return len(doc.setdefault("accessors", [])) + len(accessors) - 1
 
     t_in = accessor([(t,) for t in times], "SCALAR")
-    t_out = accessor([k[0] for k in keys], "VEC3")
-    r_out = accessor([k[1] for k in keys], "VEC4")
+    outputs = [accessor(values, "VEC%d" % len(values[0])) for _, _, values in tracks]
     doc["buffers"].append({"byteLength": len(blob), "uri": "data:application/octet-stream;base64,"
                            + base64.b64encode(bytes(blob)).decode()})
     doc["bufferViews"] += views
     doc["accessors"] += accessors
+    doc.setdefault("animations", []).append({
+        "name": name,
+        "samplers": [{"input": t_in, "output": out, "interpolation": "LINEAR"} for out in outputs],
+        "channels": [{"sampler": i, "target": {"node": node, "path": path}}
+                     for i, (node, path, _) in enumerate(tracks)]})
+
+
+def add_camera_path(doc: dict, frames: int, fps: float, orbit: bool, arc: float,
+                    yfov: float) -> dict:
+    lo, hi = scene_bounds(doc)
+    keys = camera_keys(lo, hi, frames, orbit, arc)
+    times = [f / fps for f in range(frames)]
     camera = len(doc.setdefault("cameras", []))
     doc["cameras"].append({"type": "perspective", "name": "camera_path",
                            "perspective": {"yfov": yfov, "znear": 0.05}})
@@ -184,12 +204,8 @@ def add_camera_path(doc: dict, frames: int, fps: float, orbit: bool, arc: float,
     if not doc.get("scenes"):
         doc["scenes"], doc["scene"] = [{"nodes": []}], 0
     doc["scenes"][doc.get("scene", 0)]["nodes"].insert(0, node)  # the first camera osr-vk finds
-    doc.setdefault("animations", []).append({
-        "name": "camera_path",
-        "samplers": [{"input": t_in, "output": t_out, "interpolation": "LINEAR"},
-                     {"input": t_in, "output": r_out, "interpolation": "LINEAR"}],
-        "channels": [{"sampler": 0, "target": {"node": node, "path": "translation"}},
-                     {"sampler": 1, "target": {"node": node, "path": "rotation"}}]})
+    add_animation(doc, "camera_path", times, [(node, "translation", [k[0] for k in keys]),
+                                              (node, "rotation", [k[1] for k in keys])])
     return doc
 
 

@@ -59,6 +59,16 @@ class BadNumbers(unittest.TestCase):
             self.refused("add_camera_path.py", [scene, "OUT.gltf", option, value], option)
         self.refused("add_camera_path.py", [scene, "OUT.glb"], ".gltf")
 
+    def test_add_object_path(self):
+        scene = str(ROOT / "tests" / "data" / "scene" / "moving_object.gltf")
+        move = ["--move", "1", "0", "0"]
+        self.refused("add_object_path.py", [scene, "OUT.gltf", "--node", "3", *move, "--frames", "0"],
+                     "--frames")
+        self.refused("add_object_path.py", [scene, "OUT.gltf", "--node", "3", "--move", "nan", "0", "0"],
+                     "--move")
+        self.refused("add_object_path.py", [scene, "OUT.gltf", *move], "--node")
+        self.refused("add_object_path.py", [scene, "OUT.gltf", "--node", "4", *move], "not a mesh node")
+
     def test_eval_maps(self):
         self.refused("eval_maps.py", ["VAL", "--out", "OUT", "--rows", "0"], "argument --rows")
 
@@ -95,6 +105,55 @@ class CameraPath(unittest.TestCase):
             for eye, q in keys:
                 self.assertAlmostEqual(math.sqrt(sum(v * v for v in q)), 1.0, places=6)
                 self.assertTrue(all(a < e < b for a, e, b in zip(lo, eye, hi)), eye)
+
+
+class ObjectPath(unittest.TestCase):
+    """add_object_path.py on the Cornell box: --list names each mesh node; the moved node gets
+    one LINEAR translation channel, a key per frame from its rest place to rest + the move,
+    eased (the first steps shorter than the middle ones)."""
+
+    def test_slide(self):
+        import json
+        scene = ROOT / "scenes" / "cornell" / "cornell.gltf"
+        r = subprocess.run([PY, str(TOOLS / "add_object_path.py"), str(scene), "--list"],
+                           capture_output=True, text=True, timeout=60)
+        self.assertEqual(r.returncode, 0, r.stderr)
+        self.assertIn("7 'short' bounds", r.stdout)
+        with tempfile.TemporaryDirectory() as tmp:
+            out = Path(tmp) / "sub" / "moving.gltf"
+            out.parent.mkdir()
+            r = subprocess.run([PY, str(TOOLS / "add_object_path.py"), str(scene), str(out),
+                                "--node", "7", "--move", "0.2", "0", "-0.1", "--frames", "6"],
+                               capture_output=True, text=True, timeout=60)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            doc = json.loads(out.read_text())
+            anim = doc["animations"][-1]
+            self.assertEqual(anim["channels"], [{"sampler": 0, "target": {"node": 7, "path": "translation"}}])
+            rest = doc["nodes"][7].get("translation", [0, 0, 0])
+            times = doc["accessors"][anim["samplers"][0]["input"]]
+            self.assertEqual((times["count"], times["max"]), (6, [5 / 24]))
+            for b in doc["buffers"]:
+                if not b["uri"].startswith("data:"):
+                    self.assertTrue((out.parent / b["uri"]).is_file(), b["uri"])
+            values = embedded_vec3(doc, anim["samplers"][0]["output"])
+            self.assertEqual(len(values), 6)
+            for got, want in zip(values[0], rest):
+                self.assertAlmostEqual(got, want, places=6)
+            for got, want in zip(values[-1], [a + m for a, m in zip(rest, (0.2, 0, -0.1))]):
+                self.assertAlmostEqual(got, want, places=6)
+            steps = [abs(b[0] - a[0]) for a, b in zip(values, values[1:])]
+            self.assertLess(steps[0], steps[2])
+
+
+def embedded_vec3(doc: dict, accessor: int) -> list[tuple[float, ...]]:
+    """The VEC3 values of an accessor in an embedded (data: URI) buffer."""
+    import base64
+    import struct
+    acc = doc["accessors"][accessor]
+    view = doc["bufferViews"][acc["bufferView"]]
+    data = base64.b64decode(doc["buffers"][view["buffer"]]["uri"].split(",", 1)[1])
+    start = view.get("byteOffset", 0)
+    return [struct.unpack_from("<3f", data, start + 12 * i) for i in range(acc["count"])]
 
 
 class Seeds(unittest.TestCase):
