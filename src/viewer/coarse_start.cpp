@@ -30,6 +30,7 @@ void CoarseStart::restart(const scene::Camera& camera, uint32_t seed, uint32_t w
   ds.maxUnits = std::clamp(f * f / 4, 1u, kMaxSamples);
   ds.batchTargetS = stepTargetS_;
   ds.sliceUnits = true;
+  ds.maxSlices = kMaxSlices;
   if (!driver_) driver_ = std::make_unique<render::ProgressiveDriver>(ctx_, *integrator_, ds);
   driver_->restart(camera, seed);
 }

@@ -25,6 +25,10 @@ class CoarseStart {
   // 4 on the network denoises them, below the filter). Four at 256 x 256 (f = 2) were a full
   // sample's work, and the image 5 s after a move had half the samples it has without them.
   static constexpr uint32_t kMaxSamples = 4;
+  // Slices of a coarse sample at most (the viewer records one a frame). A new coarse film's
+  // first sample is unmeasured, and the driver gives such a unit its most slices: 256 frames,
+  // seconds, for a sample a 512 x 512 view's first whole unit should not wait on.
+  static constexpr uint32_t kMaxSlices = 8;
 
   // `makeIntegrator` must know the mode "path"; `denoise` is what the view applies (inactive:
   // the coarse image is shown raw).
