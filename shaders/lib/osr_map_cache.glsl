@@ -11,12 +11,11 @@ layout(std430, binding = kOsrBindingCacheClean) buffer OsrCacheClean { float gCa
 layout(std430, binding = kOsrBindingCacheClaims) buffer OsrCacheClaims { uint gCacheClaims[]; };
 layout(std430, binding = kOsrBindingCacheRefs) buffer OsrCacheRefs { MapCacheRef gCacheRefs[]; };
 
-// The cell of world point x for a grid of world spacing `spacing`: cubes of side
-// 2^ceil(log2(cellScale x spacing)), so a zoom by less than 2x keeps the cells; with the
-// dominant axis of the normal n (6 buckets), so the two sides of a thin wall never share a map.
-// Never 0 (the empty slot's key).
+// The cell of world point x for a grid of world spacing `spacing` (shared/osr.h
+// mapCacheCellLevel), with the dominant axis of the normal n (6 buckets), so the two sides of
+// a thin wall never share a map. Never 0 (the empty slot's key).
 uint mapCacheKey(vec3 x, vec3 n, float spacing, float cellScale) {
-  int level = int(ceil(log2(max(spacing * cellScale, 1e-20))));
+  int level = mapCacheCellLevel(spacing, cellScale);
   ivec3 c = ivec3(floor(x * exp2(float(-level))));
   vec3 a = abs(n);
   uint axis = a.x >= a.y && a.x >= a.z ? 0u : (a.y >= a.z ? 1u : 2u);

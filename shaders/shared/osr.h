@@ -26,8 +26,10 @@ using glm::abs;
 using glm::dot;
 using glm::max;
 using glm::min;
+using std::ceil;
 using std::exp;
 using std::log;
+using std::log2;
 using bsdf::BsdfParams;
 #endif
 
@@ -151,6 +153,14 @@ OSR_CONST(uint, kMapCacheTrace, 0u);   // traced, not stored (no cache, no slot,
 OSR_CONST(uint, kMapCacheReuse, 1u);   // read from the cache, not traced
 OSR_CONST(uint, kMapCacheRefine, 2u);  // traced and averaged into the cached map it hit
 OSR_CONST(uint, kMapCacheInsert, 3u);  // traced and stored in a free or least recently used slot
+
+// The map cache's cells for a grid of world spacing `spacing`: cubes of side 2^level, level =
+// ceil(log2(cellScale x spacing)), so a zoom by less than 2x keeps the cells. A cached map
+// serves the grid points of its cell (lib/osr_map_cache.glsl keys by level); src/osr/map_cache
+// bounds where those lie when it invalidates the maps near an object that moved.
+OSR_OSR_FN int mapCacheCellLevel(float spacing, float cellScale) {
+  return int(ceil(log2(max(spacing * cellScale, 1e-20f))));
+}
 
 struct MapCacheEntry {
   vec4 position;  // xyz: where the map was first traced; w: the grid spacing it served (world)

@@ -1,6 +1,7 @@
 #include "osr/map_cache.h"
 
 #include <algorithm>
+#include <cmath>
 #include <string>
 
 #include "common/error.h"
@@ -32,6 +33,46 @@ void MapCache::clear(const vk::Context& ctx) {
     vkCmdFillBuffer(cmd, clean.handle(), 0, VK_WHOLE_SIZE, 0u);
     vkCmdFillBuffer(cmd, claims.handle(), 0, VK_WHOLE_SIZE, o::kMapCacheNone);
   });
+}
+
+namespace {
+// Distance from p to the box [lo, hi] (0 inside).
+float distanceToBox(glm::vec3 p, glm::vec3 lo, glm::vec3 hi) {
+  return glm::length(glm::max(glm::max(lo - p, p - hi), glm::vec3(0.0f)));
+}
+}  // namespace
+
+uint32_t MapCache::liveMaps() const {
+  uint32_t live = 0;
+  for (const o::MapCacheEntry& e : entries.downloadVector<o::MapCacheEntry>(slots()))
+    live += e.state.x != 0 && e.state.w == generation_;
+  return live;
+}
+
+MapCache::Invalidated MapCache::invalidateNear(const std::vector<MapCacheRegion>& regions,
+                                               float cellScale) {
+  Invalidated result;
+  std::vector<o::MapCacheEntry> e = entries.downloadVector<o::MapCacheEntry>(slots());
+  bool changed = false;
+  for (o::MapCacheEntry& entry : e) {
+    if (entry.state.x == 0 || entry.state.w != generation_) continue;  // empty or stale
+    const float cell = std::ldexp(1.0f, o::mapCacheCellLevel(entry.position.w, cellScale));
+    const glm::vec3 p(entry.position);
+    const bool near = std::any_of(regions.begin(), regions.end(), [&](const MapCacheRegion& r) {
+      return distanceToBox(p, r.lo, r.hi) <= r.reach + std::sqrt(3.0f) * cell;
+    });
+    if (!near) {
+      ++result.kept;
+      continue;
+    }
+    // Generation 0 is never current (generation_ starts at 1 and only grows): stale for good,
+    // and osr_cache_claim reuses its slot first.
+    entry.state.w = 0;
+    ++result.stale;
+    changed = true;
+  }
+  if (changed) entries.uploadVector(e);
+  return result;
 }
 
 }  // namespace osr::oneshot

@@ -63,8 +63,10 @@ OsrIntegrator::OsrIntegrator(const vk::Context& ctx, const scene::GpuScene& scen
                              const bvh::Bvh& bvh, uint32_t width, uint32_t height,
                              const OsrSettings& settings)
     : ctx_(ctx),
-      scene_(scene),
-      bvh_(bvh),
+      scene_(&scene),
+      bvh_(&bvh),
+      sceneFeatures_(scene.features),
+      sceneTexelFetch_(scene.texelFetch),
       width_(width),
       height_(height),
       settings_(settings),
@@ -91,25 +93,61 @@ OsrIntegrator::OsrIntegrator(const vk::Context& ctx, const scene::GpuScene& scen
   const uint32_t maxMaps = schedule_.maxMaps();
   const uint32_t chunk = settings.keepAllMaps ? maxMaps : settings.maxChunkMaps;
   buffers_ = std::make_unique<OsrBuffers>(ctx, width, height, maxMaps, chunk);
-  bindings_ = OsrBindings{buffers_.get(), &film_, &bvh_, &scene_, cache_.get()};
+  bindings_ = OsrBindings{buffers_.get(), &film_, bvh_, scene_, cache_.get()};
   // Without a cache every point stays traced (OsrBuffers starts them so) and no cache pass runs.
-  gbuffer_.prepare(bvh_);
-  direct_.prepare(bvh_);
-  maps_.prepare(bvh_);
-  normalize_.prepare(bvh_);
-  denoise_.prepare(bvh_);
-  project_.prepare(bvh_);
-  if (settings.mapCacheMaps) {
-    cacheLookup_.prepare(bvh_);
-    cacheClaim_.prepare(bvh_);
-    cacheStore_.prepare(bvh_);
-  }
-  composite_.prepare(bvh_);
-  residual_.prepare(bvh_);
-  resolve_.prepare(bvh_);
+  preparePasses();
 }
 
 OsrIntegrator::~OsrIntegrator() = default;
+
+void OsrIntegrator::preparePasses() {
+  gbuffer_.prepare(*bvh_);
+  direct_.prepare(*bvh_);
+  maps_.prepare(*bvh_);
+  normalize_.prepare(*bvh_);
+  denoise_.prepare(*bvh_);
+  project_.prepare(*bvh_);
+  if (settings_.mapCacheMaps) {
+    cacheLookup_.prepare(*bvh_);
+    cacheClaim_.prepare(*bvh_);
+    cacheStore_.prepare(*bvh_);
+  }
+  composite_.prepare(*bvh_);
+  residual_.prepare(*bvh_);
+  resolve_.prepare(*bvh_);
+}
+
+bool OsrIntegrator::rebind(const scene::GpuScene& scene, const bvh::Bvh& bvh,
+                           const scene::PoseChange& change) {
+  if (scene.features != sceneFeatures_ || scene.texelFetch != sceneTexelFetch_) return false;
+  scene_ = &scene;
+  bvh_ = &bvh;
+  bindings_.scene = scene_;
+  bindings_.bvh = bvh_;
+  preparePasses();  // a BVH of another node format needs its own pipelines
+  invalidateMoved(change);
+  return true;
+}
+
+MapCache::Invalidated OsrIntegrator::invalidateMoved(const scene::PoseChange& change) {
+  if (!settings_.mapCacheMaps) return {};
+  bool lightMoved = change.lightMoved;
+  std::vector<MapCacheRegion> regions;
+  for (const scene::MovedPrimitive& m : change.moved) {
+    lightMoved = lightMoved || m.emissive;
+    for (const auto& [lo, hi] :
+         {std::pair(m.beforeLo, m.beforeHi), std::pair(m.afterLo, m.afterHi)})
+      regions.push_back({lo, hi, settings_.mapCacheMovedReach * glm::length(hi - lo)});
+  }
+  if (lightMoved) {
+    MapCache::Invalidated all;
+    all.stale = cache_->liveMaps();
+    cache_->invalidate();
+    return all;
+  }
+  if (regions.empty()) return {0, cache_->liveMaps()};
+  return cache_->invalidateNear(regions, settings_.mapCacheCellScale);
+}
 
 double OsrIntegrator::unitCost(uint32_t pass) const {
   const GridPass p = schedule_.pass(pass);
@@ -342,10 +380,13 @@ void OsrIntegrator::recordSlice(VkCommandBuffer cmd, uint32_t unit, uint32_t sli
   }
 }
 
+std::vector<o::MapCacheRef> OsrIntegrator::mapCacheRefs() const {
+  return buffers_->mapCacheRefs.downloadVector<o::MapCacheRef>(current_.cellsX * current_.cellsY);
+}
+
 std::array<uint32_t, 4> OsrIntegrator::mapCacheActions() const {
   std::array<uint32_t, 4> counts{};
-  const uint32_t maps = current_.cellsX * current_.cellsY;
-  for (const o::MapCacheRef& r : buffers_->mapCacheRefs.downloadVector<o::MapCacheRef>(maps))
+  for (const o::MapCacheRef& r : mapCacheRefs())
     if (r.action < counts.size()) ++counts[r.action];
   return counts;
 }

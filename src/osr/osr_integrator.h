@@ -12,6 +12,7 @@
 #include "bvh/bvh.h"
 #include "nn_kernels/unet.h"
 #include "osr/grid_schedule.h"
+#include "osr/map_cache.h"
 #include "osr/osr_buffers.h"
 #include "osr/osr_passes.h"
 #include "osr/osr_settings.h"
@@ -27,6 +28,17 @@ class OsrIntegrator : public render::Integrator {
   OsrIntegrator(const vk::Context& ctx, const scene::GpuScene& scene, const bvh::Bvh& bvh,
                 uint32_t width, uint32_t height, const OsrSettings& settings);
   ~OsrIntegrator() override;
+
+  // Renders a rebuilt device scene (a shot's frame that moved meshes or lights) with this
+  // integrator's pipelines, network, buffers and map cache, rather than a new integrator: none
+  // of them depends on the geometry, only the bindings do, so the cache survives the rebuild
+  // without being owned outside (one owner, as without animation) and the frame skips
+  // building the pipelines again (about 2 s on lavapipe). What moved invalidates the cached
+  // maps it may change (invalidateMoved). False, and nothing changes, when `scene` needs
+  // other pass specializations (kSceneFeature* bits or texel fetch that differ: they follow
+  // materials, textures, lights and the environment, which posing never changes).
+  bool rebind(const scene::GpuScene& scene, const bvh::Bvh& bvh,
+              const scene::PoseChange& change) override;
 
   const char* name() const override { return "osr"; }
   const char* unitName() const override { return "passes"; }
@@ -65,8 +77,20 @@ class OsrIntegrator : public render::Integrator {
   // What the map cache did at each grid point of the last map pass (after the last
   // submission): counts by MapCacheRef action (index gpu::osr::kMapCache*).
   std::array<uint32_t, 4> mapCacheActions() const;
+  // The same per grid point, in MapDump::points order.
+  std::vector<gpu::osr::MapCacheRef> mapCacheRefs() const;
   // The cache, when settings().mapCacheMaps > 0 (scene changes call invalidate()).
   MapCache* mapCache() { return settings_.mapCacheMaps ? cache_.get() : nullptr; }
+  // The map cache after a pose change (docs/osr.md "Eviction and invalidation"). A light that
+  // moved (a punctual light, or a primitive that emits) changes the light at every surface it
+  // reaches, and so the maps of every point that sees one of them: all maps are stale. Any
+  // other primitive that moved makes stale the maps within settings().mapCacheMovedReach
+  // times its bounds' diagonal of its bounds before or after (MapCache::invalidateNear): the
+  // maps that see it large, and those on it (their position moved). Past that reach it fills
+  // a small part of a map's hemisphere, which stays as it was: the residual is measured
+  // against whatever maps a pass uses, so a slightly stale map costs variance, not bias.
+  // Returns what the cache did (both 0 without a cache); rebind() calls it.
+  MapCache::Invalidated invalidateMoved(const scene::PoseChange& change);
 
  private:
   using Grid = gpu::osr::MapGrid;
@@ -81,13 +105,16 @@ class OsrIntegrator : public render::Integrator {
   // The steps of pass k in recording order: each pixel pass in `bands` bands, maps in chunks
   // of at most chunkMaps (uses current_, so after beginPass(k)).
   std::vector<Step> stepsOfPass(uint32_t k, uint32_t bands, uint32_t chunkMaps) const;
+  void preparePasses();        // every pipeline for bvh_'s node format, now rather than in a render
   void beginPass(uint32_t k);  // the pass's grid becomes current_
   void recordStep(VkCommandBuffer cmd, uint32_t k, const Step& step, vk::GpuTimer* timer);
   void recordResolve(VkCommandBuffer cmd, uint32_t passesDone, vk::GpuTimer* timer) const;
 
   const vk::Context& ctx_;
-  const scene::GpuScene& scene_;
-  const bvh::Bvh& bvh_;
+  const scene::GpuScene* scene_;  // rebind() replaces them
+  const bvh::Bvh* bvh_;
+  uint32_t sceneFeatures_;  // what the passes are specialised on (scene_'s when made)
+  bool sceneTexelFetch_;
   uint32_t width_, height_;
   OsrSettings settings_;
   mutable GridSchedule schedule_;  // lazily extended by pass()

@@ -28,6 +28,8 @@ struct PassSamples {
 inline constexpr uint32_t kDefaultMapCacheMaps = 4096;
 // OsrSettings::mapCacheMaturePasses of a shot (--frames).
 inline constexpr uint32_t kShotMatureMapPasses = 8;
+// OsrSettings::mapCacheMovedReach (docs/osr.md "Eviction and invalidation").
+inline constexpr float kMapCacheMovedReach = 1.0f;
 
 // Light passes after each restart in the viewer (OsrSettings::quickPasses).
 inline constexpr uint32_t kViewerQuickPasses = 1;
@@ -70,6 +72,9 @@ struct OsrSettings {
   // passes, so without a floor its maps would stay as noisy as one frame's (docs/animation.md
   // "Temporal quality").
   uint32_t mapCacheMaturePasses = 0;
+  // After an object moves (a shot's frame, OsrIntegrator::invalidateMoved), the cached maps
+  // within this many times its bounds' diagonal of its bounds before or after are stale.
+  float mapCacheMovedReach = kMapCacheMovedReach;
   uint32_t maxChunkMaps = 512;   // maps traced and denoised per chunk (memory bound)
   bool keepAllMaps = false;      // one chunk for all maps of a pass (for --dump-maps)
   // The layout of the passes over whole maps (normalize, denoise, project;

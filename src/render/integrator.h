@@ -15,6 +15,13 @@
 #include "scene/scene.h"
 #include "vk/timer.h"
 
+namespace osr::scene {
+class GpuScene;
+}
+namespace osr::bvh {
+struct Bvh;
+}
+
 namespace osr::render {
 
 class Integrator {
@@ -31,6 +38,15 @@ class Integrator {
   // budget in seconds per cost, so units of unequal work (OSR's map passes) do not overrun.
   virtual double unitCost(uint32_t /*unit*/) const { return 1.0; }
 
+  // The device scene was rebuilt after `change` (a shot's frame that moves meshes or lights):
+  // renders `scene` and `bvh` from now on and returns true, keeping what stays valid of its
+  // state (OSR: the map cache, less the maps near what moved); false where it cannot (the
+  // default), and the caller makes a new integrator. Called between submissions, before the
+  // next restart(); the scene it rendered before may be gone already.
+  virtual bool rebind(const scene::GpuScene& /*scene*/, const bvh::Bvh& /*bvh*/,
+                      const scene::PoseChange& /*change*/) {
+    return false;
+  }
   // Starts a new image of `camera` with `seed`: clears the film and every accumulated state.
   // Submits and waits (called between submissions only).
   virtual void restart(const scene::Camera& camera, uint32_t seed) = 0;
