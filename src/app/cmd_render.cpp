@@ -213,10 +213,11 @@ struct Interrupted {
 };
 
 // Offline renders: one image, or a shot's frames. The device scene is built at the first
-// frame's pose for a shot, and again for each frame that moves geometry or lights: integrators
-// bind it, so one is never kept across a rebuild. Otherwise a shot's frames share one
-// integrator: restart() clears every accumulated state, and making one costs seconds of
-// pipeline builds on lavapipe.
+// frame's pose for a shot, and again for each frame that moves geometry or lights. A shot's
+// frames share one integrator: restart() clears every accumulated state, making one costs
+// seconds of pipeline builds on lavapipe, and OSR's map cache carries maps from frame to
+// frame. After a rebuild the integrator renders the new scene where it can rebind to it (OSR,
+// which drops the cached maps near what moved); else it is made again.
 class OfflineRenderer {
  public:
   OfflineRenderer(const RenderOptions& o, const IntegratorSettings& settings, HostScene& host,
@@ -310,11 +311,12 @@ void OfflineRenderer::renderImage(const scene::Camera& camera,
 void OfflineRenderer::renderFrames() {
   auto prepare = [&](const scene::PoseChange& change) {
     // The BVH is rebuilt only when geometry moved; a light that moved needs the new upload too.
-    if (!dev_ || change.geometry || change.lights) {
-      integrator_.reset();  // it binds the old scene
-      dev_.reset();
-      dev_.emplace(ctx_, host_);
-    }
+    if (dev_ && !change.geometry && !change.lights) return;
+    // The old scene goes first (the integrator records nothing until rebound): one device
+    // scene at a time.
+    dev_.reset();
+    dev_.emplace(ctx_, host_);
+    if (integrator_ && !integrator_->rebind(dev_->gpu, dev_->bvh, change)) integrator_.reset();
   };
   renderShot(*o_.frames, host_, o_.quiet, o_.exrPath, o_.pngPath, prepare,
              [&](const scene::Camera& camera, const std::optional<std::string>& exrFile,

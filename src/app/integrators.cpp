@@ -54,6 +54,7 @@ oneshot::OsrSettings osrSettings(const OsrOptions& o) {
   if (o.mapSpp) s.pathsPerTexel = uint32_t(*o.mapSpp);
   if (o.mapShare) s.mapShare = *o.mapShare;
   if (o.mapCache) s.mapCacheMaps = uint32_t(*o.mapCache);
+  if (o.mapCacheReach) s.mapCacheMovedReach = float(*o.mapCacheReach);
   if (s.gridMin > s.gridStart)
     throw InputError("--grid-min: " + std::to_string(s.gridMin) + " is coarser than --grid-start " +
                      std::to_string(s.gridStart));
@@ -118,7 +119,7 @@ std::vector<std::string> integratorNames() {
 
 bool OsrOptions::any() const {
   return passes || denoiser || weights || gridStart || gridMin || directSpp || residualSpp ||
-         residualRamp || mapSpp || mapShare || mapCache;
+         residualRamp || mapSpp || mapShare || mapCache || mapCacheReach;
 }
 
 IntegratorOptions readIntegratorOptions(Args& a) {
@@ -137,6 +138,7 @@ IntegratorOptions readIntegratorOptions(Args& a) {
   o.osr.mapSpp = a.integer("--map-spp", 1, 1 << 16);
   o.osr.mapShare = a.number("--map-share", 0.0, 1.0);
   o.osr.mapCache = a.integer("--map-cache", 0, 1 << 20);
+  o.osr.mapCacheReach = a.number("--map-cache-reach", 0.0, 1e6);
   return o;
 }
 
@@ -148,7 +150,7 @@ IntegratorSettings buildIntegratorSettings(const IntegratorOptions& o) {
   if (!osrMode && o.osr.any())
     throw InputError(
         "render: --passes, --denoiser, --weights, --grid-*, --direct-spp, "
-        "--residual-*, --map-spp, --map-share, --map-cache are options of --mode osr");
+        "--residual-*, --map-spp, --map-share, --map-cache* are options of --mode osr");
   if (osrMode && o.pt.any())
     throw InputError("--spp: --mode osr counts progressive passes; use --passes N");
   const std::optional<long long> units = osrMode ? o.osr.passes : o.pt.spp;

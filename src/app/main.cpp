@@ -68,6 +68,8 @@ constexpr const char* kUsageTail =
     "  --map-share F         largest share of the work map passes may take, 0 to 1 (0.25)\n"
     "  --map-cache N         world-space map cache of N maps (12 KiB each), kept across camera\n"
     "                        moves and frames; 0: none (viewer and --frames 4096, else 0)\n"
+    "  --map-cache-reach K   a shot's frame that moves an object traces again the cached\n"
+    "                        maps within K x its size of it (1; a light that moves: all)\n"
     "  --direct-spp N        direct-light samples per pixel and pass (16, then 4)\n"
     "  --residual-spp N      residual paths per pixel and pass (1, then 4)\n"
     "  --residual-ramp N0    blend the residual in by k / (k + N0) after k passes (default:\n"

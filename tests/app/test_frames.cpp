@@ -1,6 +1,7 @@
 // Animation renders, `osr-vk --frames A-B [--fps N] [--resume]`: frame ranges and file names,
 // a camera-path shot killed mid-way and resumed (the same frames bit for bit as a shot run
-// through), and bad input (one line, exit 2).
+// through), OSR's map cache carried across frames that move an object, and bad input (one
+// line, exit 2).
 #include <gtest/gtest.h>
 #include <signal.h>
 #include <spawn.h>
@@ -190,6 +191,28 @@ TEST(Frames, KilledShotResumesToTheSameFrames) {
     ++others;
   }
   EXPECT_LE(others, 1);
+  fs::remove_all(d);
+}
+
+// A shot whose object moves every frame (moving_object.gltf, frames 0-2 at 24 frames/s) keeps
+// one OSR integrator and its map cache: frame 2 of the shot depends on the frames before it,
+// so it differs from frame 2 rendered alone. Without the cache (--map-cache 0) nothing else is
+// carried: frame 2 of the shot equals frame 2 alone bit for bit.
+TEST(Frames, OsrCarriesItsMapCacheAcrossFramesThatMoveAnObject) {
+  fs::path d = test::tempDir("frames_moving");
+  const std::string scene = test::dataPath("scene/moving_object.gltf");
+  auto frame2 = [&](const std::string& name, const std::string& frames, const std::string& extra) {
+    const std::string pattern = (d / (name + "_#.exr")).string();
+    // A grid of 8 x 8 maps: at 16-pixel spacing the maps' cells would reach the whole room
+    // from the cube, and every map would be invalidated.
+    test::CliResult r = test::runOsrVk(
+        "--quiet --mode osr --passes 2 --width 64 --height 64 --grid-start 8 --grid-min 8 " +
+        extra + " --frames " + frames + " --offline " + pattern + " " + scene);
+    EXPECT_EQ(r.code, 0) << name << "\n" << r.out;
+    return image::readExrRgb(app::framePath(pattern, 2)).rgb;
+  };
+  EXPECT_NE(frame2("shot", "0-2", ""), frame2("alone", "2", ""));
+  EXPECT_EQ(frame2("shot0", "0-2", "--map-cache 0"), frame2("alone0", "2", "--map-cache 0"));
   fs::remove_all(d);
 }
 

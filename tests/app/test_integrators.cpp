@@ -54,7 +54,8 @@ TEST(Integrators, WeightsImplyTheUnetUnlessADenoiserIsGiven) {
 }
 
 TEST(Integrators, AnOptionOfAnotherModeIsRefused) {
-  for (const char* option : {"--passes", "--grid-start", "--direct-spp", "--map-spp", "--map-cache"})
+  for (const char* option : {"--passes", "--grid-start", "--direct-spp", "--map-spp", "--map-cache",
+                             "--map-cache-reach"})
     EXPECT_NE(errorOf({"--mode", "path", option, "2"}).find("are options of --mode osr"),
               std::string::npos)
         << option;
