@@ -1,5 +1,7 @@
 #include "viewer/coarse_start.h"
 
+#include <malloc.h>
+
 #include <algorithm>
 
 namespace osr::viewer {
@@ -21,6 +23,10 @@ void CoarseStart::restart(const scene::Camera& camera, uint32_t seed, uint32_t w
   if (!integrator_ || w != integrator_->film().width() || h != integrator_->film().height()) {
     driver_.reset();
     denoiser_.reset();
+    integrator_.reset();
+    // As the viewer does for its own integrator: the old one's host memory goes back to the
+    // system before the new one is made (a resize makes a new coarse film each time).
+    malloc_trim(0);
     integrator_ = makeIntegrator_("path", w, h).integrator;
   }
   factor_ = f;
