@@ -216,8 +216,8 @@ struct Interrupted {
 // frame's pose for a shot, and again for each frame that moves geometry or lights. A shot's
 // frames share one integrator: restart() clears every accumulated state, making one costs
 // seconds of pipeline builds on lavapipe, and OSR's map cache carries maps from frame to
-// frame. After a rebuild the integrator renders the new scene where it can rebind to it (OSR,
-// which drops the cached maps near what moved); else it is made again.
+// frame. After a rebuild the integrator renders the new scene where it can rebind to it (the path
+// tracer; OSR, which drops the cached maps near what moved); else it is made again.
 class OfflineRenderer {
  public:
   OfflineRenderer(const RenderOptions& o, const IntegratorSettings& settings, HostScene& host,

@@ -17,14 +17,25 @@ PathIntegrator::PathIntegrator(const vk::Context& ctx, const scene::GpuScene& sc
                                const bvh::Bvh& bvh, uint32_t width, uint32_t height, Mode mode,
                                uint32_t pixelFilter)
     : ctx_(ctx),
-      scene_(scene),
-      bvh_(bvh),
+      scene_(&scene),
+      bvh_(&bvh),
+      sceneFeatures_(scene.features),
+      sceneTexelFetch_(scene.texelFetch),
       mode_(mode),
       pixelFilter_(pixelFilter),
       film_(ctx, width, height),
       frame_(ctx, sizeof(gpu::camera::CameraFrame), vk::MemoryUse::DeviceLocal, "pt frame"),
       pass_(ctx, mode, scene.features, scene.texelFetch) {
   pass_.prepare(bvh);
+}
+
+bool PathIntegrator::rebind(const scene::GpuScene& scene, const bvh::Bvh& bvh,
+                            const scene::PoseChange& /*change*/) {
+  if (scene.features != sceneFeatures_ || scene.texelFetch != sceneTexelFetch_) return false;
+  scene_ = &scene;
+  bvh_ = &bvh;
+  pass_.prepare(bvh);  // a BVH of another node format needs its own pipeline
+  return true;
 }
 
 void PathIntegrator::restart(const scene::Camera& camera, uint32_t seed) {
@@ -36,7 +47,7 @@ void PathIntegrator::restart(const scene::Camera& camera, uint32_t seed) {
 void PathIntegrator::record(VkCommandBuffer cmd, uint32_t first, uint32_t count,
                             vk::GpuTimer* timer) {
   vk::TimedScope scope(timer, cmd, "pt_trace");
-  pass_.record(cmd, {&film_, &frame_, &bvh_, &scene_, first, count});
+  pass_.record(cmd, {&film_, &frame_, bvh_, scene_, first, count});
 }
 
 void PathIntegrator::recordSlice(VkCommandBuffer cmd, uint32_t unit, uint32_t slice,
@@ -44,7 +55,7 @@ void PathIntegrator::recordSlice(VkCommandBuffer cmd, uint32_t unit, uint32_t sl
   vk::TimedScope scope(timer, cmd, "pt_trace");
   const uint64_t pixels = film_.pixelCount();
   const auto bound = [&](uint32_t s) { return uint32_t(pixels * s / slices); };
-  pass_.record(cmd, {&film_, &frame_, &bvh_, &scene_, unit, 1, bound(slice),
+  pass_.record(cmd, {&film_, &frame_, bvh_, scene_, unit, 1, bound(slice),
                      bound(slice + 1) - bound(slice)});
 }
 

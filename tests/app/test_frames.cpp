@@ -216,6 +216,25 @@ TEST(Frames, OsrCarriesItsMapCacheAcrossFramesThatMoveAnObject) {
   fs::remove_all(d);
 }
 
+// The path tracer keeps its integrator across such frames too (PathIntegrator::rebind) and
+// carries nothing from frame to frame: frame 2 of the shot equals frame 2 alone bit for bit.
+TEST(Frames, PathTracingRebindsAcrossFramesThatMoveAnObject) {
+  fs::path d = test::tempDir("frames_moving_path");
+  const std::string scene = test::dataPath("scene/moving_object.gltf");
+  auto frame2 = [&](const std::string& name, const std::string& frames) {
+    const std::string pattern = (d / (name + "_#.exr")).string();
+    test::CliResult r = test::runOsrVk("--quiet --mode path --spp 4 --width 48 --height 48 --frames " +
+                                       frames + " --offline " + pattern + " " + scene);
+    EXPECT_EQ(r.code, 0) << name << "\n" << r.out;
+    return image::readExrRgb(app::framePath(pattern, 2)).rgb;
+  };
+  const std::vector<float> shot = frame2("shot", "0-2"), alone = frame2("alone", "2");
+  EXPECT_EQ(shot, alone);
+  // The object moved: frame 0 is another image.
+  EXPECT_NE(image::readExrRgb(app::framePath((d / "shot_#.exr").string(), 0)).rgb, alone);
+  fs::remove_all(d);
+}
+
 TEST(Frames, BadShotsAreOneLineExitTwo) {
   fs::path d = test::tempDir("frames_errors");
   const std::string pattern = (d / "shot_####.exr").string();
