@@ -44,8 +44,6 @@ class CoarseStart {
   bool running() const { return driver_ && active_ && !driver_->finished(); }
   // One submission of coarse samples; returns whether a new complete sample landed.
   bool step();
-  // A complete coarse sample exists since the last restart.
-  bool hasImage() const { return active_ && driver_ && driver_->stats().units > 0; }
   // The coarse film, denoised, upsampled to the view's size into `into`.
   void resolveInto(render::FilmLayers& into);
   uint32_t factor() const { return factor_; }
