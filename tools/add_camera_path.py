@@ -157,6 +157,15 @@ def rebase_uri(uri: str, src_dir: Path, out_dir: Path) -> str:
     return os.path.relpath(src_dir / uri, out_dir).replace(os.sep, "/")
 
 
+def rebase_uris(doc: dict, src: Path, out: Path) -> None:
+    """Makes the relative URIs of `doc`'s buffers and images, read from file `src`, point at the
+    same files from file `out`."""
+    src_dir, out_dir = src.resolve().parent, out.resolve().parent
+    for item in doc.get("buffers", []) + doc.get("images", []):
+        if "uri" in item:
+            item["uri"] = rebase_uri(item["uri"], src_dir, out_dir)
+
+
 def add_animation(doc: dict, name: str, times: list[float],
                   tracks: list[tuple[int, str, list[tuple[float, ...]]]]) -> None:
     """Appends a glTF animation `name` with one LINEAR channel per (node, path, values) track,
@@ -228,11 +237,7 @@ def main(argv: list[str] | None = None) -> int:
     except (OSError, ValueError) as e:
         print(f"add_camera_path.py: {args.input}: {e}", file=sys.stderr)
         return 2
-    out_dir = args.output.resolve().parent
-    src_dir = args.input.resolve().parent
-    for item in doc.get("buffers", []) + doc.get("images", []):
-        if "uri" in item:
-            item["uri"] = rebase_uri(item["uri"], src_dir, out_dir)
+    rebase_uris(doc, args.input, args.output)
     try:
         add_camera_path(doc, args.frames, args.fps, args.orbit, args.arc, args.yfov)
     except (KeyError, IndexError, TypeError, ValueError) as e:

@@ -25,7 +25,7 @@ import sys
 from pathlib import Path
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
-from add_camera_path import add_animation, mesh_node_bounds, rebase_uri  # noqa: E402
+from add_camera_path import add_animation, mesh_node_bounds, rebase_uris  # noqa: E402
 from arg_types import positive_float, positive_int  # noqa: E402
 
 
@@ -79,11 +79,7 @@ def main(argv: list[str] | None = None) -> int:
             print(f"{node} {name!r} bounds ({lo[0]:.3f}, {lo[1]:.3f}, {lo[2]:.3f}) - "
                   f"({hi[0]:.3f}, {hi[1]:.3f}, {hi[2]:.3f})")
         return 0
-    out_dir = args.output.resolve().parent
-    src_dir = args.input.resolve().parent
-    for item in doc.get("buffers", []) + doc.get("images", []):
-        if "uri" in item:
-            item["uri"] = rebase_uri(item["uri"], src_dir, out_dir)
+    rebase_uris(doc, args.input, args.output)
     try:
         add_object_path(doc, args.node, tuple(args.move), args.frames, args.fps)
     except (KeyError, IndexError, TypeError, ValueError) as e:
