@@ -30,7 +30,9 @@ glm::vec3 meanEmission(const Scene& scene, uint32_t i) {
               uc = set1 ? glm::vec2(c.z, c.w) : glm::vec2(c);
     glm::vec2 d1 = ub - ua, d2 = uc - ua;
     float texels = 0.5f * std::abs(d1.x * d2.y - d1.y * d2.x) * float(tex.width) * float(tex.height);
-    n = std::isfinite(texels) ? std::clamp(int(std::ceil(4.0f * std::sqrt(texels))), 1, 16) : 16;
+    // Clamped as a float: a texture of 65536 x 65536 on a large uv triangle gives more texels
+    // than an int holds.
+    n = std::isfinite(texels) ? int(std::clamp(std::ceil(4.0f * std::sqrt(texels)), 1.0f, 16.0f)) : 16;
   }
   // Centroids of the n^2 equal sub-triangles: (row j, column k) upright ones and, between
   // them, the inverted ones.
