@@ -101,8 +101,9 @@ struct AccumPixel {
   vec4 residual;   // rgb: sum w_k (control-variate residual); w: residual samples
   vec4 residualSq;  // rgb: sum w_k R_k^2 (R_k: pass k's residual); w: sum w_k^2 (its passes)
   vec4 albedo;     // first-hit records, as film::FilmPixel; albedo.w: passes
-  vec4 normal;
-  vec4 depth;     // xy as film::FilmPixel; z: passes' share of camera rays that saw light directly
+  vec4 normal;    // w: sum over the direct samples of their luminance squared (osr_direct)
+  vec4 depth;     // xy as film::FilmPixel; z: passes' share of camera rays that saw light
+                  // directly; w: sum over the direct samples of their luminance
 };
 
 // Where one hemisphere map of the pass was taken (osr_maps writes it; MapTracer's host fills

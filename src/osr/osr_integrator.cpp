@@ -331,6 +331,10 @@ void OsrIntegrator::resolveInto(render::FilmLayers& into) const {
     filmBehind_ = false;
   }
   film_.resolve(into);
+  // One sample's worth per pixel in the layers (their variance is the estimate's, osr_resolve),
+  // but the noise of passesDone_ passes, each of 4 or more direct samples and residual paths:
+  // what the denoisers' choice of network or filter goes by (kNetworkMinSamples).
+  into.samples = passesDone_;
 }
 
 void OsrIntegrator::recordSlice(VkCommandBuffer cmd, uint32_t unit, uint32_t slice,

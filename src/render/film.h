@@ -18,7 +18,7 @@ namespace osr::render {
 struct FilmLayers {
   int width = 0;
   int height = 0;
-  uint32_t samples = 0;         // samples per pixel accumulated
+  uint32_t samples = 0;         // samples per pixel accumulated (OSR: its passes)
   uint64_t droppedSamples = 0;  // non-finite path samples discarded (expected 0)
   std::vector<float> combined, direct, indirect, albedo, normal;  // RGB / XYZ
   std::vector<float> depth;  // view-axis distance of the first hit; 0 where no sample hit
