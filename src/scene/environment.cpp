@@ -9,10 +9,14 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 #include <optional>
+#include <vector>
 
 #include "common/error.h"
 #include "common/exr_header.h"
+#include "common/hdr_check.h"
 #include "common/input_file.h"
 
 namespace osr::scene {
@@ -61,9 +65,17 @@ Environment loadEnvironment(const std::string& path) {
       throw InputError(path + ": cannot read OpenEXR image (" + oneLine(e.what()) + ")");
     }
   } else if (ext == ".hdr") {
+    std::ifstream in(path, std::ios::binary);
+    if (!in) throw InputError(path + ": cannot open file");
+    const std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)),
+                                           std::istreambuf_iterator<char>());
+    // stb_image takes an int size.
+    if (bytes.size() >= (size_t(1) << 31)) throw InputError(path + ": larger than 2 GiB, more than osr-vk reads as .hdr");
+    const int size = int(bytes.size());
     int w = 0, h = 0, comp = 0;
-    if (!stbi_is_hdr(path.c_str())) throw InputError(path + ": not a Radiance .hdr image");
-    float* data = stbi_loadf(path.c_str(), &w, &h, &comp, 3);
+    if (!stbi_is_hdr_from_memory(bytes.data(), size)) throw InputError(path + ": not a Radiance .hdr image");
+    if (auto problem = radianceHdrProblem(bytes.data(), bytes.size())) throw InputError(path + ": " + *problem);
+    float* data = stbi_loadf_from_memory(bytes.data(), size, &w, &h, &comp, 3);
     if (!data)
       throw InputError(path + ": cannot read .hdr image (" +
                        std::string(stbi_failure_reason() ? stbi_failure_reason() : "unknown") +

@@ -22,6 +22,7 @@
 #include <set>
 
 #include "common/error.h"
+#include "common/hdr_check.h"
 #include "common/input_file.h"
 #include "scene/emissive.h"
 #include "scene/scene.h"
@@ -79,6 +80,17 @@ bool readRegularFile(std::vector<unsigned char>* out, std::string* err, const st
     return false;
   }
   return tinygltf::ReadWholeFile(out, err, path, userData);
+}
+
+// tinygltf's image decoder (stb_image) after the Radiance .hdr check: stb_image tells formats
+// by content, not by name, and would loop forever on a .hdr with a run of length 0.
+bool loadImageChecked(tinygltf::Image* image, const int index, std::string* err, std::string* warn,
+                      int width, int height, const unsigned char* bytes, int size, void*) {
+  if (auto problem = radianceHdrProblem(bytes, size_t(std::max(size, 0)))) {
+    if (err) *err += "image " + std::to_string(index) + ": " + *problem;
+    return false;
+  }
+  return tinygltf::LoadImageData(image, index, err, warn, width, height, bytes, size, nullptr);
 }
 
 // Extensions whose data the loader uses. Everything else is warned about once and ignored.
@@ -265,6 +277,7 @@ class Loader {
     tinygltf::TinyGLTF gltf;
     gltf.SetFsCallbacks({&fileExists, &tinygltf::ExpandFilePath, &readRegularFile,
                          &tinygltf::WriteWholeFile, nullptr});
+    gltf.SetImageLoader(&loadImageChecked, nullptr);
     std::string err, warn;
     bool ok;
     // Decide by content, not by name: a .glb starts with the magic "glTF".

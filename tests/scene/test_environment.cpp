@@ -8,6 +8,8 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <fstream>
+#include <iterator>
 #include <random>
 
 #include "common/error.h"
@@ -82,6 +84,36 @@ TEST(Environment, BadFiles) {
   // A device was "file not found"; a pipe is refused before it is opened.
   expectInputError("/dev/zero", "not a regular file");
   expectInputError(test::makeFifo("scene_environment", "pipe.hdr"), "not a regular file");
+}
+
+// stb_image's .hdr decoder loops forever on a run-length scanline with a run of length 0, or
+// one cut short by the end of the file (common/hdr_check.h): both are refused before it runs.
+TEST(Environment, HdrThatStbImageWouldNeverFinishIsRefused) {
+  std::vector<float> rgb(16 * 8 * 3, 0.5f);
+  std::string good = temp("rle.hdr");
+  ASSERT_TRUE(stbi_write_hdr(good.c_str(), 16, 8, 3, rgb.data()));  // run-length encoded
+  std::vector<char> bytes;
+  {
+    std::ifstream in(good, std::ios::binary);
+    bytes.assign(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
+  }
+  const std::string text(bytes.begin(), bytes.end());
+  const size_t firstScanline = text.find("+X 16\n") + 6;
+  ASSERT_EQ(bytes.at(firstScanline), 2);
+  auto write = [&](const std::string& name, std::vector<char> b) {
+    std::string path = temp(name);
+    std::ofstream(path, std::ios::binary).write(b.data(), std::streamsize(b.size()));
+    return path;
+  };
+  std::vector<char> zeroRun = bytes;
+  zeroRun.at(firstScanline + 4) = 0;  // the first count of the first channel
+  expectInputError(write("zero_run.hdr", zeroRun), "run of length 0 in scanline 0");
+  std::vector<char> cut(bytes.begin(), bytes.begin() + long(firstScanline) + 40);
+  expectInputError(write("cut.hdr", cut), "truncated Radiance .hdr");
+  // Cut at a scanline's start, stb_image reads the rest as black pixels: loaded, not refused.
+  std::vector<char> atScanline(bytes.begin(), bytes.begin() + long(firstScanline));
+  EXPECT_EQ(scene::loadEnvironment(write("black.hdr", atScanline)).width, 16u);
+  EXPECT_EQ(scene::loadEnvironment(good).height, 8u);
 }
 
 TEST(Environment, CdfTables) {
