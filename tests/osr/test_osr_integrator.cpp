@@ -143,6 +143,44 @@ TEST(GridSchedule, RefinesWeightsDenserPassesAndBoundsTheMapShare) {
   EXPECT_EQ(t.pass(150).mapPass, s.pass(150).mapPass);
 }
 
+// The variance the denoisers read holds the direct light's noise (osr_direct, osr_resolve). In
+// the emissive furnace (every wall emits 1, albedo 0.5) the direct light is the same at every
+// point, so all its spread between two seeds is sampling noise: the mean variance matches it,
+// and it falls with the light samples. Before 8 passes the residual is not blended in, so
+// the direct light is all of the variance.
+TEST(OsrIntegrator, VarianceHoldsTheDirectLightsNoise) {
+  auto s = test::loadForTest(test::writeEmissiveFurnace("osr_variance"));
+  const uint32_t size = 32;
+  auto render = [&](uint32_t lightSamples, uint32_t seed, double* meanVariance) {
+    oneshot::OsrSettings set;
+    set.directSamples = lightSamples;
+    oneshot::OsrIntegrator osr(test::context(), *s.gpu, s.bvh, size, size, set);
+    render::FilmLayers f = test::renderOsrPasses(osr, s, 2, seed);
+    double sum = 0.0;
+    for (float v : f.variance) sum += v;
+    *meanVariance = sum / double(f.variance.size());
+    return f;
+  };
+  double v16, v16b, v4;
+  const render::FilmLayers a = render(16, 1, &v16), b = render(16, 2, &v16b);
+  render(4, 1, &v4);
+  // Half the squared difference of two independent estimates is one's variance.
+  double spread = 0.0;
+  const size_t n = a.variance.size();
+  for (size_t i = 0; i < n; ++i) {
+    const double d = 0.2126 * (a.direct[3 * i] - b.direct[3 * i]) +
+                     0.7152 * (a.direct[3 * i + 1] - b.direct[3 * i + 1]) +
+                     0.0722 * (a.direct[3 * i + 2] - b.direct[3 * i + 2]);
+    spread += 0.5 * d * d / double(n);
+  }
+  std::printf("mean variance %.3g and %.3g (16 light samples), %.3g (4); two seeds' spread %.3g\n",
+              v16, v16b, v4, spread);
+  EXPECT_GT(v16, 0.8 * spread);
+  EXPECT_LT(v16, 1.25 * spread);
+  EXPECT_GT(v4 / v16, 3.0);
+  EXPECT_LT(v4 / v16, 5.3);
+}
+
 TEST(OsrIntegrator, EmissiveFurnaceSplitsDirectAndIndirectExactly) {
   // Closed box, every wall emitting 1 with albedo 0.5: radiance 2 everywhere, of which the
   // direct layer (emission seen + one bounce) holds 1.5 and the indirect 0.5.
