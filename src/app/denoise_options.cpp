@@ -7,14 +7,14 @@ namespace osr::app {
 namespace {
 
 // Each mode's default, the lowest relMSE at equal time measured (docs/denoise.md, "The
-// default"): for path tracing the shipped network (osr_image_kpn_v3), which beats the a-trous
-// filter in 14 of 15 scenes and budgets, with the filter below 4 samples per pixel, where the
-// network is worse (a build without the model: the filter); for OSR the filter (the network
-// is trained on path-traced films); nothing for the preview.
+// default"): for path tracing and OSR the shipped network (osr_image_kpn_v3), which beats the
+// a-trous filter in 14 of 15 scenes and budgets on path tracing and 11 of 13 on OSR, with the
+// filter below 4 samples per pixel (OSR: passes), where the network is worse (a build without
+// the model: the filter); nothing for the preview.
 render::DenoiseSettings modeDefault(const std::string& mode) {
   render::DenoiseSettings s;
   s.atrous = mode == "path" || mode == "osr";
-  if (mode == "path" && render::defaultImageModel()) s.network = render::DenoiseSettings::Network::Default;
+  if (s.atrous && render::defaultImageModel()) s.network = render::DenoiseSettings::Network::Default;
   return s;
 }
 

@@ -154,7 +154,7 @@ TEST(CliErrors, HelpAnywherePrintsTheUsage) {
       {"--help", "--env file.exr|.hdr|none"},
       {"--help", "--grid-start R"},
       {"--help", "--network default|none|FILE"},
-      {"--help", "(default per mode: path default, osr none, preview none)"},
+      {"--help", "(default per mode: path default, osr default, preview none)"},
       {"--help", "(default per mode: path atrous, osr atrous, preview none)"},
       {"--list-devices --help", "usage: osr-vk --list-devices"},
   };
