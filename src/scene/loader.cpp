@@ -2,6 +2,7 @@
 // checks everything tinygltf leaves unchecked (accessor ranges, indices, finite positions,
 // images), applies every node transform and flattens the meshes into world-space triangles.
 #include <tiny_gltf.h>
+#include <stb/stb_image.h>
 
 #include <algorithm>
 #include <cctype>
@@ -82,14 +83,26 @@ bool readRegularFile(std::vector<unsigned char>* out, std::string* err, const st
   return tinygltf::ReadWholeFile(out, err, path, userData);
 }
 
-// tinygltf's image decoder (stb_image) after the Radiance .hdr check: stb_image tells formats
-// by content, not by name, and would loop forever on a .hdr with a run of length 0.
+// The largest texture osr-vk reads: 16384 texels a side (GPUs' usual largest 2D image), which
+// a few bytes of PNG header can claim many times over (a 3.9 KB scene's 1024 x 262144 PNG made
+// stb_image allocate 1 GiB).
+constexpr int kMaxTextureSide = 16384;
+
+// tinygltf's image decoder (stb_image) after two checks: the size the image's header claims,
+// and the Radiance .hdr check (stb_image tells formats by content, not by name, and would loop
+// forever on a .hdr with a run of length 0).
 bool loadImageChecked(tinygltf::Image* image, const int index, std::string* err, std::string* warn,
                       int width, int height, const unsigned char* bytes, int size, void*) {
-  if (auto problem = radianceHdrProblem(bytes, size_t(std::max(size, 0)))) {
-    if (err) *err += "image " + std::to_string(index) + ": " + *problem;
+  auto refuse = [&](const std::string& problem) {
+    if (err) *err += "image " + std::to_string(index) + ": " + problem;
     return false;
-  }
+  };
+  if (auto problem = radianceHdrProblem(bytes, size_t(std::max(size, 0)))) return refuse(*problem);
+  int w = 0, h = 0, comps = 0;
+  if (stbi_info_from_memory(bytes, size, &w, &h, &comps) &&
+      (w > kMaxTextureSide || h > kMaxTextureSide))
+    return refuse(std::to_string(w) + " x " + std::to_string(h) + " texels, more than osr-vk reads (" +
+                  std::to_string(kMaxTextureSide) + " a side)");
   return tinygltf::LoadImageData(image, index, err, warn, width, height, bytes, size, nullptr);
 }
 

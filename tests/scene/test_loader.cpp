@@ -701,3 +701,33 @@ TEST(LoaderBadInput, RandomMutationsNeverCrash) {
     loadOrInputError(tempFile("mutated.glb", bytes), "glb mutation " + std::to_string(iteration));
   }
 }
+
+// An image whose header claims more texels than osr-vk reads (a 1024 x 262144 PNG made
+// stb_image allocate 1 GiB), and a Radiance .hdr that stb_image would decode forever (it tells
+// formats by content, so a .hdr named .png reaches it): refused, naming the image.
+TEST(LoaderBadInput, ImagesTooLargeOrThatNeverFinishDecoding) {
+  const std::filesystem::path dir = test::tempDir("scene_loader_images");
+  std::filesystem::copy_file(data("textured.gltf"), dir / "textured.gltf",
+                             std::filesystem::copy_options::overwrite_existing);
+  const std::string png = (dir / "checker.png").string();
+  std::vector<unsigned char> header = readFile(data("checker.png"));
+  ASSERT_GT(header.size(), 24u);
+  // IHDR: width and height, big-endian, at bytes 16-23 (stb_image does not check the CRC).
+  const unsigned char tall[8] = {0, 0, 4, 0, 0, 4, 0, 0};
+  std::copy(tall, tall + 8, header.begin() + 16);
+  {
+    std::FILE* f = std::fopen(png.c_str(), "wb");
+    std::fwrite(header.data(), 1, header.size(), f);
+    std::fclose(f);
+  }
+  expectInputError((dir / "textured.gltf").string(), "image 0: 1024 x 262144 texels, more than osr-vk reads");
+  // A run-length scanline whose first count is 0.
+  std::string hdr = "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 2 +X 8\n";
+  hdr += std::string("\x02\x02\x00\x08\x00", 5);
+  {
+    std::FILE* f = std::fopen(png.c_str(), "wb");
+    std::fwrite(hdr.data(), 1, hdr.size(), f);
+    std::fclose(f);
+  }
+  expectInputError((dir / "textured.gltf").string(), "image 0: corrupt Radiance .hdr (a run of length 0");
+}
