@@ -7,10 +7,13 @@
 #include <optional>
 #include <string>
 
+#include "common/exr_header.h"
+
 namespace osr {
 
 // Why stb_image would not finish decoding these bytes as a Radiance .hdr, or nothing (also for
-// bytes that are not one, and for a file stb_image refuses by itself). Debian's stb_image
+// bytes that are not one, and for a file stb_image refuses by itself): more pixels than
+// osr-vk reads, or a scanline it would loop on. Debian's stb_image
 // (2.27) reads a run-length scanline until it has `width` values per channel, and a run or dump
 // of length 0 adds none: a zero byte there, or the end of a truncated file (which reads as
 // zeros), makes it loop forever. This walks the scanlines as stbi__hdr_load does.
@@ -33,8 +36,11 @@ inline std::optional<std::string> radianceHdrProblem(const unsigned char* data, 
   while (*end == ' ') ++end;
   if (std::strncmp(end, "+X ", 3) != 0) return std::nullopt;
   const long width = std::strtol(end + 3, nullptr, 10);
+  if (width <= 0 || height <= 0) return std::nullopt;  // stb_image refuses it
+  // The OpenEXR readers' bound: a 138-byte file claiming 5555555 x 8 pixels took over 10 s.
+  if (auto problem = exrDataWindowProblem(width, height)) return problem;
   // stb_image reads other widths, and scanlines that do not start 2 2, pixel by pixel.
-  if (width < 8 || width >= 32768 || height <= 0 || height > (1 << 24)) return std::nullopt;
+  if (width < 8 || width >= 32768) return std::nullopt;
   auto next = [&]() -> unsigned { return at < size ? data[at++] : 0u; };
   for (long y = 0; y < height; ++y) {
     const unsigned c1 = next(), c2 = next(), high = next();

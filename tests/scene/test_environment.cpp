@@ -114,6 +114,9 @@ TEST(Environment, HdrThatStbImageWouldNeverFinishIsRefused) {
   std::vector<char> atScanline(bytes.begin(), bytes.begin() + long(firstScanline));
   EXPECT_EQ(scene::loadEnvironment(write("black.hdr", atScanline)).width, 16u);
   EXPECT_EQ(scene::loadEnvironment(good).height, 8u);
+  // A header claiming 5555555 x 8 pixels, read pixel by pixel (over 10 s under ASan).
+  const std::string wide = "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 8 +X 5555555\n";
+  expectInputError(write("wide.hdr", {wide.begin(), wide.end()}), "5555555 x 8 pixels, more than osr-vk reads");
 }
 
 TEST(Environment, CdfTables) {
