@@ -7,10 +7,29 @@
 
 namespace osr {
 
-// The user's input is wrong: a file, a flag, a value. Exit code 2.
+// `text` with its control characters written as escapes (\r, \n, \t, \xNN), so that a message
+// quoting what the user gave stays one printable line: an argument from a script saved with
+// CRLF line ends ends in '\r', which would send the rest of the line back over its start.
+inline std::string escapeControls(const std::string& text) {
+  static const char kHex[] = "0123456789abcdef";
+  std::string out;
+  for (char c : text) {
+    const unsigned char u = static_cast<unsigned char>(c);
+    if (c == '\r') out += "\\r";
+    else if (c == '\n') out += "\\n";
+    else if (c == '\t') out += "\\t";
+    else if (u < 0x20 || u == 0x7f) out += std::string("\\x") + kHex[u >> 4] + kHex[u & 15];
+    else out += c;
+  }
+  return out;
+}
+
+// The user's input is wrong: a file, a flag, a value. Exit code 2. The message is one line
+// whatever it quotes (escapeControls).
 class InputError : public std::runtime_error {
  public:
-  using std::runtime_error::runtime_error;
+  explicit InputError(const std::string& what) : std::runtime_error(escapeControls(what)) {}
+  explicit InputError(const char* what) : InputError(std::string(what)) {}
 };
 
 // The Vulkan device or driver failed, or a device limit was exceeded. Exit code 1.

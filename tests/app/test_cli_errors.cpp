@@ -96,6 +96,14 @@ TEST(CliErrors, UnknownOptionExitsTwo) {
   EXPECT_EQ(r.err.find('\n'), r.err.size() - 1) << r.err;
 }
 
+// A script saved with CRLF line ends passes its last argument with a '\r': the message quotes
+// it as an escape, one line that the terminal does not overwrite from its start.
+TEST(CliErrors, ControlCharactersInAnArgumentAreEscaped) {
+  Outcome r = runOsr("--spp \"$(printf '4\\r')\" " + osr::test::referencePath("cornell/cornell.gltf"));
+  expectOneLine(r, "osr-vk: render: option --spp expects an integer, got '4\\r'");
+  EXPECT_EQ(r.err.find('\r'), std::string::npos) << r.err;
+}
+
 // --camera and --env reach the scene code once the render command takes them.
 TEST(CliErrors, BadCameraAndEnvironment) {
   std::string cornell = osr::test::referencePath("cornell/cornell.gltf");
