@@ -19,11 +19,21 @@ namespace osr {
 // zeros), makes it loop forever. This walks the scanlines as stbi__hdr_load does.
 inline std::optional<std::string> radianceHdrProblem(const unsigned char* data, size_t size) {
   size_t at = 0;
+  auto next = [&]() -> unsigned { return at < size ? data[at++] : 0u; };
+  // stbi__hdr_gettoken: up to a newline (a line's last byte at the end of the file is dropped),
+  // at most 1023 characters, read as a C string (a NUL ends it: a line that starts with one is
+  // the empty line that ends the header).
   auto line = [&] {
     std::string text;
-    while (at < size && data[at] != '\n') text += char(data[at++]);
-    if (at < size) ++at;
-    return text;
+    for (unsigned c = next(); at < size && c != '\n'; c = next()) {
+      text += char(c);
+      if (text.size() == 1023) {
+        while (at < size && next() != '\n') {
+        }
+        break;
+      }
+    }
+    return text.substr(0, text.find('\0'));
   };
   const std::string magic = line();
   if (magic != "#?RADIANCE" && magic != "#?RGBE") return std::nullopt;
@@ -41,7 +51,6 @@ inline std::optional<std::string> radianceHdrProblem(const unsigned char* data, 
   if (auto problem = exrDataWindowProblem(width, height)) return problem;
   // stb_image reads other widths, and scanlines that do not start 2 2, pixel by pixel.
   if (width < 8 || width >= 32768) return std::nullopt;
-  auto next = [&]() -> unsigned { return at < size ? data[at++] : 0u; };
   for (long y = 0; y < height; ++y) {
     const unsigned c1 = next(), c2 = next(), high = next();
     if (c1 != 2 || c2 != 2 || (high & 0x80) != 0) return std::nullopt;

@@ -114,6 +114,10 @@ TEST(Environment, HdrThatStbImageWouldNeverFinishIsRefused) {
   std::vector<char> atScanline(bytes.begin(), bytes.begin() + long(firstScanline));
   EXPECT_EQ(scene::loadEnvironment(write("black.hdr", atScanline)).width, 16u);
   EXPECT_EQ(scene::loadEnvironment(good).height, 8u);
+  // stb_image reads header lines as C strings: one that starts with a NUL ends the header.
+  std::string nulLine = "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n";
+  nulLine += std::string("\0junk\n", 6) + "-Y 8 +X 16\n" + std::string("\x02\x02\x00\x10\x00", 5);
+  expectInputError(write("nul_line.hdr", {nulLine.begin(), nulLine.end()}), "run of length 0");
   // A header claiming 5555555 x 8 pixels, read pixel by pixel (over 10 s under ASan).
   const std::string wide = "#?RADIANCE\nFORMAT=32-bit_rle_rgbe\n\n-Y 8 +X 5555555\n";
   expectInputError(write("wide.hdr", {wide.begin(), wide.end()}), "5555555 x 8 pixels, more than osr-vk reads");
