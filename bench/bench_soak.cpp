@@ -157,6 +157,9 @@ int runSoak(const std::vector<std::string>& args) {
   const double first = perCycle.empty() ? 0.0 : double(perCycle.front());
   const double last = perCycle.empty() ? 0.0 : double(perCycle.back());
   const double growthPct = first > 0.0 ? 100.0 * (last - first) / first : 0.0;
+  // Each cycle's sample, so that a trend (a leak) shows apart from a step (a cache filled once).
+  std::vector<long long> cycleMib;
+  for (long kib : perCycle) cycleMib.push_back((kib + 512) / 1024);
 
   const std::string err = slurp(errFile);
   const size_t validation = countOf(err, "osr-vk: validation");
@@ -192,6 +195,7 @@ int runSoak(const std::vector<std::string>& args) {
       .num("rss_growth_after_1min_pct", growthPct)
       .integer("rss_samples", static_cast<long long>(samples.size()))
       .integer("rss_cycle_samples", static_cast<long long>(perCycle.size()))
+      .integers("rss_per_cycle_mib", cycleMib)
       .str("result", pass ? "pass" : "fail")
       .print();
   if (!pass) {

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdio>
 #include <string>
+#include <vector>
 
 namespace osr::bench {
 
@@ -31,6 +32,11 @@ class JsonLine {
     return raw(key, buf);
   }
   JsonLine& integer(const char* key, long long value) { return raw(key, std::to_string(value)); }
+  JsonLine& integers(const char* key, const std::vector<long long>& values) {
+    std::string list = "[";
+    for (size_t i = 0; i < values.size(); ++i) list += (i ? ", " : "") + std::to_string(values[i]);
+    return raw(key, list + "]");
+  }
   void print() const {
     std::printf("{%s}\n", body_.c_str());
     std::fflush(stdout);
