@@ -51,6 +51,10 @@ constexpr double kResolveIntervalS = 0.25;
 // denoiser's own last run, so denoising takes at most a fifth of the time between images:
 // the a-trous filter (0.1 s at 256 x 256 on lavapipe) every 0.5 s, the network about every 1.5 s.
 constexpr double kDenoiseCostShare = 5.0;
+// ... or sooner, once the units have doubled since the shown image: early after a move each
+// doubling halves the noise, which is worth the denoiser's time, and there are few of them
+// (1, 2, 4, 8, ... units: at most a handful in the first seconds).
+constexpr uint32_t kDenoiseUnitGrowth = 2;
 // Submissions this long keep the window above 20 redraws a second with the UI's own work.
 constexpr double kStepTargetS = 0.015;
 
@@ -288,10 +292,12 @@ void Viewer::refreshImage() {
       (moveTime_ && !firstMoveShown_) || (p.units >= 1 && shownUnits_ == 0) || coarseShown_;
   if (!first && !driver_->finished() && secondsSince(lastResolve_) < kResolveIntervalS) return;
   // Denoised progressively, after each new complete unit as long as the denoiser's time stays
-  // a small share of the render's (the network costs about a unit's time on lavapipe).
+  // a small share of the render's (the network costs about a unit's time on lavapipe), or
+  // once the units doubled.
   if (config_.denoise.active() && !first && !driver_->finished() &&
       (p.units <= shownUnits_ ||
-       (denoiser_ && secondsSince(lastResolve_) < kDenoiseCostShare * denoiser_->lastSeconds())))
+       (denoiser_ && secondsSince(lastResolve_) < kDenoiseCostShare * denoiser_->lastSeconds() &&
+        p.units < kDenoiseUnitGrowth * shownUnits_)))
     return;
   // Into the same layers each time: a new set per resolve (25 MiB at 512 x 512, many a
   // second) left the heap fragmented over a long session (docs/benchmarks.md, "soak").
