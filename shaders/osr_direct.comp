@@ -20,7 +20,6 @@ void main() {
   GBufferPixel g = gGBuffer[local];
   vec3 sum = vec3(0.0);
   float sumLum = 0.0, sumLumSq = 0.0;  // over the samples, of lum(throughput x sample) and its square
-  const vec3 lumWeights = vec3(0.2126, 0.7152, 0.0722);
   if (g.position.w > 0.5) {
     ShadingPoint sp = gbufferShadingPoint(g);
     Rng rng = pixelRng(gPush.pass, pixel, kSaltDirect);
@@ -45,7 +44,7 @@ void main() {
         }
       }
       sum += value;
-      float lum = dot(g.throughput.rgb * value, lumWeights);
+      float lum = luminance(g.throughput.rgb * value);
       sumLum += lum;
       sumLumSq += lum * lum;
     }
