@@ -55,6 +55,11 @@ constexpr double kDenoiseCostShare = 5.0;
 // doubling halves the noise, which is worth the denoiser's time, and there are few of them
 // (1, 2, 4, 8, ... units: at most a handful in the first seconds).
 constexpr uint32_t kDenoiseUnitGrowth = 2;
+// Freed heap memory goes back to the system this often. The heap otherwise keeps what the
+// viewer's many short-lived blocks (validation-layer and driver bookkeeping, resolves) freed:
+// a loaded 4-minute soak held 250 MB in use in a 480 MB heap, and how much of the free part
+// stayed resident depended on timing (docs/benchmarks.md, "soak").
+constexpr double kHeapTrimIntervalS = 2.0;
 // Submissions this long keep the window above 20 redraws a second with the UI's own work.
 constexpr double kStepTargetS = 0.015;
 
@@ -138,6 +143,8 @@ class Viewer {
   bool shownFinal_ = false;  // the image of a finished render
   bool filmChanged_ = false;
   Clock::time_point lastResolve_;
+  Clock::time_point lastHeapTrim_ = Clock::now();
+  double heapTrimMsMax_ = 0.0;  // the longest malloc_trim, in the stats line
   // --network / --filter: the shown film is denoised (paced by kDenoiseCostShare).
   std::unique_ptr<render::Denoiser> denoiser_;
   render::Layer layer_ = render::Layer::Combined;
@@ -564,14 +571,14 @@ void Viewer::printStats() const {
       "\"frame_ms_p50\": %s, \"frame_ms_p95\": %s, \"frame_ms_max\": %s, "
       "\"camera_moves\": %zu, \"move_to_image_ms_p50\": %s, \"move_to_image_ms_max\": %s, "
       "\"complete_images\": %zu, \"move_to_complete_image_ms_p50\": %s, "
-      "\"move_to_complete_image_ms_max\": %s}\n",
+      "\"move_to_complete_image_ms_max\": %s, \"heap_trim_ms_max\": %.1f}\n",
       ctx_.caps().deviceName.c_str(), config_.scenePath.c_str(), mode_.c_str(), renderWidth_,
       renderHeight_, restarts_, shownUnits_, f.size(),
       pacing_.renderingS > 0 ? double(f.size()) / pacing_.renderingS : 0.0, pct(f, 0.5).c_str(),
       pct(f, 0.95).c_str(), pct(f, 1.0).c_str(), pacing_.moveToImageMs.size(),
       pct(pacing_.moveToImageMs, 0.5).c_str(), pct(pacing_.moveToImageMs, 1.0).c_str(),
       pacing_.moveToCompleteMs.size(), pct(pacing_.moveToCompleteMs, 0.5).c_str(),
-      pct(pacing_.moveToCompleteMs, 1.0).c_str());
+      pct(pacing_.moveToCompleteMs, 1.0).c_str(), heapTrimMsMax_);
   std::fflush(stdout);
 }
 
@@ -606,6 +613,12 @@ int Viewer::run() {
     stepRender();
     lastRendering = rendering();
     refreshImage();
+    if (secondsSince(lastHeapTrim_) >= kHeapTrimIntervalS) {
+      const Clock::time_point t = Clock::now();
+      malloc_trim(0);
+      lastHeapTrim_ = Clock::now();
+      heapTrimMsMax_ = std::max(heapTrimMsMax_, 1000.0 * secondsSince(t));
+    }
 
     uint8_t* pixels = presenter_.beginFrame();
     if (!pixels) {
