@@ -8,6 +8,9 @@
 //   path       the path tracer for osr+cache's mean CPU seconds per frame (equal time)
 //   path+atrous the same with the a-trous filter on each frame, its time included
 //   path+network the same with the default learned denoiser (osr-vk --frames' default)
+//   osr+network, osr+cache+network  the two OSR sequences with the default learned denoiser
+//              on each frame (osr's default), its time included: whether the cache pays once
+//              the direct light's noise, most of OSR's error at a few passes, is denoised
 // and, per sequence: seconds per frame (wall and this process's CPU time: on shared cores the
 // wall time of a frame moves with the others' load, the CPU time it took much less), relMSE on the reference frames, and flicker
 // (render/flicker.h) between consecutive reference frames, measured on the pixels that the
@@ -345,6 +348,16 @@ int runAnimation(const std::vector<std::string>& args) {
     render::DenoiseSettings networkSettings = filterSettings;
     networkSettings.network = render::DenoiseSettings::Network::Default;
     denoisedPath("path+network", networkSettings);
+    render::Denoiser osrDenoiser(ctx, networkSettings, size, size);
+    app::IntegratorSettings osrSettings = settings;
+    osrSettings.osr.mapCacheMaps = 0;
+    auto osr = app::makeIntegrator(onDevice, osrSettings, "osr", size, size);
+    sequences.push_back(runSequence("osr+network", *osr, passes, &osrDenoiser));
+    app::IntegratorSettings cacheSettings = settings;
+    cacheSettings.osr.mapCacheMaps = cacheMaps;
+    cacheSettings.osr.mapCacheMaturePasses = maturePasses;
+    auto cached = app::makeIntegrator(onDevice, cacheSettings, "osr", size, size);
+    sequences.push_back(runSequence("osr+cache+network", *cached, cachePasses, &osrDenoiser));
   }
 
   // Verification: a render whose mean is far from its reference's is broken, not noisy.
@@ -373,7 +386,7 @@ int runAnimation(const std::vector<std::string>& args) {
   };
   double pairedShare = 0.0;
   for (const auto& [f, pp] : pairs) pairedShare += double(pp.size()) / (double(size) * size * pairs.size());
-  std::map<std::string, double> flickers;
+  std::map<std::string, double> flickers, relMeans;
   for (const Sequence& s : sequences) {
     const bool isPath = s.name.rfind("path", 0) == 0;
     double relSum = 0.0;
@@ -400,6 +413,7 @@ int runAnimation(const std::vector<std::string>& args) {
       units += s.frames[i].units;
       for (int k = 0; k < 4; ++k) actions[k] += s.frames[i].cacheActions[k];
     }
+    relMeans[s.name] = relSum;
     flickers[s.name] = flickerOf([&](int f) -> const std::vector<float>& { return s.frames[f - frames.first].rgb; });
     line(s.name).integer("frames", frames.count()).num("seconds_per_frame", s.meanSeconds)
         .num("seconds_per_frame_after_first", warm).num("cpu_seconds_per_frame", s.meanCpuSeconds)
@@ -423,6 +437,18 @@ int runAnimation(const std::vector<std::string>& args) {
       .num("path_atrous_flicker_over_path", flickers["path+atrous"] / flickers["path"]);
   if (flickers.count("path+network"))
     summary.num("path_network_flicker_over_path", flickers["path+network"] / flickers["path"]);
+  // The cache's question once denoised: half the passes, and what that costs in error.
+  const auto named = [&](const std::string& name) -> const Sequence* {
+    for (const Sequence& s : sequences)
+      if (s.name == name) return &s;
+    return nullptr;
+  };
+  if (const Sequence *plain = named("osr+network"), *cached = named("osr+cache+network");
+      plain && cached)
+    summary.num("cache_network_cpu_seconds_ratio", cached->meanCpuSeconds / plain->meanCpuSeconds)
+        .num("cache_network_relmse_ratio", relMeans[cached->name] / relMeans[plain->name])
+        .num("cache_network_flicker_over_path_network",
+             flickers["osr+cache+network"] / flickers["path+network"]);
   summary.integer("passes", passes).integer("cache_passes", cachePasses).integer("map_cache", cacheMaps)
       .integer("mature_passes", maturePasses)
       .str("device", ctx.caps().deviceName).print();

@@ -12,6 +12,7 @@
 #include <sstream>
 
 #include "app/args.h"
+#include "bench/bench_scene.h"
 #include "bench/benchmarks.h"
 #include "bench/json.h"
 #include "bvh/bvh.h"
@@ -54,26 +55,13 @@ double denoiseSeconds(render::Denoiser& d, const render::FilmLayers& film) {
 
 int runDenoise(const std::vector<std::string>& args) {
   app::Args a(args, "denoise");
-  const std::string sceneArg = a.value("--scene").value_or("cornell");
-  auto referenceArg = a.value("--reference");
+  const SceneArgs sceneArgs = readSceneArgs(a);
   const uint32_t size = uint32_t(a.integer("--size", 8, 4096).value_or(256));
   auto budgets = a.integerList("--budgets", 1, 3600).value_or(std::vector<long long>{5, 10, 30});
   const std::string network = a.value("--network").value_or("default");
-  const auto envArg = a.value("--env");  // generated interiors light through their windows
-  const std::string cameraArg = a.value("--camera").value_or("");
   const std::optional<std::string> rowsArg = a.value("--rows");
   a.finish();
-  const bool named = sceneArg == "cornell" || sceneArg == "room";
-  const std::string dir = std::string(OSR_SOURCE_DIR) + "/scenes/" + sceneArg + "/";
-  const std::string scenePath = named ? dir + sceneArg + ".gltf" : sceneArg;
-  if (!named && !referenceArg)
-    throw InputError("--scene " + sceneArg + ": a scene other than cornell or room needs --reference FILE.exr");
-  const std::string refPath = referenceArg.value_or(dir + sceneArg + "_cycles_4096spp.exr");
-  image::RgbImage ref = image::readExrRgb(refPath);
-  if (ref.width != int(size) || ref.height != int(size))
-    throw InputError("--reference " + refPath + ": " + std::to_string(ref.width) + "x" +
-                     std::to_string(ref.height) + ", the render is " + std::to_string(size) + "x" +
-                     std::to_string(size) + " (--size)");
+  const std::string& sceneArg = sceneArgs.name;
   render::DenoiseSettings netSettings, filterSettings;
   filterSettings.atrous = true;
   if (network == "default") {
@@ -84,16 +72,13 @@ int runDenoise(const std::vector<std::string>& args) {
   }
 
   vk::Context ctx;
-  scene::Scene sc = scene::loadScene(scenePath);
-  scene::Camera cam = scene::selectCamera(sc, cameraArg, 1.f);
-  std::optional<scene::Environment> env;
-  if (envArg) env = scene::loadEnvironment(*envArg);
-  scene::GpuScene gs(ctx, sc, env ? &*env : nullptr);
-  bvh::Bvh tree = bvh::buildGpu(ctx, gs.vertices, gs.triangles, gs.triangleCount);
+  const BenchScene bs(ctx, sceneArgs, size);
+  const scene::Camera& cam = bs.camera;
+  const image::RgbImage& ref = bs.reference;
   oneshot::OsrSettings osrSettings;
   osrSettings.resolveEverySubmission = false;  // as --offline
-  oneshot::OsrIntegrator osr(ctx, gs, tree, size, size, osrSettings);
-  pt::PathIntegrator path(ctx, gs, tree, size, size, pt::Mode::Path);
+  oneshot::OsrIntegrator osr(ctx, *bs.gpu, *bs.bvh, size, size, osrSettings);
+  pt::PathIntegrator path(ctx, *bs.gpu, *bs.bvh, size, size, pt::Mode::Path);
   render::Denoiser filter(ctx, filterSettings, size, size);
   std::unique_ptr<render::Denoiser> net;
   if (netSettings.network != render::DenoiseSettings::Network::None)

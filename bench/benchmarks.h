@@ -102,6 +102,22 @@ inline constexpr char kDenoiseUsage[] =
     "  --rows LIST        the rows to run, comma-separated, of path, path+atrous, osr,\n"
     "                     osr+atrous, path+network, osr+network (default: all)";
 int runDenoise(const std::vector<std::string>& args);  // denoisers at equal time
+inline constexpr char kOsrErrorSummary[] =
+    "where OSR's error is: direct, maps' and residual noise and bias, over seeds";
+inline constexpr char kOsrErrorUsage[] =
+    "osr-bench osr-error [--scene cornell|room|FILE.gltf] [--reference FILE.exr] [--env FILE]\n"
+    "                    [--camera NAME] [--size N] [--budgets 5,10,30,60] [--seeds N]\n"
+    "                    [--map-spp K] [--network default|none|FILE]\n"
+    "  --scene, --reference, --env, --camera  as osr-bench denoise\n"
+    "  --size N           image width and height, 8 to 4096 (default 256)\n"
+    "  --budgets LIST     seconds, each 1 to 3600: OSR's passes in each (seed 1) are the passes\n"
+    "                     every seed then makes (default 5,10,30,60)\n"
+    "  --seeds N          renders per budget whose spread is the noise, 2 to 64 (default 4)\n"
+    "  --map-spp K        paths per map texel of the renders that find the maps' noise, 2 to\n"
+    "                     1024 (default 4)\n"
+    "  --network NAME     the image denoiser whose output is split too: default, none or a\n"
+    "                     packed file (default: default)";
+int runOsrError(const std::vector<std::string>& args);  // OSR's error split by source
 inline constexpr char kSoakSummary[] =
     "the viewer scripted for 20 minutes under Xvfb: memory growth, validation, saved files";
 inline constexpr char kSoakUsage[] =

@@ -26,7 +26,7 @@ struct Benchmark {
   const char* summary;
   const char* usage;
   int (*run)(const std::vector<std::string>&);
-  bool inAll = true;  // run by `osr-bench all` (not the 20-minute soak, not animation)
+  bool inAll = true;  // run by `osr-bench all` (not the soak, animation or osr-error: long)
 };
 const Benchmark kBenchmarks[] = {
     {"fill", osr::bench::kFillSummary, osr::bench::kFillUsage, osr::bench::runFill},
@@ -36,6 +36,8 @@ const Benchmark kBenchmarks[] = {
     {"unet", osr::bench::kUnetSummary, osr::bench::kUnetUsage, osr::bench::runUnet},
     {"osr", osr::bench::kOsrSummary, osr::bench::kOsrUsage, osr::bench::runOsr},
     {"denoise", osr::bench::kDenoiseSummary, osr::bench::kDenoiseUsage, osr::bench::runDenoise},
+    {"osr-error", osr::bench::kOsrErrorSummary, osr::bench::kOsrErrorUsage,
+     osr::bench::runOsrError, false},
     {"animation", osr::bench::kAnimationSummary, osr::bench::kAnimationUsage,
      osr::bench::runAnimation, false},
     {"soak", osr::bench::kSoakSummary, osr::bench::kSoakUsage, osr::bench::runSoak, false},
@@ -67,7 +69,7 @@ int runOne(const Benchmark& b, const std::vector<std::string>& args, bool record
 void printList(FILE* out) {
   std::fprintf(out,
                "usage: osr-bench NAME [options]   one benchmark (osr-bench NAME --help: its options)\n"
-               "       osr-bench all              every benchmark but soak and animation, default options\n"
+               "       osr-bench all              every benchmark but soak, animation, osr-error\n"
                "  --record  also append each line to bench/results/NAME.jsonl in the source tree\n"
                "benchmarks:\n");
   for (const Benchmark& b : kBenchmarks) std::fprintf(out, "  %-10s %s\n", b.name, b.summary);

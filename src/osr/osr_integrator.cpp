@@ -73,7 +73,7 @@ OsrIntegrator::OsrIntegrator(const vk::Context& ctx, const scene::GpuScene& scen
       schedule_(width, height, settings.gridStart, settings.gridMin, settings.mapShare,
                 // The late passes' per-pixel work: what the map share is measured against.
                 settings.pixelCost(settings.settlePasses),
-                settings.pathsPerTexel),
+                settings.scheduleOneTexelPath ? 1u : settings.pathsPerTexel),
       film_(ctx, width, height),
       unet_(loadNetwork(ctx, settings, netOutput_)),
       gbuffer_(ctx, scene.features, scene.texelFetch),

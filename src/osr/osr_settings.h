@@ -44,6 +44,9 @@ struct OsrSettings {
   uint32_t gridMin = 16;         // finest spacing the schedule refines to
   double mapShare = 0.25;        // largest share of the work map passes may take
   uint32_t pathsPerTexel = 1;    // paths per map texel (1: the one-shot maps of DESIGN.md)
+  // The grid schedule's map passes as with one path per texel, whatever pathsPerTexel is:
+  // osr-bench osr-error compares maps of 1 and k paths over the same map passes.
+  bool scheduleOneTexelPath = false;
   // Samples per pixel per pass. The first `settlePasses` passes favour a clean first image
   // (many light samples, one residual path); later ones shift the work to the residual.
   uint32_t directSamples = 16;       // light samples, first passes

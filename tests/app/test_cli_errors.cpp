@@ -284,6 +284,7 @@ TEST(CliErrors, BenchHelpAnywhere) {
       {"pathtrace --size 8 --help", "usage: osr-bench pathtrace"},
       {"fill --help", "usage: osr-bench fill"},
       {"animation --help", "usage: osr-bench animation"},
+      {"osr-error --help", "usage: osr-bench osr-error"},
   };
   for (const auto& [args, usage] : cases) {
     Outcome r = runExe("osr-bench", args);
@@ -315,6 +316,10 @@ TEST(CliErrors, BenchBadOptionsExitTwoWithOneLine) {
       {"trace --bvh-access x", "osr-bench: trace: --bvh-access must be"},
       {"no-such-benchmark", "osr-bench: unknown benchmark 'no-such-benchmark'"},
       {"osr --size x", "osr-bench: osr: option --size expects an integer, got 'x'"},
+      {"osr-error --seeds 1", "osr-bench: osr-error: option --seeds must be in [2, 64]"},
+      {"osr-error --scene x.gltf",
+       "osr-bench: --scene x.gltf: a scene other than cornell or room needs --reference FILE.exr"},
+      {"osr-error --reference /nonexistent.exr", "osr-bench: /nonexistent.exr: "},
       {"all --size 8", "osr-bench: all: takes no options"},
       {"--record", "osr-bench: --record: name a benchmark"},
       {"fill --record --record", "osr-bench: --record: given twice"},

@@ -1,0 +1,163 @@
+// osr-error: where OSR's error is (docs/osr.md, "Where the error is"). For each budget, the
+// passes OSR makes in it (seed 1), then that many passes with --seeds seeds, and again with
+// maps of --map-spp paths per texel. Over the seeds, each pixel's sample variance splits the
+// mean relMSE of one render exactly into noise (the variance) and bias (the squared error of
+// the seeds' mean less its own noise share):
+//   relmse = noise + bias,  noise = direct + indirect + cross (the two layers' covariance),
+//   indirect = maps + residual and the rest,
+// where the maps' noise is what more paths per texel remove, scaled to all of it:
+// (V(1) - V(k)) k / (k - 1) for the indirect layer's variances V with 1 and k paths per
+// texel. Each term is relMSE-weighted (1 / (ref^2 + 0.01)), averaged over pixels and RGB as
+// image::relMse; bias includes the reference's own noise. With a network, the same split of
+// each seed's film denoised.
+#include <algorithm>
+#include <cstdio>
+#include <memory>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "app/args.h"
+#include "bench/bench_scene.h"
+#include "bench/benchmarks.h"
+#include "bench/json.h"
+#include "common/error.h"
+#include "image/image_metrics.h"
+#include "osr/osr_integrator.h"
+#include "render/denoiser.h"
+#include "render/progressive_driver.h"
+
+namespace osr::bench {
+
+namespace {
+
+render::FilmLayers renderOsr(const vk::Context& ctx, render::Integrator& osr,
+                             const scene::Camera& cam, uint32_t seed, uint32_t passes,
+                             double seconds, render::RenderStats& stats) {
+  render::DriverSettings ds;
+  ds.maxUnits = passes;
+  ds.timeLimitS = seconds;
+  render::ProgressiveDriver driver(ctx, osr, ds);
+  driver.restart(cam, seed);
+  stats = driver.run();
+  return osr.resolve();
+}
+
+// One layer over the seeds: per value, the relMSE weight, the sum and the sum of squares.
+class SeedStats {
+ public:
+  SeedStats(const image::RgbImage& ref) : ref_(ref), sum_(ref.rgb.size()), sq_(ref.rgb.size()) {}
+  void add(const std::vector<float>& x) {
+    for (size_t i = 0; i < x.size(); ++i) sum_[i] += x[i], sq_[i] += double(x[i]) * x[i];
+    ++n_;
+  }
+  // Mean over values of the weighted unbiased sample variance over the seeds.
+  double variance() const {
+    double v = 0.0;
+    for (size_t i = 0; i < sum_.size(); ++i)
+      v += (sq_[i] - sum_[i] * sum_[i] / n_) / (n_ - 1) * weight(i);
+    return v / double(sum_.size());
+  }
+  // relMSE of the seeds' mean against the reference.
+  double meanError() const {
+    double e = 0.0;
+    for (size_t i = 0; i < sum_.size(); ++i) {
+      const double d = sum_[i] / n_ - ref_.rgb[i];
+      e += d * d * weight(i);
+    }
+    return e / double(sum_.size());
+  }
+  // Bias: the mean's error less the seeds' noise in it.
+  double bias() const { return meanError() - variance() / n_; }
+
+ private:
+  double weight(size_t i) const {
+    return 1.0 / (double(ref_.rgb[i]) * ref_.rgb[i] + image::kRelMseEpsilon);
+  }
+  const image::RgbImage& ref_;
+  std::vector<double> sum_, sq_;
+  int n_ = 0;
+};
+
+}  // namespace
+
+int runOsrError(const std::vector<std::string>& args) {
+  app::Args a(args, "osr-error");
+  const SceneArgs sceneArgs = readSceneArgs(a);
+  const uint32_t size = uint32_t(a.integer("--size", 8, 4096).value_or(256));
+  const auto budgets =
+      a.integerList("--budgets", 1, 3600).value_or(std::vector<long long>{5, 10, 30, 60});
+  const int seeds = int(a.integer("--seeds", 2, 64).value_or(4));
+  const uint32_t mapSpp = uint32_t(a.integer("--map-spp", 2, 1024).value_or(4));
+  const std::string network = a.value("--network").value_or("default");
+  a.finish();
+
+  vk::Context ctx;
+  const BenchScene bs(ctx, sceneArgs, size);
+  const image::RgbImage& ref = bs.reference;
+  oneshot::OsrSettings settings;
+  settings.resolveEverySubmission = false;  // as --offline
+  oneshot::OsrIntegrator osr(ctx, *bs.gpu, *bs.bvh, size, size, settings);
+  settings.pathsPerTexel = mapSpp;
+  settings.scheduleOneTexelPath = true;  // the same map passes as `osr`
+  oneshot::OsrIntegrator cleanMaps(ctx, *bs.gpu, *bs.bvh, size, size, settings);
+  std::unique_ptr<render::Denoiser> net;
+  if (network != "none") {
+    render::DenoiseSettings ds;
+    ds.atrous = true;  // as osr-vk: the filter where the network gives way to it
+    ds.network = network == "default" ? render::DenoiseSettings::Network::Default
+                                      : render::DenoiseSettings::Network::File;
+    if (network != "default") ds.networkFile = network;
+    net = std::make_unique<render::Denoiser>(ctx, ds, size, size);
+  }
+  render::RenderStats stats;
+  renderOsr(ctx, osr, bs.camera, 1, 1, 0.0, stats);  // pipelines and first touches, untimed
+
+  for (long long budget : budgets) {
+    renderOsr(ctx, osr, bs.camera, 1, 1u << 24, double(budget), stats);
+    const uint32_t passes = std::max(1u, stats.units);
+    SeedStats combined(ref), direct(ref), indirect(ref), cleanIndirect(ref), denoised(ref);
+    double relSum = 0.0, denoisedRelSum = 0.0;
+    for (int s = 0; s < seeds; ++s) {
+      render::FilmLayers film = renderOsr(ctx, osr, bs.camera, uint32_t(s + 1), passes, 0.0, stats);
+      relSum += image::relMse({int(size), int(size), film.combined}, ref) / seeds;
+      combined.add(film.combined);
+      direct.add(film.direct);
+      indirect.add(film.indirect);
+      if (net) {
+        net->apply(film);
+        denoisedRelSum += image::relMse({int(size), int(size), film.combined}, ref) / seeds;
+        denoised.add(film.combined);
+      }
+      cleanIndirect.add(
+          renderOsr(ctx, cleanMaps, bs.camera, uint32_t(s + 1), passes, 0.0, stats).indirect);
+    }
+    const double vIndirect = indirect.variance();
+    const double maps = (vIndirect - cleanIndirect.variance()) * mapSpp / (mapSpp - 1.0);
+    JsonLine j;
+    j.str("bench", "osr-error")
+        .str("scene", sceneArgs.name)
+        .integer("size", size)
+        .integer("budget_s", budget)
+        .integer("passes", passes)
+        .integer("seeds", seeds)
+        .num("relmse", relSum)
+        .num("noise", combined.variance())
+        .num("bias", combined.bias())
+        .num("direct_noise", direct.variance())
+        .num("indirect_noise", vIndirect)
+        .num("cross_noise", combined.variance() - direct.variance() - vIndirect)
+        .num("maps_noise", maps)
+        .num("residual_noise", vIndirect - maps)
+        .integer("map_spp", mapSpp);
+    if (net)
+      j.str("network", network)
+          .num("denoised_relmse", denoisedRelSum)
+          .num("denoised_noise", denoised.variance())
+          .num("denoised_bias", denoised.bias());
+    j.str("device", ctx.caps().deviceName).print();
+  }
+  return kExitOk;
+}
+
+}  // namespace osr::bench

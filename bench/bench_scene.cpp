@@ -1,0 +1,36 @@
+#include "bench/bench_scene.h"
+
+#include "common/error.h"
+
+namespace osr::bench {
+
+SceneArgs readSceneArgs(app::Args& a) {
+  SceneArgs s;
+  s.name = s.scene = a.value("--scene").value_or("cornell");
+  const auto referenceArg = a.value("--reference");
+  s.env = a.value("--env");  // generated interiors light through their windows
+  s.camera = a.value("--camera").value_or("");
+  const bool named = s.scene == "cornell" || s.scene == "room";
+  const std::string dir = std::string(OSR_SOURCE_DIR) + "/scenes/" + s.scene + "/";
+  if (!named && !referenceArg)
+    throw InputError("--scene " + s.scene + ": a scene other than cornell or room needs --reference FILE.exr");
+  s.reference = referenceArg.value_or(dir + s.scene + "_cycles_4096spp.exr");
+  if (named) s.scene = dir + s.scene + ".gltf";
+  return s;
+}
+
+BenchScene::BenchScene(const vk::Context& ctx, const SceneArgs& args, uint32_t size)
+    : host(scene::loadScene(args.scene)),
+      camera(scene::selectCamera(host, args.camera, 1.f)),
+      reference(image::readExrRgb(args.reference)) {
+  if (reference.width != int(size) || reference.height != int(size))
+    throw InputError("--reference " + args.reference + ": " + std::to_string(reference.width) +
+                     "x" + std::to_string(reference.height) + ", the render is " +
+                     std::to_string(size) + "x" + std::to_string(size) + " (--size)");
+  if (args.env) env = scene::loadEnvironment(*args.env);
+  gpu = std::make_unique<scene::GpuScene>(ctx, host, env ? &*env : nullptr);
+  bvh = std::make_unique<bvh::Bvh>(
+      bvh::buildGpu(ctx, gpu->vertices, gpu->triangles, gpu->triangleCount));
+}
+
+}  // namespace osr::bench

@@ -1,0 +1,42 @@
+// The scene a quality benchmark renders and the reference it is judged against: one of the
+// reference scenes (cornell, room: their 4096-spp Cycles renders) or any glTF file with
+// --reference, --env and --camera, as `osr-bench denoise` and `osr-bench osr-error` take them.
+#pragma once
+#include <memory>
+#include <optional>
+#include <string>
+
+#include "app/args.h"
+#include "bvh/bvh.h"
+#include "image/image_io.h"
+#include "scene/scene.h"
+#include "scene_gpu/gpu_scene.h"
+#include "vk/context.h"
+
+namespace osr::bench {
+
+struct SceneArgs {
+  std::string name;       // --scene as given: cornell, room or a glTF path (JSON lines)
+  std::string scene;      // the glTF file
+  std::string reference;  // --reference, or the named scene's Cycles render
+  std::optional<std::string> env;
+  std::string camera;
+};
+
+// Reads --scene, --reference, --env and --camera; a glTF other than cornell or room needs
+// --reference (InputError).
+SceneArgs readSceneArgs(app::Args& a);
+
+// The scene on the device with its BVH, the camera and the reference (InputError when the
+// reference is not size x size).
+struct BenchScene {
+  BenchScene(const vk::Context& ctx, const SceneArgs& args, uint32_t size);
+  scene::Scene host;
+  scene::Camera camera;
+  std::optional<scene::Environment> env;
+  std::unique_ptr<scene::GpuScene> gpu;
+  std::unique_ptr<bvh::Bvh> bvh;
+  image::RgbImage reference;
+};
+
+}  // namespace osr::bench
