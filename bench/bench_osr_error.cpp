@@ -1,6 +1,6 @@
 // osr-error: where OSR's error is (docs/osr.md, "Where the error is"). For each budget, the
-// passes OSR makes in it (seed 1), then that many passes with --seeds seeds, and again with
-// maps of --map-spp paths per texel. Over the seeds, each pixel's sample variance splits the
+// passes OSR makes in it (seed 1), or each of --passes (load-independent), then that many
+// passes with --seeds seeds, and again with maps of --map-spp paths per texel. Over the seeds, each pixel's sample variance splits the
 // mean relMSE of one render exactly into noise (the variance) and bias (the squared error of
 // the seeds' mean less its own noise share):
 //   relmse = noise + bias,  noise = direct + indirect + cross (the two layers' covariance),
@@ -85,12 +85,19 @@ int runOsrError(const std::vector<std::string>& args) {
   app::Args a(args, "osr-error");
   const SceneArgs sceneArgs = readSceneArgs(a);
   const uint32_t size = uint32_t(a.integer("--size", 8, 4096).value_or(256));
-  const auto budgets =
-      a.integerList("--budgets", 1, 3600).value_or(std::vector<long long>{5, 10, 30, 60});
+  const auto budgetsArg = a.integerList("--budgets", 1, 3600);
+  const auto passesArg = a.integerList("--passes", 1, 1 << 16);
   const int seeds = int(a.integer("--seeds", 2, 64).value_or(4));
   const uint32_t mapSpp = uint32_t(a.integer("--map-spp", 2, 1024).value_or(4));
   const std::string network = a.value("--network").value_or("default");
   a.finish();
+  if (budgetsArg && passesArg) throw InputError("--budgets and --passes: give one of them");
+  // Each point: a budget (its passes measured) or a pass count (budget 0).
+  std::vector<std::pair<long long, uint32_t>> points;
+  if (passesArg)
+    for (long long p : *passesArg) points.push_back({0, uint32_t(p)});
+  else
+    for (long long b : budgetsArg.value_or(std::vector<long long>{5, 10, 30, 60})) points.push_back({b, 0});
 
   vk::Context ctx;
   const BenchScene bs(ctx, sceneArgs, size);
@@ -113,9 +120,11 @@ int runOsrError(const std::vector<std::string>& args) {
   render::RenderStats stats;
   renderOsr(ctx, osr, bs.camera, 1, 1, 0.0, stats);  // pipelines and first touches, untimed
 
-  for (long long budget : budgets) {
-    renderOsr(ctx, osr, bs.camera, 1, 1u << 24, double(budget), stats);
-    const uint32_t passes = std::max(1u, stats.units);
+  for (auto [budget, passes] : points) {
+    if (budget) {
+      renderOsr(ctx, osr, bs.camera, 1, 1u << 24, double(budget), stats);
+      passes = std::max(1u, stats.units);
+    }
     SeedStats combined(ref), direct(ref), indirect(ref), cleanIndirect(ref), denoised(ref);
     double relSum = 0.0, denoisedRelSum = 0.0;
     for (int s = 0; s < seeds; ++s) {
@@ -138,7 +147,7 @@ int runOsrError(const std::vector<std::string>& args) {
     j.str("bench", "osr-error")
         .str("scene", sceneArgs.name)
         .integer("size", size)
-        .integer("budget_s", budget)
+        .integer("budget_s", budget)  // 0: --passes
         .integer("passes", passes)
         .integer("seeds", seeds)
         .num("relmse", relSum)

@@ -106,12 +106,14 @@ inline constexpr char kOsrErrorSummary[] =
     "where OSR's error is: direct, maps' and residual noise and bias, over seeds";
 inline constexpr char kOsrErrorUsage[] =
     "osr-bench osr-error [--scene cornell|room|FILE.gltf] [--reference FILE.exr] [--env FILE]\n"
-    "                    [--camera NAME] [--size N] [--budgets 5,10,30,60] [--seeds N]\n"
-    "                    [--map-spp K] [--network default|none|FILE]\n"
+    "                    [--camera NAME] [--size N] [--budgets 5,10,30,60 | --passes LIST]\n"
+    "                    [--seeds N] [--map-spp K] [--network default|none|FILE]\n"
     "  --scene, --reference, --env, --camera  as osr-bench denoise\n"
     "  --size N           image width and height, 8 to 4096 (default 256)\n"
     "  --budgets LIST     seconds, each 1 to 3600: OSR's passes in each (seed 1) are the passes\n"
     "                     every seed then makes (default 5,10,30,60)\n"
+    "  --passes LIST      instead, the passes, each 1 to 65536 (figures that do not move with\n"
+    "                     the load on shared cores; budget_s 0 in the lines)\n"
     "  --seeds N          renders per budget whose spread is the noise, 2 to 64 (default 4)\n"
     "  --map-spp K        paths per map texel of the renders that find the maps' noise, 2 to\n"
     "                     1024 (default 4)\n"
