@@ -4,10 +4,13 @@
 // mean relMSE of one render exactly into noise (the variance) and bias (the squared error of
 // the seeds' mean less its own noise share):
 //   relmse = noise + bias,  noise = direct + indirect + cross (the two layers' covariance),
-//   indirect = maps + residual and the rest,
-// where the maps' noise is what more paths per texel remove, scaled to all of it:
-// (V(1) - V(k)) k / (k - 1) for the indirect layer's variances V with 1 and k paths per
-// texel. Each term is relMSE-weighted (1 / (ref^2 + 0.01)), averaged over pixels and RGB as
+//   indirect = maps' paths + maps' placement + residual,
+// where the composite's noise (the indirect layer without the residual, over the same map
+// passes) is the maps' paths' (what more paths per texel remove, scaled to all of it:
+// (V(1) - V(k)) k / (k - 1)) and the maps' placement (the grid points jitter with the seed,
+// so each seed interpolates between other points), and the residual's is what the residual
+// adds to the indirect layer's variance. Each term is relMSE-weighted (1 / (ref^2 + 0.01)),
+// averaged over pixels and RGB as
 // image::relMse; bias includes the reference's own noise. With a network, the same split of
 // each seed's film denoised.
 #include <algorithm>
@@ -105,8 +108,12 @@ int runOsrError(const std::vector<std::string>& args) {
   oneshot::OsrSettings settings;
   settings.resolveEverySubmission = false;  // as --offline
   oneshot::OsrIntegrator osr(ctx, *bs.gpu, *bs.bvh, size, size, settings);
+  // Without the residual: the composite alone, its maps traced over the same map passes.
+  settings.scheduleAs = oneshot::OsrSettings::ScheduleCosts{
+      settings.pixelCost(settings.settlePasses), settings.pathsPerTexel};
+  settings.residualSamples = settings.residualSamplesLate = 0;
+  oneshot::OsrIntegrator mapsOnly(ctx, *bs.gpu, *bs.bvh, size, size, settings);
   settings.pathsPerTexel = mapSpp;
-  settings.scheduleOneTexelPath = true;  // the same map passes as `osr`
   oneshot::OsrIntegrator cleanMaps(ctx, *bs.gpu, *bs.bvh, size, size, settings);
   std::unique_ptr<render::Denoiser> net;
   if (network != "none") {
@@ -125,7 +132,8 @@ int runOsrError(const std::vector<std::string>& args) {
       renderOsr(ctx, osr, bs.camera, 1, 1u << 24, double(budget), stats);
       passes = std::max(1u, stats.units);
     }
-    SeedStats combined(ref), direct(ref), indirect(ref), cleanIndirect(ref), denoised(ref);
+    SeedStats combined(ref), direct(ref), indirect(ref), composite(ref), cleanComposite(ref),
+        denoised(ref);
     double relSum = 0.0, denoisedRelSum = 0.0;
     for (int s = 0; s < seeds; ++s) {
       render::FilmLayers film = renderOsr(ctx, osr, bs.camera, uint32_t(s + 1), passes, 0.0, stats);
@@ -138,11 +146,12 @@ int runOsrError(const std::vector<std::string>& args) {
         denoisedRelSum += image::relMse({int(size), int(size), film.combined}, ref) / seeds;
         denoised.add(film.combined);
       }
-      cleanIndirect.add(
+      composite.add(renderOsr(ctx, mapsOnly, bs.camera, uint32_t(s + 1), passes, 0.0, stats).indirect);
+      cleanComposite.add(
           renderOsr(ctx, cleanMaps, bs.camera, uint32_t(s + 1), passes, 0.0, stats).indirect);
     }
-    const double vIndirect = indirect.variance();
-    const double maps = (vIndirect - cleanIndirect.variance()) * mapSpp / (mapSpp - 1.0);
+    const double vIndirect = indirect.variance(), vComposite = composite.variance();
+    const double maps = (vComposite - cleanComposite.variance()) * mapSpp / (mapSpp - 1.0);
     JsonLine j;
     j.str("bench", "osr-error")
         .str("scene", sceneArgs.name)
@@ -157,7 +166,8 @@ int runOsrError(const std::vector<std::string>& args) {
         .num("indirect_noise", vIndirect)
         .num("cross_noise", combined.variance() - direct.variance() - vIndirect)
         .num("maps_noise", maps)
-        .num("residual_noise", vIndirect - maps)
+        .num("placement_noise", vComposite - maps)
+        .num("residual_noise", vIndirect - vComposite)
         .integer("map_spp", mapSpp);
     if (net)
       j.str("network", network)

@@ -72,8 +72,9 @@ OsrIntegrator::OsrIntegrator(const vk::Context& ctx, const scene::GpuScene& scen
       settings_(settings),
       schedule_(width, height, settings.gridStart, settings.gridMin, settings.mapShare,
                 // The late passes' per-pixel work: what the map share is measured against.
-                settings.pixelCost(settings.settlePasses),
-                settings.scheduleOneTexelPath ? 1u : settings.pathsPerTexel),
+                settings.scheduleAs ? settings.scheduleAs->pixelCost
+                                    : settings.pixelCost(settings.settlePasses),
+                settings.scheduleAs ? settings.scheduleAs->texelPaths : settings.pathsPerTexel),
       film_(ctx, width, height),
       unet_(loadNetwork(ctx, settings, netOutput_)),
       gbuffer_(ctx, scene.features, scene.texelFetch),

@@ -44,9 +44,14 @@ struct OsrSettings {
   uint32_t gridMin = 16;         // finest spacing the schedule refines to
   double mapShare = 0.25;        // largest share of the work map passes may take
   uint32_t pathsPerTexel = 1;    // paths per map texel (1: the one-shot maps of DESIGN.md)
-  // The grid schedule's map passes as with one path per texel, whatever pathsPerTexel is:
-  // osr-bench osr-error compares maps of 1 and k paths over the same map passes.
-  bool scheduleOneTexelPath = false;
+  // The grid schedule's map passes as for this per-pixel work and these paths per texel,
+  // whatever the settings' own: osr-bench osr-error compares variants (no residual, more paths
+  // per texel) over the default's map passes. Unset: the settings' own.
+  struct ScheduleCosts {
+    double pixelCost;
+    uint32_t texelPaths;
+  };
+  std::optional<ScheduleCosts> scheduleAs;
   // Samples per pixel per pass. The first `settlePasses` passes favour a clean first image
   // (many light samples, one residual path); later ones shift the work to the residual.
   uint32_t directSamples = 16;       // light samples, first passes
