@@ -65,8 +65,8 @@ void main() {
   f.albedo = vec4(a.albedo.rgb / passes, a.depth.z / passes);
   f.normal = vec4(a.normal.rgb / passes, 0.0);
   // The second moment of one sample's worth: the estimate squared plus its variance, that of
-  // the blended residual's mean and of the direct light's mean (film.h: what the denoisers'
-  // variance comes from). The maps' error is not in it: it is not pixel noise.
+  // the blended residual's mean, of the direct light's mean and of the composite's mean over
+  // passes (film.h: what the denoisers' variance comes from). The maps' bias is not in it.
   const vec3 lumWeights = vec3(0.2126, 0.7152, 0.0722);
   const float lum = dot(f.combined.rgb, lumWeights);
   const vec3 residualVar = a.indirect.w > 0.0
@@ -76,6 +76,8 @@ void main() {
   const float directVar = directSamples > 1.5
       ? max(a.normal.w - a.depth.w * a.depth.w / directSamples, 0.0) / (directSamples * (directSamples - 1.0))
       : 0.0;
-  f.depth = vec4(a.depth.xy, lum * lum + dot(residualVar, lumWeights) + directVar, 0.0);
+  f.depth = vec4(a.depth.xy,
+                 lum * lum + dot(residualVar, lumWeights) + directVar + compositeVarianceOfMean(a.compositeSq),
+                 0.0);
   gFilm[local] = f;
 }

@@ -104,6 +104,8 @@ struct AccumPixel {
   vec4 normal;    // w: sum over the direct samples of their luminance squared (osr_direct)
   vec4 depth;     // xy as film::FilmPixel; z: passes' share of camera rays that saw light
                   // directly; w: sum over the direct samples of their luminance
+  vec4 compositeSq;  // x: sum w_k lum(C_k)^2 (C_k: pass k's composite, osr_composite);
+                     // y: sum w_k; z: sum w_k^2; w: sum w_k lum(C_k)
 };
 
 // Where one hemisphere map of the pass was taken (osr_maps writes it; MapTracer's host fills
@@ -303,6 +305,17 @@ OSR_OSR_FN float residualPasses(vec4 residualSq, float weightSum) {
 }
 OSR_OSR_FN bool residualVarianceKnown(vec4 residualSq, float weightSum) {
   return weightSum > 0.0f && residualPasses(residualSq, weightSum) >= kResidualMinPasses;
+}
+// Variance of the weighted mean of the passes' composites (luminance): their spread from pass
+// to pass, which the grid points' placement (jittered each pass) makes, over the passes' worth
+// of weight. 0 before two passes; osr-bench osr-error measures this noise.
+OSR_OSR_FN float compositeVarianceOfMean(vec4 compositeSq) {
+  float weightSum = compositeSq.y;
+  if (weightSum <= 0.0f || compositeSq.z <= 0.0f) return 0.0f;
+  float nEff = weightSum * weightSum / compositeSq.z;
+  if (nEff < 1.5f) return 0.0f;
+  float mean = compositeSq.w / weightSum;
+  return max(compositeSq.x / weightSum - mean * mean, 0.0f) / (nEff - 1.0f);
 }
 OSR_OSR_FN vec3 residualVarianceOfMean(vec4 residual, vec4 residualSq, float weightSum) {
   if (!residualVarianceKnown(residualSq, weightSum)) return vec3(0.0f);

@@ -56,6 +56,31 @@ TEST(ResidualBlend, VarianceOfTheMeanFromThePassesSpread) {
   EXPECT_TRUE(o::residualVarianceKnown(enough.residualSq, enough.weightSum));
 }
 
+// The composite's pass-to-pass spread (osr_composite's moments): passes of unequal weight
+// (coarse grids weigh less), averaged over many pixels, give the variance of the weighted
+// mean, sigma^2 sum w^2 / (sum w)^2; one pass gives 0.
+TEST(ResidualBlend, CompositeVarianceOfTheWeightedMean) {
+  for (int n : {2, 4, 16}) {
+    double sum = 0, expected = 0;
+    const int pixels = 4000;
+    for (int p = 0; p < pixels; ++p) {
+      std::mt19937 rng(31u + p);
+      std::normal_distribution<float> noise(0.f, 2.f);
+      glm::vec4 sq(0.f);
+      float w1 = 0.f, w2 = 0.f;
+      for (int k = 0; k < n; ++k) {
+        const float w = k % 2 ? 1.f : 0.5f, c = 3.f + noise(rng);
+        sq += w * glm::vec4(c * c, 1.f, w, c);
+        w1 += w, w2 += w * w;
+      }
+      sum += o::compositeVarianceOfMean(sq);
+      expected = 4.0 * w2 / (w1 * w1);
+    }
+    EXPECT_NEAR(sum / pixels, expected, 0.08 * expected) << n << " passes";
+  }
+  EXPECT_EQ(o::compositeVarianceOfMean(glm::vec4(9.f, 1.f, 1.f, 3.f)), 0.f);
+}
+
 TEST(ResidualBlend, ShrinksTowardTheMapsWhereTheResidualIsNoise) {
   // A neighbourhood of 81 pixels: sumSq estimates 81 (b^2 + V), sumVar 81 V.
   auto blendOf = [](float bias, float sigma, int n) {
