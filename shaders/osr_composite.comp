@@ -7,8 +7,9 @@
 //  - narrower lobes, transmission (glass and diffuse), clearcoat and sheen: left to
 //    osr_residual, which path-traces them in full.
 // Pixels no map covers get 0 here; osr_residual gives them the path tracer's answer instead.
-// Adds passWeight x estimate to AccumPixel.indirect (w: sum of pass weights), and its
-// luminance's moments to AccumPixel.compositeSq (the resolve's variance).
+// Adds passWeight x estimate to AccumPixel.indirect (w: sum of pass weights), and on a pass
+// that traced its maps its luminance's moments to AccumPixel.compositeSq (the resolve's
+// variance).
 // In: GBufferPixel, MapPoint, MapProjection, clean maps. Out: AccumPixel.indirect, .compositeSq.
 #extension GL_GOOGLE_include_directive : require
 #include "lib/osr_common.glsl"
@@ -50,7 +51,7 @@ void main() {
   if (finite3(estimate)) {
     a.indirect.rgb += gPush.passWeight * estimate;
     const float lum = luminance(estimate);
-    a.compositeSq += gPush.passWeight * vec4(lum * lum, 1.0, gPush.passWeight, lum);
+    a.compositeSq += gPush.momentWeight * vec4(lum * lum, 1.0, gPush.momentWeight, lum);
   }
   a.indirect.w += gPush.passWeight;
   gAccum[local] = a;

@@ -104,8 +104,9 @@ struct AccumPixel {
   vec4 normal;    // w: sum over the direct samples of their luminance squared (osr_direct)
   vec4 depth;     // xy as film::FilmPixel; z: passes' share of camera rays that saw light
                   // directly; w: sum over the direct samples of their luminance
-  vec4 compositeSq;  // x: sum w_k lum(C_k)^2 (C_k: pass k's composite, osr_composite);
-                     // y: sum w_k; z: sum w_k^2; w: sum w_k lum(C_k)
+  vec4 compositeSq;  // x: sum w_k lum(C_k)^2 (C_k: pass k's composite, osr_composite, over
+                     // the passes that traced their maps); y: sum w_k; z: sum w_k^2;
+                     // w: sum w_k lum(C_k)
 };
 
 // Where one hemisphere map of the pass was taken (osr_maps writes it; MapTracer's host fills
@@ -228,6 +229,8 @@ struct CompositePush {
   uint cleanMapOffset;  // the map gMapClean's element 0 is
   uint glossySamples;   // directions drawn from a wide GGX lobe per pixel
   float passWeight;     // w_k of this pass
+  float momentWeight;   // w_k where this pass traced its maps, else 0: a pass that reuses the
+                        // last pass's maps repeats its composite, which is no new sample of it
 };
 
 struct ResidualPush {
@@ -238,6 +241,7 @@ struct ResidualPush {
   uint cleanMapOffset;  // the map gMapClean's element 0 is
   uint pathsPerPixel;
   float passWeight;     // w_k of this pass
+  float momentWeight;   // unused (CompositePush's twin field)
 };
 
 // The cache's passes (osr_cache_lookup, osr_cache_claim, osr_cache_store) share one struct:
@@ -306,9 +310,10 @@ OSR_OSR_FN float residualPasses(vec4 residualSq, float weightSum) {
 OSR_OSR_FN bool residualVarianceKnown(vec4 residualSq, float weightSum) {
   return weightSum > 0.0f && residualPasses(residualSq, weightSum) >= kResidualMinPasses;
 }
-// Variance of the weighted mean of the passes' composites (luminance): their spread from pass
-// to pass, which the grid points' placement (jittered each pass) makes, over the passes' worth
-// of weight. 0 before two passes; osr-bench osr-error measures this noise.
+// Variance of the weighted mean of the passes' composites (luminance): their spread from one
+// map pass to the next, which the grid points' placement (jittered each map pass) and the
+// maps' paths make, over the map passes' worth of weight. 0 before two map passes;
+// osr-bench osr-error measures this noise.
 OSR_OSR_FN float compositeVarianceOfMean(vec4 compositeSq) {
   float weightSum = compositeSq.y;
   if (weightSum <= 0.0f || compositeSq.z <= 0.0f) return 0.0f;

@@ -288,7 +288,9 @@ void OsrIntegrator::recordStep(VkCommandBuffer cmd, uint32_t k, const Step& step
     }
     case K::Composite: {
       vk::TimedScope scope(timer, cmd, "composite");
-      composite_.record(cmd, bindings_, {current_, k, settings_.glossySamples, weight, pixels});
+      composite_.record(cmd, bindings_,
+                        {current_, k, settings_.glossySamples, weight, pixels,
+                         schedule_.pass(k).traceMaps ? weight : 0.f});
       break;
     }
     case K::Residual: {

@@ -11,7 +11,8 @@ const o::MapGrid kNoMaps{};  // for passes that read no clean maps
 // CompositePush and ResidualPush: the same fields in the same order, named for their pass.
 template <class Push>
 Push mapPixelPush(const MapPixelArgs& a, const OsrWindow& w) {
-  return Push{a.grid, a.pass, w.pixelFirst, w.pixelCount, w.mapFirst, a.samples, a.passWeight};
+  return Push{a.grid,    a.pass,       w.pixelFirst, w.pixelCount, w.mapFirst,
+              a.samples, a.passWeight, a.momentWeight};
 }
 o::MapCachePush mapCachePush(const MapCacheArgs& a, const OsrWindow& w, uint32_t phase) {
   o::MapCachePush p{};

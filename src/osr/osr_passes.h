@@ -100,6 +100,7 @@ struct MapPixelArgs {
   uint32_t samples;  // glossy directions (composite) or residual paths (residual) per pixel
   float passWeight;  // w_k
   PixelRange pixels;
+  float momentWeight = 0.f;  // composite: w_k where the pass traced its maps (CompositePush)
 };
 
 class CompositePass : public PassWithPush<gpu::osr::CompositePush> {
