@@ -12,7 +12,7 @@
 // transmission) and pixels no map covers have
 // g = 0: their f L_pt / pdf is the path tracer's own answer, added to AccumPixel.indirect in
 // full; the control-variate part goes to AccumPixel.residual, which the resolve blends in.
-// In: GBufferPixel, MapPoint, clean maps, scene, BVH. Out: AccumPixel.indirect, .residual.
+// In: GBufferPixel, MapPoint, clean maps, scene, BVH. Out: AccumPixel.indirect, .residual, .tracedSq.
 #extension GL_GOOGLE_include_directive : require
 #include "lib/osr_common.glsl"
 #include "lib/osr_maps.glsl"
@@ -100,6 +100,8 @@ void main() {
   AccumPixel a = gAccum[local];
   if (finite3(always) && finite3(blended)) {
     a.indirect.rgb += gPush.passWeight * always;
+    const float tracedLum = luminance(always);
+    a.tracedSq += gPush.passWeight * vec4(tracedLum * tracedLum, 1.0, gPush.passWeight, tracedLum);
     a.residual.rgb += gPush.passWeight * blended;
     // Second moments, so the resolve knows the residual's noise (shared/osr.h).
     a.residualSq += vec4(gPush.passWeight * blended * blended, gPush.passWeight * gPush.passWeight);

@@ -65,8 +65,9 @@ void main() {
   f.albedo = vec4(a.albedo.rgb / passes, a.depth.z / passes);
   f.normal = vec4(a.normal.rgb / passes, 0.0);
   // The second moment of one sample's worth: the estimate squared plus its variance, that of
-  // the blended residual's mean, of the direct light's mean and of the composite's mean over
-  // passes (film.h: what the denoisers' variance comes from). The maps' bias is not in it.
+  // the blended residual's mean, of the direct light's mean, of the composite's mean over map
+  // passes and of the fully path-traced part's mean (film.h: what the denoisers' variance
+  // comes from). The maps' bias is not in it.
   const vec3 lumWeights = vec3(0.2126, 0.7152, 0.0722);
   const float lum = dot(f.combined.rgb, lumWeights);
   const vec3 residualVar = a.indirect.w > 0.0
@@ -77,7 +78,8 @@ void main() {
       ? max(a.normal.w - a.depth.w * a.depth.w / directSamples, 0.0) / (directSamples * (directSamples - 1.0))
       : 0.0;
   f.depth = vec4(a.depth.xy,
-                 lum * lum + dot(residualVar, lumWeights) + directVar + compositeVarianceOfMean(a.compositeSq),
+                 lum * lum + dot(residualVar, lumWeights) + directVar +
+                     varianceOfWeightedMean(a.compositeSq) + varianceOfWeightedMean(a.tracedSq),
                  0.0);
   gFilm[local] = f;
 }

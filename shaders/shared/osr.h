@@ -107,6 +107,8 @@ struct AccumPixel {
   vec4 compositeSq;  // x: sum w_k lum(C_k)^2 (C_k: pass k's composite, osr_composite, over
                      // the passes that traced their maps); y: sum w_k; z: sum w_k^2;
                      // w: sum w_k lum(C_k)
+  vec4 tracedSq;     // the same moments of what osr_residual path-traces in full each pass
+                     // (narrow lobes, pixels no map covers: T_k), over every pass
 };
 
 // Where one hemisphere map of the pass was taken (osr_maps writes it; MapTracer's host fills
@@ -310,17 +312,17 @@ OSR_OSR_FN float residualPasses(vec4 residualSq, float weightSum) {
 OSR_OSR_FN bool residualVarianceKnown(vec4 residualSq, float weightSum) {
   return weightSum > 0.0f && residualPasses(residualSq, weightSum) >= kResidualMinPasses;
 }
-// Variance of the weighted mean of the passes' composites (luminance): their spread from one
-// map pass to the next, which the grid points' placement (jittered each map pass) and the
-// maps' paths make, over the map passes' worth of weight. 0 before two map passes;
-// osr-bench osr-error measures this noise.
-OSR_OSR_FN float compositeVarianceOfMean(vec4 compositeSq) {
-  float weightSum = compositeSq.y;
-  if (weightSum <= 0.0f || compositeSq.z <= 0.0f) return 0.0f;
-  float nEff = weightSum * weightSum / compositeSq.z;
+// Variance of a weighted mean of per-pass luminances from their moments (x: sum w l^2, y: sum
+// w, z: sum w^2, w: sum w l): the composites' spread from one map pass to the next (the grid
+// points' placement, jittered each map pass, and the maps' paths), or the fully path-traced
+// part's from pass to pass. 0 before two samples; osr-bench osr-error measures both noises.
+OSR_OSR_FN float varianceOfWeightedMean(vec4 moments) {
+  float weightSum = moments.y;
+  if (weightSum <= 0.0f || moments.z <= 0.0f) return 0.0f;
+  float nEff = weightSum * weightSum / moments.z;
   if (nEff < 1.5f) return 0.0f;
-  float mean = compositeSq.w / weightSum;
-  return max(compositeSq.x / weightSum - mean * mean, 0.0f) / (nEff - 1.0f);
+  float mean = moments.w / weightSum;
+  return max(moments.x / weightSum - mean * mean, 0.0f) / (nEff - 1.0f);
 }
 OSR_OSR_FN vec3 residualVarianceOfMean(vec4 residual, vec4 residualSq, float weightSum) {
   if (!residualVarianceKnown(residualSq, weightSum)) return vec3(0.0f);

@@ -73,12 +73,12 @@ TEST(ResidualBlend, CompositeVarianceOfTheWeightedMean) {
         sq += w * glm::vec4(c * c, 1.f, w, c);
         w1 += w, w2 += w * w;
       }
-      sum += o::compositeVarianceOfMean(sq);
+      sum += o::varianceOfWeightedMean(sq);
       expected = 4.0 * w2 / (w1 * w1);
     }
     EXPECT_NEAR(sum / pixels, expected, 0.08 * expected) << n << " passes";
   }
-  EXPECT_EQ(o::compositeVarianceOfMean(glm::vec4(9.f, 1.f, 1.f, 3.f)), 0.f);
+  EXPECT_EQ(o::varianceOfWeightedMean(glm::vec4(9.f, 1.f, 1.f, 3.f)), 0.f);
 }
 
 TEST(ResidualBlend, ShrinksTowardTheMapsWhereTheResidualIsNoise) {

@@ -152,7 +152,7 @@ const std::vector<Layout>& layouts() {
       STRUCT(osr, GBufferPixel, F(position), F(normal), F(geomNormal), F(wo), F(throughput),
              F(bsdf)),
       STRUCT(osr, AccumPixel, F(direct), F(indirect), F(residual), F(residualSq), F(albedo),
-             F(normal), F(depth), F(compositeSq)),
+             F(normal), F(depth), F(compositeSq), F(tracedSq)),
       STRUCT(osr, MapPoint, F(position), F(normal), F(pixel)),
       STRUCT(osr, MapProjection, F(mean), F(sh)),
       STRUCT(osr, MapStats, F(meanRadiance), F(meanDistance)),
