@@ -303,20 +303,18 @@ int runAnimation(const std::vector<std::string>& args) {
     return s;
   };
 
+  // OSR without and with the cache; each sequence's warm-up empties the cache, so the
+  // denoised sequences below start from nothing too.
+  app::IntegratorSettings osrSettings = settings;
+  osrSettings.osr.mapCacheMaps = 0;
+  auto osr = app::makeIntegrator(onDevice, osrSettings, "osr", size, size);
+  app::IntegratorSettings cacheSettings = settings;
+  cacheSettings.osr.mapCacheMaps = cacheMaps;
+  cacheSettings.osr.mapCacheMaturePasses = maturePasses;
+  auto cached = app::makeIntegrator(onDevice, cacheSettings, "osr", size, size);
   std::vector<Sequence> sequences;
-  {
-    app::IntegratorSettings osrSettings = settings;
-    osrSettings.osr.mapCacheMaps = 0;
-    auto osr = app::makeIntegrator(onDevice, osrSettings, "osr", size, size);
-    sequences.push_back(runSequence("osr", *osr, passes));
-  }
-  {
-    app::IntegratorSettings cacheSettings = settings;
-    cacheSettings.osr.mapCacheMaps = cacheMaps;
-    cacheSettings.osr.mapCacheMaturePasses = maturePasses;
-    auto osr = app::makeIntegrator(onDevice, cacheSettings, "osr", size, size);
-    sequences.push_back(runSequence("osr+cache", *osr, cachePasses));
-  }
+  sequences.push_back(runSequence("osr", *osr, passes));
+  sequences.push_back(runSequence("osr+cache", *cached, cachePasses));
   // Equal time in CPU seconds: the samples per pixel that take osr+cache's CPU time per frame,
   // from the path tracer's CPU time per sample on frame first (8 spp, after a warm-up).
   renderFrame(ctx, *path, cameras[frames.first], 1, 1, 0.0);
@@ -349,14 +347,7 @@ int runAnimation(const std::vector<std::string>& args) {
     networkSettings.network = render::DenoiseSettings::Network::Default;
     denoisedPath("path+network", networkSettings);
     render::Denoiser osrDenoiser(ctx, networkSettings, size, size);
-    app::IntegratorSettings osrSettings = settings;
-    osrSettings.osr.mapCacheMaps = 0;
-    auto osr = app::makeIntegrator(onDevice, osrSettings, "osr", size, size);
     sequences.push_back(runSequence("osr+network", *osr, passes, &osrDenoiser));
-    app::IntegratorSettings cacheSettings = settings;
-    cacheSettings.osr.mapCacheMaps = cacheMaps;
-    cacheSettings.osr.mapCacheMaturePasses = maturePasses;
-    auto cached = app::makeIntegrator(onDevice, cacheSettings, "osr", size, size);
     sequences.push_back(runSequence("osr+cache+network", *cached, cachePasses, &osrDenoiser));
   }
 

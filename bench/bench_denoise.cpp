@@ -32,13 +32,7 @@ namespace {
 
 render::FilmLayers renderFor(const vk::Context& ctx, render::Integrator& integrator,
                              const scene::Camera& cam, double seconds, render::RenderStats& stats) {
-  render::DriverSettings ds;
-  ds.timeLimitS = std::max(seconds, 0.001);
-  ds.maxUnits = 1u << 24;
-  render::ProgressiveDriver driver(ctx, integrator, ds);
-  driver.restart(cam, 1);
-  stats = driver.run();
-  return integrator.resolve();
+  return renderFilm(ctx, integrator, cam, 1, 1u << 24, std::max(seconds, 0.001), stats);
 }
 
 // The denoiser's wall time on a film of this size: the second of two runs (the first makes
@@ -62,14 +56,9 @@ int runDenoise(const std::vector<std::string>& args) {
   const std::optional<std::string> rowsArg = a.value("--rows");
   a.finish();
   const std::string& sceneArg = sceneArgs.name;
-  render::DenoiseSettings netSettings, filterSettings;
+  const render::DenoiseSettings netSettings = networkSettings(network);
+  render::DenoiseSettings filterSettings;
   filterSettings.atrous = true;
-  if (network == "default") {
-    netSettings.network = render::DenoiseSettings::Network::Default;
-  } else if (network != "none") {
-    netSettings.network = render::DenoiseSettings::Network::File;
-    netSettings.networkFile = network;
-  }
 
   vk::Context ctx;
   const BenchScene bs(ctx, sceneArgs, size);

@@ -28,23 +28,10 @@
 #include "image/image_metrics.h"
 #include "osr/osr_integrator.h"
 #include "render/denoiser.h"
-#include "render/progressive_driver.h"
 
 namespace osr::bench {
 
 namespace {
-
-render::FilmLayers renderOsr(const vk::Context& ctx, render::Integrator& osr,
-                             const scene::Camera& cam, uint32_t seed, uint32_t passes,
-                             double seconds, render::RenderStats& stats) {
-  render::DriverSettings ds;
-  ds.maxUnits = passes;
-  ds.timeLimitS = seconds;
-  render::ProgressiveDriver driver(ctx, osr, ds);
-  driver.restart(cam, seed);
-  stats = driver.run();
-  return osr.resolve();
-}
 
 // One layer over the seeds: per value, the relMSE weight, the sum and the sum of squares.
 class SeedStats {
@@ -54,24 +41,21 @@ class SeedStats {
     for (size_t i = 0; i < x.size(); ++i) sum_[i] += x[i], sq_[i] += double(x[i]) * x[i];
     ++n_;
   }
-  // Mean over values of the weighted unbiased sample variance over the seeds.
-  double variance() const {
-    double v = 0.0;
-    for (size_t i = 0; i < sum_.size(); ++i)
-      v += (sq_[i] - sum_[i] * sum_[i] / n_) / (n_ - 1) * weight(i);
-    return v / double(sum_.size());
-  }
-  // relMSE of the seeds' mean against the reference.
-  double meanError() const {
-    double e = 0.0;
+  // Over the values, relMSE-weighted: the mean unbiased sample variance over the seeds (noise)
+  // and the seeds' mean's squared error less its share of that noise (bias).
+  struct Split {
+    double noise = 0.0, bias = 0.0;
+  };
+  Split split() const {
+    double variance = 0.0, meanError = 0.0;
     for (size_t i = 0; i < sum_.size(); ++i) {
       const double d = sum_[i] / n_ - ref_.rgb[i];
-      e += d * d * weight(i);
+      variance += (sq_[i] - sum_[i] * sum_[i] / n_) / (n_ - 1) * weight(i);
+      meanError += d * d * weight(i);
     }
-    return e / double(sum_.size());
+    variance /= double(sum_.size());
+    return {variance, meanError / double(sum_.size()) - variance / n_};
   }
-  // Bias: the mean's error less the seeds' noise in it.
-  double bias() const { return meanError() - variance() / n_; }
 
  private:
   double weight(size_t i) const {
@@ -117,26 +101,23 @@ int runOsrError(const std::vector<std::string>& args) {
   oneshot::OsrIntegrator cleanMaps(ctx, *bs.gpu, *bs.bvh, size, size, settings);
   std::unique_ptr<render::Denoiser> net;
   if (network != "none") {
-    render::DenoiseSettings ds;
+    render::DenoiseSettings ds = networkSettings(network);
     ds.atrous = true;  // as osr-vk: the filter where the network gives way to it
-    ds.network = network == "default" ? render::DenoiseSettings::Network::Default
-                                      : render::DenoiseSettings::Network::File;
-    if (network != "default") ds.networkFile = network;
     net = std::make_unique<render::Denoiser>(ctx, ds, size, size);
   }
   render::RenderStats stats;
-  renderOsr(ctx, osr, bs.camera, 1, 1, 0.0, stats);  // pipelines and first touches, untimed
+  renderFilm(ctx, osr, bs.camera, 1, 1, 0.0, stats);  // pipelines and first touches, untimed
 
   for (auto [budget, passes] : points) {
     if (budget) {
-      renderOsr(ctx, osr, bs.camera, 1, 1u << 24, double(budget), stats);
+      renderFilm(ctx, osr, bs.camera, 1, 1u << 24, double(budget), stats);
       passes = std::max(1u, stats.units);
     }
     SeedStats combined(ref), direct(ref), indirect(ref), composite(ref), cleanComposite(ref),
         denoised(ref);
     double relSum = 0.0, denoisedRelSum = 0.0;
     for (int s = 0; s < seeds; ++s) {
-      render::FilmLayers film = renderOsr(ctx, osr, bs.camera, uint32_t(s + 1), passes, 0.0, stats);
+      render::FilmLayers film = renderFilm(ctx, osr, bs.camera, uint32_t(s + 1), passes, 0.0, stats);
       relSum += image::relMse({int(size), int(size), film.combined}, ref) / seeds;
       combined.add(film.combined);
       direct.add(film.direct);
@@ -146,12 +127,14 @@ int runOsrError(const std::vector<std::string>& args) {
         denoisedRelSum += image::relMse({int(size), int(size), film.combined}, ref) / seeds;
         denoised.add(film.combined);
       }
-      composite.add(renderOsr(ctx, mapsOnly, bs.camera, uint32_t(s + 1), passes, 0.0, stats).indirect);
+      composite.add(renderFilm(ctx, mapsOnly, bs.camera, uint32_t(s + 1), passes, 0.0, stats).indirect);
       cleanComposite.add(
-          renderOsr(ctx, cleanMaps, bs.camera, uint32_t(s + 1), passes, 0.0, stats).indirect);
+          renderFilm(ctx, cleanMaps, bs.camera, uint32_t(s + 1), passes, 0.0, stats).indirect);
     }
-    const double vIndirect = indirect.variance(), vComposite = composite.variance();
-    const double maps = (vComposite - cleanComposite.variance()) * mapSpp / (mapSpp - 1.0);
+    const SeedStats::Split all = combined.split();
+    const double vDirect = direct.split().noise, vIndirect = indirect.split().noise,
+                 vComposite = composite.split().noise;
+    const double maps = (vComposite - cleanComposite.split().noise) * mapSpp / (mapSpp - 1.0);
     JsonLine j;
     j.str("bench", "osr-error")
         .str("scene", sceneArgs.name)
@@ -160,20 +143,22 @@ int runOsrError(const std::vector<std::string>& args) {
         .integer("passes", passes)
         .integer("seeds", seeds)
         .num("relmse", relSum)
-        .num("noise", combined.variance())
-        .num("bias", combined.bias())
-        .num("direct_noise", direct.variance())
+        .num("noise", all.noise)
+        .num("bias", all.bias)
+        .num("direct_noise", vDirect)
         .num("indirect_noise", vIndirect)
-        .num("cross_noise", combined.variance() - direct.variance() - vIndirect)
+        .num("cross_noise", all.noise - vDirect - vIndirect)
         .num("maps_noise", maps)
         .num("placement_noise", vComposite - maps)
         .num("residual_noise", vIndirect - vComposite)
         .integer("map_spp", mapSpp);
-    if (net)
+    if (net) {
+      const SeedStats::Split after = denoised.split();
       j.str("network", network)
           .num("denoised_relmse", denoisedRelSum)
-          .num("denoised_noise", denoised.variance())
-          .num("denoised_bias", denoised.bias());
+          .num("denoised_noise", after.noise)
+          .num("denoised_bias", after.bias);
+    }
     j.str("device", ctx.caps().deviceName).print();
   }
   return kExitOk;

@@ -33,4 +33,27 @@ BenchScene::BenchScene(const vk::Context& ctx, const SceneArgs& args, uint32_t s
       bvh::buildGpu(ctx, gpu->vertices, gpu->triangles, gpu->triangleCount));
 }
 
+render::DenoiseSettings networkSettings(const std::string& network) {
+  render::DenoiseSettings s;
+  if (network == "default") {
+    s.network = render::DenoiseSettings::Network::Default;
+  } else if (network != "none") {
+    s.network = render::DenoiseSettings::Network::File;
+    s.networkFile = network;
+  }
+  return s;
+}
+
+render::FilmLayers renderFilm(const vk::Context& ctx, render::Integrator& integrator,
+                              const scene::Camera& cam, uint32_t seed, uint32_t maxUnits,
+                              double seconds, render::RenderStats& stats) {
+  render::DriverSettings ds;
+  ds.maxUnits = maxUnits;
+  ds.timeLimitS = seconds;
+  render::ProgressiveDriver driver(ctx, integrator, ds);
+  driver.restart(cam, seed);
+  stats = driver.run();
+  return integrator.resolve();
+}
+
 }  // namespace osr::bench

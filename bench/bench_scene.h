@@ -9,6 +9,9 @@
 #include "app/args.h"
 #include "bvh/bvh.h"
 #include "image/image_io.h"
+#include "render/denoiser.h"
+#include "render/integrator.h"
+#include "render/progressive_driver.h"
 #include "scene/scene.h"
 #include "scene_gpu/gpu_scene.h"
 #include "vk/context.h"
@@ -38,5 +41,15 @@ struct BenchScene {
   std::unique_ptr<bvh::Bvh> bvh;
   image::RgbImage reference;
 };
+
+// --network as the quality benchmarks take it: default (the shipped model), none, or a packed
+// file; the network alone (no filter).
+render::DenoiseSettings networkSettings(const std::string& network);
+
+// A render of at most maxUnits units, stopped after `seconds` when > 0, from seed's restart;
+// its film resolved.
+render::FilmLayers renderFilm(const vk::Context& ctx, render::Integrator& integrator,
+                              const scene::Camera& cam, uint32_t seed, uint32_t maxUnits,
+                              double seconds, render::RenderStats& stats);
 
 }  // namespace osr::bench

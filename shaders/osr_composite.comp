@@ -50,8 +50,7 @@ void main() {
   AccumPixel a = gAccum[local];
   if (finite3(estimate)) {
     a.indirect.rgb += gPush.passWeight * estimate;
-    const float lum = luminance(estimate);
-    a.compositeSq += gPush.momentWeight * vec4(lum * lum, 1.0, gPush.momentWeight, lum);
+    a.compositeSq += weightedMoments(luminance(estimate), gPush.momentWeight);
   }
   a.indirect.w += gPush.passWeight;
   gAccum[local] = a;

@@ -100,8 +100,7 @@ void main() {
   AccumPixel a = gAccum[local];
   if (finite3(always) && finite3(blended)) {
     a.indirect.rgb += gPush.passWeight * always;
-    const float tracedLum = luminance(always);
-    a.tracedSq += gPush.passWeight * vec4(tracedLum * tracedLum, 1.0, gPush.passWeight, tracedLum);
+    a.tracedSq += weightedMoments(luminance(always), gPush.passWeight);
     a.residual.rgb += gPush.passWeight * blended;
     // Second moments, so the resolve knows the residual's noise (shared/osr.h).
     a.residualSq += vec4(gPush.passWeight * blended * blended, gPush.passWeight * gPush.passWeight);

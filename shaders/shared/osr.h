@@ -316,6 +316,10 @@ OSR_OSR_FN bool residualVarianceKnown(vec4 residualSq, float weightSum) {
 // w, z: sum w^2, w: sum w l): the composites' spread from one map pass to the next (the grid
 // points' placement, jittered each map pass, and the maps' paths), or the fully path-traced
 // part's from pass to pass. 0 before two samples; osr-bench osr-error measures both noises.
+// One sample's contribution to those moments.
+OSR_OSR_FN vec4 weightedMoments(float value, float weight) {
+  return weight * vec4(value * value, 1.0f, weight, value);
+}
 OSR_OSR_FN float varianceOfWeightedMean(vec4 moments) {
   float weightSum = moments.y;
   if (weightSum <= 0.0f || moments.z <= 0.0f) return 0.0f;

@@ -70,7 +70,7 @@ TEST(ResidualBlend, CompositeVarianceOfTheWeightedMean) {
       float w1 = 0.f, w2 = 0.f;
       for (int k = 0; k < n; ++k) {
         const float w = k % 2 ? 1.f : 0.5f, c = 3.f + noise(rng);
-        sq += w * glm::vec4(c * c, 1.f, w, c);
+        sq += o::weightedMoments(c, w);
         w1 += w, w2 += w * w;
       }
       sum += o::varianceOfWeightedMean(sq);
