@@ -3,7 +3,8 @@
 // gatherMaps: screen distance, normal agreement, plane distance), integrated against its BSDF:
 //  - the diffuse lobe in closed form: reflectance / pi x the interpolated irradiance;
 //  - GGX reflection lobes wider than a texel (alpha >= kNarrowLobeAlpha): `glossySamples` directions
-//    drawn from the lobe by visible normals, the interpolated map radiance looked up there;
+//    drawn from the lobe by visible normals, the interpolated map radiance looked up there
+//    (directions no gathered map's hemisphere contains count 0: osr_residual traces them);
 //  - narrower lobes, transmission (glass and diffuse), clearcoat and sheen: left to
 //    osr_residual, which path-traces them in full.
 // Pixels no map covers get 0 here; osr_residual gives them the path tracer's answer instead.
@@ -40,7 +41,8 @@ void main() {
           vec3 f = bsdfEvalGlossy(sp.bsdf, sp.woLocal, wi);
           vec3 dir = toWorld(wi, sp.t, sp.b, sp.ns);
           if (dot(dir, sp.ng) <= 0.0) continue;
-          spec += max(f, vec3(0.0)) * gatherRadiance(gather, dir) / pdf;
+          // A direction no gathered map contains counts 0 here; the residual traces it in full.
+          spec += max(f, vec3(0.0)) * gatherRadiance(gather, dir).rgb / pdf;
         }
         estimate += spec / float(gPush.glossySamples);
       }

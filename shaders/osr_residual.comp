@@ -9,7 +9,7 @@
 // estimate of the composite's error (a control variate; two-level Monte Carlo, Dereviannykh
 // et al. 2024), so composite + residual converges to the path tracer's answer.
 // Lobes the composite left out (narrow, transmission, delta, clearcoat, sheen, diffuse
-// transmission) and pixels no map covers have
+// transmission), glossy directions no gathered map contains and pixels no map covers have
 // g = 0: their f L_pt / pdf is the path tracer's own answer, added to AccumPixel.indirect in
 // full; the control-variate part goes to AccumPixel.residual, which the resolve blends in.
 // In: GBufferPixel, MapPoint, clean maps, scene, BVH. Out: AccumPixel.indirect, .residual, .tracedSq.
@@ -83,13 +83,15 @@ void main() {
       }
       // Split f cos into the diffuse lobe, the glossy lobes the composite took from the maps
       // (wide ones only) and the rest (f cos = weight * pdf).
+      // A glossy direction no gathered map contains is the composite's 0: traced in full.
       vec3 fcos = bs.weight * bs.pdf;
       vec3 fd = bsdfEvalDiffuse(sp.bsdf, sp.woLocal, bs.wi);
-      vec3 fGlossy = wide ? bsdfEvalGlossy(sp.bsdf, sp.woLocal, bs.wi) : vec3(0.0);
-      vec3 fRest = max(fcos - fd - fGlossy, vec3(0.0));
       vec3 dir = toWorld(bs.wi, sp.t, sp.b, sp.ns);
+      vec4 lMaps = wide ? gatherRadiance(gather, dir) : vec4(0.0);
+      vec3 fGlossy = lMaps.w > 0.0 ? bsdfEvalGlossy(sp.bsdf, sp.woLocal, bs.wi) : vec3(0.0);
+      vec3 fRest = max(fcos - fd - fGlossy, vec3(0.0));
       vec3 cv = rho * kInvPi * max(bs.wi.z, 0.0) * gatherShRadiance(gather, shWeights, dir);
-      if (wide) cv += fGlossy * gatherRadiance(gather, dir);
+      cv += fGlossy * lMaps.rgb;
       blended += ((fd + fGlossy) * lpt - cv) / bs.pdf;
       always += fRest * lpt / bs.pdf;
     }

@@ -2,10 +2,12 @@
 """Images side by side in one PNG, for looking at renders against each other (docs/images).
 
 usage: side_by_side.py OUT.png A.exr B.exr ... [--exposure EV] [--gap 4] [--scale N]
+                         [--crop X,Y,W,H]
 
 Each EXR's default RGB layer, scaled by 2^EV, clamped to [0, 1] and sRGB-encoded as
 `osr-vk --png --tonemap clamp` does, left to right in the order given, with a black gap
-between them. All images must have the same height.
+between them. All images must have the same height. --crop shows the same rectangle of each
+(pixels from the top left), to look at a detail with --scale.
 """
 from __future__ import annotations
 
@@ -37,7 +39,19 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--gap", type=int, default=4, help="pixels between images (default 4)")
     p.add_argument("--scale", type=int, default=1,
                    help="each pixel shown as N x N, to look at small renders (default 1)")
+    p.add_argument("--crop", default=None, metavar="X,Y,W,H",
+                   help="show only this rectangle of each image (pixels from the top left)")
     args = p.parse_args(argv)
+    crop = None
+    if args.crop is not None:
+        try:
+            crop = [int(v) for v in args.crop.split(",")]
+            if len(crop) != 4 or min(crop) < 0 or crop[2] == 0 or crop[3] == 0:
+                raise ValueError
+        except ValueError:
+            print(f"side_by_side.py: --crop {args.crop}: expected X,Y,W,H, W and H positive",
+                  file=sys.stderr)
+            return 2
     panels = []
     for path in args.images:
         try:
@@ -46,6 +60,13 @@ def main(argv: list[str] | None = None) -> int:
         except (exr.ExrError, KeyError, OSError) as e:
             print(f"side_by_side.py: {path}: not an RGB EXR ({e})", file=sys.stderr)
             return 2
+        if crop is not None:
+            x, y, w, h = crop
+            if x + w > rgb.shape[1] or y + h > rgb.shape[0]:
+                print(f"side_by_side.py: {path}: --crop {args.crop} reaches past its "
+                      f"{rgb.shape[1]} x {rgb.shape[0]} pixels", file=sys.stderr)
+                return 2
+            rgb = rgb[y:y + h, x:x + w]
         scale = max(args.scale, 1)
         panels.append(srgb8(rgb * 2.0 ** args.exposure).repeat(scale, 0).repeat(scale, 1))
     height = panels[0].shape[0]

@@ -131,16 +131,23 @@ MapGather gatherMaps(MapGrid grid, uint cleanMapOffset, uvec2 pixel, vec3 x, vec
   return g;
 }
 
-// Interpolated map radiance arriving from world direction `dir` (0 from maps whose hemisphere
-// does not contain it), normalised by the gather's total weight.
-vec3 gatherRadiance(MapGather g, vec3 dir) {
+// Interpolated map radiance arriving from world direction `dir`, averaged over the maps whose
+// hemisphere contains it; w: those maps' share of the gather's weight, 0 where no map's
+// hemisphere contains it. On a curved surface a grazing direction lies below the hemispheres
+// of the neighbouring maps: the maps know nothing there, so the glossy lobe's directions
+// with w = 0 are left to the residual to path-trace in full (osr_residual), not counted black.
+vec4 gatherRadiance(MapGather g, vec3 dir) {
   vec3 l = vec3(0.0);
+  float total = 0.0;
   for (uint i = 0u; i < g.count; ++i) {
     mat3 frame = hemiFrame(gMapPoints[g.maps[i]].normal.xyz);
     vec3 w = transpose(frame) * dir;
-    if (w.z > 0.0) l += g.weights[i] * mapRadianceLocal(g.maps[i], g.cleanMapOffset, w);
+    if (w.z > 0.0) {
+      l += g.weights[i] * mapRadianceLocal(g.maps[i], g.cleanMapOffset, w);
+      total += g.weights[i];
+    }
   }
-  return g.total > 0.0 ? l / g.total : vec3(0.0);
+  return total > 0.0 ? vec4(l / total, total / g.total) : vec4(0.0);
 }
 
 // The diffuse control variate of a pixel with world normal n (osr_residual): per gathered map
