@@ -1,6 +1,7 @@
 #version 460
 // osr_residual: what makes OSR converge. At each pixel's G-buffer surface x, `pathsPerPixel`
-// directions wi drawn from the full BSDF, each followed by a path-traced estimate L_pt of the
+// directions wi drawn from the full BSDF (or, with guideShare > 0 on diffuse surfaces, from
+// its mixture with the maps around the pixel: sampleGuided), each followed by a path-traced estimate L_pt of the
 // light arriving after at least one bounce (lib/path.glsl). With g(wi) = rho_d / pi cos
 // L_sh(wi) + [wide lobe] f_rest(wi) L^(wi) the function whose integral osr_composite computed
 // (L_sh: the maps' SH radiance, lib/osr_maps.glsl gatherShRadiance, whose cosine integral is
@@ -20,6 +21,37 @@
 layout(local_size_x = kOsrWorkgroupSize) in;
 layout(push_constant) uniform OsrPushBlock { ResidualPush gPush; };
 
+// A path's first direction from the mixture (1 - guide) x BSDF + guide x the gathered maps
+// (lib/osr_maps.glsl sampleGatheredMaps: where the indirect light comes from), as a
+// BsdfSample whose pdf is the mixture's and weight f cos / pdf: one-sample MIS with the
+// balance heuristic, so the residual stays unbiased whatever the maps hold. Only where the
+// BSDF has no glass or diffuse transmission (guide > 0), so no delta lobe and no direction
+// below the surface carries light. False: no direction (a zero sample).
+bool sampleGuided(ShadingPoint sp, MapGather gather, float guide, vec3 u, vec2 uExtra,
+                  out BsdfSample s) {
+  float pdfBsdf;
+  vec3 fcos;
+  if (u.x < guide) {
+    vec3 dir;
+    s.delta = false;
+    if (!sampleGatheredMaps(gather, vec2(u.x / guide, u.y), vec2(u.z, uExtra.x), dir)) return false;
+    s.wi = toLocal(dir, sp.t, sp.b, sp.ns);
+    if (s.wi.z <= 0.0) return false;  // below the shading surface: f = 0 and no control variate
+    fcos = bsdfEval(sp.bsdf, sp.woLocal, s.wi, pdfBsdf);
+  } else {
+    if (!bsdfSample(sp.bsdf, sp.woLocal, vec3((u.x - guide) / (1.0 - guide), u.y, u.z), s))
+      return false;
+    pdfBsdf = s.pdf;
+    fcos = s.weight * s.pdf;
+  }
+  float pdf = guide * gatheredMapsPdf(gather, toWorld(s.wi, sp.t, sp.b, sp.ns)) +
+              (1.0 - guide) * pdfBsdf;
+  if (!(pdf > 0.0)) return false;
+  s.pdf = pdf;
+  s.weight = fcos / pdf;
+  return true;
+}
+
 void main() {
   uint local = gl_GlobalInvocationID.x;
   if (local >= gPush.pixelCount) return;
@@ -36,6 +68,11 @@ void main() {
     vec3 shWeights[9];
     if (covered) gatherShWeights(gather, sp.ns, shWeights);
     Rng rng = pixelRng(gPush.pass, pixel, kSaltResidual);
+    float guide = 0.0;
+    if (covered && gPush.guideShare > 0.0) {
+      BsdfLobes lobes = bsdfLobeProbabilities(sp.bsdf, sp.woLocal);
+      if (lobes.glass == 0.0 && lobes.diffuseSplit == 0.0) guide = gPush.guideShare * lobes.diffuse;
+    }
     // One flat loop over the bounces of successive paths (see osr_maps.comp for why).
     uint i = 0u;
     bool live = false;
@@ -46,7 +83,9 @@ void main() {
       if (!live) {
         lpt = vec3(0.0);
         vec3 wi = vec3(0.0);
-        bool sampled = bsdfSample(sp.bsdf, sp.woLocal, rngNext3(rng), bs);
+        vec3 u = rngNext3(rng);
+        bool sampled = guide > 0.0 ? sampleGuided(sp, gather, guide, u, rngNext2(rng), bs)
+                                   : bsdfSample(sp.bsdf, sp.woLocal, u, bs);
         bool ok = sampled;
         if (ok) {
           wi = toWorld(bs.wi, sp.t, sp.b, sp.ns);

@@ -150,6 +150,71 @@ vec4 gatherRadiance(MapGather g, vec3 dir) {
   return total > 0.0 ? vec4(l / total, total / g.total) : vec4(0.0);
 }
 
+// Drawing directions from the gathered maps (osr_residual's guided first bounce): a map with
+// probability weight / total, one of its texels by luminance (MapProjection.rowLuminance, then
+// the row's texels), a point uniform in the texel's square, which the cosine-weighted square
+// map (shared/hemisphere.h) turns into a direction. Uniform in the square is cos / pi in solid
+// angle, so one texel's density is its probability x kMapTexels x cos / pi.
+float mapTexelLuminance(uint map, uint cleanMapOffset, uint texel) {
+  uint base = (map - cleanMapOffset) * 3u * kMapTexels + texel;
+  return luminance(vec3(gMapClean[base], gMapClean[base + kMapTexels], gMapClean[base + 2u * kMapTexels]));
+}
+
+// The solid-angle density of sampleGatheredMaps drawing world direction dir.
+float gatheredMapsPdf(MapGather g, vec3 dir) {
+  float pdf = 0.0;
+  for (uint i = 0u; i < g.count; ++i) {
+    float total = gMapProjections[g.maps[i]].mean.w;
+    vec3 w = transpose(hemiFrame(gMapPoints[g.maps[i]].normal.xyz)) * dir;
+    if (total <= 0.0 || w.z <= 0.0) continue;
+    float lum = luminance(mapRadianceLocal(g.maps[i], g.cleanMapOffset, w));
+    pdf += g.weights[i] * lum / total * float(kMapTexels) * w.z * kInvPi;
+  }
+  return g.total > 0.0 ? pdf / g.total : 0.0;
+}
+
+// False where the chosen map is black (a defective density: such draws count as zero
+// samples, which gatheredMapsPdf's values keep unbiased). u: map, then texel; v: in the texel.
+bool sampleGatheredMaps(MapGather g, vec2 u, vec2 v, out vec3 dir) {
+  dir = vec3(0.0, 0.0, 1.0);
+  if (g.count == 0u) return false;
+  uint chosen = g.maps[g.count - 1u];
+  float pick = u.x * g.total;
+  for (uint i = 0u; i < g.count; ++i) {
+    if (pick < g.weights[i]) {
+      chosen = g.maps[i];
+      break;
+    }
+    pick -= g.weights[i];
+  }
+  MapProjection m = gMapProjections[chosen];
+  float left = u.y * m.mean.w;
+  if (!(m.mean.w > 0.0)) return false;
+  uint row = kMapSize;
+  for (uint r = 0u; r < kMapSize; ++r) {
+    float rowSum = m.rowLuminance[r / 4u][r % 4u];
+    if (left < rowSum) {
+      row = r;
+      break;
+    }
+    left -= rowSum;
+  }
+  if (row == kMapSize) return false;  // rounding past the last texel
+  uint column = kMapSize;
+  for (uint c = 0u; c < kMapSize; ++c) {
+    float lum = mapTexelLuminance(chosen, g.cleanMapOffset, row * kMapSize + c);
+    if (left < lum) {
+      column = c;
+      break;
+    }
+    left -= lum;
+  }
+  if (column == kMapSize) return false;
+  vec3 w = hemiSquareToDirection((vec2(column, row) + v) / float(kMapSize));
+  dir = hemiFrame(gMapPoints[chosen].normal.xyz) * w;
+  return w.z > 0.0;
+}
+
 // The diffuse control variate of a pixel with world normal n (osr_residual): per gathered map
 // and channel, its normalized weight where gatherIrradiance(g, n) takes the map's irradiance
 // and 0 where the clamp makes it 0, so that the cosine integral of gatherShRadiance about n

@@ -122,9 +122,13 @@ struct MapPoint {
 
 // What osr_map_project makes of one clean map: its irradiance at its own normal and elsewhere.
 struct MapProjection {
-  vec4 mean;    // rgb: mean radiance of the clean map (irradiance at the normal = pi mean)
+  vec4 mean;    // rgb: mean radiance of the clean map (irradiance at the normal = pi mean);
+                // w: the sum of its texels' luminance (the guided residual's pdf)
   vec4 sh[9];   // rgb: irradiance SH (Ramamoorthi & Hanrahan 2001) in the map's frame,
                 // w of sh[0]: unused
+  vec4 rowLuminance[8];  // the luminance summed over each of the map's 32 texel rows, row
+                         // 4 i + j in component j of element i: osr_residual draws texels
+                         // by it (lib/osr_maps.glsl sampleGatheredMaps)
 };
 
 // Per-map normalization statistics of the one-shot input (DESIGN.md "Normalization").
@@ -243,7 +247,8 @@ struct ResidualPush {
   uint cleanMapOffset;  // the map gMapClean's element 0 is
   uint pathsPerPixel;
   float passWeight;     // w_k of this pass
-  float momentWeight;   // unused (CompositePush's twin field)
+  float guideShare;     // probability of drawing a path's first direction from the maps where
+                        // a pixel's BSDF is diffuse (0: the BSDF's alone; docs/osr.md)
 };
 
 // The cache's passes (osr_cache_lookup, osr_cache_claim, osr_cache_store) share one struct:

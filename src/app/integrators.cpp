@@ -51,6 +51,7 @@ oneshot::OsrSettings osrSettings(const OsrOptions& o) {
   if (o.directSpp) s.directSamples = s.directSamplesLate = uint32_t(*o.directSpp);
   if (o.residualSpp) s.residualSamples = s.residualSamplesLate = uint32_t(*o.residualSpp);
   if (o.residualRamp) s.residualRamp = *o.residualRamp;
+  if (o.residualGuide) s.residualGuide = float(*o.residualGuide);
   if (o.mapSpp) s.pathsPerTexel = uint32_t(*o.mapSpp);
   if (o.mapShare) s.mapShare = *o.mapShare;
   if (o.mapCache) s.mapCacheMaps = uint32_t(*o.mapCache);
@@ -119,7 +120,7 @@ std::vector<std::string> integratorNames() {
 
 bool OsrOptions::any() const {
   return passes || denoiser || weights || gridStart || gridMin || directSpp || residualSpp ||
-         residualRamp || mapSpp || mapShare || mapCache || mapCacheReach;
+         residualRamp || residualGuide || mapSpp || mapShare || mapCache || mapCacheReach;
 }
 
 IntegratorOptions readIntegratorOptions(Args& a) {
@@ -135,6 +136,7 @@ IntegratorOptions readIntegratorOptions(Args& a) {
   o.osr.directSpp = a.integer("--direct-spp", 1, 1024);
   o.osr.residualSpp = a.integer("--residual-spp", 0, 1024);
   o.osr.residualRamp = a.number("--residual-ramp", 0.0, 1e9);
+  o.osr.residualGuide = a.number("--residual-guide", 0.0, 0.95);
   o.osr.mapSpp = a.integer("--map-spp", 1, 1 << 16);
   o.osr.mapShare = a.number("--map-share", 0.0, 1.0);
   o.osr.mapCache = a.integer("--map-cache", 0, 1 << 20);

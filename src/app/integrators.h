@@ -69,7 +69,7 @@ struct OsrOptions {
   std::optional<long long> passes;
   std::optional<std::string> denoiser, weights;
   std::optional<long long> gridStart, gridMin, directSpp, residualSpp, mapSpp, mapCache;
-  std::optional<double> residualRamp, mapShare, mapCacheReach;
+  std::optional<double> residualRamp, residualGuide, mapShare, mapCacheReach;
   bool any() const;
 };
 

@@ -74,6 +74,8 @@ constexpr const char* kUsageTail =
     "  --residual-spp N      residual paths per pixel and pass (1, then 4)\n"
     "  --residual-ramp N0    blend the residual in by k / (k + N0) after k passes (default:\n"
     "                        per pixel, where it measurably corrects the maps)\n"
+    "  --residual-guide F    share of the residual's first bounces drawn from the maps on\n"
+    "                        diffuse surfaces, 0 to 0.95 (0)\n"
     "  --map-spp N           paths per map texel (1)\n"
     "  --dump-maps DIR       write the last pass's maps as PNG atlases\n"
     "\n"

@@ -295,7 +295,8 @@ void OsrIntegrator::recordStep(VkCommandBuffer cmd, uint32_t k, const Step& step
     }
     case K::Residual: {
       vk::TimedScope scope(timer, cmd, "residual");
-      residual_.record(cmd, bindings_, {current_, k, samples.residual, weight, pixels});
+      residual_.record(cmd, bindings_,
+                       {current_, k, samples.residual, weight, pixels, 0.f, settings_.residualGuide});
       break;
     }
   }

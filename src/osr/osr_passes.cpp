@@ -8,11 +8,11 @@ using shaders::Id;
 namespace {
 const o::MapGrid kNoMaps{};  // for passes that read no clean maps
 
-// CompositePush and ResidualPush: the same fields in the same order, named for their pass.
+// CompositePush and ResidualPush: the same fields in the same order but the last, which
+// each pass takes from its own argument.
 template <class Push>
-Push mapPixelPush(const MapPixelArgs& a, const OsrWindow& w) {
-  return Push{a.grid,    a.pass,       w.pixelFirst, w.pixelCount, w.mapFirst,
-              a.samples, a.passWeight, a.momentWeight};
+Push mapPixelPush(const MapPixelArgs& a, const OsrWindow& w, float last) {
+  return Push{a.grid, a.pass, w.pixelFirst, w.pixelCount, w.mapFirst, a.samples, a.passWeight, last};
 }
 o::MapCachePush mapCachePush(const MapCacheArgs& a, const OsrWindow& w, uint32_t phase) {
   o::MapCachePush p{};
@@ -130,7 +130,7 @@ CompositePass::CompositePass(const vk::Context& ctx, uint32_t features, bool tex
 
 void CompositePass::record(VkCommandBuffer cmd, const OsrBindings& b, const MapPixelArgs& a) const {
   recordPixels(cmd, b, a.grid, a.pixels, 
-               [&](const OsrWindow& w) { return mapPixelPush<o::CompositePush>(a, w); });
+               [&](const OsrWindow& w) { return mapPixelPush<o::CompositePush>(a, w, a.momentWeight); });
 }
 
 ResidualPass::ResidualPass(const vk::Context& ctx, uint32_t features, bool texelFetch)
@@ -138,7 +138,7 @@ ResidualPass::ResidualPass(const vk::Context& ctx, uint32_t features, bool texel
 
 void ResidualPass::record(VkCommandBuffer cmd, const OsrBindings& b, const MapPixelArgs& a) const {
   recordPixels(cmd, b, a.grid, a.pixels, 
-               [&](const OsrWindow& w) { return mapPixelPush<o::ResidualPush>(a, w); });
+               [&](const OsrWindow& w) { return mapPixelPush<o::ResidualPush>(a, w, a.guideShare); });
 }
 
 ResolvePass::ResolvePass(const vk::Context& ctx, uint32_t features, bool texelFetch)

@@ -101,6 +101,7 @@ struct MapPixelArgs {
   float passWeight;  // w_k
   PixelRange pixels;
   float momentWeight = 0.f;  // composite: w_k where the pass traced its maps (CompositePush)
+  float guideShare = 0.f;    // residual: first directions drawn from the maps (ResidualPush)
 };
 
 class CompositePass : public PassWithPush<gpu::osr::CompositePush> {

@@ -64,6 +64,10 @@ struct OsrSettings {
   uint32_t cameraSamplesLate = 1;    // from pass settlePasses on (the G-buffer ray alone)
   uint32_t settlePasses = 8;
   uint32_t glossySamples = 4;    // map lookups per pixel for wide glossy lobes
+  // Probability that a residual path's first direction is drawn from the maps around the
+  // pixel (by their texels' luminance) instead of its BSDF, where the BSDF is diffuse
+  // (scaled by the diffuse lobe's share); 0: the BSDF's alone (docs/osr.md "Guided residual").
+  float residualGuide = 0.0f;
   // How the residual is blended in: < 0 (default) per pixel by the measured shrinkage of
   // shared/osr.h residualShrinkBlend; n0 >= 0 a fixed ramp k / (k + n0) after k passes.
   double residualRamp = -1.0;

@@ -61,7 +61,11 @@ template <> struct Std430<glm::vec4> : Std430Is<16, 16> {};
 template <> struct Std430<glm::uvec4> : Std430Is<16, 16> {};
 template <> struct Std430<glm::ivec4> : Std430Is<16, 16> {};
 template <> struct Std430<glm::mat4> : Std430Is<64, 16> {};
-template <> struct Std430<glm::vec4[9]> : Std430Is<144, 16> {};
+// Arrays of elements whose size is a multiple of their alignment (std430 stride = size).
+template <class T, size_t N>
+struct Std430<T[N]> : Std430Is<N * Std430<T>::size, Std430<T>::align> {
+  static_assert(Std430<T>::size % Std430<T>::align == 0, "array stride would be padded");
+};
 // Nested structs: their own layout is checked as a listed struct; alignment = largest member's.
 template <> struct Std430<gpu::nn::View> : Std430Is<sizeof(gpu::nn::View), 4> {};
 template <> struct Std430<gpu::osr::MapGrid> : Std430Is<sizeof(gpu::osr::MapGrid), 4> {};
@@ -154,7 +158,7 @@ const std::vector<Layout>& layouts() {
       STRUCT(osr, AccumPixel, F(direct), F(indirect), F(residual), F(residualSq), F(albedo),
              F(normal), F(depth), F(compositeSq), F(tracedSq)),
       STRUCT(osr, MapPoint, F(position), F(normal), F(pixel)),
-      STRUCT(osr, MapProjection, F(mean), F(sh)),
+      STRUCT(osr, MapProjection, F(mean), F(sh), F(rowLuminance)),
       STRUCT(osr, MapStats, F(meanRadiance), F(meanDistance)),
       STRUCT(osr, MapGrid, F(radius), F(cellsX), F(cellsY), F(seed)),
       STRUCT(osr, GBufferPush, F(pass), F(pixelOffset), F(pixelCount), F(cameraRays),
@@ -173,7 +177,7 @@ const std::vector<Layout>& layouts() {
       STRUCT(osr, CompositePush, F(grid), F(pass), F(pixelOffset), F(pixelCount),
              F(cleanMapOffset), F(glossySamples), F(passWeight), F(momentWeight)),
       STRUCT(osr, ResidualPush, F(grid), F(pass), F(pixelOffset), F(pixelCount),
-             F(cleanMapOffset), F(pathsPerPixel), F(passWeight), F(momentWeight)),
+             F(cleanMapOffset), F(pathsPerPixel), F(passWeight), F(guideShare)),
       STRUCT(osr, ResolvePush, F(pixelOffset), F(pixelCount), F(residualBlend)),
       STRUCT(pt, Push, F(pixelOffset), F(pixelCount), F(sampleIndex), F(sampleCount)),
       STRUCT(bsdf, BsdfParams, F(baseColor), F(metallic), F(specularColor), F(roughness),
