@@ -53,6 +53,21 @@ class BadNumbers(unittest.TestCase):
             self.refused("train.py", ["DATA", "--val", "VAL", "--out", "OUT", option, value],
                          f"argument {option}")
 
+    def test_side_by_side_crop(self):
+        ref = str(ROOT / "scenes" / "cornell" / "cornell_cycles_4096spp.exr")
+        for crop, mention in [("1,2,3", "expected X,Y,W,H"), ("0,0,0,5", "expected X,Y,W,H"),
+                              ("200,0,100,10", "reaches past")]:
+            self.refused("side_by_side.py", ["OUT.png", ref, "--crop", crop], mention)
+        with tempfile.TemporaryDirectory() as tmp:
+            out = Path(tmp) / "crop.png"
+            r = subprocess.run([PY, str(TOOLS / "side_by_side.py"), str(out), ref, ref,
+                                "--crop", "10,20,30,40", "--scale", "2", "--gap", "4"],
+                               capture_output=True, text=True, timeout=60)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            width, height = int.from_bytes(out.read_bytes()[16:20], "big"), \
+                int.from_bytes(out.read_bytes()[20:24], "big")
+            self.assertEqual((width, height), (2 * 30 * 2 + 4, 2 * 40))
+
     def test_add_camera_path(self):
         scene = str(ROOT / "scenes" / "cornell" / "cornell.gltf")
         for option, value in [("--frames", "0"), ("--fps", "-24"), ("--arc", "0"), ("--yfov", "4")]:
