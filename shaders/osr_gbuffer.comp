@@ -3,7 +3,8 @@
 // pass's sub-pixel jitter (antialiasing comes from averaging passes). Mirror-like metals and
 // smooth glass (shared/osr.h kNearSpecularAlpha) are followed by sampling their BSDF, with
 // the chain's throughput kept; emission met on the way (the camera's own view of lights, and
-// lights seen in mirrors) goes straight to the direct layer. The lights seen directly are
+// lights seen in mirrors) goes straight to the direct layer, the latter's moments to
+// AccumPixel.mirroredSq (the resolve's variance). The lights seen directly are
 // averaged over `cameraRays` camera rays of the pixel filter (the first is the G-buffer's own):
 // a light's edge pixels would otherwise be speckled for as many passes as they take to average.
 // In: CameraFrame, scene, BVH. Out: GBufferPixel, AccumPixel first-hit records and emission.
@@ -40,6 +41,7 @@ void main() {
   AccumPixel a = gAccum[local];
   vec3 beta = vec3(1.0);
   vec3 emitted = vec3(0.0);
+  vec3 mirrored = vec3(0.0);  // the part met past a near-specular bounce (chain >= 1)
   // Each camera ray's share of the lights seen directly (first hit); later hits count whole.
   const float cameraShare = 1.0 / float(max(gPush.cameraRays, 1u));
   float rayLength = 0.0;
@@ -49,6 +51,7 @@ void main() {
       // Delta-like bounces only so far: the environment is seen at full weight.
       vec3 env = missRadiance(pathStart(origin, dir, beta, 0.0, origin, chain));
       emitted += (chain == 0u ? cameraShare : 1.0) * env;
+      if (chain > 0u) mirrored += env;
       if (chain == 0u) a.depth.z += cameraShare * lightSeen(env);
       break;
     }
@@ -63,6 +66,7 @@ void main() {
     }
     vec3 emission = hitEmission(pathStart(origin, dir, beta, 0.0, origin, chain), hit.triangle, surf, sp);
     emitted += (chain == 0u ? cameraShare : 1.0) * emission;
+    if (chain > 0u) mirrored += emission;
     if (chain == 0u) a.depth.z += cameraShare * lightSeen(emission);
     if (!nearSpecular(sp.bsdf)) {
       g.position = vec4(sp.position, 1.0);
@@ -98,7 +102,12 @@ void main() {
     emitted += cameraShare * e;
     a.depth.z += cameraShare * lightSeen(e);
   }
-  if (finite3(emitted)) a.direct.rgb += gPush.directWeight * emitted;  // as osr_direct weighs it
+  if (finite3(emitted)) {
+    a.direct.rgb += gPush.directWeight * emitted;  // as osr_direct weighs it
+    // The chain's sampled directions make what it meets noise: the denoisers' variance holds
+    // it (a lamp met once in a mirror's GGX tail was a firefly they kept).
+    a.mirroredSq += weightedMoments(luminance(mirrored), gPush.directWeight);
+  }
   gGBuffer[local] = g;
   gAccum[local] = a;
 }

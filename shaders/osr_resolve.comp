@@ -66,8 +66,8 @@ void main() {
   f.normal = vec4(a.normal.rgb / passes, 0.0);
   // The second moment of one sample's worth: the estimate squared plus its variance, that of
   // the blended residual's mean, of the direct light's mean, of the composite's mean over map
-  // passes and of the fully path-traced part's mean (film.h: what the denoisers' variance
-  // comes from). The maps' bias is not in it.
+  // passes, of the fully path-traced part's mean and of the lights seen in mirrors (film.h:
+  // what the denoisers' variance comes from). The maps' bias is not in it.
   const vec3 lumWeights = vec3(0.2126, 0.7152, 0.0722);
   const float lum = dot(f.combined.rgb, lumWeights);
   const vec3 residualVar = a.indirect.w > 0.0
@@ -79,7 +79,8 @@ void main() {
       : 0.0;
   f.depth = vec4(a.depth.xy,
                  lum * lum + dot(residualVar, lumWeights) + directVar +
-                     varianceOfWeightedMean(a.compositeSq) + varianceOfWeightedMean(a.tracedSq),
+                     varianceOfWeightedMean(a.compositeSq) + varianceOfWeightedMean(a.tracedSq) +
+                     varianceOfWeightedMean(a.mirroredSq),
                  0.0);
   gFilm[local] = f;
 }

@@ -109,6 +109,9 @@ struct AccumPixel {
                      // w: sum w_k lum(C_k)
   vec4 tracedSq;     // the same moments of what osr_residual path-traces in full each pass
                      // (narrow lobes, pixels no map covers: T_k), over every pass
+  vec4 mirroredSq;   // the same moments, weighted by the pass's light samples, of the lights
+                     // osr_gbuffer meets past a near-specular bounce (lights seen in mirrors:
+                     // a sampled direction, so noise), over every pass
 };
 
 // Where one hemisphere map of the pass was taken (osr_maps writes it; MapTracer's host fills

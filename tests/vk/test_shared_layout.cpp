@@ -156,7 +156,7 @@ const std::vector<Layout>& layouts() {
       STRUCT(osr, GBufferPixel, F(position), F(normal), F(geomNormal), F(wo), F(throughput),
              F(bsdf)),
       STRUCT(osr, AccumPixel, F(direct), F(indirect), F(residual), F(residualSq), F(albedo),
-             F(normal), F(depth), F(compositeSq), F(tracedSq)),
+             F(normal), F(depth), F(compositeSq), F(tracedSq), F(mirroredSq)),
       STRUCT(osr, MapPoint, F(position), F(normal), F(pixel)),
       STRUCT(osr, MapProjection, F(mean), F(sh), F(rowLuminance)),
       STRUCT(osr, MapStats, F(meanRadiance), F(meanDistance)),
