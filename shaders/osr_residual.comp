@@ -1,18 +1,18 @@
 #version 460
 // osr_residual: what makes OSR converge. At each pixel's G-buffer surface x, `pathsPerPixel`
-// directions wi drawn from the full BSDF (or, with guideShare > 0 on diffuse surfaces, from
-// its mixture with the maps around the pixel: sampleGuided), each followed by a path-traced estimate L_pt of the
-// light arriving after at least one bounce (lib/path.glsl). With g(wi) = rho_d / pi cos
+// directions wi drawn from the full BSDF (or, with guideShare > 0 on diffuse surfaces, from its
+// mixture with the maps around the pixel: sampleGuided), each followed by a path-traced estimate
+// L_pt of the light arriving after at least one bounce (lib/path.glsl). With g(wi) = rho_d / pi cos
 // L_sh(wi) + [wide lobe] f_rest(wi) L^(wi) the function whose integral osr_composite computed
-// (L_sh: the maps' SH radiance, lib/osr_maps.glsl gatherShRadiance, whose cosine integral is
-// the composite's closed-form irradiance exactly; L^: the interpolated texel lookups the
-// composite samples for glossy lobes), the residual (f L_pt - g) / pdf is an unbiased
-// estimate of the composite's error (a control variate; two-level Monte Carlo, Dereviannykh
-// et al. 2024), so composite + residual converges to the path tracer's answer.
-// Lobes the composite left out (narrow, transmission, delta, clearcoat, sheen, diffuse
-// transmission), glossy directions no gathered map contains and pixels no map covers have
-// g = 0: their f L_pt / pdf is the path tracer's own answer, added to AccumPixel.indirect in
-// full; the control-variate part goes to AccumPixel.residual, which the resolve blends in.
+// (L_sh: the maps' SH radiance, lib/osr_maps.glsl gatherShRadiance, whose cosine integral is the
+// composite's closed-form irradiance exactly; L^: the interpolated texel lookups the composite
+// samples for glossy lobes), the residual (f L_pt - g) / pdf is an unbiased estimate of the
+// composite's error (a control variate; two-level Monte Carlo, Dereviannykh et al. 2024), so
+// composite + residual converges to the path tracer's answer. Lobes the composite left out (narrow,
+// transmission, delta, clearcoat, sheen, diffuse transmission), glossy directions no gathered map
+// contains and pixels no map covers have g = 0: their f L_pt / pdf is the path tracer's own answer,
+// added to AccumPixel.indirect in full; the control-variate part goes to AccumPixel.residual, which
+// the resolve blends in.
 // In: GBufferPixel, MapPoint, clean maps, scene, BVH. Out: AccumPixel.indirect, .residual, .tracedSq.
 #extension GL_GOOGLE_include_directive : require
 #include "lib/osr_common.glsl"

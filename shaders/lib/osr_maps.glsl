@@ -157,7 +157,8 @@ vec4 gatherRadiance(MapGather g, vec3 dir) {
 // angle, so one texel's density is its probability x kMapTexels x cos / pi.
 float mapTexelLuminance(uint map, uint cleanMapOffset, uint texel) {
   uint base = (map - cleanMapOffset) * 3u * kMapTexels + texel;
-  return luminance(vec3(gMapClean[base], gMapClean[base + kMapTexels], gMapClean[base + 2u * kMapTexels]));
+  return luminance(
+      vec3(gMapClean[base], gMapClean[base + kMapTexels], gMapClean[base + 2u * kMapTexels]));
 }
 
 // The solid-angle density of sampleGatheredMaps drawing world direction dir.

@@ -12,7 +12,8 @@ const o::MapGrid kNoMaps{};  // for passes that read no clean maps
 // each pass takes from its own argument.
 template <class Push>
 Push mapPixelPush(const MapPixelArgs& a, const OsrWindow& w, float last) {
-  return Push{a.grid, a.pass, w.pixelFirst, w.pixelCount, w.mapFirst, a.samples, a.passWeight, last};
+  return Push{a.grid,     a.pass,    w.pixelFirst, w.pixelCount,
+              w.mapFirst, a.samples, a.passWeight, last};
 }
 o::MapCachePush mapCachePush(const MapCacheArgs& a, const OsrWindow& w, uint32_t phase) {
   o::MapCachePush p{};
@@ -129,16 +130,18 @@ CompositePass::CompositePass(const vk::Context& ctx, uint32_t features, bool tex
     : PassWithPush(ctx, Id::osr_composite, Domain::Pixels, features, texelFetch) {}
 
 void CompositePass::record(VkCommandBuffer cmd, const OsrBindings& b, const MapPixelArgs& a) const {
-  recordPixels(cmd, b, a.grid, a.pixels, 
-               [&](const OsrWindow& w) { return mapPixelPush<o::CompositePush>(a, w, a.momentWeight); });
+  recordPixels(cmd, b, a.grid, a.pixels, [&](const OsrWindow& w) {
+    return mapPixelPush<o::CompositePush>(a, w, a.momentWeight);
+  });
 }
 
 ResidualPass::ResidualPass(const vk::Context& ctx, uint32_t features, bool texelFetch)
     : PassWithPush(ctx, Id::osr_residual, Domain::Pixels, features, texelFetch) {}
 
 void ResidualPass::record(VkCommandBuffer cmd, const OsrBindings& b, const MapPixelArgs& a) const {
-  recordPixels(cmd, b, a.grid, a.pixels, 
-               [&](const OsrWindow& w) { return mapPixelPush<o::ResidualPush>(a, w, a.guideShare); });
+  recordPixels(cmd, b, a.grid, a.pixels, [&](const OsrWindow& w) {
+    return mapPixelPush<o::ResidualPush>(a, w, a.guideShare);
+  });
 }
 
 ResolvePass::ResolvePass(const vk::Context& ctx, uint32_t features, bool texelFetch)
