@@ -24,11 +24,14 @@ uvec2 mapPixel(MapGrid grid, uint map) {
 // Radiance of map `map` arriving from local direction w (w.z > 0): the texel it falls in
 // (piecewise constant, so that pi x the texel mean is the map's exact irradiance);
 // cleanMapOffset: the map gMapClean's window starts at.
-vec3 mapRadianceLocal(uint map, uint cleanMapOffset, vec3 w) {
-  uvec2 t = uvec2(hemiDirectionToSquare(w) * float(kMapSize));
-  uint texel = min(t.y, kMapSize - 1u) * kMapSize + min(t.x, kMapSize - 1u);
+vec3 mapTexelRadiance(uint map, uint cleanMapOffset, uint texel) {
   uint base = (map - cleanMapOffset) * 3u * kMapTexels + texel;
   return vec3(gMapClean[base], gMapClean[base + kMapTexels], gMapClean[base + 2u * kMapTexels]);
+}
+vec3 mapRadianceLocal(uint map, uint cleanMapOffset, vec3 w) {
+  uvec2 t = uvec2(hemiDirectionToSquare(w) * float(kMapSize));
+  return mapTexelRadiance(map, cleanMapOffset,
+                          min(t.y, kMapSize - 1u) * kMapSize + min(t.x, kMapSize - 1u));
 }
 
 // Real SH basis up to l = 2 (Ramamoorthi & Hanrahan 2001 ordering).
@@ -155,11 +158,6 @@ vec4 gatherRadiance(MapGather g, vec3 dir) {
 // the row's texels), a point uniform in the texel's square, which the cosine-weighted square
 // map (shared/hemisphere.h) turns into a direction. Uniform in the square is cos / pi in solid
 // angle, so one texel's density is its probability x kMapTexels x cos / pi.
-float mapTexelLuminance(uint map, uint cleanMapOffset, uint texel) {
-  uint base = (map - cleanMapOffset) * 3u * kMapTexels + texel;
-  return luminance(
-      vec3(gMapClean[base], gMapClean[base + kMapTexels], gMapClean[base + 2u * kMapTexels]));
-}
 
 // The solid-angle density of sampleGatheredMaps drawing world direction dir.
 float gatheredMapsPdf(MapGather g, vec3 dir) {
@@ -189,8 +187,8 @@ bool sampleGatheredMaps(MapGather g, vec2 u, vec2 v, out vec3 dir) {
     pick -= g.weights[i];
   }
   MapProjection m = gMapProjections[chosen];
-  float left = u.y * m.mean.w;
   if (!(m.mean.w > 0.0)) return false;
+  float left = u.y * m.mean.w;
   uint row = kMapSize;
   for (uint r = 0u; r < kMapSize; ++r) {
     float rowSum = m.rowLuminance[r / 4u][r % 4u];
@@ -203,7 +201,7 @@ bool sampleGatheredMaps(MapGather g, vec2 u, vec2 v, out vec3 dir) {
   if (row == kMapSize) return false;  // rounding past the last texel
   uint column = kMapSize;
   for (uint c = 0u; c < kMapSize; ++c) {
-    float lum = mapTexelLuminance(chosen, g.cleanMapOffset, row * kMapSize + c);
+    float lum = luminance(mapTexelRadiance(chosen, g.cleanMapOffset, row * kMapSize + c));
     if (left < lum) {
       column = c;
       break;

@@ -322,9 +322,9 @@ OSR_OSR_FN bool residualVarianceKnown(vec4 residualSq, float weightSum) {
 }
 // Variance of a weighted mean of per-pass luminances from their moments (x: sum w l^2, y: sum
 // w, z: sum w^2, w: sum w l): the composites' spread from one map pass to the next (the grid
-// points' placement, jittered each map pass, and the maps' paths), or the fully path-traced
-// part's from pass to pass. 0 before two samples; osr-bench osr-error measures both noises.
-// One sample's contribution to those moments.
+// points' placement, jittered each map pass, and the maps' paths), the fully path-traced
+// part's from pass to pass, or the lights seen in mirrors'. 0 before two samples; osr-bench
+// osr-error measures the first two. weightedMoments: one sample's contribution to them.
 OSR_OSR_FN vec4 weightedMoments(float value, float weight) {
   return weight * vec4(value * value, 1.0f, weight, value);
 }

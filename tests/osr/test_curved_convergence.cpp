@@ -115,7 +115,6 @@ TEST(CurvedConvergence, CompositePlusResidualIsThePathTracer) {
   auto p = pathTrace(s, size, 1024);
   // With the residual's first directions drawn from the BSDF alone, then 80 % of them from
   // the maps on these diffuse surfaces (--residual-guide: one-sample MIS, still unbiased).
-  double relMseOf[2];
   for (float guide : {0.f, 0.8f}) {
     oneshot::OsrSettings set;
     set.residualRamp = 0.0;
@@ -123,10 +122,9 @@ TEST(CurvedConvergence, CompositePlusResidualIsThePathTracer) {
     oneshot::OsrIntegrator osr(test::context(), *s.gpu, s.bvh, size, size, set);
     auto o = test::renderOsrPasses(osr, s, passes);
     const BlockZ z = blockZ(o.indirect, p.indirect, int(size), 6);
-    relMseOf[guide > 0.f] = relMse(o.indirect, p.indirect);
     std::printf("curved room, %u passes, guide %.1f: indirect block z^2 mean %.2f, max |z| %.2f; "
                 "relMSE %.5f\n",
-                passes, guide, z.meanSq, z.maxAbs, relMseOf[guide > 0.f]);
+                passes, guide, z.meanSq, z.maxAbs, relMse(o.indirect, p.indirect));
     // Unbiased on both sides: z^2 averages about 1 over the 64 blocks (1.3 measured: the heavy
     // tails of a few hundred paths per pixel near the lamp). The maps' SH truncation the old
     // control variate left in was 1-4% of a block's indirect light here, below this noise:
@@ -327,7 +325,7 @@ TEST(CurvedConvergence, LayeredLobesConvergeToThePathTracer) {
 // counts such directions 0 and the residual traces them in full, unblended; before, they
 // were looked up as black and only the blended residual could bring them back, so with the
 // residual barely blended in (early passes, noisy pixels) the rim came out dark: 27 % on
-// scenes/room's sphere at 10 passes (docs/osr.md "Glossy lobes").
+// scenes/room's sphere at 10 passes (docs/osr.md "Integration against the BSDF").
 TEST(CurvedConvergence, GlossySphereRimWithoutTheResidualBlend) {
   test::GltfWriter g;
   int white = g.material(test::GltfWriter::diffuse(glm::vec3(0.75f)));
