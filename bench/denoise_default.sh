@@ -1,5 +1,6 @@
 #!/usr/bin/env bash
-# The figures of docs/denoise.md "The default, against raw path tracing and OSR": the default (path + the shipped network)
+# The figures of docs/denoise.md "The default, against raw path tracing and OSR": the default
+# (path + the shipped network)
 # against raw path tracing at 5-120 s and against OSR at 5-30 s, on cornell, room and the
 # held-out generated interiors 9001-9003 (made here with their path-traced references, which
 # are kept: about an hour of lavapipe the first time). Appends to bench/results/denoise.jsonl.
