@@ -48,6 +48,7 @@
 #include "render/denoiser.h"
 #include "render/flicker.h"
 #include "render/progressive_driver.h"
+#include "render/temporal_reuse.h"
 #include "scene/animation.h"
 
 namespace osr::bench {
@@ -74,10 +75,12 @@ double processCpuSeconds() {
   return double(t.tv_sec) + 1e-9 * double(t.tv_nsec);
 }
 
-// With `denoiser`, the frame is denoised as osr-vk does, inside its timed span.
+// With `temporal`, the frame is blended with the ones before it, and with `denoiser`
+// denoised, as osr-vk --frames does, inside its timed span.
 FrameRun renderFrame(const vk::Context& ctx, render::Integrator& integrator,
                      const scene::Camera& cam, uint32_t seed, uint32_t maxUnits, double seconds,
-                     render::Denoiser* denoiser = nullptr) {
+                     render::Denoiser* denoiser = nullptr,
+                     render::TemporalReuse* temporal = nullptr) {
   render::DriverSettings ds;
   ds.maxUnits = maxUnits;
   ds.timeLimitS = seconds;
@@ -87,6 +90,7 @@ FrameRun renderFrame(const vk::Context& ctx, render::Integrator& integrator,
   driver.restart(cam, seed);
   const render::RenderStats stats = driver.run();
   render::FilmLayers film = integrator.resolve();
+  if (temporal) temporal->apply(film, render::makeFrame(cam, uint32_t(film.width), uint32_t(film.height), 0));
   if (denoiser) denoiser->apply(film);
   FrameRun r;
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
@@ -188,6 +192,10 @@ int runAnimation(const std::vector<std::string>& args) {
   const uint32_t refSpp = uint32_t(a.integer("--reference-spp", 1, 1 << 20).value_or(256));
   const auto cacheArg = a.value("--cache");
   const auto pngArg = a.value("--png");
+  // Only the path-traced sequences, path tracing given this many samples a frame (else the
+  // samples that take osr+cache's CPU time).
+  const auto pathOnlySpp = a.integer("--path-only", 1, 1 << 20);
+  const float history = float(a.number("--temporal-reuse", 0.5, 64.0).value_or(render::kDefaultTemporalHistory));
   const std::optional<app::FrameOptions> framesArg = app::readFrameOptions(a);
   a.finish();
   if (framesArg && framesArg->resume)
@@ -285,14 +293,16 @@ int runAnimation(const std::vector<std::string>& args) {
   // on lavapipe pay for more than the frame (about 20 s at 64 x 64), which would not be the
   // integrator's. The cache is emptied after it.
   auto runSequence = [&](const std::string& name, render::Integrator& integrator,
-                         uint32_t units, render::Denoiser* denoiser = nullptr) {
-    renderFrame(ctx, integrator, cameras[frames.first], 1, 1, 0.0, denoiser);
+                         uint32_t units, render::Denoiser* denoiser = nullptr,
+                         render::TemporalReuse* temporal = nullptr) {
+    renderFrame(ctx, integrator, cameras[frames.first], 1, 1, 0.0, denoiser, temporal);
     if (auto* osr = dynamic_cast<oneshot::OsrIntegrator*>(&integrator))
       if (oneshot::MapCache* cache = osr->mapCache()) cache->clear(ctx);
+    if (temporal) temporal->forget();
     Sequence s;
     s.name = name;
     for (int f = frames.first; f <= frames.last; ++f) {
-      FrameRun r = renderFrame(ctx, integrator, cameras[f], uint32_t(f) + 1, units, 0.0, denoiser);
+      FrameRun r = renderFrame(ctx, integrator, cameras[f], uint32_t(f) + 1, units, 0.0, denoiser, temporal);
       if (!refFrames.count(f)) r.rgb.clear(), r.depth.clear();
       s.meanSeconds += r.seconds / frames.count();
       s.meanCpuSeconds += r.cpuSeconds / frames.count();
@@ -307,48 +317,64 @@ int runAnimation(const std::vector<std::string>& args) {
   // denoised sequences below start from nothing too.
   app::IntegratorSettings osrSettings = settings;
   osrSettings.osr.mapCacheMaps = 0;
-  auto osr = app::makeIntegrator(onDevice, osrSettings, "osr", size, size);
   app::IntegratorSettings cacheSettings = settings;
   cacheSettings.osr.mapCacheMaps = cacheMaps;
   cacheSettings.osr.mapCacheMaturePasses = maturePasses;
-  auto cached = app::makeIntegrator(onDevice, cacheSettings, "osr", size, size);
+  std::unique_ptr<render::Integrator> osr, cached;
   std::vector<Sequence> sequences;
-  sequences.push_back(runSequence("osr", *osr, passes));
-  sequences.push_back(runSequence("osr+cache", *cached, cachePasses));
+  if (!pathOnlySpp) {
+    osr = app::makeIntegrator(onDevice, osrSettings, "osr", size, size);
+    cached = app::makeIntegrator(onDevice, cacheSettings, "osr", size, size);
+    sequences.push_back(runSequence("osr", *osr, passes));
+    sequences.push_back(runSequence("osr+cache", *cached, cachePasses));
+  }
   // Equal time in CPU seconds: the samples per pixel that take osr+cache's CPU time per frame,
   // from the path tracer's CPU time per sample on frame first (8 spp, after a warm-up).
   renderFrame(ctx, *path, cameras[frames.first], 1, 1, 0.0);
   const double cpuPerSpp = renderFrame(ctx, *path, cameras[frames.first], 1, 8, 0.0).cpuSeconds / 8.0;
-  const uint32_t pathSpp =
-      uint32_t(std::max(1.0, std::round(sequences[1].meanCpuSeconds / cpuPerSpp)));
+  const double frameCpu = pathOnlySpp ? *pathOnlySpp * cpuPerSpp : sequences[1].meanCpuSeconds;
+  const uint32_t pathSpp = uint32_t(std::max(1.0, std::round(frameCpu / cpuPerSpp)));
   sequences.push_back(runSequence("path", *path, pathSpp));
   // The denoised sequences, as osr-vk --frames gives them: path tracing with the a-trous
   // filter, and with the default learned denoiser (the filter below its fewest samples). The
   // denoiser's CPU time comes out of the samples (the second of two runs: the first makes its
   // pipelines).
-  auto denoisedPath = [&](const std::string& name, const render::DenoiseSettings& denoise) {
-    render::Denoiser denoiser(ctx, denoise, size, size);
-    double denoiseCpu = 0.0;
+  // The samples a denoised frame gets for `share` of frameCpu, with temporal reuse's time paid
+  // too when there is one.
+  auto denoisedSpp = [&](render::Denoiser& denoiser, double share = 1.0,
+                         render::TemporalReuse* temporal = nullptr) {
+    double extraCpu = 0.0;
     for (int i = 0; i < 2; ++i) {
       render::FilmLayers film = path->resolve();
       const double cpu0 = processCpuSeconds();
+      if (temporal)
+        temporal->apply(film, render::makeFrame(cameras[frames.first], size, size, 0));
       denoiser.apply(film);
-      denoiseCpu = processCpuSeconds() - cpu0;
+      extraCpu = processCpuSeconds() - cpu0;
     }
-    const uint32_t spp = uint32_t(
-        std::max(1.0, std::round((sequences[1].meanCpuSeconds - denoiseCpu) / cpuPerSpp)));
-    sequences.push_back(runSequence(name, *path, spp, &denoiser));
+    if (temporal) temporal->forget();
+    return uint32_t(std::max(1.0, std::round((share * frameCpu - extraCpu) / cpuPerSpp)));
   };
   render::DenoiseSettings filterSettings;
   filterSettings.atrous = true;
-  denoisedPath("path+atrous", filterSettings);
+  {
+    render::Denoiser denoiser(ctx, filterSettings, size, size);
+    sequences.push_back(runSequence("path+atrous", *path, denoisedSpp(denoiser), &denoiser));
+  }
   if (render::defaultImageModel()) {
     render::DenoiseSettings networkSettings = filterSettings;
     networkSettings.network = render::DenoiseSettings::Network::Default;
-    denoisedPath("path+network", networkSettings);
-    render::Denoiser osrDenoiser(ctx, networkSettings, size, size);
-    sequences.push_back(runSequence("osr+network", *osr, passes, &osrDenoiser));
-    sequences.push_back(runSequence("osr+cache+network", *cached, cachePasses, &osrDenoiser));
+    render::Denoiser denoiser(ctx, networkSettings, size, size);
+    const uint32_t spp = denoisedSpp(denoiser);
+    sequences.push_back(runSequence("path+network", *path, spp, &denoiser));
+    // osr-vk --frames' default: the same with temporal reuse, at half the CPU time a frame.
+    render::TemporalReuse temporal(ctx, size, size, history);
+    sequences.push_back(runSequence("path+reuse+network", *path,
+                                    denoisedSpp(denoiser, 0.5, &temporal), &denoiser, &temporal));
+    if (!pathOnlySpp) {
+      sequences.push_back(runSequence("osr+network", *osr, passes, &denoiser));
+      sequences.push_back(runSequence("osr+cache+network", *cached, cachePasses, &denoiser));
+    }
   }
 
   // Verification: a render whose mean is far from its reference's is broken, not noisy.
@@ -421,25 +447,27 @@ int runAnimation(const std::vector<std::string>& args) {
   line("converged").integer("reference_spp", refSpp).num("flicker", flickers["converged"])
       .integer("flicker_pairs", long(pairs.size())).str("device", ctx.caps().deviceName).print();
   JsonLine summary = line("summary");
-  summary.num("cache_seconds_ratio", sequences[1].meanSeconds / sequences[0].meanSeconds)
-      .num("cache_cpu_seconds_ratio", sequences[1].meanCpuSeconds / sequences[0].meanCpuSeconds)
-      .num("cache_flicker_over_path", flickers["osr+cache"] / flickers["path"])
-      .num("nocache_flicker_over_path", flickers["osr"] / flickers["path"])
-      .num("path_atrous_flicker_over_path", flickers["path+atrous"] / flickers["path"]);
-  if (flickers.count("path+network"))
-    summary.num("path_network_flicker_over_path", flickers["path+network"] / flickers["path"]);
-  // The cache's question once denoised: half the passes, and what that costs in error.
   const auto named = [&](const std::string& name) -> const Sequence* {
     for (const Sequence& s : sequences)
       if (s.name == name) return &s;
     return nullptr;
   };
-  if (const Sequence *plain = named("osr+network"), *cached = named("osr+cache+network");
-      plain && cached)
-    summary.num("cache_network_cpu_seconds_ratio", cached->meanCpuSeconds / plain->meanCpuSeconds)
-        .num("cache_network_relmse_ratio", relMeans[cached->name] / relMeans[plain->name])
-        .num("cache_network_flicker_over_path_network",
-             flickers["osr+cache+network"] / flickers["path+network"]);
+  if (const Sequence *plain = named("osr"), *cached = named("osr+cache"); plain && cached)
+    summary.num("cache_seconds_ratio", cached->meanSeconds / plain->meanSeconds)
+        .num("cache_cpu_seconds_ratio", cached->meanCpuSeconds / plain->meanCpuSeconds)
+        .num("cache_flicker_over_path", flickers["osr+cache"] / flickers["path"])
+        .num("nocache_flicker_over_path", flickers["osr"] / flickers["path"]);
+  summary.num("path_atrous_flicker_over_path", flickers["path+atrous"] / flickers["path"]);
+  if (flickers.count("path+network"))
+    summary.num("path_network_flicker_over_path", flickers["path+network"] / flickers["path"]);
+  // Temporal reuse's question: half the samples a frame, and what that costs in error.
+  if (const Sequence *plain = named("path+network"), *reused = named("path+reuse+network");
+      plain && reused)
+    summary.num("reuse_cpu_seconds_ratio", reused->meanCpuSeconds / plain->meanCpuSeconds)
+        .num("reuse_relmse_ratio", relMeans[reused->name] / relMeans[plain->name])
+        .num("reuse_flicker_ratio", flickers[reused->name] / flickers[plain->name])
+        .num("temporal_reuse", history);
+  // The cache's question once denoised: half the passes, and what that costs in error.
   summary.integer("passes", passes).integer("cache_passes", cachePasses).integer("map_cache", cacheMaps)
       .integer("mature_passes", maturePasses)
       .str("device", ctx.caps().deviceName).print();

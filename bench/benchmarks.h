@@ -137,6 +137,7 @@ inline constexpr char kAnimationUsage[] =
     "osr-bench animation [--scene FILE.gltf] [--env FILE] [--frames A-B] [--fps N] [--size N]\n"
     "                    [--passes N] [--cache-passes N] [--map-cache N] [--mature-passes N]\n"
     "                    [--reference-frames LIST] [--reference-spp N] [--cache DIR] [--png DIR]\n"
+    "                    [--temporal-reuse F] [--path-only SPP]\n"
     "  --scene FILE       a glTF file with an animated camera (default: generated interior 9002\n"
     "                     with a 48-frame walk, made in the cache folder by tools/make_interiors.py\n"
     "                     and tools/add_camera_path.py)\n"
@@ -155,7 +156,11 @@ inline constexpr char kAnimationUsage[] =
     "                     $TMPDIR/osr-bench-animation); a rerun reuses references of the same\n"
     "                     scene files, size, fps and spp\n"
     "  --png DIR          also write each sequence's reference frames and the references as PNG\n"
-    "  Sequences: osr (no cache), osr+cache, path (at osr+cache's CPU seconds per frame), and the\n"
-    "  references' own flicker (converged).";
+    "  --temporal-reuse F path+reuse+network's history cap, 0.5 to 64 (default 3, as osr-vk --frames)\n"
+    "  --path-only SPP    only the path-traced sequences, path given SPP samples a frame\n"
+    "  Sequences: osr (no cache), osr+cache, path (at osr+cache's CPU seconds per frame), path+atrous\n"
+    "  and path+network (the same CPU seconds, the denoiser's included), path+reuse+network (half\n"
+    "  path+network's samples, with temporal reuse: osr-vk --frames' default), osr+network,\n"
+    "  osr+cache+network, and the references' own flicker (converged).";
 int runAnimation(const std::vector<std::string>& args);  // a camera path: cache, relMSE, flicker
 }  // namespace osr::bench

@@ -12,6 +12,8 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <iterator>
+#include <fstream>
 #include <memory>
 #include <new>
 #include <optional>
@@ -28,8 +30,10 @@
 #include "common/input_file.h"
 #include "image/image_io.h"
 #include "osr/osr_integrator.h"
+#include "render/camera_frame.h"
 #include "render/film_export.h"
 #include "render/progressive_driver.h"
+#include "render/temporal_reuse.h"
 #include "scene/scene.h"
 #include "scene_gpu/gpu_scene.h"
 #include "viewer/viewer.h"
@@ -37,6 +41,8 @@
 #include "vk/context.h"
 
 namespace osr::app {
+
+namespace fs = std::filesystem;
 
 namespace {
 
@@ -281,6 +287,13 @@ class OfflineRenderer {
              const std::optional<std::string>& exrFile,
              const std::optional<std::string>& pngFile) const;
   void printSummary(const render::RenderStats& stats) const;
+  // The file of the history after `frame`, beside the shot's first output: two, by the frame's
+  // parity (.shot_####.exr.history0 and 1), each written before its frame's images, so that
+  // the one after the last complete frame survives a stop at any point.
+  std::string historyPath(int frame) const;
+  uint64_t shotKey() const;
+  // Takes the history after `frame` from its file where it is this shot's.
+  void restoreHistory(int frame);
 
   const RenderOptions& o_;
   IntegratorSettings settings_;
@@ -289,6 +302,10 @@ class OfflineRenderer {
   std::optional<DeviceScene> dev_;
   std::unique_ptr<render::Integrator> integrator_;
   std::unique_ptr<render::Denoiser> imageDenoiser_;
+  std::unique_ptr<render::TemporalReuse> temporal_;  // a shot's, unless --temporal-reuse 0
+  bool keepHistory_ = false;  // the history is written beside the frames (renderFrames)
+  uint64_t historyKey_ = 0;
+  std::optional<int> shotFrame_;  // the frame renderImage renders, in a shot
 };
 
 void OfflineRenderer::renderImage(const scene::Camera& camera,
@@ -302,6 +319,10 @@ void OfflineRenderer::renderImage(const scene::Camera& camera,
   const render::RenderStats stats = render(camera, film);
   // A shot's frame stopped by a signal is not written: --resume would take it for complete.
   if (o_.frames && interrupt::stopSignal()) throw Interrupted{interrupt::stopSignal()};
+  if (keepHistory_ && shotFrame_) {
+    const std::vector<uint8_t> bytes = temporal_->save(*shotFrame_, historyKey_);
+    image::writeFileAtomic(historyPath(*shotFrame_), bytes.data(), bytes.size());
+  }
   write(std::move(film), stats, exrFile, pngFile);
   printSummary(stats);
   // A signal while writing lets the write finish, then exits as one during the render.
@@ -317,12 +338,75 @@ void OfflineRenderer::renderFrames() {
     dev_.reset();
     dev_.emplace(ctx_, host_);
     if (integrator_ && !integrator_->rebind(dev_->gpu, dev_->bvh, change)) integrator_.reset();
+    // What the frames before saw is not this scene's light.
+    if (temporal_) temporal_->forget();
   };
+  // The preview's image is not light; it has nothing to gather over frames.
+  if (o_.frames->temporalHistory > 0.0f && o_.integrator.mode != "preview")
+    temporal_ = std::make_unique<render::TemporalReuse>(ctx_, host_.width, host_.height,
+                                                        o_.frames->temporalHistory);
+  // The history is kept beside the frames, so that --resume continues the shot as if it had
+  // not stopped (renderImage). A shot whose meshes or lights move forgets it at each such
+  // frame, and a resumed run of one starts without it.
+  keepHistory_ = temporal_ && !host_.scene.animation.movesGeometry();
+  if (keepHistory_) historyKey_ = shotKey();
+  std::optional<int> previous;
   renderShot(*o_.frames, host_, o_.quiet, o_.exrPath, o_.pngPath, prepare,
-             [&](const scene::Camera& camera, const std::optional<std::string>& exrFile,
+             [&](int frame, const scene::Camera& camera, const std::optional<std::string>& exrFile,
                  const std::optional<std::string>& pngFile) {
+               if (temporal_ && previous != frame - 1) {
+                 temporal_->forget();
+                 if (keepHistory_ && o_.frames->resume) restoreHistory(frame - 1);
+               }
+               shotFrame_ = frame;
                renderImage(camera, exrFile, pngFile);
+               previous = frame;
              });
+  // The shot is complete: nothing left to resume.
+  for (int parity = 0; parity < 2 && keepHistory_; ++parity) {
+    std::error_code ec;
+    fs::remove(historyPath(parity), ec);
+  }
+}
+
+std::string OfflineRenderer::historyPath(int frame) const {
+  const fs::path first(o_.exrPath ? *o_.exrPath : *o_.pngPath);
+  const std::string name = "." + first.filename().string() + ".history" + std::to_string(frame & 1);
+  return (first.parent_path() / name).string();
+}
+
+// FNV-1a over what makes a frame's light: the scene's files (path, size, modification time),
+// the environment, the image size, mode and seed. A history of another shot is not taken.
+uint64_t OfflineRenderer::shotKey() const {
+  uint64_t h = 1469598103934665603ull;
+  const auto mix = [&](const std::string& s) {
+    for (const char c : s) h = (h ^ uint8_t(c)) * 1099511628211ull;
+    h = (h ^ 0xffu) * 1099511628211ull;
+  };
+  std::vector<std::string> files = host_.scene.files;
+  if (o_.scene.env) files.push_back(*o_.scene.env);
+  for (const std::string& f : files) {
+    std::error_code ec;
+    mix(f);
+    mix(std::to_string(fs::file_size(f, ec)));
+    mix(std::to_string(fs::last_write_time(f, ec).time_since_epoch().count()));
+  }
+  mix(std::to_string(host_.width) + "x" + std::to_string(host_.height) + " " + o_.integrator.mode +
+      " " + std::to_string(o_.seed.value_or(0)));
+  return h;
+}
+
+void OfflineRenderer::restoreHistory(int frame) {
+  const std::string file = historyPath(frame);
+  std::ifstream in(file, std::ios::binary);
+  if (!in) return;  // the run stopped before that frame's history
+  const std::vector<uint8_t> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (temporal_->restore(bytes, frame, historyKey_)) return;
+  if (!o_.quiet)
+    std::fprintf(stderr,
+                 "osr-vk: note: %s is not the history after frame %d of this shot; frame %d starts "
+                 "without one\n",
+                 file.c_str(), frame, frame + 1);
 }
 
 render::RenderStats OfflineRenderer::render(const scene::Camera& camera,
@@ -360,6 +444,8 @@ render::RenderStats OfflineRenderer::render(const scene::Camera& camera,
                  "%.2f s for the resolve and write\n",
                  *o_.timeLimit, loopStart, sinceStart(), ds.reserveS);
   integrator_->resolveInto(film);
+  if (temporal_)
+    temporal_->apply(film, render::makeFrame(camera, host_.width, host_.height, 0));
   if (imageDenoiser_) imageDenoiser_->apply(film);
   progress.finish();
   notePartialUnit(stats);

@@ -39,9 +39,11 @@ std::optional<FrameOptions> readFrameOptions(Args& args) {
   const auto range = args.value("--frames");
   const auto fps = args.number("--fps", -1e9, 1e9);
   const bool resume = args.flag("--resume");
+  const auto history = args.number("--temporal-reuse", 0.0, 64.0);
   if (!range) {
     if (fps) throw InputError("--fps: an option of --frames (an animation render)");
     if (resume) throw InputError("--resume: an option of --frames (an animation render)");
+    if (history) throw InputError("--temporal-reuse: an option of --frames (an animation render)");
     return std::nullopt;
   }
   FrameOptions f;
@@ -60,6 +62,7 @@ std::optional<FrameOptions> readFrameOptions(Args& args) {
     f.fps = *fps;
   }
   f.resume = resume;
+  if (history) f.temporalHistory = float(*history);
   return f;
 }
 
@@ -114,7 +117,7 @@ void renderShot(const FrameOptions& frames, HostScene& host, bool quiet,
         host.camera.worldFromCamera = c.worldFromCamera;
     prepare(change);
     if (!quiet) std::fprintf(stderr, "osr-vk: frame %d/%d (frame %d at %.3f s)\n", index, frames.count(), f, t);
-    render(host.camera, exr, png);
+    render(f, host.camera, exr, png);
   }
   if (!quiet) {
     const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -87,6 +87,23 @@ void checkWritable(const std::string& path) {
   fs::remove(tmp, ec);
 }
 
+void writeFileAtomic(const std::string& path, const void* data, size_t bytes) {
+  const std::string tmp = tempNameFor(path);
+  markPending(tmp);
+  FILE* f = std::fopen(tmp.c_str(), "wb");
+  if (!f) {
+    const std::string why = std::strerror(errno);
+    discard(tmp);
+    throw InputError(path + ": cannot write (" + why + ")");
+  }
+  const bool ok = std::fwrite(data, 1, bytes, f) == bytes;
+  if (std::fclose(f) != 0 || !ok) {
+    discard(tmp);
+    throw InputError(path + ": cannot write (" + std::strerror(errno) + ")");
+  }
+  commit(tmp, path);
+}
+
 void writeExr(const std::string& path, const LayeredImage& image, ExrPixelType type) {
   const int w = image.width, h = image.height;
   const Imf::PixelType pt = type == ExrPixelType::Half ? Imf::HALF : Imf::FLOAT;

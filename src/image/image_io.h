@@ -55,6 +55,11 @@ RgbImage readExrRgb(const std::string& path, const std::string& layer = "");
 // Throws InputError naming the file.
 std::vector<ExrAttribute> readExrAttributes(const std::string& path);
 
+// Writes `bytes` to `path` as the image writers do: into a temporary beside it, renamed over
+// `path` when complete, so a reader (or a signal) never finds half a file. Throws InputError
+// ("<path>: cannot write (...)").
+void writeFileAtomic(const std::string& path, const void* data, size_t bytes);
+
 // The temporary file a writer of this module has open (it becomes the output by a rename
 // when complete), or null: a signal handler that exits at once unlinks it, so no half file
 // is left behind. Async-signal-safe.

@@ -124,7 +124,9 @@ TEST(Frames, OnlyWholeImagesAreComplete) {
 
 // The whole shot at once, then the same shot killed (SIGKILL) once its first frame is written
 // and rerun with --resume: the frames written before the kill are skipped, not rendered again,
-// and every frame equals the uninterrupted shot's byte for byte.
+// and every frame equals the uninterrupted shot's byte for byte. Temporal reuse is on (the
+// default): the resumed run continues from the history the killed one left beside the frames,
+// and a complete shot leaves no history behind.
 TEST(Frames, KilledShotResumesToTheSameFrames) {
   fs::path d = test::tempDir("frames_resume");
   fs::create_directories(d / "whole");
@@ -174,6 +176,9 @@ TEST(Frames, KilledShotResumesToTheSameFrames) {
   EXPECT_GE(skipped, 1u) << resumed.out;
   EXPECT_LE(skipped, size_t(written)) << resumed.out;  // a cut frame is no frame
   EXPECT_EQ(fs::last_write_time(first), firstWritten);
+  EXPECT_EQ(resumed.out.find("is not the history"), std::string::npos) << resumed.out;
+  EXPECT_FALSE(fs::exists(d / "killed/.shot_####.exr.history0"));
+  EXPECT_FALSE(fs::exists(d / "killed/.shot_####.exr.history1"));
   for (int f = 0; f < 4; ++f) {
     const std::string a = app::framePath((d / "whole/shot_####.exr").string(), f);
     const std::string b = app::framePath(killedPattern, f);
@@ -197,7 +202,8 @@ TEST(Frames, KilledShotResumesToTheSameFrames) {
 // A shot whose object moves every frame (moving_object.gltf, frames 0-2 at 24 frames/s) keeps
 // one OSR integrator and its map cache: frame 2 of the shot depends on the frames before it,
 // so it differs from frame 2 rendered alone. Without the cache (--map-cache 0) nothing else is
-// carried: frame 2 of the shot equals frame 2 alone bit for bit.
+// carried (nor with --temporal-reuse 0 the frames' films): frame 2 of the shot equals frame 2
+// alone bit for bit.
 TEST(Frames, OsrCarriesItsMapCacheAcrossFramesThatMoveAnObject) {
   fs::path d = test::tempDir("frames_moving");
   const std::string scene = test::dataPath("scene/moving_object.gltf");
@@ -212,18 +218,21 @@ TEST(Frames, OsrCarriesItsMapCacheAcrossFramesThatMoveAnObject) {
     return image::readExrRgb(app::framePath(pattern, 2)).rgb;
   };
   EXPECT_NE(frame2("shot", "0-2", ""), frame2("alone", "2", ""));
-  EXPECT_EQ(frame2("shot0", "0-2", "--map-cache 0"), frame2("alone0", "2", "--map-cache 0"));
+  const std::string nothingCarried = "--map-cache 0 --temporal-reuse 0";
+  EXPECT_EQ(frame2("shot0", "0-2", nothingCarried), frame2("alone0", "2", nothingCarried));
   fs::remove_all(d);
 }
 
-// The path tracer keeps its integrator across such frames too (PathIntegrator::rebind) and
-// carries nothing from frame to frame: frame 2 of the shot equals frame 2 alone bit for bit.
+// The path tracer keeps its integrator across such frames too (PathIntegrator::rebind) and,
+// without temporal reuse, carries nothing from frame to frame: frame 2 of the shot equals
+// frame 2 alone bit for bit.
 TEST(Frames, PathTracingRebindsAcrossFramesThatMoveAnObject) {
   fs::path d = test::tempDir("frames_moving_path");
   const std::string scene = test::dataPath("scene/moving_object.gltf");
   auto frame2 = [&](const std::string& name, const std::string& frames) {
     const std::string pattern = (d / (name + "_#.exr")).string();
-    test::CliResult r = test::runOsrVk("--quiet --mode path --spp 4 --width 48 --height 48 --frames " +
+    test::CliResult r = test::runOsrVk("--quiet --mode path --spp 4 --width 48 --height 48 "
+                                       "--temporal-reuse 0 --frames " +
                                        frames + " --offline " + pattern + " " + scene);
     EXPECT_EQ(r.code, 0) << name << "\n" << r.out;
     return image::readExrRgb(app::framePath(pattern, 2)).rgb;
@@ -250,6 +259,12 @@ TEST(Frames, BadShotsAreOneLineExitTwo) {
   expectOneLineError("--frames 0-3 --fps 0 --offline " + pattern + " " + kCameraPath,
                      "--fps: must be above 0");
   expectOneLineError("--resume --offline " + pattern + " " + kCameraPath, "an option of --frames");
+  expectOneLineError("--temporal-reuse 2 --offline " + pattern + " " + kCameraPath,
+                     "an option of --frames");
+  expectOneLineError("--frames 0-3 --temporal-reuse -1 --offline " + pattern + " " + kCameraPath,
+                     "--temporal-reuse");
+  expectOneLineError("--frames 0-3 --temporal-reuse 65 --offline " + pattern + " " + kCameraPath,
+                     "--temporal-reuse");
   expectOneLineError("--frames 0-3 " + kCameraPath, "--frames");
   EXPECT_TRUE(fs::is_empty(d));
   fs::remove_all(d);
