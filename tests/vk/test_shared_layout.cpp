@@ -36,6 +36,7 @@
 #include "shaders/shared/scene.h"
 #include "shaders/shared/scene_env_probe.h"
 #include "shaders/shared/scene_probe.h"
+#include "shaders/shared/temporal.h"
 #include "shaders/shared/util_fill.h"
 
 using namespace osr;
@@ -69,6 +70,7 @@ struct Std430<T[N]> : Std430Is<N * Std430<T>::size, Std430<T>::align> {
 // Nested structs: their own layout is checked as a listed struct; alignment = largest member's.
 template <> struct Std430<gpu::nn::View> : Std430Is<sizeof(gpu::nn::View), 4> {};
 template <> struct Std430<gpu::osr::MapGrid> : Std430Is<sizeof(gpu::osr::MapGrid), 4> {};
+template <> struct Std430<gpu::camera::CameraFrame> : Std430Is<sizeof(gpu::camera::CameraFrame), 16> {};
 template <> struct Std430<gpu::bsdf::BsdfParams> : Std430Is<sizeof(gpu::bsdf::BsdfParams), 16> {};
 template <> struct Std430<gpu::bvh_build::BuildArrays> : Std430Is<sizeof(gpu::bvh_build::BuildArrays), 8> {};
 template <> struct Std430<gpu::bvh_build::DispatchArgs> : Std430Is<sizeof(gpu::bvh_build::DispatchArgs), 4> {};
@@ -180,6 +182,9 @@ const std::vector<Layout>& layouts() {
              F(cleanMapOffset), F(pathsPerPixel), F(passWeight), F(guideShare)),
       STRUCT(osr, ResolvePush, F(pixelOffset), F(pixelCount), F(residualBlend)),
       STRUCT(pt, Push, F(pixelOffset), F(pixelCount), F(sampleIndex), F(sampleCount)),
+      STRUCT(temporal, TemporalCameras, F(current), F(previous)),
+      STRUCT(temporal, TemporalPush, F(width), F(height), F(samples), F(maxHistory), F(rejectSigma),
+             F(_pad0), F(_pad1), F(_pad2)),
       STRUCT(bsdf, BsdfParams, F(baseColor), F(metallic), F(specularColor), F(roughness),
              F(specular), F(eta), F(transmission), F(_pad0), F(clearcoatNormal), F(clearcoat),
              F(sheenColor), F(sheenRoughness), F(diffuseTransmissionColor),
