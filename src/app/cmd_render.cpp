@@ -424,6 +424,8 @@ render::RenderStats OfflineRenderer::render(const scene::Camera& camera,
   constexpr double kFinishOverAllocate = 10.0;
   if (o_.timeLimit) ds.reserveS = kFinishOverAllocate * allocS;
   if (o_.timeLimit && imageDenoiser_) ds.reserveS += denoiseReserve();
+  // A shot's frame also blends in the frames before it: as long as the last one's took.
+  if (o_.timeLimit && temporal_) ds.reserveS += temporal_->lastSeconds();
   // One image: --time counts from the start of osr-vk, set-up included (a frame of a shot: from
   // its own start); the first submission runs whatever is left.
   if (!o_.frames) ds.budgetStart = o_.started;

@@ -1,5 +1,6 @@
 #include "render/temporal_reuse.h"
 
+#include <chrono>
 #include <cstring>
 
 #include "common/error.h"
@@ -64,6 +65,7 @@ TemporalReuse::TemporalReuse(const vk::Context& ctx, uint32_t width, uint32_t he
 void TemporalReuse::apply(FilmLayers& film, const gpu::camera::CameraFrame& camera) {
   if (film.width != int(width_) || film.height != int(height_))
     throw DeviceError("temporal reuse: film size does not match");
+  const auto start = std::chrono::steady_clock::now();
   const size_t n = size_t(width_) * height_;
   Layers& now = layers_[current_];
   const Layers& before = layers_[current_ ^ 1];
@@ -110,6 +112,7 @@ void TemporalReuse::apply(FilmLayers& film, const gpu::camera::CameraFrame& came
   previousCamera_ = camera;
   hasHistory_ = true;
   current_ ^= 1;
+  lastSeconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
 }
 
 std::vector<uint8_t> TemporalReuse::save(int frame, uint64_t key) const {

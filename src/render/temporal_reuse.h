@@ -32,6 +32,8 @@ class TemporalReuse {
   void forget() { hasHistory_ = false; }
   // Share of the last frame's pixels that took history.
   double reusedShare() const { return reusedShare_; }
+  // Wall seconds of the last apply (uploads, the pass, downloads).
+  double lastSeconds() const { return lastSeconds_; }
 
   // The history after frame `frame` as bytes (its layers in float32 and the camera behind
   // it), with `key` naming what made it (the scene and settings), for a shot that is stopped
@@ -55,6 +57,7 @@ class TemporalReuse {
   gpu::camera::CameraFrame previousCamera_{};
   bool hasHistory_ = false;
   double reusedShare_ = 0.0;
+  double lastSeconds_ = 0.0;
 };
 
 }  // namespace osr::render
