@@ -507,6 +507,11 @@ void OfflineRenderer::write(render::FilmLayers&& film, const render::RenderStats
   if (exrFile) {
     image::LayeredImage img = render::toLayeredImage(std::move(film));
     img.attributes = renderAttributes(settings_, stats);
+    // A shot's frame with temporal reuse holds more than its own samples where it took history.
+    if (temporal_) {
+      img.attributes.push_back({"osr-vk:temporal-reuse", o_.frames->temporalHistory});
+      img.attributes.push_back({"osr-vk:reused-share", float(temporal_->reusedShare())});
+    }
     image::writeExr(*exrFile, img,
                     o_.exrFloat ? image::ExrPixelType::Float : image::ExrPixelType::Half);
   }
