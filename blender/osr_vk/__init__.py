@@ -64,6 +64,12 @@ class OsrVkSettings(bpy.types.PropertyGroup):
         description="Render Animation: export the scene once with its animation and render "
                     "every frame in one osr-vk --frames run (off: a fresh export and osr-vk run "
                     "per frame, as for scenes whose animation glTF cannot carry)")
+    temporal_reuse: bpy.props.FloatProperty(
+        name="Temporal reuse", default=3.0, min=0.0, max=64.0,
+        description="Render Animation in one run: blend each frame with the frames before it "
+                    "where they saw the same surface, their samples counting for at most this "
+                    "many times the frame's own (osr-vk --temporal-reuse; 0: every frame on its "
+                    "own, as F12 renders it)")
     keep_directory: bpy.props.StringProperty(
         name="Keep files in", subtype="DIR_PATH", default="",
         description="Write the exported glTF, the command line, the log and the EXR here and "
@@ -99,6 +105,7 @@ class RENDER_PT_osr_vk(bpy.types.Panel):
         if prefs is not None:
             layout.prop(prefs, "executable", text="Executable")
         layout.prop(settings, "one_run_per_animation")
+        layout.prop(settings, "temporal_reuse")
         layout.prop(settings, "keep_directory")
 
 

@@ -319,7 +319,8 @@ class OsrVkRenderEngine(bpy.types.RenderEngine):
         exr_pattern, exr_format = shots.frame_pattern(work, ".exr")
         width, height, _ = film_size(depsgraph.scene.render)
         cmd = build_command(executable, settings, exr_pattern, shots.frame_pattern(work, ".png")[0],
-                            width, height, scene_export, plan.args())
+                            width, height, scene_export,
+                            plan.args() + ["--temporal-reuse", "%g" % settings.temporal_reuse])
         try:
             with open(os.path.join(work, "command.txt"), "w", encoding="utf-8") as f:
                 f.write(shlex.join(cmd) + "\n")

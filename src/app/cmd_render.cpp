@@ -430,7 +430,11 @@ render::RenderStats OfflineRenderer::render(const scene::Camera& camera,
   // its own start); the first submission runs whatever is left.
   if (!o_.frames) ds.budgetStart = o_.started;
   render::ProgressiveDriver driver(ctx_, *integrator_, ds);
-  driver.restart(camera, uint32_t(o_.seed.value_or(0)));
+  // With temporal reuse a shot's frames each draw other samples (--seed plus the frame
+  // number): with one seed, consecutive frames' noise is alike, and blending them would count
+  // the same noise twice.
+  const uint32_t frameSeed = temporal_ ? uint32_t(shotFrame_.value_or(0)) : 0u;
+  driver.restart(camera, uint32_t(o_.seed.value_or(0)) + frameSeed);
   interrupt::renderLoopStarts();
   const auto sinceStart = [&] {
     return std::chrono::duration<double>(std::chrono::steady_clock::now() - o_.started).count();

@@ -81,8 +81,11 @@ void TemporalReuse::apply(FilmLayers& film, const gpu::camera::CameraFrame& came
   push.width = width_;
   push.height = height_;
   push.samples = float(std::max(film.samples, 1u));
-  // Without history the pass only writes the counts: no pixel takes anything.
-  push.maxHistory = hasHistory_ ? maxHistory_ : 0.0f;
+  // Without history the pass only writes the counts: no pixel takes anything. Under a camera
+  // that did not move nothing lags behind (the light is the same, seen from the same place),
+  // so the frames add up without a cap, as one render's samples do.
+  const bool still = hasHistory_ && std::memcmp(&camera, &previousCamera_, sizeof camera) == 0;
+  push.maxHistory = !hasHistory_ ? 0.0f : still ? 1e30f : maxHistory_;
   push.rejectSigma = 3.0f;
   ctx_.submitAndWait([&](VkCommandBuffer cmd) {
     vk::Binder(pipeline_)

@@ -3,8 +3,10 @@
 // a camera path through a still scene gathers samples over frames, as a world-space cache
 // would, on every pixel and for every mode. The history is the previous frame's blended film;
 // each frame counts it for at most `maxHistory` times its own samples, so a frame's estimate
-// holds about (1 + maxHistory) frames' samples and light from frames long gone fades out.
-// History that is not consistent with the frame within its noise is dropped.
+// holds about (1 + maxHistory) frames' samples and light from frames long gone fades out;
+// under a camera that did not move, every frame before counts in full. History that is not
+// consistent with the frame within its noise is dropped. The frames must draw independent
+// samples (osr-vk --frames gives each its own seed).
 #pragma once
 #include <array>
 #include <cstdint>

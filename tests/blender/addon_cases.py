@@ -185,6 +185,8 @@ def _animated_scene(executable, work, first=SHOT_FIRST, last=SHOT_LAST, size=SHO
 
 def _animate(scene, work, first=SHOT_FIRST, last=SHOT_LAST, spp=SHOT_SPP):
     scene.osr_vk.mode, scene.osr_vk.samples, scene.osr_vk.seed = "path", spp, SEED
+    # Each frame as F12 renders it, so that the frames line up with single renders.
+    scene.osr_vk.temporal_reuse = 0.0
     scene.osr_vk.keep_directory = os.path.join(work, "keep")
     sphere = bpy.data.objects["sphere"]
     for frame, x in ((first - 1, -1.2), (last + 1, 1.2)):
@@ -218,8 +220,8 @@ def case_animation(executable, work):
           % (len(frames), took, took / len(frames), sorted(watch.pids)))
     keep = scene.osr_vk.keep_directory
     command = open(os.path.join(keep, "command.txt")).read()
-    if "--frames %d-%d --fps 24.0" % (SHOT_FIRST, SHOT_LAST) not in command:
-        raise AssertionError("not one osr-vk --frames run: %s" % command)
+    if "--frames %d-%d --fps 24.0 --temporal-reuse 0" % (SHOT_FIRST, SHOT_LAST) not in command:
+        raise AssertionError("not one osr-vk --frames run with the add-on's reuse: %s" % command)
     if len(watch.pids) != 1:
         raise AssertionError("%d osr-vk processes for the shot, expected 1" % len(watch.pids))
     if _children("osr-vk"):
@@ -261,6 +263,7 @@ def _check_still_shot(executable, work):
     gets a one-key animation), every frame the same image."""
     scene = blender_scene.build_scene(executable, *SHOT_SIZE)
     scene.osr_vk.mode, scene.osr_vk.samples, scene.osr_vk.seed = "path", SHOT_SPP, SEED
+    scene.osr_vk.temporal_reuse = 0.0  # with it, the second frame adds up the first's samples
     scene.frame_start, scene.frame_end = 1, 2
     scene.render.filepath = os.path.join(work, "still_")
     settings = scene.render.image_settings

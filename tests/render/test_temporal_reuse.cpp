@@ -71,11 +71,28 @@ TEST(TemporalReuse, StillCameraAveragesFramesByTheirSamples) {
   FilmLayers third = flatWall(1.0f, 0.01f);
   reuse.apply(third, cameraAt(0.f));
   EXPECT_NEAR(third.combined[3 * 100], (4.f * 1.0f + 8.f * 1.1f) / 12.f, 1e-5f);
-  // The fourth takes at most 3 x its own samples of the 12 behind the third.
+  // Under a still camera there is no cap: the fifth takes all 16 samples behind the fourth,
+  // as one render of 20 samples would.
   FilmLayers fourth = flatWall(2.0f, 1.0f);
   reuse.apply(fourth, cameraAt(0.f));
-  const float before = (4.f * 1.0f + 8.f * 1.1f) / 12.f;
-  EXPECT_NEAR(fourth.combined[3 * 100], (4.f * 2.0f + 12.f * before) / 16.f, 1e-5f);
+  const float third3 = (4.f * 1.0f + 8.f * 1.1f) / 12.f;
+  const float fourth4 = (4.f * 2.0f + 12.f * third3) / 16.f;
+  EXPECT_NEAR(fourth.combined[3 * 100], fourth4, 1e-5f);
+  FilmLayers fifth = flatWall(1.0f, 1.0f);
+  reuse.apply(fifth, cameraAt(0.f));
+  EXPECT_NEAR(fifth.combined[3 * 100], (4.f * 1.0f + 16.f * fourth4) / 20.f, 1e-5f);
+}
+
+TEST(TemporalReuse, MovedCameraCapsTheHistory) {
+  TemporalReuse reuse(test::context(), kSize, kSize, 1.f);
+  FilmLayers first = flatWall(1.0f, 1.0f);
+  reuse.apply(first, cameraAt(0.f));
+  FilmLayers second = flatWall(1.0f, 1.0f);
+  reuse.apply(second, cameraAt(0.f));  // 8 samples behind it now
+  // A step of one pixel: at most 1 x the frame's 4 samples of the 8.
+  FilmLayers third = flatWall(2.0f, 1.0f);
+  reuse.apply(third, cameraAt(0.25f));
+  EXPECT_NEAR(third.combined[3 * (5 * kSize + 5)], 1.5f, 1e-4f);
 }
 
 TEST(TemporalReuse, MovedCameraTakesThePixelThatSawTheSamePoint) {
