@@ -248,8 +248,10 @@ def frame_tasks(spec: str, osr_vk: str, args: list[str]) -> tuple[list[Task], di
     exr, png = option_value(args, "--offline"), option_value(args, "--png")
     tasks = []
     for n in range(int(m.group(1)), int(m.group(2)) + 1):
-        # An animated scene: frame N of osr-vk --frames (its time N / fps). Otherwise camera N.
-        a = replace_option(args, "--frames", f"{n}-{n}") if animated else replace_option(args, "--camera", str(n))
+        # An animated scene: frame N of osr-vk --frames (its time N / fps), alone: a task has no
+        # frames before it to reuse (--temporal-reuse 0, the seed as given). Otherwise camera N.
+        a = (replace_option(replace_option(args, "--frames", f"{n}-{n}"), "--temporal-reuse", "0")
+             if animated else replace_option(args, "--camera", str(n)))
         outs = []
         for option, path in (("--offline", exr), ("--png", png)):
             if path:

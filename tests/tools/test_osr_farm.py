@@ -81,13 +81,14 @@ class Farm(unittest.TestCase):
                        check=True)
         self.assertTrue(all((layers(self.frames()[2])[c] == v).all() for c, v in layers(one).items()))
         self.assertFalse((layers(self.frames()[0])["R"] == layers(self.frames()[1])["R"]).all())
-        # An animated glTF: frame N is osr-vk --frames N-N, the frames osr-vk renders alone.
+        # An animated glTF: frame N is osr-vk --frames N-N, the frames osr-vk renders alone
+        # (without temporal reuse).
         path = ROOT / "tests" / "data" / "scene" / "camera_path.gltf"
         s = summary(farm("frames", "2-3", "--workers", 2, "--osr-vk", OSR_VK, "--", *SHOT,
                          "--offline", self.tmp / "walk_##.exr", path))
         self.assertEqual(s["rendered"], 2)
-        subprocess.run([OSR_VK, *SHOT, "--frames", "2-3", "--quiet", "--offline", self.tmp / "alone_##.exr", path],
-                       check=True)
+        subprocess.run([OSR_VK, *SHOT, "--frames", "2-3", "--temporal-reuse", "0", "--quiet", "--offline",
+                        self.tmp / "alone_##.exr", path], check=True)
         for n in (2, 3):
             farmed, alone = layers(self.tmp / f"walk_0{n}.exr"), layers(self.tmp / f"alone_0{n}.exr")
             self.assertTrue(all((farmed[c] == v).all() for c, v in alone.items()), f"frame {n}")
