@@ -51,12 +51,7 @@ void chainStep(DenoiseBindings& b, uint32_t i, uint32_t n, const vk::BufferRange
 
 DenoiseImage::DenoiseImage(const vk::Context& ctx, uint32_t width, uint32_t height)
     : ctx_(ctx), width_(width), height_(height) {
-  const uint64_t bytes = uint64_t(width) * height * 16;
-  if (bytes > ctx.caps().maxStorageBufferRange)
-    throw DeviceError("denoiser: a " + std::to_string(width) + "x" + std::to_string(height) +
-                      " layer needs " + std::to_string(bytes >> 20) +
-                      " MiB, over the device's maxStorageBufferRange of " +
-                      std::to_string(ctx.caps().maxStorageBufferRange >> 20) + " MiB");
+  const uint64_t bytes = wholeLayerBytes(ctx, width, height, "denoiser");
   colour_ = vk::Buffer(ctx, bytes, vk::MemoryUse::DeviceLocal, "denoise colour");
   albedo_ = vk::Buffer(ctx, bytes, vk::MemoryUse::DeviceLocal, "denoise albedo");
   normal_ = vk::Buffer(ctx, bytes, vk::MemoryUse::DeviceLocal, "denoise normal");

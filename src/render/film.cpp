@@ -8,6 +8,16 @@ namespace osr::render {
 
 namespace f = gpu::film;
 
+uint64_t wholeLayerBytes(const vk::Context& ctx, uint32_t width, uint32_t height, const char* what) {
+  const uint64_t bytes = uint64_t(width) * height * 16;
+  if (bytes > ctx.caps().maxStorageBufferRange)
+    throw DeviceError(std::string(what) + ": a " + std::to_string(width) + "x" + std::to_string(height) +
+                      " layer needs " + std::to_string(bytes >> 20) +
+                      " MiB, over the device's maxStorageBufferRange of " +
+                      std::to_string(ctx.caps().maxStorageBufferRange >> 20) + " MiB");
+  return bytes;
+}
+
 uint32_t windowPixels(const vk::Context& ctx, uint64_t bytesPerPixel) {
   const uint64_t fit = ctx.caps().maxStorageBufferRange / bytesPerPixel;
   const uint64_t aligned =

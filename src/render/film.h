@@ -56,6 +56,11 @@ void upsampleBilinear(const FilmLayers& from, FilmLayers& into);
 // struct whose size is a multiple of 16 bytes (std430 vec4 rows).
 inline constexpr uint32_t kWindowAlignPixels = 256;
 
+// Bytes of one image layer of a vec4 per pixel (the denoisers', temporal reuse's), which a
+// pass binds whole. Throws DeviceError ("<what>: a WxH layer needs ...") when that is over the
+// device's maxStorageBufferRange.
+uint64_t wholeLayerBytes(const vk::Context& ctx, uint32_t width, uint32_t height, const char* what);
+
 // The most pixels of bytesPerPixel one binding can cover on this device: a multiple of
 // kWindowAlignPixels (at least one). Throws DeviceError if not even that fits.
 uint32_t windowPixels(const vk::Context& ctx, uint64_t bytesPerPixel);

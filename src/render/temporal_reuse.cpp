@@ -51,12 +51,7 @@ TemporalReuse::TemporalReuse(const vk::Context& ctx, uint32_t width, uint32_t he
       maxHistory_(maxHistory),
       pipeline_(ctx, shaders::Id::film_temporal, g::kTemporalBindingCount, sizeof(g::TemporalPush)),
       cameras_(ctx, sizeof(g::TemporalCameras), vk::MemoryUse::DeviceLocal, "temporal cameras") {
-  const uint64_t bytes = uint64_t(width) * height * 16;
-  if (bytes > ctx.caps().maxStorageBufferRange)
-    throw DeviceError("temporal reuse: a " + std::to_string(width) + "x" + std::to_string(height) +
-                      " layer needs " + std::to_string(bytes >> 20) +
-                      " MiB, over the device's maxStorageBufferRange of " +
-                      std::to_string(ctx.caps().maxStorageBufferRange >> 20) + " MiB");
+  const uint64_t bytes = wholeLayerBytes(ctx, width, height, "temporal reuse");
   for (Layers& l : layers_)
     for (vk::Buffer* b : {&l.combined, &l.direct, &l.indirect, &l.albedo, &l.normal})
       *b = vk::Buffer(ctx, bytes, vk::MemoryUse::DeviceLocal, "temporal layer");

@@ -6,21 +6,15 @@
 
 #include <cmath>
 
-#include "render/camera_frame.h"
+#include "support/wall_camera.h"
 
 namespace osr::render {
 namespace {
 
 constexpr uint32_t kSize = 32;
 
-// A camera at x = `x` looking down -Z at a wall at distance 4 (depth 4 everywhere), 90 degrees
-// vertical field of view: one pixel is 8 / 32 = 0.25 world units on the wall.
-gpu::camera::CameraFrame cameraAt(float x) {
-  scene::Camera cam;
-  cam.yfov = float(M_PI) / 2.f;
-  cam.worldFromCamera[3] = glm::vec4(x, 0.f, 0.f, 1.f);
-  return makeFrame(cam, kSize, kSize, 1);
-}
+// The wall at depth 4 from x = `x`: one pixel is 8 / 32 = 0.25 world units on it.
+gpu::camera::CameraFrame cameraAt(float x) { return test_views::wallCamera(x, kSize); }
 
 std::vector<float> ramp(float scale) {
   std::vector<float> rgb(kSize * kSize * 3);

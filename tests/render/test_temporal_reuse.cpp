@@ -6,9 +6,10 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <utility>
 
 #include "common/vk_test.h"
-#include "render/camera_frame.h"
+#include "support/wall_camera.h"
 
 namespace osr::render {
 namespace {
@@ -16,14 +17,8 @@ namespace {
 constexpr uint32_t kSize = 32;
 constexpr uint32_t kSamples = 4;
 
-// A camera at x = `x` looking down -Z at the wall, 90 degrees vertical field of view: one pixel
-// is 8 / 32 = 0.25 world units on the wall.
-gpu::camera::CameraFrame cameraAt(float x) {
-  scene::Camera cam;
-  cam.yfov = float(M_PI) / 2.f;
-  cam.worldFromCamera[3] = glm::vec4(x, 0.f, 0.f, 1.f);
-  return makeFrame(cam, kSize, kSize, 1);
-}
+// The wall at depth 4 from x = `x`: one pixel is 8 / 32 = 0.25 world units on it.
+gpu::camera::CameraFrame cameraAt(float x) { return test_views::wallCamera(x, kSize); }
 
 // The wall at `depth` with colour colourOf(column) (grey; direct 0.6 of it, indirect 0.4),
 // albedo 0.5 and every pixel's variance `variance`.
@@ -112,42 +107,29 @@ TEST(TemporalReuse, MovedCameraTakesThePixelThatSawTheSamePoint) {
   EXPECT_NEAR(reuse.reusedShare(), double(kSize - 1) / kSize, 1e-9);
 }
 
+// What pixel 100 of `now` holds after `before` under the same camera (`forget`: with the
+// history dropped between them), and the share of pixels that took history.
+std::pair<float, double> afterHistory(FilmLayers before, FilmLayers now, bool forget = false) {
+  TemporalReuse reuse(test::context(), kSize, kSize, 3.f);
+  reuse.apply(before, cameraAt(0.f));
+  if (forget) reuse.forget();
+  reuse.apply(now, cameraAt(0.f));
+  return {now.combined[3 * 100], reuse.reusedShare()};
+}
+
 TEST(TemporalReuse, HistoryOfAnotherSurfaceOrLightIsNotTaken) {
+  using Taken = std::pair<float, double>;
   // Another surface: the history saw a wall at depth 2 where the frame sees one at 4.
-  {
-    TemporalReuse reuse(test::context(), kSize, kSize, 3.f);
-    FilmLayers before = flatWall(5.f, 1e4f, 2.f);
-    reuse.apply(before, cameraAt(0.f));
-    FilmLayers now = flatWall(1.f, 1e4f);
-    reuse.apply(now, cameraAt(0.f));
-    EXPECT_EQ(now.combined[3 * 100], 1.f);
-    EXPECT_EQ(reuse.reusedShare(), 0.0);
-  }
+  EXPECT_EQ(afterHistory(flatWall(5.f, 1e4f, 2.f), flatWall(1.f, 1e4f)), Taken(1.f, 0.0));
   // Light that changed: 1 against 3 with standard errors of 0.1 is far more than 3 of them.
-  {
-    TemporalReuse reuse(test::context(), kSize, kSize, 3.f);
-    FilmLayers before = flatWall(1.f, 0.01f);
-    reuse.apply(before, cameraAt(0.f));
-    FilmLayers now = flatWall(3.f, 0.01f);
-    reuse.apply(now, cameraAt(0.f));
-    EXPECT_EQ(now.combined[3 * 100], 3.f);
-    EXPECT_EQ(reuse.reusedShare(), 0.0);
-  }
+  EXPECT_EQ(afterHistory(flatWall(1.f, 0.01f), flatWall(3.f, 0.01f)), Taken(3.f, 0.0));
   // A forgotten history (the scene changed), and pixels that see a light, take nothing.
-  {
-    TemporalReuse reuse(test::context(), kSize, kSize, 3.f);
-    FilmLayers before = flatWall(1.f, 1e4f);
-    reuse.apply(before, cameraAt(0.f));
-    reuse.forget();
-    FilmLayers now = flatWall(2.f, 1e4f);
-    reuse.apply(now, cameraAt(0.f));
-    EXPECT_EQ(now.combined[3 * 100], 2.f);
-    FilmLayers lamp = flatWall(4.f, 1e4f);
-    lamp.light.assign(kSize * kSize, 1.f);
-    reuse.apply(lamp, cameraAt(0.f));
-    EXPECT_EQ(lamp.combined[3 * 100], 4.f);
-    EXPECT_EQ(reuse.reusedShare(), 0.0);
-  }
+  EXPECT_EQ(afterHistory(flatWall(1.f, 1e4f), flatWall(2.f, 1e4f), true), Taken(2.f, 0.0));
+  FilmLayers lamp = flatWall(4.f, 1e4f);
+  lamp.light.assign(kSize * kSize, 1.f);
+  EXPECT_EQ(afterHistory(flatWall(1.f, 1e4f), lamp), Taken(4.f, 0.0));
+  // And the control: the same two frames with history taken.
+  EXPECT_EQ(afterHistory(flatWall(1.f, 1e4f), flatWall(2.f, 1e4f)), Taken(1.5f, 1.0));
 }
 
 }  // namespace
