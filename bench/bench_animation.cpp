@@ -353,7 +353,9 @@ int runAnimation(const std::vector<std::string>& args) {
       extraCpu = processCpuSeconds() - cpu0;
     }
     if (temporal) temporal->forget();
-    return uint32_t(std::max(1.0, std::round((share * frameCpu - extraCpu) / cpuPerSpp)));
+    // A share below 1 is "at most": rounded down.
+    const double spp = (share * frameCpu - extraCpu) / cpuPerSpp;
+    return uint32_t(std::max(1.0, share < 1.0 ? std::floor(spp) : std::round(spp)));
   };
   render::DenoiseSettings filterSettings;
   filterSettings.atrous = true;
