@@ -53,7 +53,7 @@ TemporalReuse::TemporalReuse(const vk::Context& ctx, uint32_t width, uint32_t he
       cameras_(ctx, sizeof(g::TemporalCameras), vk::MemoryUse::DeviceLocal, "temporal cameras") {
   const uint64_t bytes = wholeLayerBytes(ctx, width, height, "temporal reuse");
   for (Layers& l : layers_)
-    for (vk::Buffer* b : {&l.combined, &l.direct, &l.indirect, &l.albedo, &l.normal})
+    for (vk::Buffer* b : l.all())
       *b = vk::Buffer(ctx, bytes, vk::MemoryUse::DeviceLocal, "temporal layer");
 }
 
@@ -128,7 +128,7 @@ std::vector<uint8_t> TemporalReuse::save(int frame, uint64_t key) const {
   std::memcpy(bytes.data(), &head, sizeof head);
   const Layers& history = layers_[current_ ^ 1];
   uint8_t* at = bytes.data() + sizeof head;
-  for (const vk::Buffer* b : {&history.combined, &history.direct, &history.indirect, &history.albedo, &history.normal}) {
+  for (const vk::Buffer* b : history.all()) {
     b->download(at, layerBytes);
     at += layerBytes;
   }
@@ -145,7 +145,7 @@ bool TemporalReuse::restore(const std::vector<uint8_t>& bytes, int frame, uint64
     return false;
   Layers& history = layers_[current_ ^ 1];
   const uint8_t* at = bytes.data() + sizeof head;
-  for (vk::Buffer* b : {&history.combined, &history.direct, &history.indirect, &history.albedo, &history.normal}) {
+  for (vk::Buffer* b : history.all()) {
     b->upload(at, layerBytes);
     at += layerBytes;
   }

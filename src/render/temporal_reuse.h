@@ -48,6 +48,10 @@ class TemporalReuse {
  private:
   struct Layers {
     vk::Buffer combined, direct, indirect, albedo, normal;
+    std::array<vk::Buffer*, 5> all() { return {&combined, &direct, &indirect, &albedo, &normal}; }
+    std::array<const vk::Buffer*, 5> all() const {
+      return {&combined, &direct, &indirect, &albedo, &normal};
+    }
   };
   const vk::Context& ctx_;
   uint32_t width_, height_;
