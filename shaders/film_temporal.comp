@@ -4,11 +4,12 @@
 // section 4.1, with a statistical test in place of its fixed blend). Each pixel's first-hit
 // point (its depth through the pixel's centre) is projected into the previous frame; of the
 // four history pixels around it, those that saw the same surface (a normal within 25 degrees,
-// the point within 1 % of its depth of their plane, no light seen directly) are averaged
-// bilinearly. Colour is blended demodulated by the albedo (texture is not history), with the
+// the point within 1 % of its depth of their plane, or astride the same edge; no light seen
+// directly) are averaged bilinearly. Colour is blended demodulated by the albedo (texture is not history), with the
 // sample counts as weights, the history's capped at maxHistory times the frame's own so that
-// old light fades. History whose luminance is more than rejectSigma standard errors from the
-// frame's is dropped: moved shadows, view-dependent reflections, what the geometry tests miss.
+// old light fades. History whose luminance is further than rejectSigma spreads from the mean
+// of the frame's 3 x 3 neighbourhood on the same surface is dropped: moved shadows,
+// view-dependent reflections, what the geometry tests miss.
 #extension GL_GOOGLE_include_directive : require
 #include "shared/temporal.h"
 #include "lib/camera.glsl"
@@ -26,6 +27,7 @@ layout(std430, binding = kBindingHistoryIndirect) readonly buffer HIndirect { ve
 layout(std430, binding = kBindingHistoryAlbedo) readonly buffer HAlbedo { vec4 gHAlbedo[]; };
 layout(std430, binding = kBindingHistoryNormal) readonly buffer HNormal { vec4 gHNormal[]; };
 layout(std430, binding = kBindingCameras) readonly buffer Cameras { TemporalCameras gCameras; };
+layout(std430, binding = kBindingFrameColour) readonly buffer FrameColour { vec4 gFrameColour[]; };
 layout(push_constant) uniform PushBlock { TemporalPush gPush; };
 
 // What colour is divided by (as the a-trous filter's): the albedo, or 1 where the first hit
@@ -46,6 +48,24 @@ vec3 surfacePoint(CameraFrame f, vec2 pixel, float z) {
   const vec3 local = vec3(ndc.x * f.tanHalfFovY * f.aspect, ndc.y * f.tanHalfFovY, -1.0);
   return f.cameraOrigin.xyz + z * (local.x * f.cameraRight.xyz + local.y * f.cameraUp.xyz +
                                    local.z * f.cameraBack.xyz);
+}
+
+// Mean and spread (variance over pixels) of the frame's demodulated luminance over the 3 x 3
+// pixels around p that see the surface p sees (a normal within 25 degrees, no light seen).
+vec2 neighbourhood(ivec2 p, vec3 n) {
+  float sum = 0.0, sumSq = 0.0, count = 0.0;
+  for (int k = 0; k < 9; ++k) {
+    const ivec2 q = p + ivec2(k % 3 - 1, k / 3 - 1);
+    if (q.x < 0 || q.y < 0 || q.x >= int(gPush.width) || q.y >= int(gPush.height)) continue;
+    const uint j = uint(q.y) * gPush.width + uint(q.x);
+    const vec4 a = gAlbedo[j];
+    const vec4 m = gNormal[j];
+    if (a.w <= 0.0 || m.w > 0.0 || dot(unitNormal(m.xyz), n) < 0.9) continue;
+    const float l = luminance(gFrameColour[j].rgb / demodulator(a.rgb));
+    sum += l, sumSq += l * l, count += 1.0;
+  }
+  const float mean = sum / max(count, 1.0);
+  return vec2(mean, max(sumSq / max(count, 1.0) - mean * mean, 0.0));
 }
 
 void main() {
@@ -75,9 +95,17 @@ void main() {
     const vec4 ha = gHAlbedo[j];
     const vec4 hn = gHNormal[j];
     if (ha.w <= 0.0 || hn.w > 0.0) continue;
-    if (dot(unitNormal(hn.xyz), n) < 0.9) continue;
+    const float agree = dot(unitNormal(hn.xyz), n);
     const vec3 y = surfacePoint(gCameras.previous, vec2(r) + 0.5, ha.w);
-    if (abs(dot(n, y - x)) > 0.01 * albedo.w) continue;
+    // A pixel astride an edge has the mean depth and normal of two faces (its normal shorter
+    // than 1): its point is off both, so no plane holds it, and the mixture changes as the
+    // edge moves under the pixel. A history pixel astride the same edge is taken where it is
+    // at the depth the point projects to, with a normal within 45 degrees.
+    const bool astride = dot(normal.xyz, normal.xyz) < 0.95 && dot(hn.xyz, hn.xyz) < 0.95;
+    const bool samePlane = agree >= 0.9 && abs(dot(n, y - x)) <= 0.01 * albedo.w;
+    const bool sameEdge =
+        astride && agree >= 0.7 && abs(cameraDepth(gCameras.previous, x) - ha.w) <= 0.01 * ha.w;
+    if (!samePlane && !sameEdge) continue;
     const float w = (o.x == 1 ? t.x : 1.0 - t.x) * (o.y == 1 ? t.y : 1.0 - t.y);
     const vec3 d = demodulator(ha.rgb);
     const float l = luminance(d);
@@ -99,14 +127,17 @@ void main() {
   const float l = luminance(d);
   const vec3 cc = c.rgb / d;
   const float cVar = max(c.w, 0.0) / (l * l);
-  // The frame's own variance estimate is itself noisy: a pixel whose few samples all came
-  // out dark has a small one and would reject good history, leaving a dark speck. The
-  // history's spread per sample, scaled to the frame's samples, stands in where it is larger.
-  const float gap = luminance(hc) - luminance(cc);
+  // History that the frame's neighbourhood does not bear out is dropped: its mean and spread
+  // over the 3 x 3 pixels of the same surface (or the pixel's own variance, if larger), not
+  // the pixel alone. A firefly among the frame's own samples would otherwise make the history
+  // look wrong and keep its full strength, where blending dilutes it; and at a few samples a
+  // pixel's own variance estimate is itself noisy (one whose samples all came out dark has
+  // almost none).
+  const vec2 around = neighbourhood(ivec2(p), n);
+  const float gap = luminance(hc) - around.x;
   const float sigma = gPush.rejectSigma;
-  const float expected = max(cVar, hVar * (hCount / wSum) / own);
-  if (gap * gap > sigma * sigma * (expected + hVar) + 1e-12 * (1.0 + luminance(cc) * luminance(cc)))
-    return;
+  const float spread = max(around.y, cVar) + hVar;
+  if (gap * gap > sigma * sigma * spread + 1e-12 * (1.0 + around.x * around.x)) return;
 
   const float total = own + history;
   const float a = own / total, b = history / total;

@@ -25,7 +25,10 @@ OSR_CONST(uint, kBindingHistoryIndirect, 7);
 OSR_CONST(uint, kBindingHistoryAlbedo, 8);
 OSR_CONST(uint, kBindingHistoryNormal, 9);
 OSR_CONST(uint, kBindingCameras, 10);  // TemporalCameras
-OSR_CONST(uint, kTemporalBindingCount, 11);
+// The frame's combined colour as its film gave it, read only: the neighbourhood the history
+// is tested against, which the pass's in-place writes must not change under it.
+OSR_CONST(uint, kBindingFrameColour, 11);
+OSR_CONST(uint, kTemporalBindingCount, 12);
 
 #ifdef __cplusplus
 using camera::CameraFrame;
@@ -40,7 +43,7 @@ struct TemporalPush {
   uint height;
   float samples;      // the frame's own samples per pixel
   float maxHistory;   // the history counts for at most this many times `samples`
-  float rejectSigma;  // history further than this many standard errors from the frame is dropped
+  float rejectSigma;  // history further than this many spreads from the frame's is dropped
   uint _pad0;
   uint _pad1;
   uint _pad2;

@@ -52,6 +52,7 @@ TemporalReuse::TemporalReuse(const vk::Context& ctx, uint32_t width, uint32_t he
       pipeline_(ctx, shaders::Id::film_temporal, g::kTemporalBindingCount, sizeof(g::TemporalPush)),
       cameras_(ctx, sizeof(g::TemporalCameras), vk::MemoryUse::DeviceLocal, "temporal cameras") {
   const uint64_t bytes = wholeLayerBytes(ctx, width, height, "temporal reuse");
+  frameColour_ = vk::Buffer(ctx, bytes, vk::MemoryUse::DeviceLocal, "temporal frame colour");
   for (Layers& l : layers_)
     for (vk::Buffer* b : l.all())
       *b = vk::Buffer(ctx, bytes, vk::MemoryUse::DeviceLocal, "temporal layer");
@@ -64,7 +65,9 @@ void TemporalReuse::apply(FilmLayers& film, const gpu::camera::CameraFrame& came
   const size_t n = size_t(width_) * height_;
   Layers& now = layers_[current_];
   const Layers& before = layers_[current_ ^ 1];
-  now.combined.uploadVector(packed(film.combined, film.variance, n));
+  const std::vector<float> colour = packed(film.combined, film.variance, n);
+  now.combined.uploadVector(colour);
+  frameColour_.uploadVector(colour);
   now.direct.uploadVector(packed(film.direct, {}, n));
   now.indirect.uploadVector(packed(film.indirect, {}, n));
   now.albedo.uploadVector(packed(film.albedo, film.depth, n));
@@ -95,6 +98,7 @@ void TemporalReuse::apply(FilmLayers& film, const gpu::camera::CameraFrame& came
         .set(g::kBindingHistoryAlbedo, before.albedo)
         .set(g::kBindingHistoryNormal, before.normal)
         .set(g::kBindingCameras, cameras_)
+        .set(g::kBindingFrameColour, frameColour_)
         .bind(cmd, push);
     pipeline_.dispatch(cmd, (width_ + g::kTemporalTile - 1) / g::kTemporalTile,
                        (height_ + g::kTemporalTile - 1) / g::kTemporalTile);

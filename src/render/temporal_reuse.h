@@ -5,7 +5,7 @@
 // each frame counts it for at most `maxHistory` times its own samples, so a frame's estimate
 // holds about (1 + maxHistory) frames' samples and light from frames long gone fades out;
 // under a camera that did not move, every frame before counts in full. History that is not
-// consistent with the frame within its noise is dropped. The frames must draw independent
+// consistent with the frame's neighbourhood is dropped. The frames must draw independent
 // samples (osr-vk --frames gives each its own seed).
 #pragma once
 #include <array>
@@ -59,6 +59,7 @@ class TemporalReuse {
   vk::ComputePipeline pipeline_;
   std::array<Layers, 2> layers_;  // the frame's and the history, swapping each frame
   uint32_t current_ = 0;
+  vk::Buffer frameColour_;        // the frame's combined colour before the blend
   vk::Buffer cameras_;            // gpu::temporal::TemporalCameras
   gpu::camera::CameraFrame previousCamera_{};
   bool hasHistory_ = false;

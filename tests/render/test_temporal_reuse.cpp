@@ -132,5 +132,23 @@ TEST(TemporalReuse, HistoryOfAnotherSurfaceOrLightIsNotTaken) {
   EXPECT_EQ(afterHistory(flatWall(1.f, 1e4f), flatWall(2.f, 1e4f)), Taken(1.5f, 1.0));
 }
 
+// A pixel astride an edge (its normal the mean of two faces', shorter than 1) takes history
+// astride the same edge at the same depth though the mixture turned by 30 degrees; a pixel on
+// one face does not.
+TEST(TemporalReuse, PixelsAstrideAnEdgeTakeTheSameEdgesHistory) {
+  auto withNormal = [](FilmLayers f, glm::vec3 n) {
+    for (uint32_t i = 0; i < kSize * kSize; ++i)
+      for (int k = 0; k < 3; ++k) f.normal[3 * i + k] = n[k];
+    return f;
+  };
+  const float c30 = std::cos(float(M_PI) / 6.f), s30 = std::sin(float(M_PI) / 6.f);
+  const glm::vec3 astride(0.f, 0.f, 0.8f), turned(0.f, 0.8f * s30, 0.8f * c30);
+  using Taken = std::pair<float, double>;
+  EXPECT_EQ(afterHistory(withNormal(flatWall(1.f, 1e4f), turned), withNormal(flatWall(2.f, 1e4f), astride)),
+            Taken(1.5f, 1.0));
+  EXPECT_EQ(afterHistory(withNormal(flatWall(1.f, 1e4f), turned / 0.8f), withNormal(flatWall(2.f, 1e4f), astride / 0.8f)),
+            Taken(2.f, 0.0));
+}
+
 }  // namespace
 }  // namespace osr::render
