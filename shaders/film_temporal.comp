@@ -4,8 +4,8 @@
 // section 4.1, with a statistical test in place of its fixed blend). Each pixel's first-hit
 // point (its depth through the pixel's centre) is projected into the previous frame; of the
 // four history pixels around it, those that saw the same surface (a normal within 25 degrees,
-// the point within 1 % of its depth of their plane, or astride the same edge; no light seen
-// directly) are averaged bilinearly. Colour is blended demodulated by the albedo (texture is not history), with the
+// their point within 1 % of the depth of the pixel's plane, or astride the same edge; no light
+// seen directly) are averaged bilinearly. Colour is blended demodulated by the albedo (texture is not history), with the
 // sample counts as weights, the history's capped at maxHistory times the frame's own so that
 // old light fades. History whose luminance is further than rejectSigma spreads from the mean
 // of the frame's 3 x 3 neighbourhood on the same surface is dropped: moved shadows,
@@ -76,6 +76,9 @@ void main() {
   const vec4 albedo = gAlbedo[i];
   const vec4 normal = gNormal[i];
   gIndirect[i].w = own;
+  // Without history (the first frame, or one after the scene changed) the history layers hold
+  // whatever they held, maybe never written: nothing of them is read.
+  if (gPush.maxHistory <= 0.0) return;
   if (albedo.w <= 0.0 || normal.w > 0.0) return;  // a miss, or a light seen directly
 
   const vec3 n = unitNormal(normal.xyz);

@@ -68,8 +68,8 @@ class OsrVkSettings(bpy.types.PropertyGroup):
         name="Temporal reuse", default=3.0, min=0.0, max=64.0,
         description="Render Animation in one run: blend each frame with the frames before it "
                     "where they saw the same surface, their samples counting for at most this "
-                    "many times the frame's own (osr-vk --temporal-reuse; 0: every frame on its "
-                    "own, as F12 renders it)")
+                    "many times the frame's own, in full under a still camera (osr-vk "
+                    "--temporal-reuse; 0: every frame on its own, as F12 renders it)")
     keep_directory: bpy.props.StringProperty(
         name="Keep files in", subtype="DIR_PATH", default="",
         description="Write the exported glTF, the command line, the log and the EXR here and "

@@ -306,6 +306,7 @@ class OfflineRenderer {
   bool keepHistory_ = false;  // the history is written beside the frames (renderFrames)
   uint64_t historyKey_ = 0;
   std::optional<int> shotFrame_;  // the frame renderImage renders, in a shot
+  double historySaveS_ = 0.0;     // seconds the last frame's history took to write
 };
 
 void OfflineRenderer::renderImage(const scene::Camera& camera,
@@ -320,8 +321,10 @@ void OfflineRenderer::renderImage(const scene::Camera& camera,
   // A shot's frame stopped by a signal is not written: --resume would take it for complete.
   if (o_.frames && interrupt::stopSignal()) throw Interrupted{interrupt::stopSignal()};
   if (keepHistory_ && shotFrame_) {
+    const auto start = std::chrono::steady_clock::now();
     const std::vector<uint8_t> bytes = temporal_->save(*shotFrame_, historyKey_);
     image::writeFileAtomic(historyPath(*shotFrame_), bytes.data(), bytes.size());
+    historySaveS_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   }
   write(std::move(film), stats, exrFile, pngFile);
   printSummary(stats);
@@ -356,7 +359,8 @@ void OfflineRenderer::renderFrames() {
                  const std::optional<std::string>& pngFile) {
                if (temporal_ && previous != frame - 1) {
                  temporal_->forget();
-                 if (keepHistory_ && o_.frames->resume) restoreHistory(frame - 1);
+                 if (keepHistory_ && o_.frames->resume && frame > o_.frames->first)
+                   restoreHistory(frame - 1);
                }
                shotFrame_ = frame;
                renderImage(camera, exrFile, pngFile);
@@ -376,7 +380,8 @@ std::string OfflineRenderer::historyPath(int frame) const {
 }
 
 // FNV-1a over what makes a frame's light: the scene's files (path, size, modification time),
-// the environment, the image size, mode and seed. A history of another shot is not taken.
+// the environment, the image size, mode, seed, samples or passes and --time. A history of
+// another shot is not taken (other options of a mode are not in it).
 uint64_t OfflineRenderer::shotKey() const {
   uint64_t h = 1469598103934665603ull;
   const auto mix = [&](const std::string& s) {
@@ -392,7 +397,8 @@ uint64_t OfflineRenderer::shotKey() const {
     mix(std::to_string(fs::last_write_time(f, ec).time_since_epoch().count()));
   }
   mix(std::to_string(host_.width) + "x" + std::to_string(host_.height) + " " + o_.integrator.mode +
-      " " + std::to_string(o_.seed.value_or(0)));
+      " " + std::to_string(o_.seed.value_or(0)) + " " + std::to_string(settings_.unitsOrDefault()) + " " +
+      std::to_string(o_.timeLimit.value_or(0.0)));
   return h;
 }
 
@@ -424,8 +430,9 @@ render::RenderStats OfflineRenderer::render(const scene::Camera& camera,
   constexpr double kFinishOverAllocate = 10.0;
   if (o_.timeLimit) ds.reserveS = kFinishOverAllocate * allocS;
   if (o_.timeLimit && imageDenoiser_) ds.reserveS += denoiseReserve();
-  // A shot's frame also blends in the frames before it: as long as the last one's took.
-  if (o_.timeLimit && temporal_) ds.reserveS += temporal_->lastSeconds();
+  // A shot's frame also blends in the frames before it and keeps the history for --resume:
+  // as long as the last frame's took.
+  if (o_.timeLimit && temporal_) ds.reserveS += temporal_->lastSeconds() + historySaveS_;
   // One image: --time counts from the start of osr-vk, set-up included (a frame of a shot: from
   // its own start); the first submission runs whatever is left.
   if (!o_.frames) ds.budgetStart = o_.started;

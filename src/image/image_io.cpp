@@ -97,9 +97,11 @@ void writeFileAtomic(const std::string& path, const void* data, size_t bytes) {
     throw InputError(path + ": cannot write (" + why + ")");
   }
   const bool ok = std::fwrite(data, 1, bytes, f) == bytes;
-  if (std::fclose(f) != 0 || !ok) {
+  const bool closed = std::fclose(f) == 0;
+  if (!ok || !closed) {
+    const std::string why = std::strerror(errno);
     discard(tmp);
-    throw InputError(path + ": cannot write (" + std::strerror(errno) + ")");
+    throw InputError(path + ": cannot write (" + why + ")");
   }
   commit(tmp, path);
 }
