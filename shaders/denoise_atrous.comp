@@ -11,7 +11,7 @@
 // normal. Out: the same form; after the last iteration the filtered colour.
 #extension GL_GOOGLE_include_directive : require
 #include "shared/denoise.h"
-#include "lib/sampling.glsl"  // luminance
+#include "lib/film_guides.glsl"
 
 layout(local_size_x = kDenoiseTile, local_size_y = kDenoiseTile) in;
 layout(constant_id = kSpecAtrousFirst) const uint kFirst = 0;
@@ -21,12 +21,6 @@ layout(std430, binding = kBindingAlbedo) readonly buffer Albedo { vec4 gAlbedo[]
 layout(std430, binding = kBindingNormal) readonly buffer Normal { vec4 gNormal[]; };
 layout(std430, binding = kBindingOut) writeonly buffer Out { vec4 gOut[]; };
 layout(push_constant) uniform PushBlock { DenoisePush gPush; };
-
-// What colour is divided by: the albedo, or 1 where the first hit has (almost) none (misses,
-// black surfaces), so that their light is filtered as it is.
-vec3 demodulator(vec3 albedo) {
-  return luminance(albedo) < 1e-3 ? vec3(1.0) : max(albedo, vec3(1e-3));
-}
 
 // The iteration's input at pixel p: rgb and the variance of its luminance.
 vec4 inputAt(uint p) {
@@ -44,11 +38,7 @@ float depthAt(ivec2 q) { return inside(q) ? gAlbedo[index(q)].w : 0.0; }
 // samples, shorter than 1 where a pixel straddles an edge; unnormalized, such a pixel agreed
 // less with itself than with its neighbours (|n|^2 < n.m) and was replaced by them, or, with
 // every weight below float's range, by 0.
-vec3 normalAt(uint i) {
-  const vec3 n = gNormal[i].xyz;
-  const float len2 = dot(n, n);
-  return len2 > 1e-12 ? n * inversesqrt(len2) : vec3(0.0);
-}
+vec3 normalAt(uint i) { return unitNormal(gNormal[i].xyz); }
 
 void main() {
   const ivec2 p = ivec2(gl_GlobalInvocationID.xy);

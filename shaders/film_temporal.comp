@@ -13,7 +13,7 @@
 #extension GL_GOOGLE_include_directive : require
 #include "shared/temporal.h"
 #include "lib/camera.glsl"
-#include "lib/sampling.glsl"  // luminance
+#include "lib/film_guides.glsl"
 
 layout(local_size_x = kTemporalTile, local_size_y = kTemporalTile) in;
 layout(std430, binding = kBindingCombined) buffer Combined { vec4 gCombined[]; };
@@ -30,16 +30,8 @@ layout(std430, binding = kBindingCameras) readonly buffer Cameras { TemporalCame
 layout(std430, binding = kBindingFrameColour) readonly buffer FrameColour { vec4 gFrameColour[]; };
 layout(push_constant) uniform PushBlock { TemporalPush gPush; };
 
-// What colour is divided by (as the a-trous filter's): the albedo, or 1 where the first hit
-// has (almost) none, whose light is blended as it is.
-vec3 demodulator(vec3 albedo) {
-  return luminance(albedo) < 1e-3 ? vec3(1.0) : max(albedo, vec3(1e-3));
-}
-
-vec3 unitNormal(vec3 n) {
-  const float len2 = dot(n, n);
-  return len2 > 1e-12 ? n * inversesqrt(len2) : vec3(0.0);
-}
+bool inside(ivec2 q) { return q.x >= 0 && q.y >= 0 && q.x < int(gPush.width) && q.y < int(gPush.height); }
+uint index(ivec2 q) { return uint(q.y) * gPush.width + uint(q.x); }
 
 // The point at view-axis depth z through the centre of film pixel (x, y) of frame f.
 vec3 surfacePoint(CameraFrame f, vec2 pixel, float z) {
@@ -56,8 +48,8 @@ vec2 neighbourhood(ivec2 p, vec3 n) {
   float sum = 0.0, sumSq = 0.0, count = 0.0;
   for (int k = 0; k < 9; ++k) {
     const ivec2 q = p + ivec2(k % 3 - 1, k / 3 - 1);
-    if (q.x < 0 || q.y < 0 || q.x >= int(gPush.width) || q.y >= int(gPush.height)) continue;
-    const uint j = uint(q.y) * gPush.width + uint(q.x);
+    if (!inside(q)) continue;
+    const uint j = index(q);
     const vec4 a = gAlbedo[j];
     const vec4 m = gNormal[j];
     if (a.w <= 0.0 || m.w > 0.0 || dot(unitNormal(m.xyz), n) < 0.9) continue;
@@ -93,8 +85,8 @@ void main() {
   for (int k = 0; k < 4; ++k) {
     const ivec2 o = ivec2(k & 1, k >> 1);
     const ivec2 r = q0 + o;
-    if (r.x < 0 || r.y < 0 || r.x >= int(gPush.width) || r.y >= int(gPush.height)) continue;
-    const uint j = uint(r.y) * gPush.width + uint(r.x);
+    if (!inside(r)) continue;
+    const uint j = index(r);
     const vec4 ha = gHAlbedo[j];
     const vec4 hn = gHNormal[j];
     if (ha.w <= 0.0 || hn.w > 0.0) continue;
