@@ -41,6 +41,7 @@
 #include "bench/benchmarks.h"
 #include "bench/json.h"
 #include "common/error.h"
+#include "common/fnv1a.h"
 #include "image/image_io.h"
 #include "image/image_metrics.h"
 #include "osr/osr_integrator.h"
@@ -129,18 +130,14 @@ std::pair<std::string, std::string> defaultScene(const fs::path& dir) {
 
 // FNV-1a over the files' bytes and `extra`: the references' cache key.
 std::string contentKey(const std::vector<std::string>& files, const std::string& extra) {
-  uint64_t h = 1469598103934665603ull;
-  auto mix = [&](const char* p, size_t n) {
-    for (size_t i = 0; i < n; ++i) h = (h ^ uint8_t(p[i])) * 1099511628211ull;
-  };
+  Fnv1a h;
   for (const std::string& f : files) {
     std::ifstream in(f, std::ios::binary);
-    std::string bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-    mix(bytes.data(), bytes.size());
+    h.add(std::string((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>()));
   }
-  mix(extra.data(), extra.size());
+  h.add(extra);
   char hex[17];
-  std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(h));
+  std::snprintf(hex, sizeof hex, "%016llx", static_cast<unsigned long long>(h.value()));
   return hex;
 }
 

@@ -27,6 +27,7 @@
 #include "app/scene_setup.h"
 #include "bvh/bvh.h"
 #include "common/error.h"
+#include "common/fnv1a.h"
 #include "common/input_file.h"
 #include "image/image_io.h"
 #include "osr/osr_integrator.h"
@@ -383,11 +384,8 @@ std::string OfflineRenderer::historyPath(int frame) const {
 // the environment, the image size, mode, seed, samples or passes and --time. A history of
 // another shot is not taken (other options of a mode are not in it).
 uint64_t OfflineRenderer::shotKey() const {
-  uint64_t h = 1469598103934665603ull;
-  const auto mix = [&](const std::string& s) {
-    for (const char c : s) h = (h ^ uint8_t(c)) * 1099511628211ull;
-    h = (h ^ 0xffu) * 1099511628211ull;
-  };
+  Fnv1a h;
+  const auto mix = [&](const std::string& s) { h.add(s).add("\xff"); };  // 0xff ends each
   std::vector<std::string> files = host_.scene.files;
   if (o_.scene.env) files.push_back(*o_.scene.env);
   for (const std::string& f : files) {
@@ -399,7 +397,7 @@ uint64_t OfflineRenderer::shotKey() const {
   mix(std::to_string(host_.width) + "x" + std::to_string(host_.height) + " " + o_.integrator.mode +
       " " + std::to_string(o_.seed.value_or(0)) + " " + std::to_string(settings_.unitsOrDefault()) + " " +
       std::to_string(o_.timeLimit.value_or(0.0)));
-  return h;
+  return h.value();
 }
 
 void OfflineRenderer::restoreHistory(int frame) {
