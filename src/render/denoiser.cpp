@@ -60,30 +60,15 @@ DenoiseImage::DenoiseImage(const vk::Context& ctx, uint32_t width, uint32_t heig
 void DenoiseImage::upload(const FilmLayers& film) {
   if (film.width != int(width_) || film.height != int(height_))
     throw DeviceError("denoiser: film size does not match the denoiser's");
-  const size_t n = size_t(width_) * height_;
-  const std::vector<float>& colour = film.noisy.empty() ? film.combined : film.noisy;
-  std::vector<float> c(n * 4), a(n * 4), nrm(n * 4);
-  for (size_t i = 0; i < n; ++i) {
-    for (int k = 0; k < 3; ++k) {
-      c[4 * i + k] = colour[3 * i + k];
-      a[4 * i + k] = film.albedo[3 * i + k];
-      nrm[4 * i + k] = film.normal[3 * i + k];
-    }
-    c[4 * i + 3] = film.variance.empty() ? 0.0f : film.variance[i];
-    a[4 * i + 3] = film.depth[i];
-    nrm[4 * i + 3] = film.light.empty() ? 0.0f : film.light[i];
-  }
-  colour_.uploadVector(c);
-  albedo_.uploadVector(a);
-  normal_.uploadVector(nrm);
+  colour_.uploadVector(vec4Layer(film.noisy.empty() ? film.combined : film.noisy, film.variance));
+  albedo_.uploadVector(vec4Layer(film.albedo, film.depth));
+  normal_.uploadVector(vec4Layer(film.normal, film.light));
 }
 
 std::vector<float> DenoiseImage::download(const vk::Buffer& pixels) const {
   const size_t n = size_t(width_) * height_;
-  auto v = pixels.downloadVector<float>(n * 4);
   std::vector<float> rgb(n * 3);
-  for (size_t i = 0; i < n; ++i)
-    for (int k = 0; k < 3; ++k) rgb[3 * i + k] = v[4 * i + k];
+  fromVec4Layer(pixels.downloadVector<float>(n * 4), rgb);
   return rgb;
 }
 

@@ -8,6 +8,24 @@ namespace osr::render {
 
 namespace f = gpu::film;
 
+std::vector<float> vec4Layer(const std::vector<float>& rgb, const std::vector<float>& w) {
+  const size_t n = rgb.size() / 3;
+  std::vector<float> v(n * 4);
+  for (size_t i = 0; i < n; ++i) {
+    for (int k = 0; k < 3; ++k) v[4 * i + k] = rgb[3 * i + k];
+    v[4 * i + 3] = w.empty() ? 0.0f : w[i];
+  }
+  return v;
+}
+
+void fromVec4Layer(const std::vector<float>& layer, std::vector<float>& rgb, std::vector<float>* w) {
+  const size_t n = layer.size() / 4;
+  for (size_t i = 0; i < n; ++i) {
+    for (int k = 0; k < 3; ++k) rgb[3 * i + k] = layer[4 * i + k];
+    if (w) (*w)[i] = layer[4 * i + 3];
+  }
+}
+
 uint64_t wholeLayerBytes(const vk::Context& ctx, uint32_t width, uint32_t height, const char* what) {
   const uint64_t bytes = uint64_t(width) * height * 16;
   if (bytes > ctx.caps().maxStorageBufferRange)

@@ -56,6 +56,13 @@ void upsampleBilinear(const FilmLayers& from, FilmLayers& into);
 // struct whose size is a multiple of 16 bytes (std430 vec4 rows).
 inline constexpr uint32_t kWindowAlignPixels = 256;
 
+// A film layer (rgb, interleaved) with a fourth value per pixel from `w` (0 where `w` is
+// empty) as the passes over a film's layers bind it: a vec4 per pixel.
+std::vector<float> vec4Layer(const std::vector<float>& rgb, const std::vector<float>& w);
+// Such a layer's rgb into `rgb`, and its fourth values into `w` if given (both sized).
+void fromVec4Layer(const std::vector<float>& layer, std::vector<float>& rgb,
+                   std::vector<float>* w = nullptr);
+
 // Bytes of one image layer of a vec4 per pixel (the denoisers', temporal reuse's), which a
 // pass binds whole. Throws DeviceError ("<what>: a WxH layer needs ...") when that is over the
 // device's maxStorageBufferRange.

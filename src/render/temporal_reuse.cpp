@@ -13,24 +13,6 @@ namespace g = gpu::temporal;
 
 namespace {
 
-// Film layers as the shader's vec4 layers (shared/temporal.h), and back.
-std::vector<float> packed(const std::vector<float>& rgb, const std::vector<float>& w, size_t n) {
-  std::vector<float> v(n * 4);
-  for (size_t i = 0; i < n; ++i) {
-    for (int k = 0; k < 3; ++k) v[4 * i + k] = rgb[3 * i + k];
-    v[4 * i + 3] = w.empty() ? 0.0f : w[i];
-  }
-  return v;
-}
-
-void unpack(const std::vector<float>& v, std::vector<float>& rgb, std::vector<float>* w) {
-  const size_t n = v.size() / 4;
-  for (size_t i = 0; i < n; ++i) {
-    for (int k = 0; k < 3; ++k) rgb[3 * i + k] = v[4 * i + k];
-    if (w) (*w)[i] = v[4 * i + 3];
-  }
-}
-
 // The head of save()'s bytes; the history's five layers follow it.
 struct SavedHistory {
   char magic[8];
@@ -65,13 +47,11 @@ void TemporalReuse::apply(FilmLayers& film, const gpu::camera::CameraFrame& came
   const size_t n = size_t(width_) * height_;
   Layers& now = layers_[current_];
   const Layers& before = layers_[current_ ^ 1];
-  const std::vector<float> colour = packed(film.combined, film.variance, n);
-  now.combined.uploadVector(colour);
-  frameColour_.uploadVector(colour);
-  now.direct.uploadVector(packed(film.direct, {}, n));
-  now.indirect.uploadVector(packed(film.indirect, {}, n));
-  now.albedo.uploadVector(packed(film.albedo, film.depth, n));
-  now.normal.uploadVector(packed(film.normal, film.light, n));
+  now.combined.uploadVector(vec4Layer(film.combined, film.variance));
+  now.direct.uploadVector(vec4Layer(film.direct, {}));
+  now.indirect.uploadVector(vec4Layer(film.indirect, {}));
+  now.albedo.uploadVector(vec4Layer(film.albedo, film.depth));
+  now.normal.uploadVector(vec4Layer(film.normal, film.light));
   const g::TemporalCameras cams{camera, hasHistory_ ? previousCamera_ : camera};
   cameras_.upload(&cams, sizeof cams);
 
@@ -86,6 +66,11 @@ void TemporalReuse::apply(FilmLayers& film, const gpu::camera::CameraFrame& came
   push.maxHistory = !hasHistory_ ? 0.0f : still ? 1e30f : maxHistory_;
   push.rejectSigma = 3.0f;
   ctx_.submitAndWait([&](VkCommandBuffer cmd) {
+    // The neighbourhood the history is tested against: the colour as uploaded, copied on the
+    // device, since the pass blends into now.combined in place.
+    const VkBufferCopy whole{0, 0, VkDeviceSize(n) * 16};
+    vkCmdCopyBuffer(cmd, now.combined.handle(), frameColour_.handle(), 1, &whole);
+    vk::transferBarrier(cmd);
     vk::Binder(pipeline_)
         .set(g::kBindingCombined, now.combined)
         .set(g::kBindingDirect, now.direct)
@@ -104,10 +89,10 @@ void TemporalReuse::apply(FilmLayers& film, const gpu::camera::CameraFrame& came
                        (height_ + g::kTemporalTile - 1) / g::kTemporalTile);
   });
   if (film.variance.size() != n) film.variance.assign(n, 0.0f);
-  unpack(now.combined.downloadVector<float>(n * 4), film.combined, &film.variance);
-  unpack(now.direct.downloadVector<float>(n * 4), film.direct, nullptr);
+  fromVec4Layer(now.combined.downloadVector<float>(n * 4), film.combined, &film.variance);
+  fromVec4Layer(now.direct.downloadVector<float>(n * 4), film.direct);
   const std::vector<float> indirect = now.indirect.downloadVector<float>(n * 4);
-  unpack(indirect, film.indirect, nullptr);
+  fromVec4Layer(indirect, film.indirect);
   size_t reused = 0;
   for (size_t i = 0; i < n; ++i) reused += indirect[4 * i + 3] > push.samples;
   reusedShare_ = double(reused) / double(n);
