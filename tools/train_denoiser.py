@@ -409,8 +409,9 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--out", required=True, help="run folder")
     p.add_argument("--resume", action="store_true", help="continue the run in --out from its checkpoint.pt")
     p.add_argument("--init", metavar="CHECKPOINT",
-                   help="start from this checkpoint's weights (a best.pt of the same width; kpn and kpn2 "
-                   "have the same weights, so a trained kpn model can start a kpn2 run)")
+                   help="start from this checkpoint's weights (a best.pt of the same width, or a packed .osrw "
+                   "such as models/osr_image_denoiser.osrw; the kernel architectures share their weights, "
+                   "so a trained kpn model can start a kpn2 run)")
     p.add_argument("--arch", choices=tuple(ARCHS), default="kpn2",
                    help="kpn3: the kernels of kpn2 times the a-trous filter's B3-spline and variance-scaled "
                    "luminance factors, so the network starts as the filter and learns what it misses; "
@@ -501,7 +502,15 @@ def main(argv: list[str] | None = None) -> int:
     # about 0.7 of its weight. Or from --init's weights.
     if args.init and not args.resume:
         try:
-            start_from = torch.load(args.init, map_location="cpu")
+            if args.init.endswith(".osrw"):
+                # A packed model (the shipped one): the same weights, read back from the file.
+                from weights_pack import PackError, unpack_image_denoiser
+                try:
+                    start_from = unpack_image_denoiser(args.init)
+                except PackError as e:
+                    raise DataError(f"--init {e}") from None
+            else:
+                start_from = torch.load(args.init, map_location="cpu")
             start_arch = image_unet.architecture_of(start_from["model"], start_from.get("architecture"))
             kernels = image_unet.KERNEL_ARCHITECTURES
             if (start_arch in kernels) != (architecture in kernels):

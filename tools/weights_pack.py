@@ -89,6 +89,41 @@ def load_state_dict(path: str, obj=None) -> dict:
     return {k[len("module."):] if k.startswith("module.") else k: v for k, v in obj.items()}
 
 
+def unpack_image_denoiser(path: str) -> dict:
+    """A packed image denoiser (.osrw) as a checkpoint dict {"model": state_dict, "architecture",
+    "base_width"}, the inverse of pack() for stage image_denoiser (plain convolutions, no
+    BatchNorm), so a training can start from a shipped model (train_denoiser.py --init)."""
+    import numpy as np
+    import torch
+    fmt = read_format()
+    try:
+        blob = Path(path).read_bytes()
+    except OSError as e:
+        raise PackError(f"{path}: {e.strerror}") from None
+    prefix = fmt["kPrefixBytes"]
+    if len(blob) < prefix or not blob.startswith(fmt["kWeightsMagic"].encode("ascii")):
+        raise PackError(f"{path}: not a packed weights file (no {fmt['kWeightsMagic']} magic)")
+    (header_bytes,) = struct.unpack_from("<Q", blob, fmt["kOffsetHeaderBytes"])
+    (data_offset,) = struct.unpack_from("<Q", blob, fmt["kOffsetDataOffset"])
+    (data_bytes,) = struct.unpack_from("<Q", blob, fmt["kOffsetDataBytes"])
+    if len(blob) != data_offset + data_bytes:
+        raise PackError(f"{path}: {len(blob)} bytes, the header says {data_offset + data_bytes} (truncated?)")
+    (checksum,) = struct.unpack_from("<I", blob, fmt["kOffsetChecksum"])
+    if zlib.crc32(blob[prefix:]) & 0xFFFFFFFF != checksum:
+        raise PackError(f"{path}: checksum mismatch (corrupted)")
+    header = json.loads(blob[prefix:prefix + header_bytes])
+    if header.get("stage") != fmt["kStageImageDenoiser"]:
+        raise PackError(f"{path}: model of stage '{header.get('stage')}', not an image denoiser")
+    state = {}
+    for layer in header["layers"]:
+        for key in ("weight", "bias"):
+            t = layer["tensors"][key]
+            start = data_offset + t["offset"]
+            raw = np.frombuffer(blob, "<f2" if t["dtype"] == "f16" else "<f4", t["bytes"] // (2 if t["dtype"] == "f16" else 4), start)
+            state[f"{layer['name']}.{key}"] = torch.from_numpy(raw.astype(np.float32).reshape(t["shape"]))
+    return {"model": state, "architecture": header["architecture"], "base_width": header["base_width"]}
+
+
 MAP_ARCHITECTURE = "osr_unet_v1"
 
 

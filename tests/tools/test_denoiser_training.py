@@ -3,7 +3,8 @@
 target together and leave the (world-space) normals' values alone; a Noise2Noise example's
 input and target are spp-weighted means of disjoint renders; train_denoiser.py --quick trains,
 validates, writes the checkpoint the packer reads and resumes, and --init starts the guided
-kernels (osr_image_kpn_v2) from a kpn_v1 run; the guided kernels do not average across a
+kernels (osr_image_kpn_v2) from a kpn_v1 run and a run from a packed .osrw, which unpacks to
+the weights packed; the guided kernels do not average across a
 geometric edge; a view without depth takes its depth.npz, and kpn2 refuses data with neither;
 the variance of a mean of renders is their weighted sum, kpn3 refuses data without it, and its
 kernels with zero logits smooth noise by the variance they are told;
@@ -242,6 +243,31 @@ class QuickTraining(unittest.TestCase):
             r = run([PY, TOOLS / "train_denoiser.py", "--out", t / "u", "--quick", "--arch", "unet", "--init",
                      t / "v1" / "best.pt"], expect=2)
             self.assertIn("cannot start a osr_image_unet_v1 run", r.stderr.strip().splitlines()[-1])
+
+    def test_init_from_a_packed_model(self):
+        import torch
+        from weights_pack import PackError, unpack_image_denoiser
+        with tempfile.TemporaryDirectory() as tmp:
+            t = Path(tmp)
+            run([PY, TOOLS / "train_denoiser.py", "--out", t / "a", "--quick", "--arch", "kpn3"])
+            run([PY, TOOLS / "weights_pack.py", t / "a" / "best.pt", t / "a.osrw"])
+            best = torch.load(t / "a" / "best.pt", map_location="cpu")
+            back = unpack_image_denoiser(str(t / "a.osrw"))
+            self.assertEqual(back["architecture"], "osr_image_kpn_v3")
+            self.assertEqual(set(back["model"]), set(best["model"]))
+            for name, w in best["model"].items():
+                self.assertTrue(torch.equal(back["model"][name], w.float()), name)
+            r = run([PY, TOOLS / "train_denoiser.py", "--out", t / "b", "--quick", "--arch", "kpn3", "--init",
+                     t / "a.osrw", "--steps", "1"])
+            self.assertIn("1 spp: relMSE", r.stderr)
+            # A packed file cut short is one line, exit 2.
+            (t / "cut.osrw").write_bytes((t / "a.osrw").read_bytes()[:-10])
+            with self.assertRaises(PackError):
+                unpack_image_denoiser(str(t / "cut.osrw"))
+            r = run([PY, TOOLS / "train_denoiser.py", "--out", t / "c", "--quick", "--arch", "kpn3", "--init",
+                     t / "cut.osrw"], expect=2)
+            self.assertIn("truncated", r.stderr.strip().splitlines()[-1])
+            self.assertNotIn("Traceback", r.stderr)
 
     def test_bad_input_is_one_line(self):
         with tempfile.TemporaryDirectory() as tmp:
