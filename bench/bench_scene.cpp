@@ -1,6 +1,7 @@
 #include "bench/bench_scene.h"
 
 #include "common/error.h"
+#include "image/image_metrics.h"
 
 namespace osr::bench {
 
@@ -27,6 +28,8 @@ BenchScene::BenchScene(const vk::Context& ctx, const SceneArgs& args, uint32_t s
     throw InputError("--reference " + args.reference + ": " + std::to_string(reference.width) +
                      "x" + std::to_string(reference.height) + ", the render is " +
                      std::to_string(size) + "x" + std::to_string(size) + " (--size)");
+  if (image::exrHasChannel(args.reference, "variance.Y"))
+    referenceNoise = image::referenceNoise(reference, image::readExrRgb(args.reference, "variance"));
   if (args.env) env = scene::loadEnvironment(*args.env);
   gpu = std::make_unique<scene::GpuScene>(ctx, host, env ? &*env : nullptr);
   bvh = std::make_unique<bvh::Bvh>(

@@ -219,6 +219,16 @@ RgbImage readExrRgb(const std::string& path, const std::string& layer) {
   }
 }
 
+bool exrHasChannel(const std::string& path, const std::string& channel) {
+  if (auto problem = exrHeaderProblem(path)) throw InputError(path + ": " + *problem);
+  try {
+    Imf::InputFile file(path.c_str());
+    return file.header().channels().findChannel(channel) != nullptr;
+  } catch (const std::exception& e) {
+    throw InputError(path + ": cannot read OpenEXR (" + oneLine(e.what()) + ")");
+  }
+}
+
 std::vector<ExrAttribute> readExrAttributes(const std::string& path) {
   if (auto problem = exrHeaderProblem(path)) throw InputError(path + ": " + *problem);
   try {

@@ -70,6 +70,19 @@ double relMse(const RgbImage& a, const RgbImage& b) {
   return sum / double(a.rgb.size());
 }
 
+double referenceNoise(const RgbImage& reference, const RgbImage& luminanceVariance) {
+  double sum = 0.0;
+  for (size_t i = 0; i < reference.rgb.size() / 3; ++i) {
+    const double y = reference.luminance(i);
+    for (int c = 0; c < 3; ++c) {
+      const double r = reference.rgb[3 * i + c];
+      const double share = y > 1e-8 ? r / y : 1.0;
+      sum += double(luminanceVariance.rgb[3 * i]) * share * share / (r * r + kRelMseEpsilon);
+    }
+  }
+  return sum / double(reference.rgb.size());
+}
+
 double meanLuminance(const RgbImage& image) {
   double sum = 0.0;
   for (size_t i = 0; i < image.rgb.size() / 3; ++i) sum += image.luminance(i);

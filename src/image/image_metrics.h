@@ -23,6 +23,11 @@ struct ImageMetrics {
 ImageMetrics compareImages(const RgbImage& a, const RgbImage& b);
 double relMse(const RgbImage& a, const RgbImage& b);
 double meanLuminance(const RgbImage& image);
+// What a reference's own noise adds to any image's relMSE against it: the mean over pixels and
+// RGB of var_c / (r_c^2 + 0.01), each channel's variance the variance of the pixel's luminance
+// estimate (osr-vk's `variance` layer, grey) times (r_c / Y)^2. An image's relMSE less this
+// estimates its relMSE against the converged image.
+double referenceNoise(const RgbImage& reference, const RgbImage& luminanceVariance);
 // Box-filters by an integer factor (width and height divisible by it).
 RgbImage downsample(const RgbImage& image, int factor);
 

@@ -62,6 +62,9 @@ TEST(ImageIo, ReadsTheCyclesReferences) {
     sum += v;
   }
   EXPECT_GT(sum, 0.0);
+  const std::string cornell = test::referencePath("cornell/cornell_cycles_4096spp.exr");
+  EXPECT_TRUE(image::exrHasChannel(cornell, "R"));
+  EXPECT_FALSE(image::exrHasChannel(cornell, "variance.Y"));  // Cycles writes no variance
 }
 
 TEST(ImageIo, FailuresAreInputErrorsAndKeepExistingFiles) {

@@ -27,6 +27,28 @@ TEST(ImageMetrics, IdenticalImages) {
   EXPECT_NEAR(m.lumRatio, 1.0, 1e-12);
 }
 
+TEST(ImageMetrics, ReferenceNoiseIsWhatTheReferencesNoiseAddsToRelMse) {
+  // Grey: every channel's variance is the luminance's.
+  const image::RgbImage ref = constant(8, 8, 0.5f), var = constant(8, 8, 0.002f);
+  EXPECT_NEAR(image::referenceNoise(ref, var), 0.002 / (0.25 + 0.01), 1e-9);
+  // Over many noisy references of one truth, the mean relMSE of the truth against them is
+  // that figure (to the first order of the noise in the denominator).
+  image::RgbImage truth = constant(64, 64, 1.0f), noisy = truth;
+  uint32_t state = 1;
+  double sum = 0.0, noise = 0.0;
+  const float sigma = 0.05f;
+  for (int k = 0; k < 20; ++k) {
+    for (size_t i = 0; i < noisy.rgb.size(); i += 3) {
+      state = state * 1664525u + 1013904223u;
+      const float v = 1.0f + sigma * ((state >> 8) * (1.f / 16777216.f) * 2.f - 1.f) * std::sqrt(3.f);
+      noisy.rgb[i] = noisy.rgb[i + 1] = noisy.rgb[i + 2] = v;
+    }
+    sum += image::relMse(truth, noisy);
+    noise += image::referenceNoise(noisy, constant(64, 64, sigma * sigma));
+  }
+  EXPECT_NEAR(sum / noise, 1.0, 0.01);
+}
+
 TEST(ImageMetrics, ConstantImagesMatchClosedForms) {
   image::RgbImage a = constant(16, 12, 1.0f), b = constant(16, 12, 0.5f);
   auto m = image::compareImages(a, b);
