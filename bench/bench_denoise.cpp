@@ -111,6 +111,7 @@ int runDenoise(const std::vector<std::string>& args) {
       JsonLine j;
       j.str("bench", "denoise")
           .str("scene", sceneArg)
+          .str("reference", bs.referenceName)
           .str("row", row.name)
           .integer("size", size)
           .integer("budget_s", budget)

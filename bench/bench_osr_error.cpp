@@ -138,6 +138,7 @@ int runOsrError(const std::vector<std::string>& args) {
     JsonLine j;
     j.str("bench", "osr-error")
         .str("scene", sceneArgs.name)
+        .str("reference", bs.referenceName)
         .integer("size", size)
         .integer("budget_s", budget)  // 0: --passes
         .integer("passes", passes)

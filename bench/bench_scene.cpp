@@ -1,5 +1,7 @@
 #include "bench/bench_scene.h"
 
+#include <filesystem>
+
 #include "common/error.h"
 #include "image/image_metrics.h"
 
@@ -28,6 +30,7 @@ BenchScene::BenchScene(const vk::Context& ctx, const SceneArgs& args, uint32_t s
     throw InputError("--reference " + args.reference + ": " + std::to_string(reference.width) +
                      "x" + std::to_string(reference.height) + ", the render is " +
                      std::to_string(size) + "x" + std::to_string(size) + " (--size)");
+  referenceName = std::filesystem::path(args.reference).filename().string();
   if (image::exrHasChannel(args.reference, "variance.Y"))
     referenceNoise = image::referenceNoise(reference, image::readExrRgb(args.reference, "variance"));
   if (args.env) env = scene::loadEnvironment(*args.env);

@@ -40,6 +40,7 @@ struct BenchScene {
   std::unique_ptr<scene::GpuScene> gpu;
   std::unique_ptr<bvh::Bvh> bvh;
   image::RgbImage reference;
+  std::string referenceName;  // the reference's file name, for the JSON lines
   // What the reference's own noise adds to a relMSE against it (image::referenceNoise), where
   // the reference is an osr-vk render with its variance layer; Cycles' renders have none.
   std::optional<double> referenceNoise;
