@@ -180,12 +180,15 @@ class View:
         means = tuple(np.tensordot(w, a[idx], 1) for a in (self.colour, self.albedo, self.normal, depth))
         return (*means, np.tensordot(w * w, variance[idx], 1))
 
-    def example(self, rng: np.random.Generator) -> tuple[np.ndarray, ...]:
+    def example(self, rng: np.random.Generator, min_spp: int = 1) -> tuple[np.ndarray, ...]:
         """A random (input colour, albedo, normal, depth, variance, target colour, input spp),
-        whole images."""
+        whole images, of at least min_spp samples where the view reaches that many."""
         # Log-uniform over the reachable sample counts: the nearest level to exp(u).
-        u = rng.uniform(0, math.log(self.levels[-1] + 0.5))
-        level = int(self.levels[np.abs(np.log(self.levels) - u).argmin()])
+        levels = self.levels[self.levels >= min_spp]
+        if not len(levels):
+            levels = self.levels[-1:]
+        u = rng.uniform(math.log(levels[0]), math.log(levels[-1] + 0.5))
+        level = int(levels[np.abs(np.log(levels) - u).argmin()])
         choices = self.subsets[level]
         chosen = list(choices[int(rng.integers(len(choices)))])
         colour, albedo, normal, depth, variance = self.mean(chosen)
@@ -254,7 +257,8 @@ def symmetry(a: np.ndarray, k: int) -> np.ndarray:
     return np.rot90(a, k & 3, axes=(-2, -1))
 
 
-def make_batch(data: Dataset, rng: np.random.Generator, batch: int, crop: int, device: str = "cpu"):
+def make_batch(data: Dataset, rng: np.random.Generator, batch: int, crop: int, device: str = "cpu",
+               min_spp: int = 1):
     """(colour, albedo, normal, depth, variance, e, target) tensors of `batch` random crops on
     `device`, and the mean input spp."""
     import torch
@@ -262,7 +266,7 @@ def make_batch(data: Dataset, rng: np.random.Generator, batch: int, crop: int, d
     colours, albedos, normals, depths, variances, targets, es, spps = [], [], [], [], [], [], [], []
     for _ in range(batch):
         view = data.views[data.keys[int(rng.integers(len(data.keys)))]]
-        colour, albedo, normal, depth, variance, target, spp = view.example(rng)
+        colour, albedo, normal, depth, variance, target, spp = view.example(rng, min_spp)
         es.append(image_exposure(torch.from_numpy(colour)[None]))
         size = min(crop, view.height, view.width) // 8 * 8
         y0 = int(rng.integers(view.height - size + 1))
@@ -422,6 +426,9 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--steps", type=positive_int, help="a budget in steps instead of time")
     p.add_argument("--batch", type=positive_int, default=8, help="crops per step (default 8)")
     p.add_argument("--crop", type=positive_int, default=64, help="crop size, a multiple of 8 (default 64)")
+    p.add_argument("--min-spp", type=positive_int, default=1,
+                   help="train on inputs of at least this many samples per pixel (default 1): the sample "
+                   "counts a render of seconds reaches, which few-sample examples otherwise outweigh")
     p.add_argument("--lr", type=positive_float, default=2e-3, help="initial Adam learning rate (default 2e-3)")
     p.add_argument("--threads", type=positive_int, default=2, help="PyTorch CPU threads (default 2)")
     p.add_argument("--device", default="cpu",
@@ -562,7 +569,7 @@ def main(argv: list[str] | None = None) -> int:
             "loss_kind": "relmse_exposed_n2n", "datasets": ",".join(Path(d).name for d in args.data),
             "init": Path(args.init).parent.name + "/" + Path(args.init).name if args.init else "",
             "validation": Path(args.val).name,
-            "batch": args.batch, "crop": args.crop, "lr": args.lr, "git_commit": git_commit(),
+            "batch": args.batch, "crop": args.crop, "lr": args.lr, "min_spp": args.min_spp, "git_commit": git_commit(),
             "quick": bool(args.quick)}
     print(f"train_denoiser.py: {len(train.keys)} views ({train.pixels() / 1e6:.1f} Mpixel) from "
           f"{len(train.scenes())} interiors, validation {len(val.keys)} views; K={args.k}", file=sys.stderr)
@@ -616,7 +623,8 @@ def main(argv: list[str] | None = None) -> int:
             break
         for group in opt.param_groups:  # cosine decay over the budget
             group["lr"] = args.lr * 0.5 * (1 + math.cos(math.pi * frac))
-        colour, albedo, normal, depth, variance, e, target, _ = make_batch(train, rng, args.batch, args.crop, args.device)
+        colour, albedo, normal, depth, variance, e, target, _ = make_batch(
+            train, rng, args.batch, args.crop, args.device, args.min_spp)
         loss = loss_fn(model, colour, albedo, normal, depth, variance, e, target)
         opt.zero_grad()
         loss.backward()

@@ -1,7 +1,7 @@
 #!/usr/bin/python3
 """The image denoiser's training side, small: the symmetries move colour, albedo, normal and
 target together and leave the (world-space) normals' values alone; a Noise2Noise example's
-input and target are spp-weighted means of disjoint renders; train_denoiser.py --quick trains,
+input and target are spp-weighted means of disjoint renders, of at least --min-spp samples; train_denoiser.py --quick trains,
 validates, writes the checkpoint the packer reads and resumes, and --init starts the guided
 kernels (osr_image_kpn_v2) from a kpn_v1 run and a run from a packed .osrw, which unpacks to
 the weights packed; the guided kernels do not average across a
@@ -102,6 +102,12 @@ class Examples(unittest.TestCase):
             self.assertAlmostEqual(float(target[0, 0, 0]), expect_t, places=2)
         self.assertIn(1, seen)
         self.assertTrue(any(s >= 8 for s in seen), f"only low counts drawn: {sorted(seen)}")
+        # --min-spp: only inputs of at least that many samples, still with a target left; a
+        # view that reaches none gives its largest.
+        drawn = {view.example(rng, min_spp=5)[6] for _ in range(100)}
+        self.assertEqual(min(drawn), 5)
+        self.assertEqual(max(drawn), 12)
+        self.assertEqual({view.example(rng, min_spp=100)[6] for _ in range(10)}, {12})
 
     def test_variance_of_a_mean_of_independent_renders(self):
         # The mean of renders of 1 and 3 samples weighs them 1/4 and 3/4: its variance is
