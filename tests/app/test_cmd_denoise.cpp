@@ -32,15 +32,15 @@ Scored renderAndScore(const std::string& denoise) {
 
 }  // namespace
 
-// Measured at 4 spp: raw 0.42, a-trous 0.013 (5 % dark), network 0.013 (2 % bright). The bounds
+// Measured at 4 spp: raw 0.42, a-trous 0.013 (5 % dark), network 0.0096 (2 % dark). The bounds
 // leave room for another trained model, not for a cast, a blur of the level or a broken kernel.
 TEST(CmdDenoise, ShippedModelCleansAHeldOutRoomAndKeepsItsLevel) {
   const Scored raw = renderAndScore("--network none --filter none");
   const Scored net = renderAndScore("--network default");
-  const Scored atrous = renderAndScore("--filter atrous");
+  const Scored atrous = renderAndScore("--network none --filter atrous");  // --filter alone keeps the network
   std::printf("room 4 spp relMSE: raw %.4f, a-trous %.4f (lum %.3f), network %.4f (lum %.3f)\n", raw.relmse,
               atrous.relmse, atrous.lumRatio, net.relmse, net.lumRatio);
   EXPECT_LT(net.relmse, 0.1 * raw.relmse);
-  EXPECT_LT(net.relmse, 2.0 * atrous.relmse);
+  EXPECT_LT(net.relmse, atrous.relmse);
   EXPECT_NEAR(net.lumRatio, 1.0, 0.04);
 }
