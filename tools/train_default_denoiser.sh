@@ -2,10 +2,12 @@
 # Regenerates the shipped image denoiser (models/osr_image_denoiser.osrw) from nothing: the
 # generated interiors, the noisy training renders, the validation renders with references,
 # the training, the evaluation and the packed weights (docs/training.md, "Image denoiser").
-# Three trainings, each started from the last one's weights (the kernel architectures share
+# Four trainings, each started from the last one's weights (the kernel architectures share
 # them): the kernel predictor without fixed factors (osr_image_kpn_v1, run1), with the normal
-# and depth factors (osr_image_kpn_v2, run2), and the shipped one with the a-trous filter's
-# factors too (osr_image_kpn_v3, run), which reads the renders' variance.
+# and depth factors (osr_image_kpn_v2, run2), with the a-trous filter's factors too
+# (osr_image_kpn_v3, run3), which reads the renders' variance, and the shipped one (run): v3
+# trained on at the sample counts a render of seconds reaches (16-400, --min-spp 16) on more
+# interiors, two cameras each, with a 256-sample render besides (data2).
 #
 #   tools/train_default_denoiser.sh [--quick] [--work DIR] [--osr-vk PATH] [--minutes M] [--install]
 #
@@ -38,8 +40,8 @@ done
 ((quick && install)) && { echo "train_default_denoiser.sh: --install: a --quick model is not for shipping" >&2; exit 2; }
 mkdir -p "$work"
 t="$root/tools"
-# A run with a checkpoint continues; a finished first run (best.pt and its final checkpoint)
-# is not run again once the second has started.
+# A run with a checkpoint continues; a finished run (best.pt and its final checkpoint) is not
+# run again once a later one has started.
 resume_of() { [ -f "$1/checkpoint.pt" ] && echo --resume || true; }
 if ((quick)); then
   $py "$t/make_denoise_data.py" "$work/val" --validation --quick --osr-vk "$osrvk"
@@ -50,18 +52,26 @@ else
     --chunk-spp 512 --osr-vk "$osrvk"
   $py "$t/make_denoise_data.py" "$work/data" --seeds 1-28 --cameras 1 --spp-list 1,2,4,8,16,32,64,128 \
     --osr-vk "$osrvk"
+  $py "$t/make_denoise_data.py" "$work/data2" --seeds 1-40 --cameras 2 --spp-list 1,2,4,8,16,32,64,128,256 \
+    --osr-vk "$osrvk"
   train=(--k 8 --minutes "$minutes")
 fi
-if [ ! -f "$work/run2/checkpoint.pt" ] && [ ! -f "$work/run/checkpoint.pt" ]; then
+if [ ! -f "$work/run2/checkpoint.pt" ] && [ ! -f "$work/run3/checkpoint.pt" ] && [ ! -f "$work/run/checkpoint.pt" ]; then
   $py "$t/train_denoiser.py" "$work/data" --val "$work/val" --out "$work/run1" --arch kpn "${train[@]}" \
     $(resume_of "$work/run1")
 fi
-if [ ! -f "$work/run/checkpoint.pt" ]; then
+if [ ! -f "$work/run3/checkpoint.pt" ] && [ ! -f "$work/run/checkpoint.pt" ]; then
   $py "$t/train_denoiser.py" "$work/data" --val "$work/val" --out "$work/run2" --arch kpn2 --init "$work/run1/best.pt" \
     --lr 1e-3 --eval-s 600 "${train[@]}" $(resume_of "$work/run2")
 fi
-$py "$t/train_denoiser.py" "$work/data" --val "$work/val" --out "$work/run" --arch kpn3 --init "$work/run2/best.pt" \
-  --lr 1e-3 --eval-s 300 "${train[@]}" $(resume_of "$work/run")
+if [ ! -f "$work/run/checkpoint.pt" ]; then
+  $py "$t/train_denoiser.py" "$work/data" --val "$work/val" --out "$work/run3" --arch kpn3 --init "$work/run2/best.pt" \
+    --lr 1e-3 --eval-s 300 "${train[@]}" $(resume_of "$work/run3")
+fi
+data2="$work/data2"
+((quick)) && data2="$work/data"
+$py "$t/train_denoiser.py" "$data2" --val "$work/val" --out "$work/run" --arch kpn3 --init "$work/run3/best.pt" \
+  --lr 3e-4 --min-spp "$((quick ? 1 : 16))" --eval-s 600 "${train[@]}" $(resume_of "$work/run")
 $py "$t/weights_pack.py" "$work/run/best.pt" "$work/run/model.osrw"
 if ((install)); then
   cp "$work/run/model.osrw" "$root/models/osr_image_denoiser.osrw"

@@ -313,7 +313,8 @@ class RealRenders(unittest.TestCase):
             self.assertIn(b'"stage":"image_denoiser"', blob)
             self.assertIn(b'"architecture":"osr_image_kpn_v3"', blob)
             self.assertTrue((work / "run1" / "best.pt").is_file())  # the kpn_v1 run that started run2
-            self.assertTrue((work / "run2" / "best.pt").is_file())  # the kpn_v2 run that started it
+            self.assertTrue((work / "run2" / "best.pt").is_file())  # the kpn_v2 run that started run3
+            self.assertTrue((work / "run3" / "best.pt").is_file())  # the kpn_v3 run that started it
             files = sorted(work.glob("data/*/in_*.npz"))
             self.assertEqual(len(files), 6)  # 2 views x spp 1, 2, 4
             self.assertTrue(list(work.glob("val/9001_c0/ref_*.npz")))
