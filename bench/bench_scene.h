@@ -42,7 +42,7 @@ struct BenchScene {
   image::RgbImage reference;
   std::string referenceName;  // the reference's file name, for the JSON lines
   // What the reference's own noise adds to a relMSE against it (image::referenceNoise), where
-  // the reference is an osr-vk render with its variance layer; Cycles' renders have none.
+  // the reference is a raw osr-vk render with its variance layer; Cycles' renders have none.
   std::optional<double> referenceNoise;
 };
 

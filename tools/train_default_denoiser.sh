@@ -31,7 +31,7 @@ while (($#)); do
     --work) work="$2"; shift ;;
     --osr-vk) osrvk="$2"; shift ;;
     --minutes) minutes="$2"; shift ;;
-    -h|--help) sed -n '2,20p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
+    -h|--help) sed -n '2,22p' "$0" | sed 's/^# \{0,1\}//'; exit 0 ;;
     *) echo "train_default_denoiser.sh: unknown option $1 (see --help)" >&2; exit 2 ;;
   esac
   shift
@@ -40,6 +40,12 @@ done
 ((quick && install)) && { echo "train_default_denoiser.sh: --install: a --quick model is not for shipping" >&2; exit 2; }
 mkdir -p "$work"
 t="$root/tools"
+# The three-stage script before this one trained v3 into run/: going on from there would resume
+# that finished run as the fourth and pack it as if it were.
+if [ -f "$work/run/checkpoint.pt" ] && [ ! -d "$work/run3" ]; then
+  echo "train_default_denoiser.sh: $work/run holds a run of the earlier three-stage pipeline: use a fresh --work" >&2
+  exit 2
+fi
 # A run with a checkpoint continues; a finished run (best.pt and its final checkpoint) is not
 # run again once a later one has started.
 resume_of() { [ -f "$1/checkpoint.pt" ] && echo --resume || true; }

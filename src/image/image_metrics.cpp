@@ -71,6 +71,8 @@ double relMse(const RgbImage& a, const RgbImage& b) {
 }
 
 double referenceNoise(const RgbImage& reference, const RgbImage& luminanceVariance) {
+  if (reference.width != luminanceVariance.width || reference.height != luminanceVariance.height)
+    throw std::invalid_argument("referenceNoise: the variance is not the reference's size");
   double sum = 0.0;
   for (size_t i = 0; i < reference.rgb.size() / 3; ++i) {
     const double y = reference.luminance(i);

@@ -2,6 +2,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <stdexcept>
 
 #include "image/image_metrics.h"
 
@@ -31,12 +32,20 @@ TEST(ImageMetrics, ReferenceNoiseIsWhatTheReferencesNoiseAddsToRelMse) {
   // Grey: every channel's variance is the luminance's.
   const image::RgbImage ref = constant(8, 8, 0.5f), var = constant(8, 8, 0.002f);
   EXPECT_NEAR(image::referenceNoise(ref, var), 0.002 / (0.25 + 0.01), 1e-9);
+  // Coloured: each channel's variance is the luminance's times (c / Y)^2.
+  image::RgbImage red = constant(4, 4, 0.f);
+  for (size_t i = 0; i < red.rgb.size(); i += 3) red.rgb[i] = 0.6f, red.rgb[i + 1] = 0.3f, red.rgb[i + 2] = 0.1f;
+  const double y = 0.2126 * 0.6 + 0.7152 * 0.3 + 0.0722 * 0.1;
+  double want = 0.0;
+  for (double c : {0.6, 0.3, 0.1}) want += 0.002 * (c / y) * (c / y) / (c * c + 0.01) / 3.0;
+  EXPECT_NEAR(image::referenceNoise(red, constant(4, 4, 0.002f)), want, 1e-6 * want);
+  EXPECT_THROW(image::referenceNoise(red, var), std::invalid_argument);
   // Over many noisy references of one truth, the mean relMSE of the truth against them is
-  // that figure (to the first order of the noise in the denominator).
+  // that figure (up to 2.35 sigma^2 from the noise in the denominator: 0.1 % here).
   image::RgbImage truth = constant(64, 64, 1.0f), noisy = truth;
   uint32_t state = 1;
   double sum = 0.0, noise = 0.0;
-  const float sigma = 0.05f;
+  const float sigma = 0.02f;
   for (int k = 0; k < 20; ++k) {
     for (size_t i = 0; i < noisy.rgb.size(); i += 3) {
       state = state * 1664525u + 1013904223u;

@@ -266,6 +266,11 @@ class QuickTraining(unittest.TestCase):
             r = run([PY, TOOLS / "train_denoiser.py", "--out", t / "b", "--quick", "--arch", "kpn3", "--init",
                      t / "a.osrw", "--steps", "1"])
             self.assertIn("1 spp: relMSE", r.stderr)
+            # It started from those weights: its step-0 validation is theirs.
+            import json
+            start = json.loads((t / "b" / "train.log").read_text().splitlines()[0])
+            self.assertEqual(start["step"], 0)
+            self.assertAlmostEqual(start["val_relmse"], best["val_relmse"], places=5)
             # A packed file cut short is one line, exit 2.
             (t / "cut.osrw").write_bytes((t / "a.osrw").read_bytes()[:-10])
             with self.assertRaises(PackError):
