@@ -118,8 +118,8 @@ def unpack_image_denoiser(path: str) -> dict:
     for layer in header["layers"]:
         for key in ("weight", "bias"):
             t = layer["tensors"][key]
-            start = data_offset + t["offset"]
-            raw = np.frombuffer(blob, "<f2" if t["dtype"] == "f16" else "<f4", t["bytes"] // (2 if t["dtype"] == "f16" else 4), start)
+            dtype = np.dtype("<f2" if t["dtype"] == "f16" else "<f4")
+            raw = np.frombuffer(blob, dtype, t["bytes"] // dtype.itemsize, data_offset + t["offset"])
             state[f"{layer['name']}.{key}"] = torch.from_numpy(raw.astype(np.float32).reshape(t["shape"]))
     return {"model": state, "architecture": header["architecture"], "base_width": header["base_width"]}
 
