@@ -122,7 +122,7 @@ int runDenoise(const std::vector<std::string>& args) {
           .num("lum_ratio", image::meanLuminance(img) / image::meanLuminance(ref))
           .integer(row.integrator == &osr ? "passes" : "spp", stats.units);
       if (row.denoiser == net.get() && net) j.str("network", network);
-      if (bs.referenceNoise) j.num("ref_noise", *bs.referenceNoise);
+      if (bs.referenceNoise) j.num("ref_noise", *bs.referenceNoise).str("ref_noise_from", bs.referenceNoiseFrom);
       j.str("device", ctx.caps().deviceName).print();
     }
   }

@@ -160,7 +160,7 @@ int runOsrError(const std::vector<std::string>& args) {
           .num("denoised_noise", after.noise)
           .num("denoised_bias", after.bias);
     }
-    if (bs.referenceNoise) j.num("ref_noise", *bs.referenceNoise);  // part of both biases
+    if (bs.referenceNoise) j.num("ref_noise", *bs.referenceNoise).str("ref_noise_from", bs.referenceNoiseFrom);  // part of both biases
     j.str("device", ctx.caps().deviceName).print();
   }
   return kExitOk;

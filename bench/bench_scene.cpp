@@ -31,9 +31,17 @@ BenchScene::BenchScene(const vk::Context& ctx, const SceneArgs& args, uint32_t s
                      "x" + std::to_string(reference.height) + ", the render is " +
                      std::to_string(size) + "x" + std::to_string(size) + " (--size)");
   referenceName = std::filesystem::path(args.reference).filename().string();
-  // A denoised reference keeps its raw colour as `noisy`: its variance is not its own colour's.
-  if (image::exrHasChannel(args.reference, "variance.Y") && !image::exrHasChannel(args.reference, "noisy.R"))
+  // A merged reference (tools/merge_references.py) knows each channel's noise from the spread of
+  // its parts; a raw render has its luminance variance. A denoised reference keeps its raw
+  // colour as `noisy`: its variance is not its own colour's.
+  if (image::exrHasChannel(args.reference, "spread.R")) {
+    referenceNoise = image::referenceChannelNoise(reference, image::readExrRgb(args.reference, "spread"));
+    referenceNoiseFrom = "spread";
+  } else if (image::exrHasChannel(args.reference, "variance.Y") &&
+             !image::exrHasChannel(args.reference, "noisy.R")) {
     referenceNoise = image::referenceNoise(reference, image::readExrRgb(args.reference, "variance"));
+    referenceNoiseFrom = "variance";
+  }
   if (args.env) env = scene::loadEnvironment(*args.env);
   gpu = std::make_unique<scene::GpuScene>(ctx, host, env ? &*env : nullptr);
   bvh = std::make_unique<bvh::Bvh>(

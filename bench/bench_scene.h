@@ -41,9 +41,11 @@ struct BenchScene {
   std::unique_ptr<bvh::Bvh> bvh;
   image::RgbImage reference;
   std::string referenceName;  // the reference's file name, for the JSON lines
-  // What the reference's own noise adds to a relMSE against it (image::referenceNoise), where
-  // the reference is a raw osr-vk render with its variance layer; Cycles' renders have none.
+  // What the reference's own noise adds to a relMSE against it, where the reference knows it:
+  // from the spread of a merged reference's parts (image::referenceChannelNoise) or a raw
+  // osr-vk render's variance layer (image::referenceNoise); Cycles' renders have neither.
   std::optional<double> referenceNoise;
+  std::string referenceNoiseFrom;  // "spread" or "variance", the layer it came from
 };
 
 // --network as the quality benchmarks take it: default (the shipped model), none, or a packed

@@ -85,6 +85,17 @@ double referenceNoise(const RgbImage& reference, const RgbImage& luminanceVarian
   return sum / double(reference.rgb.size());
 }
 
+double referenceChannelNoise(const RgbImage& reference, const RgbImage& channelVariance) {
+  if (reference.width != channelVariance.width || reference.height != channelVariance.height)
+    throw std::invalid_argument("referenceChannelNoise: the variance is not the reference's size");
+  double sum = 0.0;
+  for (size_t i = 0; i < reference.rgb.size(); ++i) {
+    const double r = reference.rgb[i];
+    sum += double(channelVariance.rgb[i]) / (r * r + kRelMseEpsilon);
+  }
+  return sum / double(reference.rgb.size());
+}
+
 double meanLuminance(const RgbImage& image) {
   double sum = 0.0;
   for (size_t i = 0; i < image.rgb.size() / 3; ++i) sum += image.luminance(i);

@@ -28,6 +28,10 @@ double meanLuminance(const RgbImage& image);
 // estimate (osr-vk's `variance` layer, grey) times (r_c / Y)^2. An image's relMSE less this
 // estimates its relMSE against the converged image.
 double referenceNoise(const RgbImage& reference, const RgbImage& luminanceVariance);
+// The same from each channel's variance of the reference's mean (the `spread` layer of
+// tools/merge_references.py, from the spread of independent renders): the mean over pixels and
+// RGB of var_c / (r_c^2 + 0.01), with no assumption on how the channels' noise is correlated.
+double referenceChannelNoise(const RgbImage& reference, const RgbImage& channelVariance);
 // Box-filters by an integer factor (width and height divisible by it).
 RgbImage downsample(const RgbImage& image, int factor);
 

@@ -58,6 +58,29 @@ TEST(ImageMetrics, ReferenceNoiseIsWhatTheReferencesNoiseAddsToRelMse) {
   EXPECT_NEAR(sum / noise, 1.0, 0.01);
 }
 
+TEST(ImageMetrics, ReferenceChannelNoiseTakesEachChannelsOwn) {
+  // Channels of different noise, uncorrelated: what referenceNoise's grey assumption cannot
+  // say. Over many noisy references of one truth, the truth's mean relMSE against them is the
+  // figure from each channel's variance.
+  const float sigma[3] = {0.02f, 0.01f, 0.04f};
+  const image::RgbImage truth = constant(64, 64, 1.0f);
+  image::RgbImage noisy = truth, variance = truth;
+  for (size_t i = 0; i < variance.rgb.size(); ++i) variance.rgb[i] = sigma[i % 3] * sigma[i % 3];
+  uint32_t state = 7;
+  double sum = 0.0, noise = 0.0;
+  for (int k = 0; k < 20; ++k) {
+    for (size_t i = 0; i < noisy.rgb.size(); ++i) {
+      state = state * 1664525u + 1013904223u;
+      noisy.rgb[i] = 1.0f + sigma[i % 3] * ((state >> 8) * (1.f / 16777216.f) * 2.f - 1.f) * std::sqrt(3.f);
+    }
+    sum += image::relMse(truth, noisy);
+    noise += image::referenceChannelNoise(noisy, variance);
+  }
+  EXPECT_NEAR(sum / noise, 1.0, 0.01);
+  EXPECT_NEAR(image::referenceChannelNoise(truth, variance), (0.0004 + 0.0001 + 0.0016) / 3.0 / 1.01, 1e-9);
+  EXPECT_THROW(image::referenceChannelNoise(truth, constant(4, 4, 0.f)), std::invalid_argument);
+}
+
 TEST(ImageMetrics, ConstantImagesMatchClosedForms) {
   image::RgbImage a = constant(16, 12, 1.0f), b = constant(16, 12, 0.5f);
   auto m = image::compareImages(a, b);
