@@ -49,8 +49,14 @@ Validation: every view of VAL at each of its input sample counts, the whole imag
 computes it: image_unet.denoise) against the reference, and of the noisy input for comparison.
 val_reference_noise estimates what the reference's own noise adds to each figure (from the
 highest-spp input, independent of the reference: v_in + v_ref with v_in = v_ref m / n).
-best.pt is chosen by the geometric mean over views and sample counts (val_relmse_geomean,
-so 1 spp does not drown the rest); val_relmse is the plain mean.
+Where a view's reference has several chunks (make_denoise_data.py --validation), their
+spread gives its noise exactly (val_chunk_reference_noise, unbiased per channel) and
+val_less_ref_relmse_Nspp (and _filter_ for the filter) are the figures less it: estimates of
+the error against the converged image, which tell models apart at 64 spp and up where the
+reference's noise is most of every figure. best.pt is chosen by val_select: the geometric mean
+of those at the sample counts trained for (at least --min-spp), or without chunks the
+geometric mean over views and sample counts (val_relmse_geomean, so 1 spp does not drown the
+rest); val_relmse is the plain mean.
 
 --quick: a tiny synthetic dataset of its own under RUN/synthetic (DATA and --val may then be
 omitted), K=4, a few steps of 16 x 16 crops: seconds; what tests/tools/test_denoiser_training.py
@@ -135,12 +141,20 @@ class View:
             self.filtered = np.stack([r["filtered"] for r in renders])
         self.ref = None
         self.ref_spp = 0
+        self.ref_noise = None
         if refs:
             loaded = [self._load(p) for p in refs]
             weights = np.array([int(r["spp"]) for r in loaded], np.float64)
-            self.ref = (np.tensordot(weights / weights.sum(), np.stack([r["colour"] for r in loaded]), 1)
-                        .astype(np.float32))
+            chunks = np.stack([r["colour"] for r in loaded]).astype(np.float64)
+            mean = np.tensordot(weights / weights.sum(), chunks, 1)
+            self.ref = mean.astype(np.float32)
             self.ref_spp = int(weights.sum())
+            if len(loaded) > 1:
+                # What the reference's own noise adds to a relMSE against it: the variance of
+                # its mean per pixel and channel, from the spread of its independent chunks
+                # (sum n_i (c_i - mean)^2 / ((k - 1) N), unbiased), over ref^2 + epsilon.
+                spread = np.tensordot(weights, (chunks - mean) ** 2, 1) / ((len(loaded) - 1) * weights.sum())
+                self.ref_noise = float(np.mean(spread / (mean ** 2 + RELMSE_EPSILON)))
         shapes = {a.shape[-2:] for a in (self.colour, self.albedo, self.normal)
                   + ((self.depth,) if self.depth is not None else ())}
         if len(shapes) != 1 or (self.ref is not None and self.ref.shape[-2:] not in shapes):
@@ -313,7 +327,7 @@ def denoise(model, colour: np.ndarray, albedo: np.ndarray, normal: np.ndarray, d
         return image_unet.denoise(model, c, a, n, depth=z, variance=v)[0].cpu().numpy()
 
 
-def evaluate(model, val: Dataset) -> dict:
+def evaluate(model, val: Dataset, min_spp: int = 1) -> dict:
     """relMSE of the network and of its noisy input against the reference, per input spp, and
     of the a-trous filter's image where the validation renders kept it."""
     model.eval()
@@ -321,6 +335,7 @@ def evaluate(model, val: Dataset) -> dict:
     noisy: dict[int, list[float]] = {}
     filtered: dict[int, list[float]] = {}
     ref_noise = []
+    net_less_ref: dict[int, list[float]] = {}
     for key in val.keys:
         view = val.views[key]
         # The reference's own noise is in every figure: for the independent input of n
@@ -330,6 +345,8 @@ def evaluate(model, val: Dataset) -> dict:
         for i, spp in enumerate(view.spp.tolist()):
             colour, albedo, normal, depth, variance = view.mean([i])
             net.setdefault(spp, []).append(relmse(denoise(model, colour, albedo, normal, depth, variance), view.ref))
+            if view.ref_noise is not None:
+                net_less_ref.setdefault(spp, []).append(net[spp][-1] - view.ref_noise)
             noisy.setdefault(spp, []).append(relmse(colour, view.ref))
             if view.filtered is not None:
                 filtered.setdefault(spp, []).append(relmse(view.filtered[i], view.ref))
@@ -338,6 +355,17 @@ def evaluate(model, val: Dataset) -> dict:
     out = {"val_relmse": float(np.mean(every)),
            "val_relmse_geomean": float(np.exp(np.mean(np.log(np.maximum(every, 1e-12))))),
            "val_reference_noise": float(np.mean(ref_noise))}
+    if net_less_ref and all(len(net_less_ref.get(spp, ())) == len(net[spp]) for spp in net):
+        # The same less each view's reference noise from its chunks' spread: an unbiased
+        # estimate of the error against the true image, what tells models apart at 64 spp and up.
+        out["val_chunk_reference_noise"] = float(np.mean([val.views[k].ref_noise for k in val.keys]))
+        for spp in sorted(net_less_ref):
+            out[f"val_less_ref_relmse_{spp}spp"] = float(np.mean(net_less_ref[spp]))
+        # best.pt's choice: the geometric mean of these at the sample counts trained for
+        # (floored: less the reference's noise a figure can come out at or below zero).
+        chosen = [v for spp, vs in net_less_ref.items() if spp >= min_spp for v in vs] or \
+            [v for vs in net_less_ref.values() for v in vs]
+        out["val_select"] = float(np.exp(np.mean(np.log(np.maximum(chosen, 1e-6)))))
     for spp in sorted(net):
         out[f"val_relmse_{spp}spp"] = float(np.mean(net[spp]))
         out[f"val_noisy_relmse_{spp}spp"] = float(np.mean(noisy[spp]))
@@ -347,6 +375,10 @@ def evaluate(model, val: Dataset) -> dict:
         out["val_over_filter_geomean"] = out["val_relmse_geomean"] / out["val_filter_relmse_geomean"]
         for spp in sorted(filtered):
             out[f"val_filter_relmse_{spp}spp"] = float(np.mean(filtered[spp]))
+            if "val_chunk_reference_noise" in out:
+                out[f"val_less_ref_filter_relmse_{spp}spp"] = float(np.mean(
+                    [f - val.views[k].ref_noise for f, k in zip(filtered[spp], val.keys)]))
+    out.setdefault("val_select", out["val_relmse_geomean"])
     return out
 
 
@@ -391,8 +423,9 @@ def write_synthetic(folder: Path, seed: int, views: int, size: int, spp_list: li
                      colour=noisy, albedo=albedo.astype(np.float16), normal=normal.astype(np.float16), depth=depth)
         for i, spp in enumerate(spp_list):
             write(f"in_{i}_{spp}.npz", spp)
-        if ref_spp:
+        if ref_spp:  # two independent chunks, as make_denoise_data.py --validation writes
             write(f"ref_0_{ref_spp}.npz", ref_spp)
+            write(f"ref_1_{ref_spp}.npz", ref_spp)
         manifest["views"][name] = {"seed": seed * 100 + v, "camera": 0, "seconds": 0.0}
     (folder / "dataset.json").write_text(json.dumps(manifest, indent=1) + "\n")
 
@@ -592,8 +625,8 @@ def main(argv: list[str] | None = None) -> int:
 
     def validate() -> dict:
         nonlocal val_err
-        errors = evaluate(ema, val)
-        val_err = errors["val_relmse_geomean"]
+        errors = evaluate(ema, val, args.min_spp)
+        val_err = errors["val_select"]
         elapsed = time.monotonic() - start
         entry = {"step": state["step"], "crops": state["crops"], "epoch": round(epoch(), 3),
                  "train_loss": running, **errors, "minutes": round(elapsed / 60, 2),

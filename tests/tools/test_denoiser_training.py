@@ -123,6 +123,18 @@ class Examples(unittest.TestCase):
             with self.assertRaisesRegex(td.DataError, "2_c0: no variance"):
                 td.Dataset([tmp], need_variance=True)
 
+    def test_reference_noise_from_the_spread_of_its_chunks(self):
+        # Two independent reference chunks of n samples of a gamma noise with variance c^2 / n:
+        # the mean's variance is c^2 / 2n, and the spread's estimate of what it adds to a
+        # relMSE, mean(c^2 / 2n / (c^2 + 0.01)), is right to a few per cent over 3 x 64 x 64.
+        with tempfile.TemporaryDirectory() as tmp:
+            td.write_synthetic(Path(tmp), 4, 1, 64, [1], 32)
+            view = td.View(next(Path(tmp).glob("*_c0")))
+            self.assertEqual(view.ref_spp, 64)
+            clean = view.ref.astype(np.float64)  # close enough in the denominator
+            want = float(np.mean(clean ** 2 / 64 / (clean ** 2 + td.RELMSE_EPSILON)))
+            self.assertAlmostEqual(view.ref_noise / want, 1.0, delta=0.08)
+
     def test_depth_per_render_or_from_the_views_depth_npz(self):
         flat = np.zeros((3, 8, 8), np.float32)
         with tempfile.TemporaryDirectory() as tmp:
@@ -219,7 +231,8 @@ class QuickTraining(unittest.TestCase):
             self.assertIn("1 spp: relMSE", r.stderr)
             best = torch.load(out / "best.pt", map_location="cpu")
             self.assertEqual(best["architecture"], GUIDED_ARCHITECTURE)
-            for key in ("epoch", "step", "loss", "val_relmse", "val_relmse_1spp", "val_noisy_relmse_1spp"):
+            for key in ("epoch", "step", "loss", "val_relmse", "val_relmse_1spp", "val_noisy_relmse_1spp",
+                        "val_select", "val_less_ref_relmse_1spp"):
                 self.assertIn(key, best)
             model = ImageUNet(best["base_width"], best["architecture"])
             model.load_state_dict(best["model"])
