@@ -34,11 +34,11 @@ BenchScene::BenchScene(const vk::Context& ctx, const SceneArgs& args, uint32_t s
   // A merged reference (tools/merge_references.py) knows each channel's noise from the spread of
   // its parts; a raw render has its luminance variance. A denoised reference keeps its raw
   // colour as `noisy`: its variance is not its own colour's.
-  if (image::exrHasChannel(args.reference, "spread.R")) {
+  const std::set<std::string> channels = image::exrChannels(args.reference);
+  if (channels.count("spread.R")) {
     referenceNoise = image::referenceChannelNoise(reference, image::readExrRgb(args.reference, "spread"));
     referenceNoiseFrom = "spread";
-  } else if (image::exrHasChannel(args.reference, "variance.Y") &&
-             !image::exrHasChannel(args.reference, "noisy.R")) {
+  } else if (channels.count("variance.Y") && !channels.count("noisy.R")) {
     referenceNoise = image::referenceNoise(reference, image::readExrRgb(args.reference, "variance"));
     referenceNoiseFrom = "variance";
   }

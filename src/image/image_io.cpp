@@ -219,11 +219,14 @@ RgbImage readExrRgb(const std::string& path, const std::string& layer) {
   }
 }
 
-bool exrHasChannel(const std::string& path, const std::string& channel) {
+std::set<std::string> exrChannels(const std::string& path) {
   if (auto problem = exrHeaderProblem(path)) throw InputError(path + ": " + *problem);
   try {
     Imf::InputFile file(path.c_str());
-    return file.header().channels().findChannel(channel) != nullptr;
+    std::set<std::string> names;
+    for (auto it = file.header().channels().begin(); it != file.header().channels().end(); ++it)
+      names.insert(it.name());
+    return names;
   } catch (const std::exception& e) {
     throw InputError(path + ": cannot read OpenEXR (" + oneLine(e.what()) + ")");
   }

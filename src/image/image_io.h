@@ -4,6 +4,7 @@
 // never leaves a half-written file or destroys an existing one.
 #pragma once
 #include <optional>
+#include <set>
 #include <string>
 #include <variant>
 #include <vector>
@@ -51,8 +52,8 @@ void writeExr(const std::string& path, const LayeredImage& image, ExrPixelType t
 // noisy.R, noisy.G, noisy.B). Throws InputError naming the file, also for a header that
 // OpenEXR must not open and an empty or vast data window (common/exr_header.h).
 RgbImage readExrRgb(const std::string& path, const std::string& layer = "");
-// Whether the file has a channel of that name ("variance.Y"). Throws InputError naming the file.
-bool exrHasChannel(const std::string& path, const std::string& channel);
+// The names of the file's channels ("R", "variance.Y", ...). Throws InputError naming the file.
+std::set<std::string> exrChannels(const std::string& path);
 // The header's int, float and string attributes (others are left out), in the header's order.
 // Throws InputError naming the file.
 std::vector<ExrAttribute> readExrAttributes(const std::string& path);
