@@ -61,7 +61,18 @@ struct CameraPath {
   uint pixel;
   uint sampleIndex;
   Sample s;
+  // The first-hit record follows the path into mirrors (BounceResult.mirror), as Cycles'
+  // denoising guides do: what the denoisers see there is the surface reflected, its albedo
+  // tinted by the mirrors, its depth the first hit's plus the path's length beyond it. A
+  // texture in a mirror then has its edges in the albedo guide, and a lamp seen in a mirror
+  // counts as light seen directly. Not through clear glass: its reflect-or-refract choice per
+  // sample made the guides noisy, and the denoised interior 9001 worse at 55 spp
+  // (docs/denoise.md, "Guides in mirrors").
+  bool featuresOpen;
+  vec3 featureTint;
+  float featureDepth;
 };
+const uint kFeatureChainSurfaces = 4u;  // mirrors the record passes at most
 
 // Stratified 2-D sample for dimension pair `pair` of this path's sample (see sobolOwen2).
 vec2 stratified2(CameraPath c, uint pair) {
@@ -92,6 +103,9 @@ CameraPath startPath(uint pixel, uint sampleIndex) {
   c.s.direct = vec3(0.0);
   c.s.indirect = vec3(0.0);
   c.s.first = noFirstHit();
+  c.featuresOpen = true;
+  c.featureTint = vec3(1.0);
+  c.featureDepth = 0.0;
   return c;
 }
 
@@ -102,15 +116,21 @@ bool pathStep(inout CameraPath c) {
   vec3 uLight, uBsdf;
   bounceRandoms(c, uLight, uBsdf);
   float uRoulette = bounce >= 3u ? rngNext(c.rng) : 0.0;
+  vec3 origin = c.path.origin;
   BounceResult r;
   bool ended = pathBounce(c.path, uLight, uBsdf, uRoulette, r);
-  if (bounce == 0u && r.hit) {
-    c.s.first.hit = true;
-    c.s.first.albedo = r.baseColor;
-    c.s.first.normal = r.normal;
-    c.s.first.depth = cameraDepth(gFrame, r.position);
+  if (c.featuresOpen) {
+    if (bounce == 0u || lightSeen(r.emitted) > 0.0) c.s.first.light = lightSeen(r.emitted);
+    if (r.hit) {
+      c.featureDepth = bounce == 0u ? cameraDepth(gFrame, r.position) : c.featureDepth + distance(origin, r.position);
+      c.s.first.hit = true;
+      c.s.first.albedo = c.featureTint * r.baseColor;
+      c.s.first.normal = r.normal;
+      c.s.first.depth = c.featureDepth;
+      c.featureTint *= r.baseColor;
+    }
+    c.featuresOpen = r.hit && r.mirror && !ended && bounce + 1u < kFeatureChainSurfaces;
   }
-  if (bounce == 0u) c.s.first.light = lightSeen(r.emitted);
   addLight(c.s, bounce, r.emitted);
   addLight(c.s, bounce + 1u, r.nee);
   return ended;

@@ -40,7 +40,12 @@ struct BounceResult {
   vec3 position;
   vec3 normal;  // shading normal facing the ray (AOV convention); zero on a miss
   vec3 baseColor;
+  // A mirror (a metal with roughness below kFeatureMirrorRoughness): the denoisers' guides
+  // look into it (pt_trace's first-hit record).
+  bool mirror;
 };
+
+const float kFeatureMirrorRoughness = 0.1;
 
 // Environment light seen along a ray that left the scene.
 vec3 missRadiance(PathState p) {
@@ -110,6 +115,7 @@ bool pathBounce(inout PathState p, vec3 uLight, vec3 uBsdf, float uRoulette, out
   r.position = vec3(0.0);
   r.normal = vec3(0.0);
   r.baseColor = vec3(0.0);
+  r.mirror = false;
   Hit hit;
   if (!bvhClosestHit(p.origin, p.dir, 0.0, kInfinity, hit)) {
     r.emitted = missRadiance(p);
@@ -122,6 +128,7 @@ bool pathBounce(inout PathState p, vec3 uLight, vec3 uBsdf, float uRoulette, out
   r.position = surf.position;
   r.normal = facingShadingNormal(surf, -p.dir);
   r.baseColor = surf.m.baseColor;
+  r.mirror = sp.bsdf.roughness < kFeatureMirrorRoughness && sp.bsdf.metallic >= 0.99;
   r.emitted = hitEmission(p, hit.triangle, surf, sp);
   r.nee = p.beta * estimateDirect(sp, uLight);
   return pathContinue(p, sp, uBsdf, uRoulette);

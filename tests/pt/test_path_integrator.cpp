@@ -461,6 +461,39 @@ TEST(PathIntegrator, PreviewIsAlbedoTimesHeadlightCosine) {
   fs::remove_all(d);
 }
 
+// The denoisers' first-hit guides look through a mirror (pt_trace.comp, CameraPath): a floor
+// mirror of tint 0.9 reflecting a blue wall shows the wall's albedo times the tint, the
+// wall's normal and a depth past the mirror's; with the wall a lamp, its pixels saw light.
+TEST(PathIntegrator, FirstHitGuidesLookThroughAMirror) {
+  fs::path d = tempDir();
+  const glm::vec3 wallColour(0.2f, 0.5f, 0.8f);
+  for (bool lamp : {false, true}) {
+    GltfWriter g;
+    g.quad({-4, 0, -4}, {-4, 0, 4}, {4, 0, 4}, {4, 0, -4},
+           g.material({{"pbrMetallicRoughness",
+                        {{"baseColorFactor", {0.9, 0.9, 0.9, 1.0}}, {"metallicFactor", 1.0}, {"roughnessFactor", 0.0}}}}));
+    g.quad({-20, 0, -3}, {20, 0, -3}, {20, 20, -3}, {-20, 20, -3},
+           g.material(lamp ? GltfWriter::emitter(glm::vec3(2.f), true) : GltfWriter::diffuse(wallColour)));
+    g.camera({0.f, 2.f, 2.f}, {0.f, 0.f, 0.f}, 0.5f);
+    const std::string path = (d / "mirror.gltf").string();
+    g.write(path);
+    const scene::Environment sky = uniformEnvironment(0.5f);
+    Rendered r = renderFile(path, 8, 16, 1, &sky);
+    for (uint32_t i = 0; i < 64; ++i) {
+      if (lamp) {
+        EXPECT_NEAR(r.film.light[i], 1.f, 1e-6) << i;
+        continue;
+      }
+      for (int c = 0; c < 3; ++c) EXPECT_NEAR(r.film.albedo[3 * i + c], 0.9f * wallColour[c], 1e-4) << i;
+      EXPECT_NEAR(r.film.normal[3 * i + 2], 1.f, 1e-3) << i;  // the wall's, facing the reflected ray
+      EXPECT_EQ(r.film.light[i], 0.f) << i;
+      // The mirror's depth (2.3-3.5 here) plus at least 2.8 from the mirror to the wall.
+      EXPECT_GT(r.film.depth[i], 4.5f) << i;
+    }
+  }
+  fs::remove_all(d);
+}
+
 TEST(PathIntegrator, AlphaMaskIsSeenThroughAndCastsNoShadowThroughHoles) {
   fs::path d = tempDir();
   GltfWriter g;
