@@ -63,14 +63,16 @@ struct CameraPath {
   Sample s;
   // The first-hit record follows the path into mirrors (BounceResult.mirror), as Cycles'
   // denoising guides do: what the denoisers see there is the surface reflected, its albedo
-  // tinted by the mirrors, its depth the first hit's plus the path's length beyond it. A
+  // tinted by the mirrors, its depth that of its virtual image (the path's length along the
+  // camera ray: what temporal reuse reprojects is then where the reflection appears). A
   // texture in a mirror then has its edges in the albedo guide, and a lamp seen in a mirror
   // counts as light seen directly. Not through clear glass: its reflect-or-refract choice per
   // sample made the guides noisy, and the denoised interior 9001 worse at 55 spp
   // (docs/denoise.md, "Guides in mirrors").
   bool featuresOpen;
   vec3 featureTint;
-  float featureDepth;
+  float featurePath;  // the path's length to the record's surface
+  float featureCos;   // view-axis depth per unit length along the camera ray
 };
 const uint kFeatureChainSurfaces = 4u;  // mirrors the record passes at most
 
@@ -105,7 +107,8 @@ CameraPath startPath(uint pixel, uint sampleIndex) {
   c.s.first = noFirstHit();
   c.featuresOpen = true;
   c.featureTint = vec3(1.0);
-  c.featureDepth = 0.0;
+  c.featurePath = 0.0;
+  c.featureCos = 1.0;
   return c;
 }
 
@@ -122,11 +125,12 @@ bool pathStep(inout CameraPath c) {
   if (c.featuresOpen) {
     if (bounce == 0u || lightSeen(r.emitted) > 0.0) c.s.first.light = lightSeen(r.emitted);
     if (r.hit) {
-      c.featureDepth = bounce == 0u ? cameraDepth(gFrame, r.position) : c.featureDepth + distance(origin, r.position);
+      c.featurePath += distance(origin, r.position);
+      if (bounce == 0u) c.featureCos = cameraDepth(gFrame, r.position) / max(c.featurePath, 1e-30);
       c.s.first.hit = true;
       c.s.first.albedo = c.featureTint * r.baseColor;
       c.s.first.normal = r.normal;
-      c.s.first.depth = c.featureDepth;
+      c.s.first.depth = c.featureCos * c.featurePath;
       c.featureTint *= r.baseColor;
     }
     c.featuresOpen = r.hit && r.mirror && !ended && bounce + 1u < kFeatureChainSurfaces;

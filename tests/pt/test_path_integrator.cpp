@@ -461,9 +461,11 @@ TEST(PathIntegrator, PreviewIsAlbedoTimesHeadlightCosine) {
   fs::remove_all(d);
 }
 
-// The denoisers' first-hit guides look through a mirror (pt_trace.comp, CameraPath): a floor
+// The denoisers' first-hit guides look into a mirror (pt_trace.comp, CameraPath): a floor
 // mirror of tint 0.9 reflecting a blue wall shows the wall's albedo times the tint, the
-// wall's normal and a depth past the mirror's; with the wall a lamp, its pixels saw light.
+// wall's normal and the depth of its virtual image: the floor mirrors the wall z = -3 onto
+// itself, so that is where the camera ray, unbent, meets that plane. With the wall a lamp,
+// its pixels saw light.
 TEST(PathIntegrator, FirstHitGuidesLookThroughAMirror) {
   fs::path d = tempDir();
   const glm::vec3 wallColour(0.2f, 0.5f, 0.8f);
@@ -480,6 +482,10 @@ TEST(PathIntegrator, FirstHitGuidesLookThroughAMirror) {
     const scene::Environment sky = uniformEnvironment(0.5f);
     Rendered r = renderFile(path, 8, 16, 1, &sky);
     for (uint32_t i = 0; i < 64; ++i) {
+      glm::vec3 o, dir;
+      cameraRay(r.camera, 8, i % 8 + 0.5f, i / 8 + 0.5f, o, dir);
+      const glm::vec3 wallPoint = o + dir * ((-3.f - o.z) / dir.z);
+      const float virtualDepth = glm::dot(wallPoint - o, glm::normalize(glm::vec3(0.f, -2.f, -2.f)));
       if (lamp) {
         EXPECT_NEAR(r.film.light[i], 1.f, 1e-6) << i;
         continue;
@@ -487,8 +493,7 @@ TEST(PathIntegrator, FirstHitGuidesLookThroughAMirror) {
       for (int c = 0; c < 3; ++c) EXPECT_NEAR(r.film.albedo[3 * i + c], 0.9f * wallColour[c], 1e-4) << i;
       EXPECT_NEAR(r.film.normal[3 * i + 2], 1.f, 1e-3) << i;  // the wall's, facing the reflected ray
       EXPECT_EQ(r.film.light[i], 0.f) << i;
-      // The mirror's depth (2.3-3.5 here) plus at least 2.8 from the mirror to the wall.
-      EXPECT_GT(r.film.depth[i], 4.5f) << i;
+      EXPECT_NEAR(r.film.depth[i], virtualDepth, 0.01f * virtualDepth) << i;  // the mirror's: 2.3-3.5
     }
   }
   fs::remove_all(d);
