@@ -81,6 +81,7 @@ sys.path.insert(0, str(HERE))
 from arg_types import positive_float, positive_int  # noqa: E402
 
 RELMSE_EPSILON = 0.01  # as osr-vk compare (src/image/image_metrics.h)
+SELECT_METRIC = "val_select"  # what best.pt is chosen by (a resumed run of another starts afresh)
 MIN_TARGET_SHARE = 0.25  # a Noise2Noise target keeps at least this share of the input's spp
 ARCHS = {"kpn3": "osr_image_kpn_v3", "kpn2": "osr_image_kpn_v2", "kpn": "osr_image_kpn_v1", "unet": "osr_image_unet_v1"}  # image_unet's
 
@@ -336,6 +337,8 @@ def evaluate(model, val: Dataset, min_spp: int = 1) -> dict:
     filtered: dict[int, list[float]] = {}
     ref_noise = []
     net_less_ref: dict[int, list[float]] = {}
+    filtered_less_ref: dict[int, list[float]] = {}
+    select: dict[int, list[float]] = {}
     for key in val.keys:
         view = val.views[key]
         # The reference's own noise is in every figure: for the independent input of n
@@ -347,9 +350,15 @@ def evaluate(model, val: Dataset, min_spp: int = 1) -> dict:
             net.setdefault(spp, []).append(relmse(denoise(model, colour, albedo, normal, depth, variance), view.ref))
             if view.ref_noise is not None:
                 net_less_ref.setdefault(spp, []).append(net[spp][-1] - view.ref_noise)
+                # For the choice of best.pt, floored at a tenth of the reference's noise: less
+                # that noise a figure can come out near or below zero, and one view there
+                # would decide a geometric mean.
+                select.setdefault(spp, []).append(max(net_less_ref[spp][-1], 0.1 * view.ref_noise))
             noisy.setdefault(spp, []).append(relmse(colour, view.ref))
             if view.filtered is not None:
                 filtered.setdefault(spp, []).append(relmse(view.filtered[i], view.ref))
+                if view.ref_noise is not None:
+                    filtered_less_ref.setdefault(spp, []).append(filtered[spp][-1] - view.ref_noise)
     model.train()
     every = [v for vs in net.values() for v in vs]
     out = {"val_relmse": float(np.mean(every)),
@@ -361,11 +370,10 @@ def evaluate(model, val: Dataset, min_spp: int = 1) -> dict:
         out["val_chunk_reference_noise"] = float(np.mean([val.views[k].ref_noise for k in val.keys]))
         for spp in sorted(net_less_ref):
             out[f"val_less_ref_relmse_{spp}spp"] = float(np.mean(net_less_ref[spp]))
-        # best.pt's choice: the geometric mean of these at the sample counts trained for
-        # (floored: less the reference's noise a figure can come out at or below zero).
-        chosen = [v for spp, vs in net_less_ref.items() if spp >= min_spp for v in vs] or \
-            [v for vs in net_less_ref.values() for v in vs]
-        out["val_select"] = float(np.exp(np.mean(np.log(np.maximum(chosen, 1e-6)))))
+        # best.pt's choice: the geometric mean of these at the sample counts trained for.
+        chosen = [v for spp, vs in select.items() if spp >= min_spp for v in vs] or \
+            [v for vs in select.values() for v in vs]
+        out["val_select"] = float(np.exp(np.mean(np.log(chosen))))
     for spp in sorted(net):
         out[f"val_relmse_{spp}spp"] = float(np.mean(net[spp]))
         out[f"val_noisy_relmse_{spp}spp"] = float(np.mean(noisy[spp]))
@@ -375,9 +383,8 @@ def evaluate(model, val: Dataset, min_spp: int = 1) -> dict:
         out["val_over_filter_geomean"] = out["val_relmse_geomean"] / out["val_filter_relmse_geomean"]
         for spp in sorted(filtered):
             out[f"val_filter_relmse_{spp}spp"] = float(np.mean(filtered[spp]))
-            if "val_chunk_reference_noise" in out:
-                out[f"val_less_ref_filter_relmse_{spp}spp"] = float(np.mean(
-                    [f - val.views[k].ref_noise for f, k in zip(filtered[spp], val.keys)]))
+            if len(filtered_less_ref.get(spp, ())) == len(filtered[spp]):
+                out[f"val_less_ref_filter_relmse_{spp}spp"] = float(np.mean(filtered_less_ref[spp]))
     out.setdefault("val_select", out["val_relmse_geomean"])
     return out
 
@@ -582,7 +589,8 @@ def main(argv: list[str] | None = None) -> int:
     opt = torch.optim.Adam(model.parameters(), lr=args.lr)
     ema = image_unet.ImageUNet(args.k, architecture).to(args.device)
     ema.load_state_dict(model.state_dict())
-    state = {"step": 0, "crops": 0, "pixels": 0, "elapsed": 0.0, "best": math.inf}
+    state = {"step": 0, "crops": 0, "pixels": 0, "elapsed": 0.0, "best": math.inf,
+             "select": f"{SELECT_METRIC} min_spp {args.min_spp}"}
     if args.resume:
         ck = torch.load(ckpt_path, map_location="cpu")
         if ck.get("base_width") != args.k or ck.get("architecture") != architecture:
@@ -595,6 +603,10 @@ def main(argv: list[str] | None = None) -> int:
         else:  # a checkpoint from before the average was kept
             ema.load_state_dict(ck["model"])
         state = ck["state"]
+        if state.get("select") != f"{SELECT_METRIC} min_spp {args.min_spp}":
+            # best.pt was chosen by another figure (or at other sample counts): not comparable.
+            state["best"] = math.inf
+            state["select"] = f"{SELECT_METRIC} min_spp {args.min_spp}"
         print(f"train_denoiser.py: resuming {ckpt_path} at step {state['step']} "
               f"({state['elapsed'] / 60:.1f} min)", file=sys.stderr)
     meta = {"architecture": architecture, "stage": image_unet.STAGE, "base_width": args.k,
