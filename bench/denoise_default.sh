@@ -25,12 +25,12 @@ for s in "${scenes[@]}"; do
       # Two independent halves, merged: the reference then knows its own noise (ref_noise).
       if [[ ! -f $ref ]]; then
         for seed in 777 778; do
-          [[ -f $data/ref${s}_$seed.exr ]] || "$vk" --mode path --spp $((spp / 2)) --seed $seed --width 256 \
+          [[ -f $data/ref${s}_$((spp / 2))_$seed.exr ]] || "$vk" --mode path --spp $((spp / 2)) --seed $seed --width 256 \
             --height 256 --camera 0 "${env[@]}" --network none --filter none --exr-float --quiet \
-            --offline "$data/ref${s}_$seed.exr" "$data/$s/scene.gltf"
+            --offline "$data/ref${s}_$((spp / 2))_$seed.exr" "$data/$s/scene.gltf"
         done
-        /usr/bin/python3 "$root/tools/merge_references.py" "$ref" "$data/ref${s}_777.exr:$((spp / 2))" \
-          "$data/ref${s}_778.exr:$((spp / 2))"
+        /usr/bin/python3 "$root/tools/merge_references.py" "$ref" "$data/ref${s}_$((spp / 2))_777.exr:$((spp / 2))" \
+          "$data/ref${s}_$((spp / 2))_778.exr:$((spp / 2))"
       fi
       args=(--scene "$data/$s/scene.gltf" --camera 0 --reference "$ref" "${env[@]}") ;;
   esac

@@ -18,11 +18,13 @@ SPP its samples per pixel. OUT holds, as 32-bit float:
   degree of freedom, but their mean over an image is close.
 
 Bad input (a missing or unreadable part, no variance layer, parts of other sizes, fewer than
-two parts, a bad SPP) is one line on stderr and exit 2; OUT is written only when all is well.
+two parts or one part twice, a bad SPP, an OUT that cannot be written) is one line on stderr
+and exit 2; OUT is written only when all is well.
 """
 from __future__ import annotations
 
 import sys
+import zlib
 from pathlib import Path
 
 import numpy as np
@@ -43,8 +45,10 @@ def read_part(arg: str) -> tuple[int, np.ndarray, np.ndarray]:
         raise MergeError(f"{arg}: not PART.exr:SPP with SPP a positive whole number")
     try:
         header, raw = exr_file.read_raw(path)
-    except (OSError, exr_file.ExrError) as e:
-        raise MergeError(f"{path}: {e}") from None
+    except exr_file.ExrError as e:
+        raise MergeError(str(e)) from None  # names the file already
+    except (OSError, zlib.error, ValueError) as e:
+        raise MergeError(f"{path}: cannot read ({e})") from None
     types = dict(header["channels"])
     missing = [c for c in ("R", "G", "B", "variance.Y") if c not in types]
     if missing:
@@ -70,19 +74,30 @@ def merge(parts: list[tuple[int, np.ndarray, np.ndarray]]) -> dict[str, np.ndarr
 
 
 def main(argv: list[str]) -> int:
-    if len(argv) < 3 or argv[0] in ("-h", "--help"):
-        print(__doc__.strip(), file=sys.stderr if len(argv) < 3 and argv[:1] != ["--help"] else sys.stdout)
-        return 0 if argv[:1] in (["-h"], ["--help"]) else 2
+    if argv[:1] in (["-h"], ["--help"]):
+        print(__doc__.strip())
+        return 0
+    if len(argv) < 3:
+        print("usage: merge_references.py OUT.exr PART.exr:SPP PART.exr:SPP [...] (at least two parts; --help)",
+              file=sys.stderr)
+        return 2
     out, args = argv[0], argv[1:]
     try:
-        if any(Path(a.rpartition(":")[0]).resolve() == Path(out).resolve() for a in args):
+        paths = [Path(a.rpartition(":")[0]).resolve() for a in args]
+        if Path(out).resolve() in paths:
             raise MergeError(f"{out}: is also a part (the output may not overwrite an input)")
+        twice = next((a for a, p in zip(args, paths) if paths.count(p) > 1), None)
+        if twice is not None:
+            raise MergeError(f"{twice}: given twice (the parts must be independent renders)")
         parts = [read_part(a) for a in args]
         shapes = {p[1].shape for p in parts}
         if len(shapes) != 1:
             raise MergeError(f"{args[0]}: parts of different sizes ({', '.join(f'{s[2]}x{s[1]}' for s in shapes)})")
         channels = {name: (FLOAT, a.astype(np.float32).view(np.uint32)) for name, a in merge(parts).items()}
-        exr_file.write_raw(out, channels)
+        try:
+            exr_file.write_raw(out, channels)
+        except OSError as e:
+            raise MergeError(f"{out}: cannot write ({e.strerror})") from None
     except MergeError as e:
         print(f"merge_references.py: {e}", file=sys.stderr)
         return 2

@@ -83,17 +83,28 @@ class Merge(unittest.TestCase):
             write_part(denoised, np.ones((3, 4, 5)), np.zeros((4, 5)), ("noisy.R",))
             for args, mention in (([f"{a}:10"], "usage"),
                                   ([f"{a}:10", f"{b}:10"], "different sizes"),
-                                  ([f"{a}:0", f"{a}:10"], "positive whole number"),
-                                  ([f"{a}", f"{a}:10"], "PART.exr:SPP"),
+                                  ([f"{a}:0", f"{denoised}:10"], "positive whole number"),
+                                  ([f"{a}", f"{denoised}:10"], "PART.exr:SPP"),
                                   ([f"{a}:10", f"{tmp}/none.exr:10"], "none.exr"),
                                   ([f"{a}:10", f"{denoised}:10"], "denoised"),
-                                  ([f"{a}:10", f"{out}:10"], "also a part")):
+                                  ([f"{a}:10", f"{out}:10"], "also a part"),
+                                  ([f"{a}:10", f"{a}:20"], "given twice")):
                 with self.subTest(args=args):
                     r = run(str(out), *args)
                     self.assertEqual(r.returncode, 2, r.stderr)
                     self.assertIn(mention, r.stderr.strip().splitlines()[-1] if mention != "usage" else r.stderr)
                     self.assertNotIn("Traceback", r.stderr)
                     self.assertFalse(out.exists())
+            r = run(str(Path(tmp, "no", "ref.exr")), f"{a}:10", f"{denoised.with_name('a2.exr')}:10")
+            self.assertEqual(r.returncode, 2)
+            write_part(Path(tmp, "a2.exr"), np.ones((3, 4, 5)), np.zeros((4, 5)))
+            r = run(str(Path(tmp, "no", "ref.exr")), f"{a}:10", f"{tmp}/a2.exr:10")
+            self.assertEqual(r.returncode, 2, r.stderr)
+            self.assertIn("cannot write", r.stderr.strip().splitlines()[-1])
+            self.assertNotIn("Traceback", r.stderr)
+            r = run("--help")
+            self.assertEqual(r.returncode, 0)
+            self.assertIn("spread", r.stdout)
 
 
 if __name__ == "__main__":
