@@ -74,7 +74,7 @@ struct CameraPath {
   float featurePath;  // the path's length to the record's surface
   float featureCos;   // view-axis depth per unit length along the camera ray
 };
-const uint kFeatureChainSurfaces = 4u;  // mirrors the record passes at most
+const uint kFeatureChainSurfaces = 4u;  // surfaces the record looks at, at most (3 mirrors)
 
 // Stratified 2-D sample for dimension pair `pair` of this path's sample (see sobolOwen2).
 vec2 stratified2(CameraPath c, uint pair) {

@@ -4,12 +4,15 @@
 #define OSR_LIB_FIRST_HIT_GLSL
 #include "shared/film.h"
 
+// The denoisers' guides. Path tracing records the first surface that is not a mirror, seen
+// through the mirrors in front of it (pt_trace.comp, CameraPath); OSR and preview the first.
 struct FirstHit {
-  vec3 albedo;  // base colour of the first surface
+  vec3 albedo;  // base colour of the recorded surface (times the mirrors' tints)
   vec3 normal;  // its shading normal, facing the camera ray (world)
-  float depth;  // its distance along the camera's view axis
+  float depth;  // its (through mirrors: its virtual image's) distance along the view axis
   bool hit;
-  float light;  // 1 when the camera ray saw light directly (an emitter or the environment)
+  float light;  // 1 when the camera ray saw light directly (an emitter or the environment,
+                // or in path tracing one seen in a mirror)
 };
 
 FirstHit noFirstHit() {

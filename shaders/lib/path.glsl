@@ -40,8 +40,8 @@ struct BounceResult {
   vec3 position;
   vec3 normal;  // shading normal facing the ray (AOV convention); zero on a miss
   vec3 baseColor;
-  // A mirror (a metal with roughness below kFeatureMirrorRoughness): the denoisers' guides
-  // look into it (pt_trace's first-hit record).
+  // A mirror (an isotropic metal with roughness below kFeatureMirrorRoughness): the denoisers'
+  // guides look into it (pt_trace's first-hit record).
   bool mirror;
 };
 
@@ -128,7 +128,8 @@ bool pathBounce(inout PathState p, vec3 uLight, vec3 uBsdf, float uRoulette, out
   r.position = surf.position;
   r.normal = facingShadingNormal(surf, -p.dir);
   r.baseColor = surf.m.baseColor;
-  r.mirror = sp.bsdf.roughness < kFeatureMirrorRoughness && sp.bsdf.metallic >= 0.99;
+  r.mirror = sp.bsdf.roughness < kFeatureMirrorRoughness && sp.bsdf.metallic >= 0.99 &&
+             sp.bsdf.anisotropy == 0.0;  // anisotropy widens the lobe along one axis
   r.emitted = hitEmission(p, hit.triangle, surf, sp);
   r.nee = p.beta * estimateDirect(sp, uLight);
   return pathContinue(p, sp, uBsdf, uRoulette);

@@ -9,7 +9,7 @@ OSR_NAMESPACE_BEGIN(film)
 // direct: emission seen directly plus light after one bounce; indirect: after more than one
 // bounce (combined = direct + indirect). albedo, normal (world, facing the camera) and depth
 // (distance along the camera's view axis, x = sum, y = number of samples that hit) are of the
-// first surface. depth.z: the sum of the squared luminance of the combined samples, the second
+// first surface (path tracing: the first that is not a mirror, lib/first_hit.glsl). depth.z: the sum of the squared luminance of the combined samples, the second
 // moment the denoisers' variance comes from (OSR's resolve, one sample's worth, stores its
 // estimate's luminance squared plus the estimate's variance; render/film.cpp). albedo.w: the
 // number of samples whose camera ray saw light directly (an emitter or the environment), which
