@@ -60,13 +60,21 @@ def read_part(arg: str) -> tuple[int, np.ndarray, np.ndarray]:
     return int(spp), np.stack([channel(c) for c in "RGB"]), channel("variance.Y")
 
 
+def mean_and_spread(spp: np.ndarray, colours: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """The sample-weighted mean of k independent parts (k x ... arrays, spp their samples) and
+    the unbiased variance of that mean from their spread, sum n_i (c_i - mean)^2 / ((k - 1) N).
+    train_denoiser.py takes its validation references' noise from it too."""
+    spp = np.asarray(spp, np.float64)
+    mean = np.tensordot(spp / spp.sum(), colours, 1)
+    spread = np.tensordot(spp, (colours - mean) ** 2, 1) / ((len(spp) - 1) * spp.sum())
+    return mean, spread
+
+
 def merge(parts: list[tuple[int, np.ndarray, np.ndarray]]) -> dict[str, np.ndarray]:
     spp = np.array([p[0] for p in parts], np.float64)
-    colours = np.stack([p[1] for p in parts])
     w = spp / spp.sum()
-    mean = np.tensordot(w, colours, 1)
+    mean, spread = mean_and_spread(spp, np.stack([p[1] for p in parts]))
     variance = np.tensordot(w * w, np.stack([p[2] for p in parts]), 1)
-    spread = np.tensordot(spp, (colours - mean) ** 2, 1) / ((len(parts) - 1) * spp.sum())
     out = {c: mean[i] for i, c in enumerate("RGB")}
     out["variance.Y"] = variance
     out.update({f"spread.{c}": spread[i] for i, c in enumerate("RGB")})

@@ -79,6 +79,7 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 from arg_types import positive_float, positive_int  # noqa: E402
+from merge_references import mean_and_spread  # noqa: E402
 
 RELMSE_EPSILON = 0.01  # as osr-vk compare (src/image/image_metrics.h)
 SELECT_METRIC = "val_select"  # what best.pt is chosen by (a resumed run of another starts afresh)
@@ -147,15 +148,16 @@ class View:
             loaded = [self._load(p) for p in refs]
             weights = np.array([int(r["spp"]) for r in loaded], np.float64)
             chunks = np.stack([r["colour"] for r in loaded]).astype(np.float64)
-            mean = np.tensordot(weights / weights.sum(), chunks, 1)
-            self.ref = mean.astype(np.float32)
             self.ref_spp = int(weights.sum())
             if len(loaded) > 1:
                 # What the reference's own noise adds to a relMSE against it: the variance of
                 # its mean per pixel and channel, from the spread of its independent chunks
-                # (sum n_i (c_i - mean)^2 / ((k - 1) N), unbiased), over ref^2 + epsilon.
-                spread = np.tensordot(weights, (chunks - mean) ** 2, 1) / ((len(loaded) - 1) * weights.sum())
+                # (unbiased, merge_references.mean_and_spread), over ref^2 + epsilon.
+                mean, spread = mean_and_spread(weights, chunks)
                 self.ref_noise = float(np.mean(spread / (mean ** 2 + RELMSE_EPSILON)))
+            else:
+                mean = chunks[0]
+            self.ref = mean.astype(np.float32)
         shapes = {a.shape[-2:] for a in (self.colour, self.albedo, self.normal)
                   + ((self.depth,) if self.depth is not None else ())}
         if len(shapes) != 1 or (self.ref is not None and self.ref.shape[-2:] not in shapes):
@@ -589,8 +591,8 @@ def main(argv: list[str] | None = None) -> int:
     opt = torch.optim.Adam(model.parameters(), lr=args.lr)
     ema = image_unet.ImageUNet(args.k, architecture).to(args.device)
     ema.load_state_dict(model.state_dict())
-    state = {"step": 0, "crops": 0, "pixels": 0, "elapsed": 0.0, "best": math.inf,
-             "select": f"{SELECT_METRIC} min_spp {args.min_spp}"}
+    selection = f"{SELECT_METRIC} min_spp {args.min_spp}"
+    state = {"step": 0, "crops": 0, "pixels": 0, "elapsed": 0.0, "best": math.inf, "select": selection}
     if args.resume:
         ck = torch.load(ckpt_path, map_location="cpu")
         if ck.get("base_width") != args.k or ck.get("architecture") != architecture:
@@ -603,10 +605,10 @@ def main(argv: list[str] | None = None) -> int:
         else:  # a checkpoint from before the average was kept
             ema.load_state_dict(ck["model"])
         state = ck["state"]
-        if state.get("select") != f"{SELECT_METRIC} min_spp {args.min_spp}":
+        if state.get("select") != selection:
             # best.pt was chosen by another figure (or at other sample counts): not comparable.
             state["best"] = math.inf
-            state["select"] = f"{SELECT_METRIC} min_spp {args.min_spp}"
+            state["select"] = selection
         print(f"train_denoiser.py: resuming {ckpt_path} at step {state['step']} "
               f"({state['elapsed'] / 60:.1f} min)", file=sys.stderr)
     meta = {"architecture": architecture, "stage": image_unet.STAGE, "base_width": args.k,

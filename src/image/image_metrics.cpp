@@ -73,16 +73,16 @@ double relMse(const RgbImage& a, const RgbImage& b) {
 double referenceNoise(const RgbImage& reference, const RgbImage& luminanceVariance) {
   if (reference.width != luminanceVariance.width || reference.height != luminanceVariance.height)
     throw std::invalid_argument("referenceNoise: the variance is not the reference's size");
-  double sum = 0.0;
+  // Each channel's variance, the luminance's in proportion to the channel's share.
+  RgbImage channelVariance = luminanceVariance;
   for (size_t i = 0; i < reference.rgb.size() / 3; ++i) {
     const double y = reference.luminance(i);
     for (int c = 0; c < 3; ++c) {
-      const double r = reference.rgb[3 * i + c];
-      const double share = y > 1e-8 ? r / y : 1.0;
-      sum += double(luminanceVariance.rgb[3 * i]) * share * share / (r * r + kRelMseEpsilon);
+      const double share = y > 1e-8 ? reference.rgb[3 * i + c] / y : 1.0;
+      channelVariance.rgb[3 * i + c] = float(double(luminanceVariance.rgb[3 * i]) * share * share);
     }
   }
-  return sum / double(reference.rgb.size());
+  return referenceChannelNoise(reference, channelVariance);
 }
 
 double referenceChannelNoise(const RgbImage& reference, const RgbImage& channelVariance) {
