@@ -1,15 +1,17 @@
 // denoise: the image denoisers at equal wall-clock time (docs/denoise.md). For a scene and
 // each time budget, one JSON line per row: path tracing and OSR, each raw, + the a-trous
-// filter and + the image network, each with relMSE against a reference EXR
-// and the denoiser's own time. A denoised row renders for the budget minus the denoiser's
-// time (measured once per denoiser at this size, after a warm-up run), so the denoise is
-// paid out of the budget.
+// filter and + the image network, each with relMSE against a reference EXR and the
+// denoiser's own time; a denoised row also with the relMSE of the same film before the
+// denoiser's convergence step (render/denoise_passes.h ConvergePass). A denoised row renders
+// for the budget minus the denoiser's time (measured once per denoiser at this size, after a
+// warm-up run), so the denoise is paid out of the budget.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <memory>
 #include <optional>
 #include <sstream>
+#include <vector>
 
 #include "app/args.h"
 #include "bench/bench_scene.h"
@@ -106,7 +108,8 @@ int runDenoise(const std::vector<std::string>& args) {
       render::RenderStats stats;
       render::FilmLayers film = renderFor(ctx, *row.integrator, cam, double(budget) - row.denoiseS, stats);
       const double raw = image::relMse({int(size), int(size), film.combined}, ref);
-      if (row.denoiser) row.denoiser->apply(film);
+      std::vector<float> unconverged;
+      if (row.denoiser) row.denoiser->apply(film, &unconverged);
       image::RgbImage img{int(size), int(size), film.combined};
       JsonLine j;
       j.str("bench", "denoise")
@@ -121,6 +124,7 @@ int runDenoise(const std::vector<std::string>& args) {
           .num("relmse_raw", raw)
           .num("lum_ratio", image::meanLuminance(img) / image::meanLuminance(ref))
           .integer(row.integrator == &osr ? "passes" : "spp", stats.units);
+      if (row.denoiser) j.num("relmse_unconverged", image::relMse({int(size), int(size), unconverged}, ref));
       if (row.denoiser == net.get() && net) j.str("network", network);
       if (bs.referenceNoise) j.num("ref_noise", *bs.referenceNoise).str("ref_noise_from", bs.referenceNoiseFrom);
       j.str("device", ctx.caps().deviceName).print();

@@ -22,7 +22,8 @@ OSR_CONST(uint, kBindingNormal, 2);
 OSR_CONST(uint, kBindingExposure, 3);  // ExposureSums (exposure: partial sums, then the total)
 OSR_CONST(uint, kBindingTensor, 4);    // input pass: writes the tile's input; output: reads y
 OSR_CONST(uint, kBindingOut, 5);       // output pass, a-trous: vec4 per pixel
-OSR_CONST(uint, kDenoiseBindingCount, 6);
+OSR_CONST(uint, kBindingDenoised, 6);  // convergence: the network's or the filter's colour
+OSR_CONST(uint, kDenoiseBindingCount, 7);
 
 // Exposure (image_unet.image_exposure): sum of log(1e-4 + luminance) and the count over pixels
 // of the padded image with luminance > 0. Stage 0: one partial per workgroup; stage 1 (one
@@ -97,6 +98,19 @@ OSR_CONST(uint, kKernelFactorsGeometry, 1);
 OSR_CONST(uint, kKernelFactorsFilter, 2);
 OSR_CONST(float, kFilterSigmaLuminance, 4.0);
 OSR_CONST(float, kFilterVarianceFloor, 1e-6);
+
+// Convergence (denoise_converge.comp): the denoised colour d moves back towards the film's
+// colour x by lambda = clamp(1 - k sum(v) / sum((l_x - l_d)^2), 0, 1), sums over the
+// (2 kConvergeRadius + 1)^2 pixels around, l the luminance and v the film's variance of it: the
+// positive-part James-Stein rule, which keeps d where the gap is what the film's noise explains
+// and returns to x where it is more (the denoiser's bias). k = 1 + kConvergeNoiseScale
+// sqrt(mean(v)) / max(mean(l_d), 1e-4), the film's relative standard error over the window:
+// where few paths carry most of the light (small lamps), the variance of a few samples is a
+// heavy-tailed estimate and a gap of several of its standard deviations is still noise.
+// Films of fewer than kConvergeMinSamples samples per pixel are left as denoised.
+OSR_CONST(int, kConvergeRadius, 1);
+OSR_CONST(float, kConvergeNoiseScale, 8.0);
+OSR_CONST(uint, kConvergeMinSamples, 64);
 
 OSR_NAMESPACE_END
 #endif

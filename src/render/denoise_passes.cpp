@@ -24,6 +24,7 @@ void bindAll(VkCommandBuffer cmd, const vk::ComputePipeline& pipeline, const Den
       .set(g::kBindingExposure, or_colour(b.exposure))
       .set(g::kBindingTensor, or_colour(b.tensor))
       .set(g::kBindingOut, or_colour(b.out))
+      .set(g::kBindingDenoised, or_colour(b.denoised))
       .bind(cmd, push);
 }
 
@@ -80,6 +81,14 @@ AtrousPass::AtrousPass(const vk::Context& ctx, bool first, bool last)
                              {vk::specUint(g::kSpecAtrousFirst, first), vk::specUint(g::kSpecAtrousLast, last)})) {}
 
 void AtrousPass::record(VkCommandBuffer cmd, const DenoiseBindings& b, const g::DenoisePush& push) const {
+  bindAll(cmd, pipeline_, b, push);
+  pipeline_.dispatch(cmd, groups(push.width), groups(push.height));
+  vk::computeBarrier(cmd);
+}
+
+ConvergePass::ConvergePass(const vk::Context& ctx) : pipeline_(makePipeline(ctx, shaders::Id::denoise_converge)) {}
+
+void ConvergePass::record(VkCommandBuffer cmd, const DenoiseBindings& b, const g::DenoisePush& push) const {
   bindAll(cmd, pipeline_, b, push);
   pipeline_.dispatch(cmd, groups(push.width), groups(push.height));
   vk::computeBarrier(cmd);

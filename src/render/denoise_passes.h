@@ -15,6 +15,7 @@ struct DenoiseBindings {
   vk::BufferRange exposure;                // ExposureSums[kExposurePartials + 1]
   vk::BufferRange tensor;                  // the network tile's input or output tensor
   vk::BufferRange out;                     // vec4 per pixel
+  vk::BufferRange denoised;                // convergence: the denoised colour, vec4 per pixel
 };
 
 // The exposure scale e of the padded image (denoise_exposure.comp, both stages).
@@ -69,6 +70,17 @@ class KernelApplyPass {
 class AtrousPass {
  public:
   AtrousPass(const vk::Context& ctx, bool first, bool last);
+  void record(VkCommandBuffer cmd, const DenoiseBindings& b, const gpu::denoise::DenoisePush& push) const;
+
+ private:
+  vk::ComputePipeline pipeline_;
+};
+
+// The denoised colour (b.denoised) moved back towards the film's (b.colour) where they differ by
+// more than the film's noise explains (denoise_converge.comp), into b.out.
+class ConvergePass {
+ public:
+  explicit ConvergePass(const vk::Context& ctx);
   void record(VkCommandBuffer cmd, const DenoiseBindings& b, const gpu::denoise::DenoisePush& push) const;
 
  private:

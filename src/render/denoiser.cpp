@@ -205,32 +205,42 @@ void DenoiseSettings::check() const {
 }
 
 Denoiser::Denoiser(const vk::Context& ctx, const DenoiseSettings& settings, uint32_t width, uint32_t height)
-    : ctx_(ctx), settings_(settings), image_(ctx, width, height) {
+    : ctx_(ctx), settings_(settings), image_(ctx, width, height), converge_(ctx) {
   if (settings.network != DenoiseSettings::Network::None)
     network_ = std::make_unique<NetworkDenoiser>(ctx, loadModel(settings), width, height);
   if (settings.atrous) filter_ = std::make_unique<AtrousFilter>(ctx, width, height);
   lastRanNetwork_ = network_ != nullptr;
-  out_ = vk::Buffer(ctx, VkDeviceSize(width) * height * 16, vk::MemoryUse::DeviceLocal, "denoised colour");
+  denoised_ = vk::Buffer(ctx, VkDeviceSize(width) * height * 16, vk::MemoryUse::DeviceLocal, "denoised colour");
+  out_ = vk::Buffer(ctx, VkDeviceSize(width) * height * 16, vk::MemoryUse::DeviceLocal, "converged colour");
 }
 
 const char* Denoiser::name() const {
   return lastRanNetwork_ ? "network" : filter_ ? "atrous" : "none";
 }
 
-void Denoiser::apply(FilmLayers& film) {
+void Denoiser::apply(FilmLayers& film, std::vector<float>* unconverged) {
   if (!network_ && !filter_) return;
   const auto start = std::chrono::steady_clock::now();
   lastRanNetwork_ = network_ && (!filter_ || film.samples >= kNetworkMinSamples);
+  // Below kConvergeMinSamples the film's variance is too rough a guide (shared/denoise.h).
+  const bool converge = settings_.converge && film.samples >= g::kConvergeMinSamples;
   image_.upload(film);
   ctx_.submitAndWait([&](VkCommandBuffer cmd) {
     if (lastRanNetwork_)
-      network_->record(cmd, image_, out_);
+      network_->record(cmd, image_, denoised_);
     else
-      filter_->record(cmd, image_, out_);
+      filter_->record(cmd, image_, denoised_);
+    if (converge) {
+      DenoiseBindings b = image_.bindings();
+      b.denoised = denoised_;
+      b.out = out_;
+      converge_.record(cmd, b, imagePush(image_.width(), image_.height()));
+    }
   });
   if (film.noisy.empty()) film.noisy = film.combined;
-  film.combined = image_.download(out_);
+  film.combined = image_.download(converge ? out_ : denoised_);
   lastSeconds_ = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  if (unconverged) *unconverged = image_.download(denoised_);
 }
 
 }  // namespace osr::render

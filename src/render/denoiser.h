@@ -103,6 +103,9 @@ struct DenoiseSettings {
   Network network = Network::None;
   std::string networkFile;
   bool atrous = false;
+  // Move the denoised colour back towards the film's where they differ by more than its noise
+  // (ConvergePass), so that the image converges as samples grow.
+  bool converge = true;
   bool chosen = false;  // --network or --filter was given (else the mode's default)
   bool active() const { return network != Network::None || atrous; }
   // Reads the model it names, so that a bad file or a missing shipped model is refused before
@@ -123,8 +126,9 @@ class Denoiser {
   // Loads the model (InputError on a bad file or when `default` has no shipped model).
   Denoiser(const vk::Context& ctx, const DenoiseSettings& settings, uint32_t width, uint32_t height);
   // Replaces film.combined by the denoised colour and keeps the raw one in film.noisy; a film
-  // already denoised is denoised again from its noisy colour.
-  void apply(FilmLayers& film);
+  // already denoised is denoised again from its noisy colour. `unconverged`, if given, gets
+  // the network's or filter's colour before the convergence step (rgb interleaved).
+  void apply(FilmLayers& film, std::vector<float>* unconverged = nullptr);
   double lastSeconds() const { return lastSeconds_; }
   // What the last apply ran ("network", "atrous"); before the first, the network if there is one.
   const char* name() const;
@@ -137,7 +141,8 @@ class Denoiser {
   DenoiseImage image_;
   std::unique_ptr<NetworkDenoiser> network_;
   std::unique_ptr<AtrousFilter> filter_;
-  vk::Buffer out_;
+  ConvergePass converge_;
+  vk::Buffer denoised_, out_;  // the network's or filter's colour; after convergence
   double lastSeconds_ = 0;
   bool lastRanNetwork_ = true;
 };

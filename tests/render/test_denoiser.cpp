@@ -1,9 +1,11 @@
 // The image denoisers: the learned one against PyTorch (tools/weights_pack.py --golden: its
 // padding, exposure, network and output transform) on an image whose size is no multiple of
 // 8; tiled runs equal untiled ones everywhere (the margin covers the receptive field); the
-// a-trous filter keeps a constant image constant, keeps an edge, and removes noise.
+// a-trous filter keeps a constant image constant, keeps an edge, and removes noise; the
+// convergence step follows its rule and returns to the film only where the denoiser is biased.
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 #include <fstream>
@@ -317,4 +319,135 @@ TEST(Denoiser, LightsSeenDirectlyStayOutOfTheirNeighbours) {
   EXPECT_GT(haloRing, 1.1);
   EXPECT_LE(atrousLamp, 1e-5);
   EXPECT_LE(netLamp, 1e-3);
+}
+
+namespace {
+
+// The convergence step on `f` (its colour and variance) and a denoised colour, on the device.
+std::vector<float> runConverge(const render::FilmLayers& f, const std::vector<float>& denoised) {
+  auto& ctx = test::context();
+  render::DenoiseImage image(ctx, f.width, f.height);
+  image.upload(f);
+  const VkDeviceSize bytes = VkDeviceSize(f.width) * f.height * 16;
+  vk::Buffer in(ctx, bytes, vk::MemoryUse::DeviceLocal, "test denoised");
+  in.uploadVector(render::vec4Layer(denoised, {}));
+  vk::Buffer out(ctx, bytes, vk::MemoryUse::DeviceLocal, "test converged");
+  render::ConvergePass pass(ctx);
+  render::DenoiseBindings b = image.bindings();
+  b.denoised = in;
+  b.out = out;
+  gpu::denoise::DenoisePush push{};
+  push.width = uint32_t(f.width);
+  push.height = uint32_t(f.height);
+  ctx.submitAndWait([&](VkCommandBuffer cmd) { pass.record(cmd, b, push); });
+  return image.download(out);
+}
+
+float luminanceAt(const std::vector<float>& rgb, size_t i) {
+  return 0.2126f * rgb[3 * i] + 0.7152f * rgb[3 * i + 1] + 0.0722f * rgb[3 * i + 2];
+}
+
+}  // namespace
+
+// The rule of shared/denoise.h on the CPU: lambda from the 3 x 3 sums of the squared luminance
+// gap and the variance and k from the window's relative standard error, clipped at the image's
+// edges.
+TEST(Denoiser, ConvergeFollowsTheShrinkageRule) {
+  render::FilmLayers f = randomFilm(37, 21, 5, true);
+  for (float& v : f.variance) v *= 1e-3f;
+  render::FilmLayers d = randomFilm(37, 21, 6);
+  // The left half close to the film (a gap the noise explains), the right half far from it.
+  for (size_t i = 0; i < d.combined.size(); ++i)
+    if ((i / 3) % size_t(f.width) < size_t(f.width / 2)) d.combined[i] = f.combined[i] * (1.0f + 0.01f * (d.combined[i] - 1.0f));
+  const std::vector<float> got = runConverge(f, d.combined);
+  std::vector<float> want(got.size());
+  size_t kept = 0, returned = 0;
+  for (int y = 0; y < f.height; ++y)
+    for (int x = 0; x < f.width; ++x) {
+      double gap = 0, noise = 0, level = 0, count = 0;
+      for (int qy = std::max(y - 1, 0); qy <= std::min(y + 1, f.height - 1); ++qy)
+        for (int qx = std::max(x - 1, 0); qx <= std::min(x + 1, f.width - 1); ++qx) {
+          const size_t q = size_t(qy) * f.width + qx;
+          const double g = luminanceAt(f.combined, q) - luminanceAt(d.combined, q);
+          gap += g * g;
+          noise += f.variance[q];
+          level += std::max(luminanceAt(d.combined, q), 0.0f);
+          ++count;
+        }
+      const double k = 1.0 + gpu::denoise::kConvergeNoiseScale * std::sqrt(noise / count) / std::max(level / count, 1e-4);
+      const double lambda = gap > 0 ? std::clamp(1.0 - k * noise / gap, 0.0, 1.0) : 0.0;
+      kept += lambda == 0.0;
+      returned += lambda > 0.99;
+      const size_t i = size_t(y) * f.width + x;
+      for (int c = 0; c < 3; ++c)
+        want[3 * i + c] = float(d.combined[3 * i + c] + lambda * (f.combined[3 * i + c] - d.combined[3 * i + c]));
+    }
+  std::printf("converge 37x21: %zu pixels kept denoised, %zu returned to the film; max abs err %.3g\n", kept,
+              returned, maxAbsDiff(got, want));
+  EXPECT_GT(kept, 0u);
+  EXPECT_GT(returned, 0u);
+  EXPECT_LT(kept + returned, size_t(f.width) * f.height);  // some pixels in between
+  EXPECT_LE(maxAbsDiff(got, want), 1e-4 * maxAbs(want));
+}
+
+// A flat grey film with noise of the variance it reports, denoised to its true level except in
+// one band, where the denoiser is off by far more than the noise: the band returns to the film
+// and the rest keeps the denoised level.
+TEST(Denoiser, ConvergeReturnsToTheFilmOnlyWhereTheDenoiserIsBiased) {
+  const int w = 64, h = 48;
+  render::FilmLayers f = film(w, h);
+  std::mt19937 rng(3);
+  std::normal_distribution<float> noise(0.0f, 0.01f);
+  std::vector<float> denoised(f.combined.size());
+  for (int y = 0; y < h; ++y)
+    for (int x = 0; x < w; ++x) {
+      const size_t i = size_t(y) * w + x;
+      const float level = x >= 24 && x < 40 ? 0.8f : 0.5f;
+      const float n = noise(rng);
+      for (int c = 0; c < 3; ++c) {
+        f.combined[3 * i + c] = level + n;
+        denoised[3 * i + c] = 0.5f;  // the band's 0.8 blurred away
+      }
+      f.variance[i] = 0.01f * 0.01f;
+    }
+  const std::vector<float> got = runConverge(f, denoised);
+  double bandErr = 0, restErr = 0, restRawErr = 0;
+  int band = 0, rest = 0;
+  for (int y = 0; y < h; ++y)
+    for (int x = 1; x < w - 1; ++x) {
+      const size_t i = size_t(y) * w + x;
+      if (x >= 25 && x < 39) {
+        bandErr += std::fabs(got[3 * i] - 0.8f);
+        ++band;
+      } else if (x < 23 || x > 40) {
+        restErr += std::fabs(got[3 * i] - 0.5f);
+        restRawErr += std::fabs(f.combined[3 * i] - 0.5f);
+        ++rest;
+      }
+    }
+  std::printf("band: mean |error| %.4f (blurred 0.3); rest %.5f (film %.5f)\n", bandErr / band, restErr / rest,
+              restRawErr / rest);
+  EXPECT_LE(bandErr / band, 0.01);               // the film's noise, not the denoiser's 0.3
+  EXPECT_LE(restErr / rest, 0.15 * restRawErr / rest);  // the denoised level kept
+}
+
+// The Denoiser runs the step after its filter from kConvergeMinSamples samples per pixel on, and
+// not on a film of fewer, whose variance is too rough a guide.
+TEST(Denoiser, ConvergesFromEnoughSamplesOnly) {
+  render::FilmLayers f = randomFilm(40, 24, 9, true);
+  for (float& v : f.variance) v *= 1e-3f;
+  render::DenoiseSettings settings;
+  settings.atrous = true;
+  render::Denoiser denoiser(test::context(), settings, uint32_t(f.width), uint32_t(f.height));
+  double changed[2] = {};
+  for (int enough = 0; enough < 2; ++enough) {
+    render::FilmLayers g = f;
+    g.samples = enough ? gpu::denoise::kConvergeMinSamples : gpu::denoise::kConvergeMinSamples - 1;
+    std::vector<float> filtered;
+    denoiser.apply(g, &filtered);
+    changed[enough] = maxAbsDiff(g.combined, filtered);
+  }
+  std::printf("converged against filtered: max difference %.3g below the floor, %.3g from it\n", changed[0], changed[1]);
+  EXPECT_EQ(changed[0], 0.0);
+  EXPECT_GT(changed[1], 0.01);
 }
