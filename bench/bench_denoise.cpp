@@ -41,8 +41,10 @@ render::FilmLayers renderFor(const vk::Context& ctx, render::Integrator& integra
 // pipelines and touches memory).
 double denoiseSeconds(render::Denoiser& d, const render::FilmLayers& film) {
   render::FilmLayers f = film;
+  f.samples = std::max(f.samples, render::kDenoiseProbeSamples);  // every pass runs
   d.apply(f);
   f = film;
+  f.samples = std::max(f.samples, render::kDenoiseProbeSamples);
   d.apply(f);
   return d.lastSeconds();
 }

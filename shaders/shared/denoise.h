@@ -21,7 +21,7 @@ OSR_CONST(uint, kBindingAlbedo, 1);
 OSR_CONST(uint, kBindingNormal, 2);
 OSR_CONST(uint, kBindingExposure, 3);  // ExposureSums (exposure: partial sums, then the total)
 OSR_CONST(uint, kBindingTensor, 4);    // input pass: writes the tile's input; output: reads y
-OSR_CONST(uint, kBindingOut, 5);       // output pass, a-trous: vec4 per pixel
+OSR_CONST(uint, kBindingOut, 5);       // output pass, a-trous, convergence: vec4 per pixel
 OSR_CONST(uint, kBindingDenoised, 6);  // convergence: the network's or the filter's colour
 OSR_CONST(uint, kDenoiseBindingCount, 7);
 
@@ -59,6 +59,7 @@ struct DenoisePush {
   float sigmaLuminance;  // a-trous: luminance edge-stopping scale (SVGF sigma_l)
   float sigmaNormal;     // a-trous: normal exponent (SVGF sigma_n)
   float sigmaDepth;      // a-trous: depth edge-stopping scale (SVGF sigma_z)
+  uint samples;          // convergence: the film's samples per pixel
 };
 
 // a-trous iterations: the first demodulates (colour / albedo), the last re-modulates.
@@ -106,8 +107,12 @@ OSR_CONST(float, kFilterVarianceFloor, 1e-6);
 // and returns to x where it is more (the denoiser's bias). k = 1 + kConvergeNoiseScale
 // sqrt(mean(v)) / max(mean(l_d), 1e-4), the film's relative standard error over the window:
 // where few paths carry most of the light (small lamps), the variance of a few samples is a
-// heavy-tailed estimate and a gap of several of its standard deviations is still noise.
-// Films of fewer than kConvergeMinSamples samples per pixel are left as denoised.
+// heavy-tailed estimate and a gap of several of its standard deviations is still noise. A
+// variance of 0 (unknown, or every sample dark) counts as l_d^2 / samples, one sample's worth
+// of the denoised level; pixels that saw light directly are left out of the sums, as the
+// denoisers leave them out of their averages. The gap is the luminance's: a bias in colour
+// alone is not seen. Films of fewer than kConvergeMinSamples samples per pixel are left as
+// denoised.
 OSR_CONST(int, kConvergeRadius, 1);
 OSR_CONST(float, kConvergeNoiseScale, 8.0);
 OSR_CONST(uint, kConvergeMinSamples, 64);

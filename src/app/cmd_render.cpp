@@ -250,7 +250,7 @@ class OfflineRenderer {
       render::Denoiser probe(ctx_, s, kProbe, kProbe);
       render::FilmLayers empty;
       empty.allocate(kProbe, kProbe);
-      empty.samples = render::kNetworkMinSamples;
+      empty.samples = render::kDenoiseProbeSamples;
       probe.apply(empty);
       probe.apply(empty);
       return probe.lastSeconds() * pixels / (kProbe * kProbe);

@@ -39,7 +39,10 @@ std::string denoiseHelp() {
          "                        and instead of it below 4 samples per pixel; a --crop\n"
          "                        tile is not filtered unless asked (its edges would not\n"
          "                        match its neighbours')\n"
-         "                        (default per mode: " + defaults(false) + ")\n";
+         "                        (default per mode: " + defaults(false) + ")\n"
+         "                        From 64 samples per pixel, either one's image returns to\n"
+         "                        the raw film where they differ by more than its noise, so\n"
+         "                        the denoised image converges as samples grow\n";
 }
 
 render::DenoiseSettings readDenoiseOptions(Args& args, const std::string& mode) {

@@ -1,5 +1,5 @@
 // The image denoisers' compute passes (shaders/denoise_*.comp, shaders/shared/denoise.h), one
-// class per pass; render/denoiser.h puts them together. Every pass binds the same six slots
+// class per pass; render/denoiser.h puts them together. Every pass binds the same seven slots
 // (DenoiseBindings); a pass's unused slots get any valid range.
 #pragma once
 #include <cstdint>

@@ -234,7 +234,9 @@ void Denoiser::apply(FilmLayers& film, std::vector<float>* unconverged) {
       DenoiseBindings b = image_.bindings();
       b.denoised = denoised_;
       b.out = out_;
-      converge_.record(cmd, b, imagePush(image_.width(), image_.height()));
+      g::DenoisePush push = imagePush(image_.width(), image_.height());
+      push.samples = film.samples;
+      converge_.record(cmd, b, push);
     }
   });
   if (film.noisy.empty()) film.noisy = film.combined;

@@ -4,6 +4,7 @@
 // normal and depth; the filter also its per-pixel variance. Compute passes on device buffers
 // (render/denoise_passes.h); FilmLayers go up and the denoised colour comes down.
 #pragma once
+#include <algorithm>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -120,14 +121,18 @@ inline constexpr char kDefaultImageModelName[] = "built-in model models/osr_imag
 // shipped network is worse than the filter, from 4 better (docs/denoise.md, "The variance-guided
 // kernels"), so the viewer's first images after a move are filtered.
 inline constexpr uint32_t kNetworkMinSamples = 4;
+// The samples per pixel of a film on which a timing probe runs every pass of the denoiser it
+// times: the network (from kNetworkMinSamples) and the convergence step.
+inline constexpr uint32_t kDenoiseProbeSamples = std::max(kNetworkMinSamples, gpu::denoise::kConvergeMinSamples);
 
 class Denoiser {
  public:
   // Loads the model (InputError on a bad file or when `default` has no shipped model).
   Denoiser(const vk::Context& ctx, const DenoiseSettings& settings, uint32_t width, uint32_t height);
   // Replaces film.combined by the denoised colour and keeps the raw one in film.noisy; a film
-  // already denoised is denoised again from its noisy colour. `unconverged`, if given, gets
-  // the network's or filter's colour before the convergence step (rgb interleaved).
+  // already denoised is denoised again from its noisy colour. `unconverged`, if given and a
+  // denoiser ran, gets the network's or filter's colour before the convergence step (rgb
+  // interleaved).
   void apply(FilmLayers& film, std::vector<float>* unconverged = nullptr);
   double lastSeconds() const { return lastSeconds_; }
   // What the last apply ran ("network", "atrous"); before the first, the network if there is one.

@@ -339,6 +339,7 @@ std::vector<float> runConverge(const render::FilmLayers& f, const std::vector<fl
   gpu::denoise::DenoisePush push{};
   push.width = uint32_t(f.width);
   push.height = uint32_t(f.height);
+  push.samples = f.samples;
   ctx.submitAndWait([&](VkCommandBuffer cmd) { pass.record(cmd, b, push); });
   return image.download(out);
 }
@@ -350,11 +351,13 @@ float luminanceAt(const std::vector<float>& rgb, size_t i) {
 }  // namespace
 
 // The rule of shared/denoise.h on the CPU: lambda from the 3 x 3 sums of the squared luminance
-// gap and the variance and k from the window's relative standard error, clipped at the image's
-// edges.
+// gap and the variance (one sample's worth of the denoised level where it is 0) and k from the
+// window's relative standard error, clipped at the image's edges.
 TEST(Denoiser, ConvergeFollowsTheShrinkageRule) {
   render::FilmLayers f = randomFilm(37, 21, 5, true);
   for (float& v : f.variance) v *= 1e-3f;
+  for (size_t i = 0; i < f.variance.size(); i += 7) f.variance[i] = 0.0f;  // unknown: one sample's worth
+  f.samples = 100;
   render::FilmLayers d = randomFilm(37, 21, 6);
   // The left half close to the film (a gap the noise explains), the right half far from it.
   for (size_t i = 0; i < d.combined.size(); ++i)
@@ -368,10 +371,10 @@ TEST(Denoiser, ConvergeFollowsTheShrinkageRule) {
       for (int qy = std::max(y - 1, 0); qy <= std::min(y + 1, f.height - 1); ++qy)
         for (int qx = std::max(x - 1, 0); qx <= std::min(x + 1, f.width - 1); ++qx) {
           const size_t q = size_t(qy) * f.width + qx;
-          const double g = luminanceAt(f.combined, q) - luminanceAt(d.combined, q);
+          const double l = std::max(luminanceAt(d.combined, q), 0.0f), g = luminanceAt(f.combined, q) - l;
           gap += g * g;
-          noise += f.variance[q];
-          level += std::max(luminanceAt(d.combined, q), 0.0f);
+          noise += f.variance[q] > 0 ? f.variance[q] : l * l / f.samples;
+          level += l;
           ++count;
         }
       const double k = 1.0 + gpu::denoise::kConvergeNoiseScale * std::sqrt(noise / count) / std::max(level / count, 1e-4);
@@ -391,8 +394,8 @@ TEST(Denoiser, ConvergeFollowsTheShrinkageRule) {
 }
 
 // A flat grey film with noise of the variance it reports, denoised to its true level except in
-// one band, where the denoiser is off by far more than the noise: the band returns to the film
-// and the rest keeps the denoised level.
+// one band, where the denoiser is off by far more than the noise: the band returns to the film,
+// beside a lamp in it too, and the rest keeps the denoised level.
 TEST(Denoiser, ConvergeReturnsToTheFilmOnlyWhereTheDenoiserIsBiased) {
   const int w = 64, h = 48;
   render::FilmLayers f = film(w, h);
@@ -410,12 +413,25 @@ TEST(Denoiser, ConvergeReturnsToTheFilmOnlyWhereTheDenoiserIsBiased) {
       }
       f.variance[i] = 0.01f * 0.01f;
     }
+  // A lamp in the band, kept by the denoiser: its variance must not hold its neighbours back.
+  const size_t lamp = size_t(h / 2) * w + 32;
+  for (int c = 0; c < 3; ++c) f.combined[3 * lamp + c] = denoised[3 * lamp + c] = 1000.0f;
+  f.variance[lamp] = 1e4f;
+  f.light.assign(size_t(w) * h, 0.0f);
+  f.light[lamp] = 1.0f;
   const std::vector<float> got = runConverge(f, denoised);
+  double besideLamp = 0;
+  for (int dy = -1; dy <= 1; ++dy)
+    for (int dx = -1; dx <= 1; ++dx)
+      if (dx || dy) besideLamp = std::max(besideLamp, std::fabs(got[3 * (lamp + dy * w + dx)] - 0.8));
+  EXPECT_LE(besideLamp, 0.05) << "the lamp's variance held its neighbours at the denoised level";
+  EXPECT_EQ(got[3 * lamp], 1000.0f);
   double bandErr = 0, restErr = 0, restRawErr = 0;
   int band = 0, rest = 0;
   for (int y = 0; y < h; ++y)
     for (int x = 1; x < w - 1; ++x) {
       const size_t i = size_t(y) * w + x;
+      if (i == lamp) continue;
       if (x >= 25 && x < 39) {
         bandErr += std::fabs(got[3 * i] - 0.8f);
         ++band;
