@@ -60,6 +60,9 @@ struct DenoisePush {
   float sigmaNormal;     // a-trous: normal exponent (SVGF sigma_n)
   float sigmaDepth;      // a-trous: depth edge-stopping scale (SVGF sigma_z)
   uint samples;          // convergence: the film's samples per pixel
+  uint _pad0;
+  uint _pad1;
+  uint _pad2;
 };
 
 // a-trous iterations: the first demodulates (colour / albedo), the last re-modulates.
