@@ -40,12 +40,11 @@ render::FilmLayers renderFor(const vk::Context& ctx, render::Integrator& integra
 // The denoiser's wall time on a film of this size: the second of two runs (the first makes
 // pipelines and touches memory).
 double denoiseSeconds(render::Denoiser& d, const render::FilmLayers& film) {
-  render::FilmLayers f = film;
-  f.samples = std::max(f.samples, render::kDenoiseProbeSamples);  // every pass runs
-  d.apply(f);
-  f = film;
-  f.samples = std::max(f.samples, render::kDenoiseProbeSamples);
-  d.apply(f);
+  for (int run = 0; run < 2; ++run) {
+    render::FilmLayers f = film;
+    f.samples = std::max(f.samples, render::kDenoiseProbeSamples);  // every pass runs
+    d.apply(f);
+  }
   return d.lastSeconds();
 }
 

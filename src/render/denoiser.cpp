@@ -223,7 +223,7 @@ void Denoiser::apply(FilmLayers& film, std::vector<float>* unconverged) {
   const auto start = std::chrono::steady_clock::now();
   lastRanNetwork_ = network_ && (!filter_ || film.samples >= kNetworkMinSamples);
   // Below kConvergeMinSamples the film's variance is too rough a guide (shared/denoise.h).
-  const bool converge = settings_.converge && film.samples >= g::kConvergeMinSamples;
+  const bool converge = film.samples >= g::kConvergeMinSamples;
   image_.upload(film);
   ctx_.submitAndWait([&](VkCommandBuffer cmd) {
     if (lastRanNetwork_)

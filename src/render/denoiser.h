@@ -104,9 +104,6 @@ struct DenoiseSettings {
   Network network = Network::None;
   std::string networkFile;
   bool atrous = false;
-  // Move the denoised colour back towards the film's where they differ by more than its noise
-  // (ConvergePass), so that the image converges as samples grow.
-  bool converge = true;
   bool chosen = false;  // --network or --filter was given (else the mode's default)
   bool active() const { return network != Network::None || atrous; }
   // Reads the model it names, so that a bad file or a missing shipped model is refused before

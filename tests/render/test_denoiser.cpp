@@ -12,6 +12,7 @@
 #include <random>
 
 #include "common/vk_test.h"
+#include "image/image_io.h"
 #include "nn_kernels/weights_format.h"
 #include "render/denoiser.h"
 
@@ -344,10 +345,6 @@ std::vector<float> runConverge(const render::FilmLayers& f, const std::vector<fl
   return image.download(out);
 }
 
-float luminanceAt(const std::vector<float>& rgb, size_t i) {
-  return 0.2126f * rgb[3 * i] + 0.7152f * rgb[3 * i + 1] + 0.0722f * rgb[3 * i + 2];
-}
-
 }  // namespace
 
 // The rule of shared/denoise.h on the CPU: lambda from the 3 x 3 sums of the squared luminance
@@ -363,6 +360,7 @@ TEST(Denoiser, ConvergeFollowsTheShrinkageRule) {
   for (size_t i = 0; i < d.combined.size(); ++i)
     if ((i / 3) % size_t(f.width) < size_t(f.width / 2)) d.combined[i] = f.combined[i] * (1.0f + 0.01f * (d.combined[i] - 1.0f));
   const std::vector<float> got = runConverge(f, d.combined);
+  const image::RgbImage film{f.width, f.height, f.combined}, denoised{f.width, f.height, d.combined};
   std::vector<float> want(got.size());
   size_t kept = 0, returned = 0;
   for (int y = 0; y < f.height; ++y)
@@ -371,7 +369,7 @@ TEST(Denoiser, ConvergeFollowsTheShrinkageRule) {
       for (int qy = std::max(y - 1, 0); qy <= std::min(y + 1, f.height - 1); ++qy)
         for (int qx = std::max(x - 1, 0); qx <= std::min(x + 1, f.width - 1); ++qx) {
           const size_t q = size_t(qy) * f.width + qx;
-          const double l = std::max(luminanceAt(d.combined, q), 0.0f), g = luminanceAt(f.combined, q) - l;
+          const double l = std::max(denoised.luminance(q), 0.0), g = film.luminance(q) - l;
           gap += g * g;
           noise += f.variance[q] > 0 ? f.variance[q] : l * l / f.samples;
           level += l;
