@@ -3,8 +3,9 @@
 // 2017, section 4.3): a 5 x 5 B3-spline kernel with taps `step` pixels apart, each tap weighted
 // by its luminance difference against sigmaLuminance x the pixel's standard deviation (the
 // variance blurred 3 x 3), its depth difference against the depth gradient, and its normal's
-// agreement. The filtered variance (sum of squared weights x variance) feeds the next
-// iteration. A pixel that saw light directly (normal.w > 0, shared/denoise.h) keeps its own
+// agreement (for a pixel that straddles an edge, with neighbours of the same mix of its faces:
+// lib/film_guides.glsl normalLogFactor). The filtered variance (sum of squared weights x
+// variance) feeds the next iteration. A pixel that saw light directly (normal.w > 0, shared/denoise.h) keeps its own
 // colour and is no other pixel's tap. The filter runs on demodulated colour (colour / albedo: texture is not noise):
 // the first iteration (kFirst) divides, the last (kLast) multiplies back.
 // In: colour (rgb, w variance; demodulated after the first iteration), albedo (w depth),
@@ -34,18 +35,13 @@ vec4 inputAt(uint p) {
 bool inside(ivec2 q) { return q.x >= 0 && q.y >= 0 && q.x < int(gPush.width) && q.y < int(gPush.height); }
 uint index(ivec2 q) { return uint(q.y) * gPush.width + uint(q.x); }
 float depthAt(ivec2 q) { return inside(q) ? gAlbedo[index(q)].w : 0.0; }
-// The pixel's mean shading direction. The film's normal is the average over the pixel's
-// samples, shorter than 1 where a pixel straddles an edge; unnormalized, such a pixel agreed
-// less with itself than with its neighbours (|n|^2 < n.m) and was replaced by them, or, with
-// every weight below float's range, by 0.
-vec3 normalAt(uint i) { return unitNormal(gNormal[i].xyz); }
 
 void main() {
   const ivec2 p = ivec2(gl_GlobalInvocationID.xy);
   if (!inside(p)) return;
   const uint ip = index(p);
   const vec4 centre = inputAt(ip);
-  const vec3 np = normalAt(ip);
+  const vec3 np = gNormal[ip].xyz;
   const float zp = gAlbedo[ip].w;
   const float lp = luminance(centre.rgb);
   const bool lit = gNormal[ip].w > 0.0;
@@ -83,8 +79,13 @@ void main() {
         w = zp == zq ? exp(-abs(lp - luminance(c.rgb)) / sigmaL) : 0.0;  // miss to miss only
       } else {
         const float dz = abs(zp - zq) / (gPush.sigmaDepth * gradZ * length(vec2(q - p)) + 1e-3 * zp);
-        const float wn = iq == ip ? 1.0 : pow(max(dot(np, normalAt(iq)), 0.0), gPush.sigmaNormal);
-        w = wn * exp(-abs(lp - luminance(c.rgb)) / sigmaL - dz);
+        // The film's normal is the mean over the pixel's samples, shorter than 1 where it
+        // straddles an edge. Compared by their dot product, such a pixel agreed less with
+        // itself than with the face covering most of it (|n|^2 < n.m) and was replaced by it.
+        const float ln = iq == ip ? 0.0
+                                  : normalLogFactor(np, gNormal[iq].xyz, gPush.sigmaNormal, kGuideCosMin,
+                                                    kGuideStraddleLength, kGuideStraddleSigma);
+        w = exp(ln - abs(lp - luminance(c.rgb)) / sigmaL - dz);
       }
       const float k = h[abs(tx)] * h[abs(ty)] * w;
       sum += k * c.rgb;

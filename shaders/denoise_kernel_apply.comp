@@ -12,12 +12,15 @@
 // kKernelFactorsGeometry (osr_image_kpn_v2) each tap's logit gets the logarithm of the fixed
 // normal and depth edge-stopping factors added, so the network only learns what the geometry
 // cannot tell; with kKernelFactorsFilter (osr_image_kpn_v3) also those of the a-trous filter's
-// B3-spline and variance-scaled luminance factors, so the kernels start as the filter. Like the
+// B3-spline and variance-scaled luminance factors, so the kernels start as the filter; with
+// kKernelFactorsStraddle (osr_image_kpn_v4) the normal factor of a pixel that straddles an
+// edge compares mean normals, as the filter's does (lib/film_guides.glsl). Like the
 // filter it averages linear colour (its factors keep fireflies out of their neighbours, which
 // the compression does for the others) and the variance of its luminance (image colour .w, the
 // film's, demodulated and exposed at the first level), passed on in the tile buffers' w.
 #extension GL_GOOGLE_include_directive : require
 #include "shared/denoise.h"
+#include "lib/film_guides.glsl"  // normalLogFactor
 #include "lib/sampling.glsl"  // luminance
 
 layout(local_size_x = kDenoiseTile, local_size_y = kDenoiseTile) in;
@@ -64,21 +67,18 @@ float depthSlope(ivec2 g, ivec2 axis) {
   return slope;
 }
 
-vec3 unitNormal(uint p) {
-  const vec3 n = gNormal[p].xyz;
-  return n / max(length(n), 1e-12);
-}
-
-// image_unet.guide_logits: log of tap q's fixed factor for tile pixel t, whose unit normal,
-// depth and depth gradient are np, zp, gradZ.
+// image_unet.guide_logits: log of tap q's fixed factor for tile pixel t, whose film normal
+// (the mean over its samples), depth and depth gradient are np, zp, gradZ.
 float guideLogit(ivec2 t, ivec2 q, vec3 np, float zp, float gradZ) {
   if (q == t) return 0.0;
   const float zq = gAlbedo[imagePixel(q)].w;
   const float none = kGuideSigmaNormal * log(kGuideCosMin);
   if (zp <= 0.0 || zq <= 0.0) return (zp > 0.0) == (zq > 0.0) ? 0.0 : none;
-  const float cosine = dot(np, unitNormal(imagePixel(q)));
+  const float straddle = kGuided == kKernelFactorsStraddle ? kGuideStraddleLength : 0.0;
+  const float normal = normalLogFactor(np, gNormal[imagePixel(q)].xyz, kGuideSigmaNormal, kGuideCosMin, straddle,
+                                       kGuideStraddleSigma);
   const float scale = kGuideSigmaDepth * gradZ * length(vec2(q - t)) + kGuideDepthFloor * zp;
-  return kGuideSigmaNormal * log(max(cosine, kGuideCosMin)) - abs(zp - zq) / max(scale, 1e-30);
+  return normal - abs(zp - zq) / max(scale, 1e-30);
 }
 
 // The level's input at tile pixel t: the colour (compressed, or linear with the filter's
@@ -90,7 +90,7 @@ vec4 levelInput(ivec2 t) {
     const float e = gSums[kExposurePartials].exposure;
     const vec4 c = gColour[p];
     const vec3 x = max(c.rgb, vec3(0.0)) / m * e;
-    if (kGuided == kKernelFactorsFilter) {
+    if (kGuided >= kKernelFactorsFilter) {
       const float lm = luminance(m);
       return vec4(x, max(c.w, 0.0) * e * e / (lm * lm));
     }
@@ -147,13 +147,13 @@ void main() {
   vec3 np = vec3(0.0);
   float zp = 0.0, gradZ = 0.0;
   float lp = 0.0, sigma = 1.0;
-  if (kGuided == kKernelFactorsFilter) {
+  if (kGuided >= kKernelFactorsFilter) {
     lp = luminance(levelInput(t).rgb);
     sigma = filterSigma(t);
   }
   if (kGuided != 0u) {
     const ivec2 g = ivec2(gPush.tileX, gPush.tileY) + t;
-    np = unitNormal(imagePixel(t));
+    np = gNormal[imagePixel(t)].xyz;
     zp = depthAt(g);
     gradZ = max(depthSlope(g, ivec2(1, 0)), depthSlope(g, ivec2(0, 1)));
   }
@@ -166,7 +166,7 @@ void main() {
     if (q.x < 0) continue;
     inputs[i] = levelInput(q);
     logits[i] = gTensor[base + i * plane] + (kGuided != 0u ? guideLogit(t, q, np, zp, gradZ) : 0.0);
-    if (kGuided == kKernelFactorsFilter) logits[i] += filterLogit(i, lp, luminance(inputs[i].rgb), sigma);
+    if (kGuided >= kKernelFactorsFilter) logits[i] += filterLogit(i, lp, luminance(inputs[i].rgb), sigma);
     top = max(top, logits[i]);
   }
   vec3 sum = vec3(0.0);
@@ -182,7 +182,7 @@ void main() {
   const vec3 d = sum / weights;
   if (kLast != 0u) {
     const uint p = imagePixel(t);
-    const vec3 x = kGuided == kKernelFactorsFilter ? d : d / max(1.0 - luminance(d), 1e-6);
+    const vec3 x = kGuided >= kKernelFactorsFilter ? d : d / max(1.0 - luminance(d), 1e-6);
     gOut[p] = vec4(x / gSums[kExposurePartials].exposure * modulator(p), 0.0);
   } else {
     gOut[uint(t.y) * gPush.tileWidth + uint(t.x)] = vec4(d, sumVariance / (weights * weights));

@@ -1,4 +1,4 @@
-"""The image denoisers (architectures "osr_image_kpn_v2", "osr_image_kpn_v1" and
+"""The image denoisers (architectures "osr_image_kpn_v4" down to "osr_image_kpn_v1", and
 "osr_image_unet_v1") as PyTorch modules for any base width K.
 
 The single definition that training (train_denoiser.py), packing (weights_pack.py) and the
@@ -17,6 +17,10 @@ out, with an HDR-aware input transform (docs/weights_format.md, "Image denoiser"
                        by fixed normal and depth edge-stopping factors (guide_logits below, the
                        a-trous filter's), trained through, so the network learns only what the
                        geometry cannot tell; needs the first hit's depth besides the input
+    osr_image_kpn_v3   also the a-trous filter's B3-spline and variance-scaled luminance
+                       factors (filter_logits), averaging linear colour; needs the variance
+    osr_image_kpn_v4   v3 with the normal factor of a pixel straddling an edge taken on the
+                       mean normals (STRADDLE_LENGTH below), as the a-trous filter does
 
 The kernel-predicting variant (Bako et al. 2017's KPCN, with Vogels et al. 2018's dilated
 kernels in sequence) is the shipped one: its output is a convex combination of neighbouring
@@ -45,9 +49,11 @@ ARCHITECTURE = "osr_image_unet_v1"
 KPN_ARCHITECTURE = "osr_image_kpn_v1"
 GUIDED_ARCHITECTURE = "osr_image_kpn_v2"
 VARIANCE_ARCHITECTURE = "osr_image_kpn_v3"
-GEOMETRY_GUIDED = (VARIANCE_ARCHITECTURE, GUIDED_ARCHITECTURE)  # need the depth
-KERNEL_ARCHITECTURES = (VARIANCE_ARCHITECTURE, GUIDED_ARCHITECTURE, KPN_ARCHITECTURE)
-ARCHITECTURES = (VARIANCE_ARCHITECTURE, GUIDED_ARCHITECTURE, KPN_ARCHITECTURE, ARCHITECTURE)
+STRADDLE_ARCHITECTURE = "osr_image_kpn_v4"
+VARIANCE_GUIDED = (STRADDLE_ARCHITECTURE, VARIANCE_ARCHITECTURE)  # need the variance
+GEOMETRY_GUIDED = (*VARIANCE_GUIDED, GUIDED_ARCHITECTURE)  # need the depth
+KERNEL_ARCHITECTURES = (*GEOMETRY_GUIDED, KPN_ARCHITECTURE)
+ARCHITECTURES = (*KERNEL_ARCHITECTURES, ARCHITECTURE)
 STAGE = "image_denoiser"
 IN_CHANNELS = 9
 OUT_CHANNELS = 3
@@ -72,6 +78,14 @@ GUIDE_SLOPE_NONE = 1e30  # a one-sided depth difference past the image's edge: n
 # kernel's and exp(-|l_p - l_q| / (SIGMA_LUMINANCE sqrt(v_p) + VARIANCE_FLOOR)), l the linear
 # luminance of the level's colour (exposed and demodulated), v_p its variance blurred 3 x 3.
 B3_SPLINE = (0.0625, 0.25, 0.375, 0.25, 0.0625)
+# osr_image_kpn_v4 (and the a-trous filter) compare a pixel that straddles an edge (its mean
+# normal shorter than STRADDLE_LENGTH: its samples saw two faces) with its neighbours by their
+# mean normals, exp(-STRADDLE_SIGMA |n_p - n_q|^2): pixels along the edge with about the same
+# mix of the two faces count, the faces themselves (a different mix) do not. With the unit
+# normals' cosine such a pixel agreed with nobody and kept its noise: half of both denoisers'
+# error was on these 1-2 % of the pixels (docs/denoise.md, "Pixels on edges").
+STRADDLE_LENGTH = 0.9
+STRADDLE_SIGMA = 16.0
 SIGMA_LUMINANCE = 4.0
 VARIANCE_FLOOR = 1e-6
 
@@ -127,11 +141,13 @@ def depth_gradient(depth: torch.Tensor) -> torch.Tensor:
     return torch.maximum(gx, gy)
 
 
-def guide_logits(normal: torch.Tensor, depth: torch.Tensor, level: int) -> torch.Tensor:
+def guide_logits(normal: torch.Tensor, depth: torch.Tensor, level: int, straddle: bool = False) -> torch.Tensor:
     """log of osr_image_kpn_v2's fixed factor on each tap (N x 25 x H x W) at this level: the
     normals' cosine^GUIDE_SIGMA_NORMAL times the depth factor (see the constants; |grad z| is
     depth_gradient's); a miss (depth 0) only with misses (factor 1 between two). The centre
-    tap's is 0 (factor 1)."""
+    tap's is 0 (factor 1). straddle (osr_image_kpn_v4): where the pixel's mean normal is
+    shorter than STRADDLE_LENGTH, the normal factor is exp(-STRADDLE_SIGMA |n_p - n_q|^2) on
+    the mean normals instead."""
     n, _, h, w = normal.shape
     step = 1 << level
     pad = (KERNEL_SIZE // 2) * step
@@ -139,6 +155,11 @@ def guide_logits(normal: torch.Tensor, depth: torch.Tensor, level: int) -> torch
     unit = normal / normal.norm(dim=1, keepdim=True).clamp(min=1e-12)
     nq = nn.functional.unfold(unit, KERNEL_SIZE, dilation=step, padding=pad).view(n, 3, taps, h, w)
     cos = (unit.unsqueeze(2) * nq).sum(1)
+    normal_term = GUIDE_SIGMA_NORMAL * torch.log(cos.clamp(min=GUIDE_COS_MIN))
+    if straddle:
+        mq = nn.functional.unfold(normal, KERNEL_SIZE, dilation=step, padding=pad).view(n, 3, taps, h, w)
+        mixed = -STRADDLE_SIGMA * ((normal.unsqueeze(2) - mq) ** 2).sum(1)
+        normal_term = torch.where(normal.norm(dim=1, keepdim=True) < STRADDLE_LENGTH, mixed, normal_term)
     zq = nn.functional.unfold(depth, KERNEL_SIZE, dilation=step, padding=pad).view(n, taps, h, w)
     offsets = torch.arange(taps, dtype=depth.dtype, device=depth.device)
     dist = torch.hypot(offsets % KERNEL_SIZE - KERNEL_SIZE // 2, torch.div(offsets, KERNEL_SIZE,
@@ -146,7 +167,7 @@ def guide_logits(normal: torch.Tensor, depth: torch.Tensor, level: int) -> torch
     scale = GUIDE_SIGMA_DEPTH * depth_gradient(depth) * dist + GUIDE_DEPTH_FLOOR * depth
     dz = (depth - zq).abs() / scale.clamp(min=1e-30)  # 0 only at a miss, where it is not used
     hit = (depth > 0) & (zq > 0)
-    g = torch.where(hit, GUIDE_SIGMA_NORMAL * torch.log(cos.clamp(min=GUIDE_COS_MIN)) - torch.where(hit, dz, 0),
+    g = torch.where(hit, normal_term - torch.where(hit, dz, 0),
                     torch.where((depth > 0) == (zq > 0), 0.0, GUIDE_SIGMA_NORMAL * math.log(GUIDE_COS_MIN)))
     g[:, taps // 2] = 0
     return g
@@ -183,7 +204,7 @@ def filter_logits(d: torch.Tensor, v: torch.Tensor, level: int) -> torch.Tensor:
 def apply_kernels(logits: torch.Tensor, colour: torch.Tensor, albedo: torch.Tensor,
                   e: torch.Tensor, light: torch.Tensor | None = None,
                   guides: tuple[torch.Tensor, torch.Tensor] | None = None,
-                  variance: torch.Tensor | None = None) -> torch.Tensor:
+                  variance: torch.Tensor | None = None, straddle: bool = False) -> torch.Tensor:
     """The kernel-predicting network's colour (N x 3 x H x W) from its logits. Per level, each
     pixel's 25 logits are a softmax over the taps inside the image (taps outside get no weight,
     as the shader's tile edge does), applied to the previous level's colour. The kernels
@@ -198,7 +219,8 @@ def apply_kernels(logits: torch.Tensor, colour: torch.Tensor, albedo: torch.Tens
     variance (N x 1 x H x W; osr_image_kpn_v3): the variance of each pixel's luminance,
     demodulated and exposed as the colour is; each level's logits get filter_logits added, and
     each level passes on the variance of its average (the sum of squared weights times the
-    taps' variances), as the a-trous filter does."""
+    taps' variances), as the a-trous filter does. straddle (osr_image_kpn_v4): guide_logits
+    compares the pixels that straddle an edge by their mean normals."""
     n, _, h, w = colour.shape
     scale = demodulator(albedo)
     x = colour.clamp(min=0) / scale * e.view(-1, 1, 1, 1)
@@ -227,7 +249,7 @@ def apply_kernels(logits: torch.Tensor, colour: torch.Tensor, albedo: torch.Tens
             counts[:, taps // 2] = 1
         lg = logits[:, level * taps:(level + 1) * taps]
         if guides is not None:
-            lg = lg + guide_logits(*guides, level)
+            lg = lg + guide_logits(*guides, level, straddle)
         if v is not None:
             lg = lg + filter_logits(d, v, level)
         lg = lg.masked_fill(counts == 0, -torch.inf)
@@ -244,17 +266,18 @@ def denoise(model: "ImageUNet", colour: torch.Tensor, albedo: torch.Tensor, norm
             e: torch.Tensor | None = None, depth: torch.Tensor | None = None,
             variance: torch.Tensor | None = None) -> torch.Tensor:
     """The denoised colour (N x 3 x H x W, H and W multiples of 8) by any architecture;
-    osr_image_kpn_v2 and _v3 need the depth (N x 1 x H x W), _v3 also the variance of each
+    osr_image_kpn_v2, _v3 and _v4 need the depth (N x 1 x H x W), _v3 and _v4 also the variance of each
     pixel's luminance estimate (N x 1 x H x W, the renderer's `variance` layer)."""
     x, e = make_input(colour, albedo, normal, e)
     y = model(x)
     if model.architecture in GEOMETRY_GUIDED:
         if depth is None:
             raise ValueError(f"{model.architecture} needs the depth")
-        if model.architecture == VARIANCE_ARCHITECTURE:
+        if model.architecture in VARIANCE_GUIDED:
             if variance is None:
-                raise ValueError(f"{VARIANCE_ARCHITECTURE} needs the variance")
-            return apply_kernels(y, colour, albedo, e, guides=(normal, depth), variance=variance)
+                raise ValueError(f"{model.architecture} needs the variance")
+            return apply_kernels(y, colour, albedo, e, guides=(normal, depth), variance=variance,
+                                 straddle=model.architecture == STRADDLE_ARCHITECTURE)
         return apply_kernels(y, colour, albedo, e, guides=(normal, depth))
     if model.architecture == KPN_ARCHITECTURE:
         return apply_kernels(y, colour, albedo, e)

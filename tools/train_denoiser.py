@@ -4,7 +4,7 @@ whose kernels are multiplied by fixed normal and depth edge-stopping factors; wi
 "osr_image_kpn_v1", without them; with --arch unet the direct "osr_image_unet_v1") on noisy
 renders.
 
-usage: train_denoiser.py DATA [DATA ...] --val VAL --out RUN [--arch kpn3|kpn2|kpn|unet] [--k 16]
+usage: train_denoiser.py DATA [DATA ...] --val VAL --out RUN [--arch kpn4|kpn3|kpn2|kpn|unet] [--k 16]
                          [--steps N | --minutes M]
                          [--resume] [--batch 8] [--crop 64] [--lr 2e-3] [--threads 2] [--device cpu]
                          [--quick]
@@ -27,7 +27,7 @@ sample count is drawn log-uniformly over the counts the subsets reach, keeping t
 least a quarter of the input's samples; a view with a reference (ref_*.npz) uses it as the
 target instead. Albedo, normal and depth are averaged over the input's renders as the
 renderer averages them (a view rendered before depth was kept has one depth.npz for all its
-renders; kpn2 and kpn3 need depth, the others do not read it; kpn3 also the renders' variance
+renders; kpn2-kpn4 need depth, the others do not read it; kpn3 and kpn4 also the renders' variance
 layer, the variance of the mean being the sum of w_i^2 var_i over the averaged renders). The exposure e is computed on the whole input image (as the renderer does),
 then a random crop (a multiple of 8) is taken and one of the 8 symmetries of the square
 applied to colour, albedo, normal and target alike. Normals are world-space directions:
@@ -84,7 +84,7 @@ from merge_references import mean_and_spread  # noqa: E402
 RELMSE_EPSILON = 0.01  # as osr-vk compare (src/image/image_metrics.h)
 SELECT_METRIC = "val_select"  # what best.pt is chosen by (a resumed run of another starts afresh)
 MIN_TARGET_SHARE = 0.25  # a Noise2Noise target keeps at least this share of the input's spp
-ARCHS = {"kpn3": "osr_image_kpn_v3", "kpn2": "osr_image_kpn_v2", "kpn": "osr_image_kpn_v1", "unet": "osr_image_unet_v1"}  # image_unet's
+ARCHS = {"kpn4": "osr_image_kpn_v4", "kpn3": "osr_image_kpn_v3", "kpn2": "osr_image_kpn_v2", "kpn": "osr_image_kpn_v1", "unet": "osr_image_unet_v1"}  # image_unet's
 
 
 class DataError(Exception):
@@ -459,7 +459,8 @@ def main(argv: list[str] | None = None) -> int:
                    "such as models/osr_image_denoiser.osrw; the kernel architectures share their weights, "
                    "so a trained kpn model can start a kpn2 run)")
     p.add_argument("--arch", choices=tuple(ARCHS), default="kpn2",
-                   help="kpn3: the kernels of kpn2 times the a-trous filter's B3-spline and variance-scaled "
+                   help="kpn4: kpn3 with the normal factor of a pixel that straddles an edge taken on the "
+                   "mean normals, as the a-trous filter does; kpn3: the kernels of kpn2 times the a-trous filter's B3-spline and variance-scaled "
                    "luminance factors, so the network starts as the filter and learns what it misses; "
                    "kpn2: the network predicts filter kernels, multiplied by fixed normal and depth "
                    "edge-stopping factors (default); kpn: without them; unet: it predicts the colour")
@@ -532,7 +533,7 @@ def main(argv: list[str] | None = None) -> int:
         return evaluate_checkpoint(args.evaluate, args.val, run, args.record)
     architecture = ARCHS[args.arch]
     guided = architecture in image_unet.GEOMETRY_GUIDED
-    with_variance = architecture == image_unet.VARIANCE_ARCHITECTURE
+    with_variance = architecture in image_unet.VARIANCE_GUIDED
     train = Dataset(args.data, need_depth=guided, need_variance=with_variance)
     val = Dataset([args.val], with_reference=True, need_depth=guided, need_variance=with_variance)
     if not train.keys:
@@ -565,9 +566,9 @@ def main(argv: list[str] | None = None) -> int:
             if (start_arch in kernels) != (architecture in kernels):
                 raise DataError(f"--init {args.init}: a {start_arch} model cannot start a {architecture} run")
             model.load_state_dict(start_from["model"])
-            if architecture == image_unet.VARIANCE_ARCHITECTURE and start_arch != architecture:
-                # The other kernel models' logits make a blur of their own; v3's starts as the
-                # a-trous filter (its fixed factors), so its head starts near zero.
+            if architecture in image_unet.VARIANCE_GUIDED and start_arch not in image_unet.VARIANCE_GUIDED:
+                # The other kernel models' logits make a blur of their own; v3's and v4's start
+                # as the a-trous filter (their fixed factors), so the head starts near zero.
                 with torch.no_grad():
                     model.dec0[-1].weight.mul_(0.1)
                     model.dec0[-1].bias.zero_()
@@ -584,7 +585,7 @@ def main(argv: list[str] | None = None) -> int:
                 head.bias.fill_(math.log1p(image_unet.EXPOSURE_KEY))
             else:
                 taps = image_unet.KERNEL_SIZE ** 2
-                centre = 0.0 if architecture == image_unet.VARIANCE_ARCHITECTURE else 4.0  # v3: the filter's
+                centre = 0.0 if architecture in image_unet.VARIANCE_GUIDED else 4.0  # v3, v4: the filter's
                 head.bias.copy_(torch.tensor([centre if i % taps == taps // 2 else 0.0
                                               for i in range(image_unet.KPN_OUT_CHANNELS)]))
     model.to(args.device)
@@ -729,7 +730,7 @@ def evaluate_checkpoint(path: str, val_folder: str, run: Path, record_path: str 
         raise DataError(f"{path}: not an image denoiser checkpoint ({type(e).__name__})") from None
     val = Dataset([val_folder], with_reference=True,
                   need_depth=model.architecture in image_unet.GEOMETRY_GUIDED,
-                  need_variance=model.architecture == image_unet.VARIANCE_ARCHITECTURE)
+                  need_variance=model.architecture in image_unet.VARIANCE_GUIDED)
     if not val.keys:
         raise DataError(f"{val_folder}: no view with a reference (make_denoise_data.py --validation)")
     final = evaluate(model, val)

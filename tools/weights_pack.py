@@ -229,7 +229,8 @@ def header_fields(model, k: int, fmt: dict, metadata: dict) -> dict:
         for key in ("inputs", "input_transform"):
             metadata.pop(key, None)
         kpn = model.architecture in image_unet.KERNEL_ARCHITECTURES
-        arch = {image_unet.VARIANCE_ARCHITECTURE: "kImageVarianceKpnArchitecture",
+        arch = {image_unet.STRADDLE_ARCHITECTURE: "kImageStraddleKpnArchitecture",
+                image_unet.VARIANCE_ARCHITECTURE: "kImageVarianceKpnArchitecture",
                 image_unet.GUIDED_ARCHITECTURE: "kImageGuidedKpnArchitecture",
                 image_unet.KPN_ARCHITECTURE: "kImageKpnArchitecture"}.get(model.architecture, "kImageArchitecture")
         return {"stage": fmt["kStageImageDenoiser"], "architecture": fmt[arch],
@@ -347,8 +348,14 @@ def write_image_golden(model, directory: str, size: tuple[int, int], seed: int, 
         y0 = torch.arange(h, dtype=torch.float32).view(1, 1, h, 1)
         depth = 2.0 + band.float() * 0.7 + 0.03 * x + 0.02 * y0 + 0.001 * torch.randn((1, 1, h, w), generator=g)
         depth = depth * (torch.rand((1, 1, h, w), generator=g) > 0.03)
+        if model.architecture == image_unet.STRADDLE_ARCHITECTURE:
+            # The columns where one band meets the next straddle the edge: their film normal
+            # is the mean of the two faces', shorter than 1 (mixed in various shares).
+            edge = (band[..., 1:] != band[..., :-1])[0, 0, 0].nonzero().flatten() + 1
+            share = torch.rand((1, 1, h, edge.numel()), generator=g)
+            normal[..., edge] = share * normal[..., edge - 1] + (1 - share) * normal[..., edge]
         layers = [("colour", colour), ("albedo", albedo), ("normal", normal), ("depth", depth)]
-    if model.architecture == image_unet.VARIANCE_ARCHITECTURE:
+    if model.architecture in image_unet.VARIANCE_GUIDED:
         # A variance of the order of the colour's luminance squared (a few samples' worth),
         # over a range of levels, so that the luminance factors are neither all 1 nor all 0.
         lum = 0.2126 * colour[:, 0:1] + 0.7152 * colour[:, 1:2] + 0.0722 * colour[:, 2:3]

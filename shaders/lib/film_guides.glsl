@@ -17,4 +17,18 @@ vec3 unitNormal(vec3 n) {
   return len2 > 1e-12 ? n * inversesqrt(len2) : vec3(0.0);
 }
 
+// The logarithm of the normal factor of an edge-aware filter's tap q for pixel p, from their
+// film normals: sigma log(max(cos, cosMin)) between their unit directions; or, where p's mean
+// normal is shorter than straddleLength (its samples saw two faces: it straddles an edge),
+// -straddleSigma |n_p - n_q|^2 on the means, so that pixels along the edge with about the same
+// mix of the two faces agree and the faces themselves do not (tools/image_unet.py
+// STRADDLE_LENGTH). With the unit directions such a pixel agreed with nobody and kept its noise.
+float normalLogFactor(vec3 np, vec3 nq, float sigma, float cosMin, float straddleLength, float straddleSigma) {
+  if (dot(np, np) < straddleLength * straddleLength) {
+    const vec3 d = np - nq;
+    return -straddleSigma * dot(d, d);
+  }
+  return sigma * log(max(dot(unitNormal(np), unitNormal(nq)), cosMin));
+}
+
 #endif

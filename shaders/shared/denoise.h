@@ -90,16 +90,24 @@ OSR_CONST(float, kGuideSigmaDepth, 1.0);
 OSR_CONST(float, kGuideDepthFloor, 1e-3);
 OSR_CONST(float, kGuideCosMin, 1e-30);
 OSR_CONST(float, kGuideSlopeNone, 1e30);
+// kKernelFactorsStraddle (osr_image_kpn_v4) and the a-trous filter: where a pixel's film normal
+// (the mean over its samples) is shorter than kGuideStraddleLength, it straddles an edge, and
+// its normal factor is exp(-kGuideStraddleSigma |n_p - n_q|^2) on the mean normals
+// (lib/film_guides.glsl normalLogFactor).
+OSR_CONST(float, kGuideStraddleLength, 0.9);
+OSR_CONST(float, kGuideStraddleSigma, 16.0);
 // The value of kSpecKernelGuided: what each tap's weight is multiplied by besides the
 // network's. kKernelFactorsFilter (osr_image_kpn_v3, image_unet.filter_logits): also the
 // a-trous filter's B3-spline weight h_i h_j and exp(-|l_p - l_q| / (kFilterSigmaLuminance
 // sqrt(v_p) + kFilterVarianceFloor)), l the luminance of the level's colour (linear: v3
 // averages exposed, demodulated colour, as the filter does) and v_p its variance (the film's,
 // demodulated and exposed, passed on by each level as the sum of squared weights times the
-// taps' variances) blurred 3 x 3.
+// taps' variances) blurred 3 x 3. kKernelFactorsStraddle (osr_image_kpn_v4): those of
+// kKernelFactorsFilter, the normal factor of a pixel on an edge as the a-trous filter's.
 OSR_CONST(uint, kKernelFactorsNone, 0);
 OSR_CONST(uint, kKernelFactorsGeometry, 1);
 OSR_CONST(uint, kKernelFactorsFilter, 2);
+OSR_CONST(uint, kKernelFactorsStraddle, 3);
 OSR_CONST(float, kFilterSigmaLuminance, 4.0);
 OSR_CONST(float, kFilterVarianceFloor, 1e-6);
 

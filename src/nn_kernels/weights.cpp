@@ -412,9 +412,10 @@ ImageUNetWeights ImageUNetWeights::load(const std::string& path) {
 ImageUNetWeights ImageUNetWeights::parse(std::span<const uint8_t> file, const std::string& path) {
   return parseWith<ImageUNetWeights>(file, path, [&](const Packed& p, ImageUNetWeights& w) {
     const nlohmann::json& header = p.header;
-    // Any of the three image architectures; requireStage names the file's when it is none.
+    // Any of the image architectures; requireStage names the file's when it is none.
     const std::string declared = header.value("architecture", std::string());
-    w.architecture = declared == kImageVarianceKpnArchitecture ? kImageVarianceKpnArchitecture
+    w.architecture = declared == kImageStraddleKpnArchitecture   ? kImageStraddleKpnArchitecture
+                     : declared == kImageVarianceKpnArchitecture ? kImageVarianceKpnArchitecture
                      : declared == kImageGuidedKpnArchitecture ? kImageGuidedKpnArchitecture
                      : declared == kImageKpnArchitecture       ? kImageKpnArchitecture
                                                                : kImageArchitecture;

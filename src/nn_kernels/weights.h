@@ -81,10 +81,11 @@ extern const ImageConvSpec kImageConvSpecs[kImageConvCount];
 
 struct ImageUNetWeights {
   uint32_t k = 0;
-  // kImageVarianceKpnArchitecture, kImageGuidedKpnArchitecture or kImageKpnArchitecture (kernel
-  // logits out; the first two's kernels are multiplied by fixed normal and depth factors, the
-  // first's also by the a-trous filter's luminance and B3-spline factors) or kImageArchitecture
-  // (colour out).
+  // kImageStraddleKpnArchitecture, kImageVarianceKpnArchitecture, kImageGuidedKpnArchitecture
+  // or kImageKpnArchitecture (kernel logits out; the first three's kernels are multiplied by
+  // fixed normal and depth factors, the first two's also by the a-trous filter's luminance and
+  // B3-spline factors, the first's normal factor compares pixels on edges by their mean
+  // normals) or kImageArchitecture (colour out).
   std::string architecture = kImageKpnArchitecture;
   std::string source;
   std::vector<ConvWeights> convs;  // kImageConvSpecs order, no BatchNorm
@@ -93,7 +94,9 @@ struct ImageUNetWeights {
   // Reads the depth: the kernels have the normal and depth factors.
   bool guided() const { return architecture == kImageGuidedKpnArchitecture || filterGuided(); }
   // Reads the film's variance: the kernels also have the a-trous filter's factors.
-  bool filterGuided() const { return architecture == kImageVarianceKpnArchitecture; }
+  bool filterGuided() const { return architecture == kImageVarianceKpnArchitecture || straddleGuided(); }
+  // Compares pixels that straddle an edge by their mean normals, as the a-trous filter does.
+  bool straddleGuided() const { return architecture == kImageStraddleKpnArchitecture; }
   uint32_t outChannels() const { return predictsKernels() ? kImageKpnOutChannels : kOutChannels; }
   // Random weights (uniform, variance 2 / fan_in; biases in +-0.1) for tests and benchmarks.
   static ImageUNetWeights random(uint32_t k, uint32_t seed,

@@ -57,6 +57,9 @@ inline constexpr char kImageGuidedKpnArchitecture[] = "osr_image_kpn_v2";
 // every level carries on (image_unet.filter_logits): the kernels start as the filter, so it
 // also reads the depth and the film's variance.
 inline constexpr char kImageVarianceKpnArchitecture[] = "osr_image_kpn_v3";
+// v3 with the normal factor of a pixel that straddles an edge (its mean normal shorter than
+// kGuideStraddleLength, shared/denoise.h) taken on the mean normals, as the a-trous filter's.
+inline constexpr char kImageStraddleKpnArchitecture[] = "osr_image_kpn_v4";
 inline constexpr uint32_t kImageKpnOutChannels = 100;
 inline constexpr uint32_t kImageInChannels = 9;
 inline constexpr uint32_t kImageMultiple = 8;

@@ -54,7 +54,7 @@ class NetOutputPass {
 // (b.out), the others the whole tile to a tile buffer (b.out). b.tensor: the logits. factors:
 // what each tap's weight is multiplied by besides the network's (gpu::denoise::KernelFactors:
 // nothing, the fixed normal and depth factors of osr_image_kpn_v2, or those and the a-trous
-// filter's of osr_image_kpn_v3).
+// filter's of osr_image_kpn_v3, and of osr_image_kpn_v4 with the filter's normal factor on edges).
 class KernelApplyPass {
  public:
   KernelApplyPass(const vk::Context& ctx, bool first, bool last, uint32_t factors);

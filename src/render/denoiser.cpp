@@ -103,9 +103,10 @@ NetworkDenoiser::NetworkDenoiser(const vk::Context& ctx, const nn::ImageUNetWeig
   sums_ = vk::Buffer(ctx, sizeof(g::ExposureSums) * (g::kExposurePartials + 1), vk::MemoryUse::DeviceLocal,
                      "denoise exposure");
   if (kernels) {
-    const uint32_t factors = weights.filterGuided() ? g::kKernelFactorsFilter
-                             : weights.guided()     ? g::kKernelFactorsGeometry
-                                                    : g::kKernelFactorsNone;
+    const uint32_t factors = weights.straddleGuided() ? g::kKernelFactorsStraddle
+                             : weights.filterGuided() ? g::kKernelFactorsFilter
+                             : weights.guided()       ? g::kKernelFactorsGeometry
+                                                      : g::kKernelFactorsNone;
     firstKernel_.emplace(ctx, true, false, factors);
     middleKernel_.emplace(ctx, false, false, factors);
     lastKernel_.emplace(ctx, false, true, factors);
