@@ -266,7 +266,7 @@ TEST(Weights, PackerDetectsTheArchitecture) {
   const std::string tools = test::sourcePath("tools");
   const std::string image = (dir / "image.pt").string(), liar = (dir / "liar.pt").string();
   const std::string kpn = (dir / "kpn.pt").string(), kpn2 = (dir / "kpn2.pt").string();
-  const std::string kpn3 = (dir / "kpn3.pt").string();
+  const std::string kpn3 = (dir / "kpn3.pt").string(), kpn4 = (dir / "kpn4.pt").string();
   const std::string make =
       std::string(py) + " -c \"import sys; sys.path.insert(0, '" + tools + "'); import image_unet, torch; " +
       "m = image_unet.ImageUNet(4, 'osr_image_unet_v1'); image_unet.randomize(m, 3); " +
@@ -275,7 +275,8 @@ TEST(Weights, PackerDetectsTheArchitecture) {
       "torch.save({'model': image_unet.ImageUNet(4).state_dict()}, '" + kpn + "'); " +
       "torch.save({'model': image_unet.ImageUNet(4).state_dict(), 'architecture': 'osr_image_kpn_v2'}, '" + kpn2 +
       "'); torch.save({'model': image_unet.ImageUNet(4).state_dict(), 'architecture': 'osr_image_kpn_v3'}, '" +
-      kpn3 + "')\"";
+      kpn3 + "'); torch.save({'model': image_unet.ImageUNet(4).state_dict(), 'architecture': 'osr_image_kpn_v4'}, '" +
+      kpn4 + "')\"";
   ASSERT_EQ(std::system(make.c_str()), 0);
   const std::string packed = (dir / "image.osrw").string();
   ASSERT_EQ(std::system((std::string(py) + " " + tools + "/weights_pack.py " + image + " " + packed).c_str()), 0);
@@ -304,6 +305,13 @@ TEST(Weights, PackerDetectsTheArchitecture) {
   EXPECT_TRUE(k3.guided());
   EXPECT_TRUE(k3.filterGuided());
   EXPECT_EQ(k3.architecture, nn::kImageVarianceKpnArchitecture);
+  EXPECT_FALSE(k3.straddleGuided());
+  const std::string packedKpn4 = (dir / "kpn4.osrw").string();
+  ASSERT_EQ(std::system((std::string(py) + " " + tools + "/weights_pack.py " + kpn4 + " " + packedKpn4).c_str()), 0);
+  const nn::ImageUNetWeights k4 = nn::ImageUNetWeights::load(packedKpn4);
+  EXPECT_TRUE(k4.filterGuided());
+  EXPECT_TRUE(k4.straddleGuided());
+  EXPECT_EQ(k4.architecture, nn::kImageStraddleKpnArchitecture);
   auto text = readFile(packed);
   EXPECT_NE(std::string(text.begin(), text.end()).find("\"epoch\":7"), std::string::npos);
   const std::string err = (dir / "err.txt").string();

@@ -178,6 +178,31 @@ class GuidedKernels(unittest.TestCase):
             out = image_unet.apply_kernels(logits, c, a, e, guides=(t(normal), t(depth)))[0, 1, :, edge].numpy()
             self.assertLess(np.abs(out / truth - 1).max(), 0.15)
 
+    def test_straddling_pixels_compare_mean_normals(self):
+        # osr_image_kpn_v4's normal factor: for a pixel whose mean normal is shorter than
+        # STRADDLE_LENGTH, -STRADDLE_SIGMA |n_p - n_q|^2 on the mean normals; for any other, the
+        # unit normals' cosine^GUIDE_SIGMA_NORMAL as v2's and v3's.
+        import torch
+        import image_unet
+        h, w = 8, 8
+        normal = torch.zeros(1, 3, h, w)
+        normal[:, 2] = 1.0
+        normal[:, :, :, 4] = torch.tensor([0.5, 0.0, 0.5]).view(1, 3, 1)  # a column on the edge
+        normal[:, :, :, 5:] = torch.tensor([1.0, 0.0, 0.0]).view(1, 3, 1, 1)
+        depth = torch.full((1, 1, h, w), 2.0)
+        plain = image_unet.guide_logits(normal, depth, 0)
+        mixed = image_unet.guide_logits(normal, depth, 0, straddle=True)
+        taps = image_unet.KERNEL_SIZE ** 2
+        right, below = taps // 2 + 1, taps // 2 + image_unet.KERNEL_SIZE
+        # On the edge column: the face to the right differs by (0.5, 0, -0.5), the column
+        # below not at all.
+        self.assertAlmostEqual(float(mixed[0, right, 3, 4]), -image_unet.STRADDLE_SIGMA * 0.5, places=4)
+        self.assertAlmostEqual(float(mixed[0, below, 3, 4]), 0.0, places=4)
+        self.assertLess(float(plain[0, right, 3, 4]), -40.0)  # cos 45 degrees to the 128th
+        # Off the edge both are the unit normals' factor.
+        torch.testing.assert_close(mixed[..., :4], plain[..., :4])
+        torch.testing.assert_close(mixed[..., 5:], plain[..., 5:])
+
 
 class FilterGuidedKernels(unittest.TestCase):
     def test_zero_logits_filter_noise_by_its_variance(self):
