@@ -5,9 +5,10 @@
 # Four trainings, each started from the last one's weights (the kernel architectures share
 # them): the kernel predictor without fixed factors (osr_image_kpn_v1, run1), with the normal
 # and depth factors (osr_image_kpn_v2, run2), with the a-trous filter's factors too
-# (osr_image_kpn_v3, run3), which reads the renders' variance, and the shipped one (run): v3
-# trained on at the sample counts a render of seconds reaches (16-400, --min-spp 16) on more
-# interiors, two cameras each, with a 256-sample render besides (data2).
+# (osr_image_kpn_v3, run3), which reads the renders' variance, and the shipped one (run):
+# osr_image_kpn_v4 (v3 whose pixels on edges compare mean normals) trained on at the sample
+# counts a render of seconds reaches (16-400, --min-spp 16) on more interiors, two cameras
+# each, with a 256-sample render besides (data2).
 #
 #   tools/train_default_denoiser.sh [--quick] [--work DIR] [--osr-vk PATH] [--minutes M] [--install]
 #
@@ -76,7 +77,7 @@ if [ ! -f "$work/run/checkpoint.pt" ]; then
 fi
 data2="$work/data2"
 ((quick)) && data2="$work/data"
-$py "$t/train_denoiser.py" "$data2" --val "$work/val" --out "$work/run" --arch kpn3 --init "$work/run3/best.pt" \
+$py "$t/train_denoiser.py" "$data2" --val "$work/val" --out "$work/run" --arch kpn4 --init "$work/run3/best.pt" \
   --lr 3e-4 --min-spp "$((quick ? 1 : 16))" --eval-s 600 "${train[@]}" $(resume_of "$work/run")
 $py "$t/weights_pack.py" "$work/run/best.pt" "$work/run/model.osrw"
 if ((install)); then

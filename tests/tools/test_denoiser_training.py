@@ -354,7 +354,7 @@ class RealRenders(unittest.TestCase):
             self.assertNotIn("osr-vk: validation", r.stderr)  # CTest sets OSR_VALIDATION=1
             blob = (work / "run" / "model.osrw").read_bytes()
             self.assertIn(b'"stage":"image_denoiser"', blob)
-            self.assertIn(b'"architecture":"osr_image_kpn_v3"', blob)
+            self.assertIn(b'"architecture":"osr_image_kpn_v4"', blob)
             self.assertTrue((work / "run1" / "best.pt").is_file())  # the kpn_v1 run that started run2
             self.assertTrue((work / "run2" / "best.pt").is_file())  # the kpn_v2 run that started run3
             self.assertTrue((work / "run3" / "best.pt").is_file())  # the kpn_v3 run that started it
