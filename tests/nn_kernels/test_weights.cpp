@@ -284,31 +284,29 @@ TEST(Weights, PackerDetectsTheArchitecture) {
   EXPECT_EQ(w.k, 4u);
   EXPECT_EQ(w.convs[6].cin, 16u);
   EXPECT_FALSE(w.predictsKernels());
-  const std::string packedKpn = (dir / "kpn.osrw").string();
-  ASSERT_EQ(std::system((std::string(py) + " " + tools + "/weights_pack.py " + kpn + " " + packedKpn).c_str()), 0);
-  const nn::ImageUNetWeights k = nn::ImageUNetWeights::load(packedKpn);
+  // Packs a checkpoint next to it (.pt -> .osrw) and loads the packed file.
+  const auto packAndLoad = [&](const std::string& checkpoint) {
+    const std::string out = checkpoint.substr(0, checkpoint.size() - 3) + ".osrw";
+    EXPECT_EQ(std::system((std::string(py) + " " + tools + "/weights_pack.py " + checkpoint + " " + out).c_str()), 0);
+    return nn::ImageUNetWeights::load(out);
+  };
+  const nn::ImageUNetWeights k = packAndLoad(kpn);
   EXPECT_TRUE(k.predictsKernels());
   EXPECT_FALSE(k.guided());
   EXPECT_EQ(k.convs.back().cout, nn::kImageKpnOutChannels);
   // The guided kernels have the same weights: the checkpoint's "architecture" tells them apart.
-  const std::string packedKpn2 = (dir / "kpn2.osrw").string();
-  ASSERT_EQ(std::system((std::string(py) + " " + tools + "/weights_pack.py " + kpn2 + " " + packedKpn2).c_str()), 0);
-  const nn::ImageUNetWeights k2 = nn::ImageUNetWeights::load(packedKpn2);
+  const nn::ImageUNetWeights k2 = packAndLoad(kpn2);
   EXPECT_TRUE(k2.predictsKernels());
   EXPECT_TRUE(k2.guided());
   EXPECT_EQ(k2.architecture, nn::kImageGuidedKpnArchitecture);
   EXPECT_FALSE(k2.filterGuided());
-  const std::string packedKpn3 = (dir / "kpn3.osrw").string();
-  ASSERT_EQ(std::system((std::string(py) + " " + tools + "/weights_pack.py " + kpn3 + " " + packedKpn3).c_str()), 0);
-  const nn::ImageUNetWeights k3 = nn::ImageUNetWeights::load(packedKpn3);
+  const nn::ImageUNetWeights k3 = packAndLoad(kpn3);
   EXPECT_TRUE(k3.predictsKernels());
   EXPECT_TRUE(k3.guided());
   EXPECT_TRUE(k3.filterGuided());
   EXPECT_EQ(k3.architecture, nn::kImageVarianceKpnArchitecture);
   EXPECT_FALSE(k3.straddleGuided());
-  const std::string packedKpn4 = (dir / "kpn4.osrw").string();
-  ASSERT_EQ(std::system((std::string(py) + " " + tools + "/weights_pack.py " + kpn4 + " " + packedKpn4).c_str()), 0);
-  const nn::ImageUNetWeights k4 = nn::ImageUNetWeights::load(packedKpn4);
+  const nn::ImageUNetWeights k4 = packAndLoad(kpn4);
   EXPECT_TRUE(k4.filterGuided());
   EXPECT_TRUE(k4.straddleGuided());
   EXPECT_EQ(k4.architecture, nn::kImageStraddleKpnArchitecture);
