@@ -47,6 +47,13 @@ if [ -f "$work/run/checkpoint.pt" ] && [ ! -d "$work/run3" ]; then
   echo "train_default_denoiser.sh: $work/run holds a run of the earlier three-stage pipeline: use a fresh --work" >&2
   exit 2
 fi
+# The four-stage pipeline before this one trained v3 into run/; its checkpoint cannot go on as
+# the v4 run.
+if [ -f "$work/run/checkpoint.pt" ] && ! $py -c "import sys, torch; sys.exit(torch.load(sys.argv[1], \
+    map_location='cpu').get('architecture') != 'osr_image_kpn_v4')" "$work/run/checkpoint.pt" 2>/dev/null; then
+  echo "train_default_denoiser.sh: $work/run holds a run of an earlier pipeline (not osr_image_kpn_v4): use a fresh --work" >&2
+  exit 2
+fi
 # A run with a checkpoint continues; a finished run (best.pt and its final checkpoint) is not
 # run again once a later one has started.
 resume_of() { [ -f "$1/checkpoint.pt" ] && echo --resume || true; }

@@ -54,7 +54,7 @@ render::FilmLayers film(int w, int h) {
 // A random HDR image with random guides; with `surfaces`, normals and depth of tilted planes
 // in vertical bands (slightly noisy normals, a depth ramp stepping at each band) and a few
 // misses, so that the guided kernels' edge-stopping factors are neither all 1 nor all 0, the
-// first column of each band straddling the edge (a mean normal of length 0.6), and a
+// first column of each band straddling the edge (a mean normal of length 0.6-0.7), and a
 // variance of a few samples' worth (the luminance squared times 0 to 0.5).
 render::FilmLayers randomFilm(int w, int h, uint32_t seed, bool surfaces = false) {
   render::FilmLayers f = film(w, h);
@@ -119,7 +119,7 @@ double maxAbsDiff(const std::vector<float>& a, const std::vector<float>& b) {
 
 }  // namespace
 
-// tests/data/image_{unet,kpn,kpn2,kpn3}_k8_golden: a 37 x 21 image (padded to 40 x 24) through
+// tests/data/image_{unet,kpn,kpn2,kpn3,kpn4}_k8_golden: a 37 x 21 image (padded to 40 x 24) through
 // PyTorch, by a direct model and kernel-predicting ones without and with the fixed edge-stopping
 // factors (random weights, tools/weights_pack.py --golden; the kpn2 one from
 // image_unet.randomize(ImageUNet(8, "osr_image_kpn_v2"), 3) saved with its "architecture",
