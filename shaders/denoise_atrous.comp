@@ -5,9 +5,10 @@
 // variance blurred 3 x 3), its depth difference against the depth gradient, and its normal's
 // agreement (for a pixel that straddles an edge, with neighbours of the same mix of its faces:
 // lib/film_guides.glsl normalLogFactor). The filtered variance (sum of squared weights x
-// variance) feeds the next iteration. A pixel that saw light directly (normal.w > 0, shared/denoise.h) keeps its own
-// colour and is no other pixel's tap. The filter runs on demodulated colour (colour / albedo: texture is not noise):
-// the first iteration (kFirst) divides, the last (kLast) multiplies back.
+// variance) feeds the next iteration. A pixel that saw light directly (normal.w > 0,
+// shared/denoise.h) keeps its own colour and is no other pixel's tap. The filter runs on
+// demodulated colour (colour / albedo: texture is not noise): the first iteration (kFirst)
+// divides, the last (kLast) multiplies back.
 // In: colour (rgb, w variance; demodulated after the first iteration), albedo (w depth),
 // normal. Out: the same form; after the last iteration the filtered colour.
 #extension GL_GOOGLE_include_directive : require

@@ -41,17 +41,12 @@ done
 ((quick && install)) && { echo "train_default_denoiser.sh: --install: a --quick model is not for shipping" >&2; exit 2; }
 mkdir -p "$work"
 t="$root/tools"
-# The three-stage script before this one trained v3 into run/: going on from there would resume
-# that finished run as the fourth and pack it as if it were.
-if [ -f "$work/run/checkpoint.pt" ] && [ ! -d "$work/run3" ]; then
-  echo "train_default_denoiser.sh: $work/run holds a run of the earlier three-stage pipeline: use a fresh --work" >&2
-  exit 2
-fi
-# The four-stage pipeline before this one trained v3 into run/; its checkpoint cannot go on as
-# the v4 run.
-if [ -f "$work/run/checkpoint.pt" ] && ! $py -c "import sys, torch; sys.exit(torch.load(sys.argv[1], \
-    map_location='cpu').get('architecture') != 'osr_image_kpn_v4')" "$work/run/checkpoint.pt" 2>/dev/null; then
-  echo "train_default_denoiser.sh: $work/run holds a run of an earlier pipeline (not osr_image_kpn_v4): use a fresh --work" >&2
+# Earlier pipelines trained v3 into run/ (the three-stage one without a run3/): going on from
+# there would resume that run as the v4 one and pack it as if it were.
+if [ -f "$work/run/checkpoint.pt" ] && { [ ! -d "$work/run3" ] || ! $py -c "import sys, torch; \
+    sys.exit(torch.load(sys.argv[1], map_location='cpu').get('architecture') != 'osr_image_kpn_v4')" \
+    "$work/run/checkpoint.pt" 2>/dev/null; }; then
+  echo "train_default_denoiser.sh: $work/run holds a run of an earlier pipeline: use a fresh --work" >&2
   exit 2
 fi
 # A run with a checkpoint continues; a finished run (best.pt and its final checkpoint) is not
