@@ -60,7 +60,7 @@ void main() {
     rayLength += hit.t;
     beta *= mediumTransmittance(surf, sp.front, hit.t);
     if (chain == 0u) {
-      a.albedo.rgb += surf.m.baseColor;
+      a.albedo.rgb += denoiseAlbedo(sp.bsdf, sp.woLocal);
       a.normal.rgb += facingShadingNormal(surf, -dir);
       a.depth += vec4(cameraDepth(gFrame, surf.position), 1.0, 0.0, 0.0);
     }

@@ -2,7 +2,8 @@
 // pt_bsdf_probe: test pass for shaders/lib/bsdf.glsl. Inputs: ProbeCase[] (material + wo).
 // Eval mode: out[case * thetaCount * phiCount + cell] = f*|cos| and pdf at the cell centre of
 // a (theta, phi) grid over the sphere, for quadrature on the CPU. Sample mode:
-// out[case * samplesPerCase + i] = one bsdfSample plus bsdfEval at its direction.
+// out[case * samplesPerCase + i] = one bsdfSample plus bsdfEval at its direction. Guide mode:
+// out[case].value = the denoisers' albedo guide (denoiseAlbedo) at wo.
 #extension GL_GOOGLE_include_directive : require
 #include "shared/bsdf.h"
 #include "lib/rng.glsl"
@@ -14,8 +15,9 @@ layout(std430, binding = kProbeBindingOut) writeonly buffer Outs { ProbeOut gOut
 layout(push_constant) uniform PushBlock { ProbePush gPush; };
 
 void main() {
-  uint perCase = gPush.mode == kProbeEval ? gPush.thetaCount * gPush.phiCount
-                                          : gPush.samplesPerCase;
+  uint perCase = gPush.mode == kProbeEval    ? gPush.thetaCount * gPush.phiCount
+                 : gPush.mode == kProbeGuide ? 1u
+                                             : gPush.samplesPerCase;
   uint i = gl_GlobalInvocationID.x + gl_GlobalInvocationID.y * gl_NumWorkGroups.x * kProbeWorkgroupSize;
   if (i >= perCase * gPush.caseCount) return;
   uint c = i / perCase;
@@ -34,6 +36,10 @@ void main() {
     o.wi = vec3(sin(theta) * cos(phi), sin(theta) * sin(phi), cos(theta));
     o.value = bsdfEval(p, wo, o.wi, o.pdf);
     o.flags = 2u;
+  } else if (gPush.mode == kProbeGuide) {
+    o.wi = wo;
+    o.value = denoiseAlbedo(p, wo);
+    o.pdf = 0.0;
   } else {
     Rng rng = rngInit(k, c, gPush.seed);
     BsdfSample s;

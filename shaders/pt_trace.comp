@@ -128,10 +128,10 @@ bool pathStep(inout CameraPath c) {
       c.featurePath += distance(origin, r.position);
       if (bounce == 0u) c.featureCos = cameraDepth(gFrame, r.position) / max(c.featurePath, 1e-30);
       c.s.first.hit = true;
-      c.s.first.albedo = c.featureTint * r.baseColor;
+      c.s.first.albedo = c.featureTint * r.albedo;
       c.s.first.normal = r.normal;
       c.s.first.depth = c.featureCos * c.featurePath;
-      c.featureTint *= r.baseColor;
+      c.featureTint *= r.albedo;
     }
     c.featuresOpen = r.hit && r.mirror && !ended && bounce + 1u < kFeatureChainSurfaces;
   }

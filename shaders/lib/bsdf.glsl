@@ -522,6 +522,37 @@ vec3 bsdfDiffuseReflectance(BsdfParams p, vec3 wo) {
          p.baseColor;
 }
 
+// The GGX lobe's directional albedo for a Schlick Fresnel from f0 to f90 at wo.z: f0 A + f90 B,
+// with (A, B) from Karis's fit of the split-sum table (Physically Based Shading on Mobile,
+// 2014), close enough for a guide.
+vec3 ggxDirectionalAlbedo(vec3 f0, float f90, float roughness, float cosO) {
+  const vec4 c0 = vec4(-1.0, -0.0275, -0.572, 0.022);
+  const vec4 c1 = vec4(1.0, 0.0425, 1.04, -0.04);
+  vec4 r = clamp(roughness, 0.0, 1.0) * c0 + c1;
+  float a004 = min(r.x * r.x, exp2(-9.28 * clamp(cosO, 0.0, 1.0))) * r.x + r.y;
+  vec2 ab = vec2(-1.04, 1.04) * a004 + r.zw;
+  return f0 * ab.x + f90 * ab.y;
+}
+
+// The denoisers' albedo guide at wo: what the surface reflects of uniform light, the diffuse
+// lobe as the maps take it (bsdfDiffuseReflectance) plus the base layer's GGX reflection (its
+// tint: the metal's base colour, the dielectric's specular colour), glass as white, and the
+// coat's share. Divided by it, the light on a glossy tiled floor is as smooth across the
+// grout as the diffuse light is (the 4 % reflection is not the tiles' colour). Sheen and
+// diffuse transmission are left out.
+vec3 denoiseAlbedo(BsdfParams p, vec3 wo) {
+  float m = clamp(p.metallic, 0.0, 1.0);
+  float t = OSR_BSDF_TRANSMISSION ? clamp(p.transmission, 0.0, 1.0) : 0.0;
+  float c = max(wo.z, 0.0);
+  vec3 f0 = dielectricF0(p);
+  vec3 reflection = m * ggxDirectionalAlbedo(p.baseColor, 1.0, p.roughness, c) +
+                    (1.0 - m) * (1.0 - t) * p.specular *
+                        ggxDirectionalAlbedo(f0, clamp(50.0 * maxComponent(f0), 0.0, 1.0), p.roughness, c) +
+                    vec3((1.0 - m) * t);
+  float coat = coatWeight(p, wo);
+  return bsdfDiffuseReflectance(p, wo) + (1.0 - coat) * reflection + vec3(coat);
+}
+
 // The base layer's GGX reflection lobes (metal, dielectric specular, rough glass's reflection)
 // f * cos(wi) alone (wi.z > 0), exactly as bsdfEval includes them: the part of f besides the
 // diffuse lobe that OSR's composite takes from the maps. Clearcoat, sheen, diffuse

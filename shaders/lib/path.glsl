@@ -39,7 +39,7 @@ struct BounceResult {
   bool hit;
   vec3 position;
   vec3 normal;  // shading normal facing the ray (AOV convention); zero on a miss
-  vec3 baseColor;
+  vec3 albedo;  // the denoisers' albedo guide at the hit (lib/bsdf.glsl denoiseAlbedo)
   // A mirror (an isotropic metal with roughness below kFeatureMirrorRoughness): the denoisers'
   // guides look into it (pt_trace's first-hit record).
   bool mirror;
@@ -114,7 +114,7 @@ bool pathBounce(inout PathState p, vec3 uLight, vec3 uBsdf, float uRoulette, out
   r.hit = false;
   r.position = vec3(0.0);
   r.normal = vec3(0.0);
-  r.baseColor = vec3(0.0);
+  r.albedo = vec3(0.0);
   r.mirror = false;
   Hit hit;
   if (!bvhClosestHit(p.origin, p.dir, 0.0, kInfinity, hit)) {
@@ -127,7 +127,7 @@ bool pathBounce(inout PathState p, vec3 uLight, vec3 uBsdf, float uRoulette, out
   r.hit = true;
   r.position = surf.position;
   r.normal = facingShadingNormal(surf, -p.dir);
-  r.baseColor = surf.m.baseColor;
+  r.albedo = denoiseAlbedo(sp.bsdf, sp.woLocal);
   r.mirror = sp.bsdf.roughness < kFeatureMirrorRoughness && sp.bsdf.metallic >= 0.99 &&
              sp.bsdf.anisotropy == 0.0;  // anisotropy widens the lobe along one axis
   r.emitted = hitEmission(p, hit.triangle, surf, sp);

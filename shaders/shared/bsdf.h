@@ -35,6 +35,7 @@ struct BsdfParams {
 OSR_CONST(uint, kProbeWorkgroupSize, 64);
 OSR_CONST(uint, kProbeEval, 0u);
 OSR_CONST(uint, kProbeSample, 1u);
+OSR_CONST(uint, kProbeGuide, 2u);  // one output per case: value = denoiseAlbedo at wo
 OSR_CONST(uint, kProbeBindingCases, 0);
 OSR_CONST(uint, kProbeBindingOut, 1);
 OSR_CONST(uint, kProbeBindingCount, 2);

@@ -171,6 +171,39 @@ TEST(BsdfProbe, LambertianIsBaseColorOverPi) {
     for (int k = 0; k < 3; ++k) EXPECT_NEAR(x.mean[k], base[k], 1e-5);  // weight is exact
 }
 
+// The denoisers' albedo guide (denoiseAlbedo) is what the surface reflects of uniform light:
+// the albedo integrated from bsdfEval, for matte and glossy dielectrics of dark and light
+// base colours and rough metals, at normal and grazing views, within 30 % (its GGX part is a
+// fit, low by up to a quarter at 75 degrees, where the base colour alone can be a sixth of it).
+// Divided by it, a tiled glossy floor's light hardly changes with the tiles' colour; a
+// Lambertian's guide is its base colour.
+TEST(BsdfProbe, DenoiseAlbedoIsTheDirectionalAlbedo) {
+  pt::BsdfProbe p(test::context());
+  std::vector<probe::ProbeCase> cases;
+  for (glm::vec3 base : {glm::vec3(0.05f, 0.1f, 0.4f), glm::vec3(0.1f, 0.4f, 0.1f), glm::vec3(0.8f)})
+    for (float roughness : {0.2f, 0.5f, 0.9f})
+      for (float theta : {0.f, 45.f, 75.f}) cases.push_back(makeCase(base, 0.f, roughness, theta));
+  for (float roughness : {0.3f, 0.6f})
+    for (float theta : {0.f, 60.f})
+      cases.push_back(makeCase(glm::vec3(0.9f, 0.6f, 0.3f), 1.f, roughness, theta));
+  glm::vec3 lambertBase(0.63f, 0.065f, 0.05f);
+  cases.push_back(makeCase(lambertBase, 0.f, 1.f, 30.f, 0.f, 1.45f, glm::vec3(0.f)));
+  auto q = integrate(p, cases);
+  auto guide = p.run(cases, probe::ProbePush{probe::kProbeGuide, 0, 0, 0, 0, 0});
+  double worst = 0.0;
+  for (size_t c = 0; c < cases.size(); ++c) {
+    SCOPED_TRACE(describe(cases[c]));
+    for (int k = 0; k < 3; ++k) {
+      double rel = std::abs(guide[c].value[k] - q[c].albedo[k]) / (q[c].albedo[k] + 0.02);
+      worst = std::max(worst, rel);
+      EXPECT_LT(rel, 0.3) << "channel " << k << ": guide " << guide[c].value[k] << ", albedo "
+                           << q[c].albedo[k];
+    }
+  }
+  std::printf("denoiseAlbedo against the integrated albedo: worst |difference| / (albedo + 0.02) %.3f\n", worst);
+  for (int k = 0; k < 3; ++k) EXPECT_EQ(guide.back().value[k], lambertBase[k]);
+}
+
 TEST(BsdfProbe, SmoothWhiteDielectricConservesEnergy) {
   pt::BsdfProbe p(test::context());
   std::vector<probe::ProbeCase> cases;
