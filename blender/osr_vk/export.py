@@ -416,15 +416,19 @@ def _add_area_lights(gltf, lights, bin_path):
             "pbrMetallicRoughness": {"baseColorFactor": [0, 0, 0, 1], "metallicFactor": 0.0,
                                      "roughnessFactor": 1.0},
             "emissiveFactor": color,
-            "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": strength}}})
+            # A light reflects nothing in Cycles: no specular layer either (its 4 % would also
+            # be the denoisers' albedo guide, docs/denoise.md).
+            "extensions": {"KHR_materials_emissive_strength": {"emissiveStrength": strength},
+                           "KHR_materials_specular": {"specularFactor": 0.0}}})
         gmeshes.append({"name": name, "primitives": [{
             "attributes": {"POSITION": pos, "NORMAL": nrm}, "indices": idx,
             "material": len(materials) - 1}]})
         nodes.append({"name": name, "mesh": len(gmeshes) - 1})
         scene.setdefault("nodes", []).append(len(nodes) - 1)
     used = gltf.setdefault("extensionsUsed", [])
-    if "KHR_materials_emissive_strength" not in used:
-        used.append("KHR_materials_emissive_strength")
+    for extension in ("KHR_materials_emissive_strength", "KHR_materials_specular"):
+        if extension not in used:
+            used.append(extension)
     return len(meshes)
 
 
