@@ -85,7 +85,7 @@ void main() {
     vec3 uBsdf = rngNext3(rng);
     float uRoulette = rngNext(rng);
     BounceResult r;
-    bool ended = pathBounce(p, uLight, uBsdf, uRoulette, r);
+    bool ended = pathBounce(p, uLight, uBsdf, uRoulette, false, r);
     if (bounce == 1u) {
       if (s == 0u && r.hit) {
         hitNormal = transpose(frame) * r.normal;

@@ -109,7 +109,7 @@ void main() {
       vec3 uBsdf = rngNext3(rng);
       float uRoulette = rngNext(rng);
       BounceResult r;
-      bool ended = pathBounce(p, uLight, uBsdf, uRoulette, r);
+      bool ended = pathBounce(p, uLight, uBsdf, uRoulette, false, r);
       if (bounce != 1u) lpt += r.emitted;
       lpt += r.nee;
       if (!ended) continue;

@@ -121,7 +121,7 @@ bool pathStep(inout CameraPath c) {
   float uRoulette = bounce >= 3u ? rngNext(c.rng) : 0.0;
   vec3 origin = c.path.origin;
   BounceResult r;
-  bool ended = pathBounce(c.path, uLight, uBsdf, uRoulette, r);
+  bool ended = pathBounce(c.path, uLight, uBsdf, uRoulette, c.featuresOpen, r);
   if (c.featuresOpen) {
     if (bounce == 0u || lightSeen(r.emitted) > 0.0) c.s.first.light = lightSeen(r.emitted);
     if (r.hit) {

@@ -6,7 +6,8 @@ golden tests share; the compute-shader twin runs it from packed weights (src/nn_
 In the spirit of OIDN: the noisy colour plus first-hit albedo and normal in, the clean colour
 out, with an HDR-aware input transform (docs/weights_format.md, "Image denoiser"):
 
-  input  N x 9 x H x W: log1p(e * colour) (3), albedo (3, [0, 1]), normal (3, [-1, 1] world);
+  input  N x 9 x H x W: log1p(e * colour) (3), albedo (3, the directional albedo, about
+         [0, 1]), normal (3, [-1, 1] world);
          e = the image's exposure scale (image_exposure below), H and W multiples of 8
   output, by architecture:
     osr_image_unet_v1  N x 3 x H x W: y, colour = expm1(max(y, 0)) / e (direct prediction)

@@ -550,7 +550,8 @@ vec3 denoiseAlbedo(BsdfParams p, vec3 wo) {
                         ggxDirectionalAlbedo(f0, clamp(50.0 * maxComponent(f0), 0.0, 1.0), p.roughness, c) +
                     vec3((1.0 - m) * t);
   float coat = coatWeight(p, wo);
-  return bsdfDiffuseReflectance(p, wo) + (1.0 - coat) * reflection + vec3(coat);
+  // Karis's fit dips a little below 0 for a black rough metal.
+  return max(bsdfDiffuseReflectance(p, wo) + (1.0 - coat) * reflection + vec3(coat), vec3(0.0));
 }
 
 // The base layer's GGX reflection lobes (metal, dielectric specular, rough glass's reflection)

@@ -7,7 +7,8 @@
 // The denoisers' guides. Path tracing records the first surface that is not a mirror, seen
 // through the mirrors in front of it (pt_trace.comp, CameraPath); OSR and preview the first.
 struct FirstHit {
-  vec3 albedo;  // the recorded surface's denoiseAlbedo (lib/bsdf.glsl; times the mirrors')
+  vec3 albedo;  // the recorded surface's denoiseAlbedo (lib/bsdf.glsl; times the mirrors');
+                // preview: its base colour
   vec3 normal;  // its shading normal, facing the camera ray (world)
   float depth;  // its (through mirrors: its virtual image's) distance along the view axis
   bool hit;

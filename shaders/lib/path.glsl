@@ -39,7 +39,7 @@ struct BounceResult {
   bool hit;
   vec3 position;
   vec3 normal;  // shading normal facing the ray (AOV convention); zero on a miss
-  vec3 albedo;  // the denoisers' albedo guide at the hit (lib/bsdf.glsl denoiseAlbedo)
+  vec3 albedo;  // the denoisers' albedo guide at the hit (lib/bsdf.glsl denoiseAlbedo), where asked
   // A mirror (an isotropic metal with roughness below kFeatureMirrorRoughness): the denoisers'
   // guides look into it (pt_trace's first-hit record).
   bool mirror;
@@ -106,9 +106,10 @@ bool pathContinue(inout PathState p, ShadingPoint sp, vec3 uBsdf, float uRoulett
 }
 
 // One bounce: finds the next surface, its emission and next-event estimate, samples the BSDF
-// for the continuation. uLight, uBsdf: three uniform numbers each. Returns true when the path
-// has ended.
-bool pathBounce(inout PathState p, vec3 uLight, vec3 uBsdf, float uRoulette, out BounceResult r) {
+// for the continuation. uLight, uBsdf: three uniform numbers each. recordAlbedo: fill r.albedo
+// too (only the path tracer's first-hit record reads it). Returns true when the path has ended.
+bool pathBounce(inout PathState p, vec3 uLight, vec3 uBsdf, float uRoulette, bool recordAlbedo,
+                out BounceResult r) {
   r.emitted = vec3(0.0);
   r.nee = vec3(0.0);
   r.hit = false;
@@ -127,7 +128,7 @@ bool pathBounce(inout PathState p, vec3 uLight, vec3 uBsdf, float uRoulette, out
   r.hit = true;
   r.position = surf.position;
   r.normal = facingShadingNormal(surf, -p.dir);
-  r.albedo = denoiseAlbedo(sp.bsdf, sp.woLocal);
+  if (recordAlbedo) r.albedo = denoiseAlbedo(sp.bsdf, sp.woLocal);
   r.mirror = sp.bsdf.roughness < kFeatureMirrorRoughness && sp.bsdf.metallic >= 0.99 &&
              sp.bsdf.anisotropy == 0.0;  // anisotropy widens the lobe along one axis
   r.emitted = hitEmission(p, hit.triangle, surf, sp);
