@@ -183,11 +183,13 @@ vec3 withFilm(BsdfParams p, vec3 f, vec3 f0, float cosO) {
   return mix(f, film, clamp(p.iridescence, 0.0, 1.0));
 }
 
+// The dielectric's grazing reflectance: 1, or less for an f0 below 2 % (a specular colour near 0).
+float dielectricF90(vec3 f0) { return clamp(50.0 * maxComponent(f0), 0.0, 1.0); }
+
 // The dielectric's Fresnel at v.h for the outgoing direction of cosine cosO.
 vec3 dielectricFresnel(BsdfParams p, float voh, float cosO) {
   vec3 f0 = dielectricF0(p);
-  float f90 = clamp(50.0 * maxComponent(f0), 0.0, 1.0);
-  return withFilm(p, mix(f0, vec3(f90), schlickWeight(voh)), f0, cosO);
+  return withFilm(p, mix(f0, vec3(dielectricF90(f0)), schlickWeight(voh)), f0, cosO);
 }
 
 // The metal's Fresnel (glTF: Schlick from baseColor to 1).
@@ -543,11 +545,10 @@ vec3 ggxDirectionalAlbedo(vec3 f0, float f90, float roughness, float cosO) {
 vec3 denoiseAlbedo(BsdfParams p, vec3 wo) {
   float m = clamp(p.metallic, 0.0, 1.0);
   float t = OSR_BSDF_TRANSMISSION ? clamp(p.transmission, 0.0, 1.0) : 0.0;
-  float c = max(wo.z, 0.0);
   vec3 f0 = dielectricF0(p);
-  vec3 reflection = m * ggxDirectionalAlbedo(p.baseColor, 1.0, p.roughness, c) +
+  vec3 reflection = m * ggxDirectionalAlbedo(p.baseColor, 1.0, p.roughness, wo.z) +
                     (1.0 - m) * (1.0 - t) * p.specular *
-                        ggxDirectionalAlbedo(f0, clamp(50.0 * maxComponent(f0), 0.0, 1.0), p.roughness, c) +
+                        ggxDirectionalAlbedo(f0, dielectricF90(f0), p.roughness, wo.z) +
                     vec3((1.0 - m) * t);
   float coat = coatWeight(p, wo);
   // Karis's fit dips a little below 0 for a black rough metal.
