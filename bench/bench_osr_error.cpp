@@ -11,12 +11,16 @@
 // so each seed interpolates between other points), and the residual's is what the residual
 // adds to the indirect layer's variance. Each term is relMSE-weighted (1 / (ref^2 + 0.01)),
 // averaged over pixels and RGB as
-// image::relMse; bias includes the reference's own noise. With a network, the same split of
-// each seed's film denoised.
+// image::relMse; bias includes the reference's own noise. Where the reference has direct and
+// indirect layers (tools/merge_references.py of raw path-traced renders), the bias splits the
+// same way, bias = direct + indirect + cross, each layer's error against the reference's layer
+// with the combined image's weights, and each layer's reference noise from its spread. With
+// a network, the same split of each seed's film denoised.
 #include <algorithm>
 #include <cstdio>
 #include <memory>
 #include <optional>
+#include <set>
 #include <string>
 #include <vector>
 
@@ -25,6 +29,7 @@
 #include "bench/benchmarks.h"
 #include "bench/json.h"
 #include "common/error.h"
+#include "image/image_io.h"
 #include "image/image_metrics.h"
 #include "osr/osr_integrator.h"
 #include "render/denoiser.h"
@@ -33,10 +38,12 @@ namespace osr::bench {
 
 namespace {
 
-// One layer over the seeds: per value, the relMSE weight, the sum and the sum of squares.
+// One layer over the seeds: per value, the relMSE weight (from the combined reference), the
+// sum and the sum of squares, and the layer's own reference (`target`, or the combined one).
 class SeedStats {
  public:
-  SeedStats(const image::RgbImage& ref) : ref_(ref), sum_(ref.rgb.size()), sq_(ref.rgb.size()) {}
+  SeedStats(const image::RgbImage& ref, const image::RgbImage* target = nullptr)
+      : ref_(ref), target_(target ? *target : ref), sum_(ref.rgb.size()), sq_(ref.rgb.size()) {}
   void add(const std::vector<float>& x) {
     for (size_t i = 0; i < x.size(); ++i) sum_[i] += x[i], sq_[i] += double(x[i]) * x[i];
     ++n_;
@@ -49,7 +56,7 @@ class SeedStats {
   Split split() const {
     double variance = 0.0, meanError = 0.0;
     for (size_t i = 0; i < sum_.size(); ++i) {
-      const double d = sum_[i] / n_ - ref_.rgb[i];
+      const double d = sum_[i] / n_ - target_.rgb[i];
       variance += (sq_[i] - sum_[i] * sum_[i] / n_) / (n_ - 1) * weight(i);
       meanError += d * d * weight(i);
     }
@@ -62,6 +69,7 @@ class SeedStats {
     return 1.0 / (double(ref_.rgb[i]) * ref_.rgb[i] + image::kRelMseEpsilon);
   }
   const image::RgbImage& ref_;
+  const image::RgbImage& target_;
   std::vector<double> sum_, sq_;
   int n_ = 0;
 };
@@ -89,6 +97,19 @@ int runOsrError(const std::vector<std::string>& args) {
   vk::Context ctx;
   const BenchScene bs(ctx, sceneArgs, size);
   const image::RgbImage& ref = bs.reference;
+  // The reference's layers and their own noise, where it has them.
+  const std::set<std::string> channels = image::exrChannels(sceneArgs.reference);
+  const bool layered = channels.count("direct.R") && channels.count("indirect.R");
+  image::RgbImage refDirect, refIndirect;
+  std::optional<double> refNoiseDirect, refNoiseIndirect;
+  if (layered) {
+    refDirect = image::readExrRgb(sceneArgs.reference, "direct");
+    refIndirect = image::readExrRgb(sceneArgs.reference, "indirect");
+    if (channels.count("direct.spread.R") && channels.count("indirect.spread.R")) {
+      refNoiseDirect = image::referenceChannelNoise(ref, image::readExrRgb(sceneArgs.reference, "direct.spread"));
+      refNoiseIndirect = image::referenceChannelNoise(ref, image::readExrRgb(sceneArgs.reference, "indirect.spread"));
+    }
+  }
   oneshot::OsrSettings settings;
   settings.resolveEverySubmission = false;  // as --offline
   oneshot::OsrIntegrator osr(ctx, *bs.gpu, *bs.bvh, size, size, settings);
@@ -114,7 +135,7 @@ int runOsrError(const std::vector<std::string>& args) {
       passes = std::max(1u, stats.units);
     }
     SeedStats combined(ref), direct(ref), indirect(ref), composite(ref), cleanComposite(ref),
-        denoised(ref);
+        denoised(ref), directBias(ref, &refDirect), indirectBias(ref, &refIndirect);
     double relSum = 0.0, denoisedRelSum = 0.0;
     for (int s = 0; s < seeds; ++s) {
       render::FilmLayers film = renderFilm(ctx, osr, bs.camera, uint32_t(s + 1), passes, 0.0, stats);
@@ -122,6 +143,7 @@ int runOsrError(const std::vector<std::string>& args) {
       combined.add(film.combined);
       direct.add(film.direct);
       indirect.add(film.indirect);
+      if (layered) directBias.add(film.direct), indirectBias.add(film.indirect);
       if (net) {
         net->apply(film);
         denoisedRelSum += image::relMse({int(size), int(size), film.combined}, ref) / seeds;
@@ -153,6 +175,11 @@ int runOsrError(const std::vector<std::string>& args) {
         .num("placement_noise", vComposite - maps)
         .num("residual_noise", vIndirect - vComposite)
         .integer("map_spp", mapSpp);
+    if (layered) {
+      const double bDirect = directBias.split().bias, bIndirect = indirectBias.split().bias;
+      j.num("direct_bias", bDirect).num("indirect_bias", bIndirect).num("cross_bias", all.bias - bDirect - bIndirect);
+      if (refNoiseDirect) j.num("ref_noise_direct", *refNoiseDirect).num("ref_noise_indirect", *refNoiseIndirect);
+    }
     if (net) {
       const SeedStats::Split after = denoised.split();
       j.str("network", network)

@@ -16,6 +16,9 @@ SPP its samples per pixel. OUT holds, as 32-bit float:
   per-sample variance of one part can miss. `osr-bench` takes a reference's own noise from it
   (image::referenceNoise, docs/benchmarks.md): with 2 parts each pixel's estimate has one
   degree of freedom, but their mean over an image is close.
+- direct.R, ..., indirect.B and their spread (direct.spread.R, ...): where every part has
+  them, the same of its `direct` and `indirect` layers (light after one bounce, with the
+  emission seen, and after more), so that `osr-bench osr-error` can split a bias by layer.
 
 Bad input (a missing or unreadable part, no variance layer, parts of other sizes, fewer than
 two parts or one part twice, a bad SPP, an OUT that cannot be written) is one line on stderr
@@ -39,7 +42,10 @@ class MergeError(Exception):
     pass
 
 
-def read_part(arg: str) -> tuple[int, np.ndarray, np.ndarray]:
+LAYERS = ("direct", "indirect")  # merged, with their spread, where every part has them
+
+
+def read_part(arg: str) -> tuple[int, np.ndarray, np.ndarray, dict[str, np.ndarray]]:
     path, sep, spp = arg.rpartition(":")
     if not sep or not spp.isdigit() or int(spp) < 1:
         raise MergeError(f"{arg}: not PART.exr:SPP with SPP a positive whole number")
@@ -57,7 +63,9 @@ def read_part(arg: str) -> tuple[int, np.ndarray, np.ndarray]:
         raise MergeError(f"{path}: a denoised render (it has a noisy layer); render the parts with "
                          "--network none --filter none")
     channel = lambda c: exr_file.to_float(types[c], raw[c]).astype(np.float64)  # noqa: E731
-    return int(spp), np.stack([channel(c) for c in "RGB"]), channel("variance.Y")
+    layers = {name: np.stack([channel(f"{name}.{c}") for c in "RGB"]) for name in LAYERS
+              if all(f"{name}.{c}" in types for c in "RGB")}
+    return int(spp), np.stack([channel(c) for c in "RGB"]), channel("variance.Y"), layers
 
 
 def mean_and_spread(spp: np.ndarray, colours: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
@@ -70,7 +78,7 @@ def mean_and_spread(spp: np.ndarray, colours: np.ndarray) -> tuple[np.ndarray, n
     return mean, spread
 
 
-def merge(parts: list[tuple[int, np.ndarray, np.ndarray]]) -> dict[str, np.ndarray]:
+def merge(parts: list[tuple[int, np.ndarray, np.ndarray, dict[str, np.ndarray]]]) -> dict[str, np.ndarray]:
     spp = np.array([p[0] for p in parts], np.float64)
     w = spp / spp.sum()
     mean, spread = mean_and_spread(spp, np.stack([p[1] for p in parts]))
@@ -78,6 +86,11 @@ def merge(parts: list[tuple[int, np.ndarray, np.ndarray]]) -> dict[str, np.ndarr
     out = {c: mean[i] for i, c in enumerate("RGB")}
     out["variance.Y"] = variance
     out.update({f"spread.{c}": spread[i] for i, c in enumerate("RGB")})
+    for name in LAYERS:
+        if all(name in p[3] for p in parts):
+            mean, spread = mean_and_spread(spp, np.stack([p[3][name] for p in parts]))
+            out.update({f"{name}.{c}": mean[i] for i, c in enumerate("RGB")})
+            out.update({f"{name}.spread.{c}": spread[i] for i, c in enumerate("RGB")})
     return out
 
 

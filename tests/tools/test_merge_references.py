@@ -56,6 +56,20 @@ class Merge(unittest.TestCase):
             np.testing.assert_allclose(m["R"], 1.75, rtol=1e-6)
             np.testing.assert_allclose(m["variance.Y"], 0.0625 * 0.04 + 0.5625 * 0.01, rtol=1e-6)
             np.testing.assert_allclose(m["spread.B"], (100 * 0.5625 + 300 * 0.0625) / 400, rtol=1e-6)
+            self.assertNotIn("direct.R", m)  # the parts have no direct layer
+
+    def test_layers_merged_where_every_part_has_them(self):
+        with tempfile.TemporaryDirectory() as tmp:
+            a, b, out = Path(tmp, "a.exr"), Path(tmp, "b.exr"), Path(tmp, "ref.exr")
+            layers = tuple(f"{n}.{c}" for n in ("direct", "indirect") for c in "RGB")
+            write_part(a, np.ones((3, 4, 5)), np.zeros((4, 5)), layers)  # each layer = R
+            write_part(b, 3.0 * np.ones((3, 4, 5)), np.zeros((4, 5)), layers[:3])  # no indirect
+            self.assertEqual(run(str(out), f"{a}:100", f"{b}:300").returncode, 0)
+            m = read(out)
+            np.testing.assert_allclose(m["direct.G"], 2.5, rtol=1e-6)
+            # (100 (1 - 2.5)^2 + 300 (3 - 2.5)^2) / (1 * 400)
+            np.testing.assert_allclose(m["direct.spread.B"], (225 + 75) / 400, rtol=1e-6)
+            self.assertNotIn("indirect.R", m)
 
     def test_spread_estimates_the_noise_of_the_mean(self):
         # Parts of 1, 2 and 5 samples of a noise whose channels differ: over many pixels the
