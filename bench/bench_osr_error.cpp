@@ -97,17 +97,19 @@ int runOsrError(const std::vector<std::string>& args) {
   vk::Context ctx;
   const BenchScene bs(ctx, sceneArgs, size);
   const image::RgbImage& ref = bs.reference;
-  // The reference's layers and their own noise, where it has them.
+  // The reference's layers and their own noise, where it has them. A denoised render's layers
+  // do not add up to its colour (the denoiser replaces only the colour): no split against it.
   const std::set<std::string> channels = image::exrChannels(sceneArgs.reference);
-  const bool layered = channels.count("direct.R") && channels.count("indirect.R");
+  const bool layered = channels.count("direct.R") && channels.count("indirect.R") && !channels.count("noisy.R");
   image::RgbImage refDirect, refIndirect;
   std::optional<double> refNoiseDirect, refNoiseIndirect;
   if (layered) {
     refDirect = image::readExrRgb(sceneArgs.reference, "direct");
     refIndirect = image::readExrRgb(sceneArgs.reference, "indirect");
     if (channels.count("direct.spread.R") && channels.count("indirect.spread.R")) {
-      refNoiseDirect = image::referenceChannelNoise(ref, image::readExrRgb(sceneArgs.reference, "direct.spread"));
-      refNoiseIndirect = image::referenceChannelNoise(ref, image::readExrRgb(sceneArgs.reference, "indirect.spread"));
+      const auto spread = [&](const char* layer) { return image::readExrRgb(sceneArgs.reference, layer); };
+      refNoiseDirect = image::referenceChannelNoise(ref, spread("direct.spread"));
+      refNoiseIndirect = image::referenceChannelNoise(ref, spread("indirect.spread"));
     }
   }
   oneshot::OsrSettings settings;
@@ -177,7 +179,8 @@ int runOsrError(const std::vector<std::string>& args) {
         .integer("map_spp", mapSpp);
     if (layered) {
       const double bDirect = directBias.split().bias, bIndirect = indirectBias.split().bias;
-      j.num("direct_bias", bDirect).num("indirect_bias", bIndirect).num("cross_bias", all.bias - bDirect - bIndirect);
+      j.num("direct_bias", bDirect).num("indirect_bias", bIndirect);
+      j.num("cross_bias", all.bias - bDirect - bIndirect);
       if (refNoiseDirect) j.num("ref_noise_direct", *refNoiseDirect).num("ref_noise_indirect", *refNoiseIndirect);
     }
     if (net) {
