@@ -136,8 +136,10 @@ int runOsrError(const std::vector<std::string>& args) {
       renderFilm(ctx, osr, bs.camera, 1, 1u << 24, double(budget), stats);
       passes = std::max(1u, stats.units);
     }
-    SeedStats combined(ref), direct(ref), indirect(ref), composite(ref), cleanComposite(ref),
-        denoised(ref), directBias(ref, &refDirect), indirectBias(ref, &refIndirect);
+    // The layers' noise does not depend on their reference; their bias is against its layers.
+    SeedStats combined(ref), direct(ref, layered ? &refDirect : nullptr),
+        indirect(ref, layered ? &refIndirect : nullptr), composite(ref), cleanComposite(ref),
+        denoised(ref);
     double relSum = 0.0, denoisedRelSum = 0.0;
     for (int s = 0; s < seeds; ++s) {
       render::FilmLayers film = renderFilm(ctx, osr, bs.camera, uint32_t(s + 1), passes, 0.0, stats);
@@ -145,7 +147,6 @@ int runOsrError(const std::vector<std::string>& args) {
       combined.add(film.combined);
       direct.add(film.direct);
       indirect.add(film.indirect);
-      if (layered) directBias.add(film.direct), indirectBias.add(film.indirect);
       if (net) {
         net->apply(film);
         denoisedRelSum += image::relMse({int(size), int(size), film.combined}, ref) / seeds;
@@ -156,7 +157,8 @@ int runOsrError(const std::vector<std::string>& args) {
           renderFilm(ctx, cleanMaps, bs.camera, uint32_t(s + 1), passes, 0.0, stats).indirect);
     }
     const SeedStats::Split all = combined.split();
-    const double vDirect = direct.split().noise, vIndirect = indirect.split().noise,
+    const SeedStats::Split directSplit = direct.split(), indirectSplit = indirect.split();
+    const double vDirect = directSplit.noise, vIndirect = indirectSplit.noise,
                  vComposite = composite.split().noise;
     const double maps = (vComposite - cleanComposite.split().noise) * mapSpp / (mapSpp - 1.0);
     JsonLine j;
@@ -178,7 +180,7 @@ int runOsrError(const std::vector<std::string>& args) {
         .num("residual_noise", vIndirect - vComposite)
         .integer("map_spp", mapSpp);
     if (layered) {
-      const double bDirect = directBias.split().bias, bIndirect = indirectBias.split().bias;
+      const double bDirect = directSplit.bias, bIndirect = indirectSplit.bias;
       j.num("direct_bias", bDirect).num("indirect_bias", bIndirect);
       j.num("cross_bias", all.bias - bDirect - bIndirect);
       if (refNoiseDirect) j.num("ref_noise_direct", *refNoiseDirect).num("ref_noise_indirect", *refNoiseIndirect);
