@@ -1,7 +1,7 @@
 #!/usr/bin/python3
-"""tools/merge_references.py: the merged colour, luminance variance, channel spread and direct and
-indirect layers of known parts, the spread as an estimate of the mean's noise, and bad input refused (one line, exit 2,
-nothing written).
+"""tools/merge_references.py: the merged colour, luminance variance, channel spread and direct
+and indirect layers of known parts, the spread as an estimate of the mean's noise, and bad
+input refused (one line, exit 2, nothing written).
 
 Run by CTest (tools/test_merge_references); seconds, no device.
 """
