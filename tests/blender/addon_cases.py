@@ -718,8 +718,9 @@ def case_f12(executable, work):
             scene = blender_scene.build_scene(executable, WIDTH, HEIGHT, reset=False)
         scene.osr_vk.mode, scene.osr_vk.samples, scene.osr_vk.seed = "path", SAMPLES, SEED
         scene.osr_vk.keep_directory = os.path.join(work, "keep")
-        with bpy.context.temp_override(window=window, area=view3d):
-            bpy.ops.render.render("INVOKE_DEFAULT")
+        # No context override around the render: under one, Blender reads context members
+        # from C without the GIL while the render job's Python thread holds it (a crash).
+        bpy.ops.render.render("INVOKE_DEFAULT")
         bpy.app.timers.register(finish, first_interval=1.0)
 
     def finish():
@@ -747,8 +748,7 @@ def case_animation_f12(executable, work):
             scene = blender_scene.build_scene(executable, *SHOT_SIZE, reset=False)
         _animate(scene, work)
         state["pids"] = watch.__enter__().pids
-        with bpy.context.temp_override(window=window, area=view3d):
-            bpy.ops.render.render("INVOKE_DEFAULT", animation=True)
+        bpy.ops.render.render("INVOKE_DEFAULT", animation=True)  # no override: as in f12
         bpy.app.timers.register(finish, first_interval=1.0)
 
     def finish():
