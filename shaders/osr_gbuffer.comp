@@ -1,7 +1,7 @@
 #version 460
 // osr_gbuffer: the first surface through each pixel that is not near-specular, for this
 // pass's sub-pixel jitter (antialiasing comes from averaging passes). Mirror-like metals and
-// smooth glass (shared/osr.h kNearSpecularAlpha) are followed by sampling their BSDF, with
+// smooth glass (lib/bsdf.glsl bsdfNearSpecular) are followed by sampling their BSDF, with
 // the chain's throughput kept; emission met on the way (the camera's own view of lights, and
 // lights seen in mirrors) goes straight to the direct layer, the latter's moments to
 // AccumPixel.mirroredSq (the resolve's variance). The lights seen directly are
@@ -14,14 +14,6 @@
 
 layout(local_size_x = kOsrWorkgroupSize) in;
 layout(push_constant) uniform OsrPushBlock { GBufferPush gPush; };
-
-bool nearSpecular(BsdfParams p) {
-  float alpha = p.roughness * p.roughness;
-  bool mirror = p.metallic >= 0.999 && alpha < kNearSpecularAlpha;
-  bool glass = OSR_BSDF_TRANSMISSION && p.transmission >= 0.999 && p.metallic <= 0.001 &&
-               glassIsDelta(p);
-  return mirror || glass;
-}
 
 void main() {
   uint local = gl_GlobalInvocationID.x;
@@ -68,7 +60,7 @@ void main() {
     emitted += (chain == 0u ? cameraShare : 1.0) * emission;
     if (chain > 0u) mirrored += emission;
     if (chain == 0u) a.depth.z += cameraShare * lightSeen(emission);
-    if (!nearSpecular(sp.bsdf)) {
+    if (!bsdfNearSpecular(sp.bsdf)) {
       g.position = vec4(sp.position, 1.0);
       g.normal = vec4(sp.ns, 0.0);
       g.geomNormal = vec4(sp.ng, sp.front ? 1.0 : 0.0);

@@ -49,7 +49,10 @@ struct Sample {
   FirstHit first;
 };
 
-// Adds light that arrived after `bounces` surface interactions to the right film bucket.
+// Adds light that arrived after `bounces` surface interactions, not counting the
+// near-specular surfaces the camera path met first, to the right film bucket: direct is
+// emission and light reaching the first other surface in one hop, as in OSR, whose G-buffer
+// follows mirrors and smooth glass (docs/pathtracer.md, "Film layers").
 void addLight(inout Sample s, uint bounces, vec3 l) {
   if (bounces <= 1u) s.direct += l; else s.indirect += l;
 }
@@ -73,6 +76,8 @@ struct CameraPath {
   vec3 featureTint;
   float featurePath;  // the path's length to the record's surface
   float featureCos;   // view-axis depth per unit length along the camera ray
+  uint specularLead;  // near-specular surfaces met before any other (addLight)
+  bool leadOpen;      // no other surface met yet
 };
 const uint kFeatureChainSurfaces = 4u;  // surfaces the record looks at, at most (3 mirrors)
 
@@ -109,6 +114,8 @@ CameraPath startPath(uint pixel, uint sampleIndex) {
   c.featureTint = vec3(1.0);
   c.featurePath = 0.0;
   c.featureCos = 1.0;
+  c.specularLead = 0u;
+  c.leadOpen = true;
   return c;
 }
 
@@ -135,8 +142,10 @@ bool pathStep(inout CameraPath c) {
     }
     c.featuresOpen = r.hit && r.mirror && !ended && bounce + 1u < kFeatureChainSurfaces;
   }
-  addLight(c.s, bounce, r.emitted);
-  addLight(c.s, bounce + 1u, r.nee);
+  addLight(c.s, bounce - c.specularLead, r.emitted);
+  addLight(c.s, bounce + 1u - c.specularLead, r.nee);
+  c.leadOpen = c.leadOpen && r.hit && r.nearSpecular;
+  if (c.leadOpen) c.specularLead += 1u;
   return ended;
 }
 

@@ -88,6 +88,17 @@ BsdfParams bsdfBlack() {
 float ggxAlpha(BsdfParams p) { return max(p.roughness * p.roughness, kMinAlpha); }
 bool glassIsDelta(BsdfParams p) { return p.roughness * p.roughness < kDeltaAlpha; }
 
+// Mirror-like metal (GGX alpha below kNearSpecularAlpha) and smooth glass: OSR's G-buffer
+// follows them to the first surface that is not, and both integrators count light met on the
+// way, and the light reaching that surface in one hop, in the direct layer.
+const float kNearSpecularAlpha = 0.01;
+bool bsdfNearSpecular(BsdfParams p) {
+  bool mirror = p.metallic >= 0.999 && p.roughness * p.roughness < kNearSpecularAlpha;
+  bool glass = OSR_BSDF_TRANSMISSION && p.transmission >= 0.999 && p.metallic <= 0.001 &&
+               glassIsDelta(p);
+  return mirror || glass;
+}
+
 // (alpha along local x, alpha along local y) of the base GGX lobes, in the frame bsdfAnisoFrame
 // rotates into (x = the anisotropy direction).
 vec2 ggxAlpha2(BsdfParams p) {

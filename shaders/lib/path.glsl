@@ -43,6 +43,7 @@ struct BounceResult {
   // A mirror (an isotropic metal with roughness below kFeatureMirrorRoughness): the denoisers'
   // guides look into it (pt_trace's first-hit record).
   bool mirror;
+  bool nearSpecular;  // lib/bsdf.glsl bsdfNearSpecular: pt_trace's direct/indirect split
 };
 
 const float kFeatureMirrorRoughness = 0.1;
@@ -117,6 +118,7 @@ bool pathBounce(inout PathState p, vec3 uLight, vec3 uBsdf, float uRoulette, boo
   r.normal = vec3(0.0);
   r.albedo = vec3(0.0);
   r.mirror = false;
+  r.nearSpecular = false;
   Hit hit;
   if (!bvhClosestHit(p.origin, p.dir, 0.0, kInfinity, hit)) {
     r.emitted = missRadiance(p);
@@ -131,6 +133,7 @@ bool pathBounce(inout PathState p, vec3 uLight, vec3 uBsdf, float uRoulette, boo
   if (recordAlbedo) r.albedo = denoiseAlbedo(sp.bsdf, sp.woLocal);
   r.mirror = sp.bsdf.roughness < kFeatureMirrorRoughness && sp.bsdf.metallic >= 0.99 &&
              sp.bsdf.anisotropy == 0.0;  // anisotropy widens the lobe along one axis
+  r.nearSpecular = bsdfNearSpecular(sp.bsdf);
   r.emitted = hitEmission(p, hit.triangle, surf, sp);
   r.nee = p.beta * estimateDirect(sp, uLight);
   return pathContinue(p, sp, uBsdf, uRoulette);

@@ -76,9 +76,7 @@ OSR_CONST(uint, kDenoiserNone, 2u);   // the one-shot radiance as traced
 OSR_CONST(uint, kNetOutputRescaled, 0u);  // exp(y) - 1, each channel rescaled to the one-shot mean
 OSR_CONST(uint, kNetOutputAbsolute, 1u);  // 10 m (exp(y) - 1), m the one-shot mean of all channels
 
-// Surfaces the G-buffer follows through (mirror-like metal, smooth glass) instead of shading:
-// GGX alpha below this is "near-specular".
-OSR_CONST(float, kNearSpecularAlpha, 0.01f);
+// Near-specular surfaces (lib/bsdf.glsl bsdfNearSpecular) the G-buffer follows, at most.
 OSR_CONST(uint, kMaxSpecularChain, 8u);
 // Lobes narrower than about a texel of a 32 x 32 map (GGX alpha below this) are not looked up
 // in maps: the residual path tracer answers for them in full.

@@ -501,6 +501,34 @@ TEST(PathIntegrator, FirstHitGuidesLookThroughAMirror) {
   fs::remove_all(d);
 }
 
+// The direct layer counts from the first surface that is not near-specular, as OSR's does
+// (pt_trace.comp addLight): the floor mirror of the test above reflects a diffuse wall that
+// a sun lights head-on, so its pixels' direct light is the tint times the wall's radiance,
+// albedo / pi x 2 (exact: a delta light, a uniformly lit wall). Counted from the mirror,
+// it was all indirect.
+TEST(PathIntegrator, DirectLayerStartsPastMirrors) {
+  fs::path d = tempDir();
+  const glm::vec3 wallColour(0.2f, 0.5f, 0.8f);
+  GltfWriter g;
+  g.quad({-4, 0, -4}, {-4, 0, 4}, {4, 0, 4}, {4, 0, -4},
+         g.material({{"pbrMetallicRoughness",
+                      {{"baseColorFactor", {0.9, 0.9, 0.9, 1.0}}, {"metallicFactor", 1.0}, {"roughnessFactor", 0.0}}}}));
+  g.quad({-20, 0, -3}, {20, 0, -3}, {20, 20, -3}, {-20, 20, -3}, g.material(GltfWriter::diffuse(wallColour)));
+  g.light({{"type", "directional"}, {"intensity", 683.0 * 2.0}});  // along -z, onto the wall
+  g.camera({0.f, 2.f, 2.f}, {0.f, 0.f, 0.f}, 0.5f);
+  const std::string path = (d / "mirror_sun.gltf").string();
+  g.write(path);
+  Rendered r = renderFile(path, 8, 16);
+  for (uint32_t i = 0; i < 64; ++i)
+    for (int c = 0; c < 3; ++c) {
+      const float expected = 0.9f * wallColour[c] / float(M_PI) * 2.f;
+      EXPECT_NEAR(r.film.direct[3 * i + c], expected, 0.015f * expected) << i << " " << c;
+      // What the wall sees of itself in the mirror, lit by the sun.
+      EXPECT_LT(r.film.indirect[3 * i + c], 0.5f * expected) << i << " " << c;
+    }
+  fs::remove_all(d);
+}
+
 TEST(PathIntegrator, AlphaMaskIsSeenThroughAndCastsNoShadowThroughHoles) {
   fs::path d = tempDir();
   GltfWriter g;
