@@ -106,6 +106,8 @@ int runDenoise(const std::vector<std::string>& args) {
   }
   for (long long budget : budgets) {
     for (const Row& row : rows) {
+      // OSR blends its residual for the denoiser that follows, as osr-vk does.
+      osr.setResidualNoiseWeight(row.denoiser ? oneshot::kDenoisedResidualNoiseWeight : 1.0f);
       render::RenderStats stats;
       render::FilmLayers film = renderFor(ctx, *row.integrator, cam, double(budget) - row.denoiseS, stats);
       const double raw = image::relMse({int(size), int(size), film.combined}, ref);

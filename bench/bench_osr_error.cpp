@@ -147,10 +147,13 @@ int runOsrError(const std::vector<std::string>& args) {
       combined.add(film.combined);
       direct.add(film.direct);
       indirect.add(film.indirect);
-      if (net) {
-        net->apply(film);
-        denoisedRelSum += image::relMse({int(size), int(size), film.combined}, ref) / seeds;
-        denoised.add(film.combined);
+      if (net) {  // the same passes resolved with the blend osr-vk makes for a denoiser
+        osr.setResidualNoiseWeight(oneshot::kDenoisedResidualNoiseWeight);
+        render::FilmLayers forNet = osr.resolve();
+        osr.setResidualNoiseWeight(1.0f);
+        net->apply(forNet);
+        denoisedRelSum += image::relMse({int(size), int(size), forNet.combined}, ref) / seeds;
+        denoised.add(forNet.combined);
       }
       composite.add(renderFilm(ctx, mapsOnly, bs.camera, uint32_t(s + 1), passes, 0.0, stats).indirect);
       cleanComposite.add(

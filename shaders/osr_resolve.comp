@@ -41,7 +41,8 @@ vec3 shrinkBlend(uint local, uint pixel, AccumPixel centre) {
       sumSq += mean * mean;
     }
   }
-  return residualShrinkBlend(sumVar, sumSq, residualPasses(centre.residualSq, centre.indirect.w));
+  return residualShrinkBlend(sumVar, sumSq, residualPasses(centre.residualSq, centre.indirect.w),
+                             gPush.residualNoiseWeight);
 }
 
 void main() {

@@ -273,6 +273,7 @@ struct ResolvePush {
   uint pixelOffset;
   uint pixelCount;
   float residualBlend;  // weight of the accumulated residual (0..1); < 0: measured per pixel
+  float residualNoiseWeight;  // the residual's variance in the measured blend (residualShrinkBlend)
 };
 
 // ---- Formulas shared by host and device -----------------------------------------------------
@@ -351,9 +352,9 @@ OSR_OSR_FN vec3 residualVarianceOfMean(vec4 residual, vec4 residualSq, float wei
 // that fades, better early and late than none or a fixed one (docs/osr.md "Blending the
 // residual in").
 OSR_CONST(float, kResidualMarginPasses, 5.0f);
-OSR_OSR_FN vec3 residualShrinkBlend(vec3 sumVar, vec3 sumSq, float passes) {
+OSR_OSR_FN vec3 residualShrinkBlend(vec3 sumVar, vec3 sumSq, float passes, float noiseWeight) {
   if (passes < kResidualMinPasses) return vec3(0.0f);
-  float margin = 1.0f + kResidualMarginPasses / passes;
+  float margin = noiseWeight * (1.0f + kResidualMarginPasses / passes);
   vec3 blend = vec3(1.0f) - margin * sumVar / max(sumSq, vec3(1e-20f));
   return min(max(blend, vec3(0.0f)), vec3(1.0f));
 }

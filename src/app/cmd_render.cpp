@@ -274,6 +274,14 @@ class OfflineRenderer {
     imageDenoiser_.reset();
     return 0.0;
   }
+  // Which denoiser --time affords and what it holds back, once, before the first integrator:
+  // OSR blends its residual for the denoiser that will run (OsrSettings::residualNoiseWeight).
+  void settleDenoiser() {
+    if (denoiserSettled_) return;
+    denoiserSettled_ = true;
+    if (o_.timeLimit && imageDenoiser_) denoiseReserveS_ = denoiseReserve();
+    if (!imageDenoiser_) settings_.osr.residualNoiseWeight = 1.0f;
+  }
   // One image through `camera` into the given files, with its progress and summary lines.
   void renderImage(const scene::Camera& camera, const std::optional<std::string>& exrFile,
                    const std::optional<std::string>& pngFile);
@@ -308,15 +316,19 @@ class OfflineRenderer {
   uint64_t historyKey_ = 0;
   std::optional<int> shotFrame_;  // the frame renderImage renders, in a shot
   double historySaveS_ = 0.0;     // seconds the last frame's history took to write
+  bool denoiserSettled_ = false;
+  double denoiseReserveS_ = 0.0;  // seconds --time holds back for the image denoiser
 };
 
 void OfflineRenderer::renderImage(const scene::Camera& camera,
                                   const std::optional<std::string>& exrFile,
                                   const std::optional<std::string>& pngFile) {
   if (!dev_) dev_.emplace(ctx_, host_);
-  if (!integrator_)
+  if (!integrator_) {
+    settleDenoiser();
     integrator_ = makeIntegrator({ctx_, dev_->gpu, dev_->bvh}, settings_, o_.integrator.mode,
                                  host_.width, host_.height);
+  }
   render::FilmLayers film;
   const render::RenderStats stats = render(camera, film);
   // A shot's frame stopped by a signal is not written: --resume would take it for complete.
@@ -427,7 +439,7 @@ render::RenderStats OfflineRenderer::render(const scene::Camera& camera,
       std::chrono::duration<double>(std::chrono::steady_clock::now() - allocStart).count();
   constexpr double kFinishOverAllocate = 10.0;
   if (o_.timeLimit) ds.reserveS = kFinishOverAllocate * allocS;
-  if (o_.timeLimit && imageDenoiser_) ds.reserveS += denoiseReserve();
+  ds.reserveS += denoiseReserveS_;
   // A shot's frame also blends in the frames before it and keeps the history for --resume:
   // as long as the last frame's took.
   if (o_.timeLimit && temporal_) ds.reserveS += temporal_->lastSeconds() + historySaveS_;

@@ -159,6 +159,9 @@ IntegratorSettings buildIntegratorSettings(const IntegratorOptions& o) {
   if (units) s.units = uint32_t(*units);
   s.everyMode = o.everyMode;
   s.osr = osrSettings(o.osr);
+  // OSR blends in more of its residual for an image denoiser (docs/osr.md, "Blending the
+  // residual in"); the offline renderer takes it back where --time drops the denoiser.
+  if (s.everyMode.denoise.active()) s.osr.residualNoiseWeight = oneshot::kDenoisedResidualNoiseWeight;
   return s;
 }
 

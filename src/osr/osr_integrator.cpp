@@ -315,7 +315,7 @@ void OsrIntegrator::recordResolve(VkCommandBuffer cmd, uint32_t passesDone,
   }
   if (resolvePixels_ == 0) return;  // an abandoned first pass that reached no pixel: all black
   vk::TimedScope scope(timer, cmd, "resolve");
-  resolve_.record(cmd, bindings_, residualBlend, {0, resolvePixels_});
+  resolve_.record(cmd, bindings_, residualBlend, settings_.residualNoiseWeight, {0, resolvePixels_});
 }
 
 void OsrIntegrator::record(VkCommandBuffer cmd, uint32_t first, uint32_t count,
@@ -327,6 +327,11 @@ void OsrIntegrator::record(VkCommandBuffer cmd, uint32_t first, uint32_t count,
   passesDone_ = first + count;
   filmBehind_ = !settings_.resolveEverySubmission;
   if (!filmBehind_) recordResolve(cmd, passesDone_, timer);
+}
+
+void OsrIntegrator::setResidualNoiseWeight(float weight) {
+  settings_.residualNoiseWeight = weight;
+  if (passesDone_ > 0) filmBehind_ = true;
 }
 
 void OsrIntegrator::resolveInto(render::FilmLayers& into) const {

@@ -60,6 +60,9 @@ class OsrIntegrator : public render::Integrator {
   const render::Film& film() const override { return film_; }
   // Resolves first when record() left the film behind (resolveEverySubmission false).
   void resolveInto(render::FilmLayers& into) const override;
+  // OsrSettings::residualNoiseWeight from now on; the next resolveInto resolves the passes
+  // so far again with it (osr-bench compares one film's raw and denoised blends).
+  void setResidualNoiseWeight(float weight);
 
   // Maps of the last map pass, downloaded (after the last submission): one-shot input
   // [maps][7][32][32] (only with keepAllMaps), clean [maps][3][32][32], where they were taken

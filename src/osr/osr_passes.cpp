@@ -148,9 +148,9 @@ ResolvePass::ResolvePass(const vk::Context& ctx, uint32_t features, bool texelFe
     : PassWithPush(ctx, Id::osr_resolve, Domain::Pixels, features, texelFetch) {}
 
 void ResolvePass::record(VkCommandBuffer cmd, const OsrBindings& b, float residualBlend,
-                         PixelRange pixels) const {
+                         float residualNoiseWeight, PixelRange pixels) const {
   recordPixels(cmd, b, kNoMaps, pixels, [&](const OsrWindow& w) {
-    return o::ResolvePush{w.pixelFirst, w.pixelCount, residualBlend};
+    return o::ResolvePush{w.pixelFirst, w.pixelCount, residualBlend, residualNoiseWeight};
   });
 }
 

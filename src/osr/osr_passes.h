@@ -119,9 +119,10 @@ class ResidualPass : public PassWithPush<gpu::osr::ResidualPush> {
 class ResolvePass : public PassWithPush<gpu::osr::ResolvePush> {
  public:
   ResolvePass(const vk::Context& ctx, uint32_t sceneFeatures, bool sceneTexelFetch);
-  // residualBlend: the accumulated residual's weight (0..1), or < 0 to measure it per pixel.
+  // residualBlend: the accumulated residual's weight (0..1), or < 0 to measure it per pixel
+  // with the residual's variance weighted by residualNoiseWeight.
   void record(VkCommandBuffer cmd, const OsrBindings& bindings, float residualBlend,
-              PixelRange pixels) const;
+              float residualNoiseWeight, PixelRange pixels) const;
 };
 
 }  // namespace osr::oneshot

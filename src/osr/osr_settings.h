@@ -33,6 +33,9 @@ inline constexpr float kMapCacheMovedReach = 1.0f;
 
 // Light passes after each restart in the viewer (OsrSettings::quickPasses).
 inline constexpr uint32_t kViewerQuickPasses = 1;
+// OsrSettings::residualNoiseWeight where an image denoiser follows: with the network, 0.75x
+// the error of 1 on cornell, 0.85-0.89x on room, 1.00x on interior 9002 (docs/osr.md).
+inline constexpr float kDenoisedResidualNoiseWeight = 0.5f;
 
 struct OsrSettings {
   // Measured (docs/training.md): at equal time the shipped U-Net's better maps do not yet pay
@@ -71,6 +74,11 @@ struct OsrSettings {
   // How the residual is blended in: < 0 (default) per pixel by the measured shrinkage of
   // shared/osr.h residualShrinkBlend; n0 >= 0 a fixed ramp k / (k + n0) after k passes.
   double residualRamp = -1.0;
+  // The residual's variance against the maps' error in that measured blend: 1 for an image
+  // shown as it is; kDenoisedResidualNoiseWeight for one an image denoiser cleans, which
+  // removes much of the residual's noise and none of the maps' error, so more of the residual
+  // pays (docs/osr.md "Blending the residual in").
+  float residualNoiseWeight = 1.0f;
   // The world-space map cache (docs/osr.md "The map cache"): room for this many maps (12 KiB
   // each on the device); 0: none, every pass traces all its maps. It outlives restart(), so
   // camera moves (the viewer) and camera-only animations (--frames) reuse it.

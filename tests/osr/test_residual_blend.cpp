@@ -83,7 +83,7 @@ TEST(ResidualBlend, CompositeVarianceOfTheWeightedMean) {
 
 TEST(ResidualBlend, ShrinksTowardTheMapsWhereTheResidualIsNoise) {
   // A neighbourhood of 81 pixels: sumSq estimates 81 (b^2 + V), sumVar 81 V.
-  auto blendOf = [](float bias, float sigma, int n) {
+  auto blendOf = [](float bias, float sigma, int n, float noiseWeight = 1.f) {
     glm::vec3 sumVar(0.f), sumSq(0.f);
     for (int p = 0; p < 81; ++p) {
       Sums s = passes(n, bias, sigma, 100u + p);
@@ -91,17 +91,20 @@ TEST(ResidualBlend, ShrinksTowardTheMapsWhereTheResidualIsNoise) {
       sumVar += o::residualVarianceOfMean(s.residual, s.residualSq, s.weightSum);
       sumSq += mean * mean;
     }
-    return o::residualShrinkBlend(sumVar, sumSq, float(n)).x;
+    return o::residualShrinkBlend(sumVar, sumSq, float(n), noiseWeight).x;
   };
   EXPECT_LT(blendOf(0.f, 1.f, 16), 0.15f);   // unbiased maps: keep the noise out
   EXPECT_GT(blendOf(1.f, 1.f, 64), 0.9f);    // b^2 = 1 against V = 1/64: the residual
   // 1 - m V / (b^2 + V) with b^2 = 0.0625, V = 1/64, m = 1 + 5 / 64: about 0.14.
   EXPECT_NEAR(blendOf(0.125f, 1.f, 64), 1.f - (1.f + 5.f / 64) * 0.5f, 0.15f);
+  // For an image denoiser the residual's variance counts half (kDenoisedResidualNoiseWeight).
+  EXPECT_NEAR(blendOf(0.125f, 1.f, 64, 0.5f), 1.f - 0.5f * (1.f + 5.f / 64) * 0.5f, 0.1f);
+  EXPECT_GT(blendOf(0.125f, 1.f, 64, 0.5f), blendOf(0.125f, 1.f, 64) + 0.2f);
   // More passes, more residual, toward 1 (convergence).
   EXPECT_LT(blendOf(0.1f, 1.f, 16), blendOf(0.1f, 1.f, 1024));
   EXPECT_GT(blendOf(0.1f, 1.f, 4096), 0.95f);
   // Unknown before kResidualMinPasses passes: the maps alone.
-  EXPECT_EQ(o::residualShrinkBlend(glm::vec3(0.f), glm::vec3(4.f), o::kResidualMinPasses - 1).x, 0.f);
+  EXPECT_EQ(o::residualShrinkBlend(glm::vec3(0.f), glm::vec3(4.f), o::kResidualMinPasses - 1, 1.f).x, 0.f);
 }
 
 TEST(ResidualBlend, BeatsMapsAloneAndTheFullResidualOnCoarseMaps) {
@@ -131,4 +134,31 @@ TEST(ResidualBlend, BeatsMapsAloneAndTheFullResidualOnCoarseMaps) {
   EXPECT_LT(blend, full);
   // The first passes are the maps' (noise-free): before kResidualMinPasses nothing is blended.
   EXPECT_NEAR(errorOf(-1.0, 3), errorOf(1e12, 3), 1e-9);
+}
+
+TEST(ResidualBlend, ADenoisersBlendResolvesTheSamePassesAgain) {
+  // OsrIntegrator::setResidualNoiseWeight: the passes so far resolved again with the blend an
+  // image denoiser gets, which shows more of the residual (nearer the whole residual's image
+  // of the same seed), and back, bit for bit.
+  auto s = test::loadForTest(test::referencePath("cornell/cornell.gltf"));
+  const uint32_t size = 32;
+  oneshot::OsrSettings set;
+  set.gridStart = set.gridMin = 16;
+  oneshot::OsrIntegrator osr(test::context(), *s.gpu, s.bvh, size, size, set);
+  const std::vector<float> raw = test::renderOsrPasses(osr, s, 16).combined;
+  osr.setResidualNoiseWeight(oneshot::kDenoisedResidualNoiseWeight);
+  const std::vector<float> forDenoiser = osr.resolve().combined;
+  osr.setResidualNoiseWeight(1.f);
+  EXPECT_EQ(osr.resolve().combined, raw);
+  set.residualRamp = 0.0;
+  oneshot::OsrIntegrator whole(test::context(), *s.gpu, s.bvh, size, size, set);
+  const std::vector<float> full = test::renderOsrPasses(whole, s, 16).combined;
+  double rawGap = 0.0, denoiserGap = 0.0;
+  for (size_t i = 0; i < raw.size(); ++i) {
+    rawGap += std::abs(raw[i] - full[i]);
+    denoiserGap += std::abs(forDenoiser[i] - full[i]);
+  }
+  std::printf("mean gap to the whole residual: raw blend %.5f, denoiser's %.5f\n",
+              rawGap / raw.size(), denoiserGap / raw.size());
+  EXPECT_LT(denoiserGap, 0.8 * rawGap);
 }
