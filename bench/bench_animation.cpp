@@ -371,6 +371,9 @@ int runAnimation(const std::vector<std::string>& args) {
     sequences.push_back(runSequence("path+reuse+network", *path,
                                     denoisedSpp(denoiser, 0.5, &temporal), &denoiser, &temporal));
     if (!pathOnlySpp) {
+      // OSR blends its residual for the denoiser, as osr-vk --frames does with one.
+      for (render::Integrator* i : {osr.get(), cached.get()})
+        static_cast<oneshot::OsrIntegrator&>(*i).setResidualNoiseWeight(oneshot::kDenoisedResidualNoiseWeight);
       sequences.push_back(runSequence("osr+network", *osr, passes, &denoiser));
       sequences.push_back(runSequence("osr+cache+network", *cached, cachePasses, &denoiser));
     }

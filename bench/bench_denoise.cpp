@@ -128,6 +128,8 @@ int runDenoise(const std::vector<std::string>& args) {
           .num("lum_ratio", image::meanLuminance(img) / image::meanLuminance(ref))
           .integer(row.integrator == &osr ? "passes" : "spp", stats.units);
       if (row.denoiser) j.num("relmse_unconverged", image::relMse({int(size), int(size), unconverged}, ref));
+      if (row.integrator == &osr)
+        j.num("residual_noise_weight", row.denoiser ? oneshot::kDenoisedResidualNoiseWeight : 1.0f);
       if (row.denoiser == net.get() && net) j.str("network", network);
       if (bs.referenceNoise) j.num("ref_noise", *bs.referenceNoise).str("ref_noise_from", bs.referenceNoiseFrom);
       j.str("device", ctx.caps().deviceName).print();

@@ -193,7 +193,8 @@ int runOsrError(const std::vector<std::string>& args) {
       j.str("network", network)
           .num("denoised_relmse", denoisedRelSum)
           .num("denoised_noise", after.noise)
-          .num("denoised_bias", after.bias);
+          .num("denoised_bias", after.bias)
+          .num("denoised_residual_noise_weight", oneshot::kDenoisedResidualNoiseWeight);
     }
     if (bs.referenceNoise) j.num("ref_noise", *bs.referenceNoise).str("ref_noise_from", bs.referenceNoiseFrom);  // part of both biases
     j.str("device", ctx.caps().deviceName).print();

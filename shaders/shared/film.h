@@ -6,8 +6,9 @@
 OSR_NAMESPACE_BEGIN(film)
 
 // Running sums per pixel; the host divides by the sample count (combined.w).
-// direct: emission seen directly plus light after one bounce; indirect: after more than one
-// bounce (combined = direct + indirect). albedo, normal (world, facing the camera) and depth
+// direct: emission met before or at the first surface that is not near-specular (mirror-like
+// metal, smooth glass) and light reaching that surface in one hop; indirect: the rest
+// (combined = direct + indirect; docs/pathtracer.md "Film layers"). albedo, normal (world, facing the camera) and depth
 // (distance along the camera's view axis, x = sum, y = number of samples that hit) are of the
 // first surface (path tracing: the first that is not a mirror, lib/first_hit.glsl). depth.z: the sum of the squared luminance of the combined samples, the second
 // moment the denoisers' variance comes from (OSR's resolve, one sample's worth, stores its

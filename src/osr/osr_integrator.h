@@ -61,7 +61,8 @@ class OsrIntegrator : public render::Integrator {
   // Resolves first when record() left the film behind (resolveEverySubmission false).
   void resolveInto(render::FilmLayers& into) const override;
   // OsrSettings::residualNoiseWeight from now on; the next resolveInto resolves the passes
-  // so far again with it (osr-bench compares one film's raw and denoised blends).
+  // so far again with it (osr-bench compares one film's raw and denoised blends). Not after
+  // abandonUnit of a later pass: the sums then hold part of it, which that resolve would show.
   void setResidualNoiseWeight(float weight);
 
   // Maps of the last map pass, downloaded (after the last submission): one-shot input

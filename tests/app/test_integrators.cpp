@@ -53,6 +53,14 @@ TEST(Integrators, WeightsImplyTheUnetUnlessADenoiserIsGiven) {
             oneshot::Denoiser::None);
 }
 
+TEST(Integrators, OsrBlendsItsResidualForTheImageDenoiser) {
+  // docs/osr.md "Blending the residual in": half the residual's variance where a denoiser runs.
+  EXPECT_EQ(settingsOf({"--mode", "osr"}).osr.residualNoiseWeight, oneshot::kDenoisedResidualNoiseWeight);
+  EXPECT_EQ(settingsOf({"--mode", "osr", "--network", "none"}).osr.residualNoiseWeight,
+            oneshot::kDenoisedResidualNoiseWeight);  // the a-trous filter
+  EXPECT_EQ(settingsOf({"--mode", "osr", "--network", "none", "--filter", "none"}).osr.residualNoiseWeight, 1.0f);
+}
+
 TEST(Integrators, AnOptionOfAnotherModeIsRefused) {
   for (const char* option : {"--passes", "--grid-start", "--direct-spp", "--map-spp", "--map-cache",
                              "--map-cache-reach"})

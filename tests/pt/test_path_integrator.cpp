@@ -523,7 +523,7 @@ TEST(PathIntegrator, DirectLayerStartsPastMirrors) {
     for (int c = 0; c < 3; ++c) {
       const float expected = 0.9f * wallColour[c] / float(M_PI) * 2.f;
       EXPECT_NEAR(r.film.direct[3 * i + c], expected, 0.015f * expected) << i << " " << c;
-      // What the wall sees of itself in the mirror, lit by the sun.
+      // Little else: the wall sees its own reflection only at grazing angles.
       EXPECT_LT(r.film.indirect[3 * i + c], 0.5f * expected) << i << " " << c;
     }
   fs::remove_all(d);

@@ -181,7 +181,7 @@ const std::vector<Layout>& layouts() {
              F(cleanMapOffset), F(glossySamples), F(passWeight), F(momentWeight)),
       STRUCT(osr, ResidualPush, F(grid), F(pass), F(pixelOffset), F(pixelCount),
              F(cleanMapOffset), F(pathsPerPixel), F(passWeight), F(guideShare)),
-      STRUCT(osr, ResolvePush, F(pixelOffset), F(pixelCount), F(residualBlend)),
+      STRUCT(osr, ResolvePush, F(pixelOffset), F(pixelCount), F(residualBlend), F(residualNoiseWeight)),
       STRUCT(pt, Push, F(pixelOffset), F(pixelCount), F(sampleIndex), F(sampleCount)),
       STRUCT(temporal, TemporalCameras, F(current), F(previous)),
       STRUCT(temporal, TemporalPush, F(width), F(height), F(samples), F(maxHistory), F(rejectSigma),
