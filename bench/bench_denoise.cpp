@@ -107,7 +107,8 @@ int runDenoise(const std::vector<std::string>& args) {
   for (long long budget : budgets) {
     for (const Row& row : rows) {
       // OSR blends its residual for the denoiser that follows, as osr-vk does.
-      osr.setResidualNoiseWeight(row.denoiser ? oneshot::kDenoisedResidualNoiseWeight : 1.0f);
+      const float osrWeight = oneshot::residualNoiseWeightFor(row.denoiser != nullptr);
+      osr.setResidualNoiseWeight(osrWeight);
       render::RenderStats stats;
       render::FilmLayers film = renderFor(ctx, *row.integrator, cam, double(budget) - row.denoiseS, stats);
       const double raw = image::relMse({int(size), int(size), film.combined}, ref);
@@ -128,8 +129,7 @@ int runDenoise(const std::vector<std::string>& args) {
           .num("lum_ratio", image::meanLuminance(img) / image::meanLuminance(ref))
           .integer(row.integrator == &osr ? "passes" : "spp", stats.units);
       if (row.denoiser) j.num("relmse_unconverged", image::relMse({int(size), int(size), unconverged}, ref));
-      if (row.integrator == &osr)
-        j.num("residual_noise_weight", row.denoiser ? oneshot::kDenoisedResidualNoiseWeight : 1.0f);
+      if (row.integrator == &osr) j.num("residual_noise_weight", osrWeight);
       if (row.denoiser == net.get() && net) j.str("network", network);
       if (bs.referenceNoise) j.num("ref_noise", *bs.referenceNoise).str("ref_noise_from", bs.referenceNoiseFrom);
       j.str("device", ctx.caps().deviceName).print();

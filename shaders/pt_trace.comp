@@ -77,7 +77,6 @@ struct CameraPath {
   float featurePath;  // the path's length to the record's surface
   float featureCos;   // view-axis depth per unit length along the camera ray
   uint specularLead;  // near-specular surfaces met before any other (addLight)
-  bool leadOpen;      // no other surface met yet
 };
 const uint kFeatureChainSurfaces = 4u;  // surfaces the record looks at, at most (3 mirrors)
 
@@ -115,7 +114,6 @@ CameraPath startPath(uint pixel, uint sampleIndex) {
   c.featurePath = 0.0;
   c.featureCos = 1.0;
   c.specularLead = 0u;
-  c.leadOpen = true;
   return c;
 }
 
@@ -144,8 +142,8 @@ bool pathStep(inout CameraPath c) {
   }
   addLight(c.s, bounce - c.specularLead, r.emitted);
   addLight(c.s, bounce + 1u - c.specularLead, r.nee);
-  c.leadOpen = c.leadOpen && r.hit && r.nearSpecular;
-  if (c.leadOpen) c.specularLead += 1u;
+  // Every surface so far was near-specular exactly when they are all counted.
+  if (c.specularLead == bounce && r.hit && r.nearSpecular) c.specularLead += 1u;
   return ended;
 }
 

@@ -17,7 +17,8 @@ SPP its samples per pixel. OUT holds, as 32-bit float:
   (image::referenceNoise, docs/benchmarks.md): with 2 parts each pixel's estimate has one
   degree of freedom, but their mean over an image is close.
 - direct.R, ..., indirect.B and their spread (direct.spread.R, ...): the same for the parts'
-  `direct` and `indirect` layers (docs/pathtracer.md "Film layers"), where every part has them, so that `osr-bench osr-error` can split a bias by layer.
+  `direct` and `indirect` layers (docs/pathtracer.md "Film layers"), where every part has
+  them, so that `osr-bench osr-error` can split a bias by layer.
 
 Bad input (a missing or unreadable part, no variance layer, parts of other sizes, fewer than
 two parts or one part twice, a bad SPP, an OUT that cannot be written) is one line on stderr

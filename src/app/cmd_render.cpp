@@ -235,6 +235,10 @@ class OfflineRenderer {
     if (o.integrator.everyMode.denoise.active())
       imageDenoiser_ = std::make_unique<render::Denoiser>(ctx, o.integrator.everyMode.denoise,
                                                           host.width, host.height);
+    // Which denoiser --time affords, before any integrator: OSR blends its residual for the
+    // denoiser that will run (OsrSettings::residualNoiseWeight).
+    if (o.timeLimit && imageDenoiser_) denoiseReserveS_ = denoiseReserve();
+    settings_.osr.residualNoiseWeight = oneshot::residualNoiseWeightFor(imageDenoiser_ != nullptr);
   }
   // The seconds --time holds back for the denoiser, which runs after the budget: its time on a
   // small image (run twice, the first builds its pipelines) scaled by the pixels, timed on a
@@ -274,14 +278,6 @@ class OfflineRenderer {
     imageDenoiser_.reset();
     return 0.0;
   }
-  // Which denoiser --time affords and what it holds back, once, before the first integrator:
-  // OSR blends its residual for the denoiser that will run (OsrSettings::residualNoiseWeight).
-  void settleDenoiser() {
-    if (denoiserSettled_) return;
-    denoiserSettled_ = true;
-    if (o_.timeLimit && imageDenoiser_) denoiseReserveS_ = denoiseReserve();
-    if (!imageDenoiser_) settings_.osr.residualNoiseWeight = 1.0f;
-  }
   // One image through `camera` into the given files, with its progress and summary lines.
   void renderImage(const scene::Camera& camera, const std::optional<std::string>& exrFile,
                    const std::optional<std::string>& pngFile);
@@ -316,7 +312,6 @@ class OfflineRenderer {
   uint64_t historyKey_ = 0;
   std::optional<int> shotFrame_;  // the frame renderImage renders, in a shot
   double historySaveS_ = 0.0;     // seconds the last frame's history took to write
-  bool denoiserSettled_ = false;
   double denoiseReserveS_ = 0.0;  // seconds --time holds back for the image denoiser
 };
 
@@ -324,11 +319,9 @@ void OfflineRenderer::renderImage(const scene::Camera& camera,
                                   const std::optional<std::string>& exrFile,
                                   const std::optional<std::string>& pngFile) {
   if (!dev_) dev_.emplace(ctx_, host_);
-  if (!integrator_) {
-    settleDenoiser();
+  if (!integrator_)
     integrator_ = makeIntegrator({ctx_, dev_->gpu, dev_->bvh}, settings_, o_.integrator.mode,
                                  host_.width, host_.height);
-  }
   render::FilmLayers film;
   const render::RenderStats stats = render(camera, film);
   // A shot's frame stopped by a signal is not written: --resume would take it for complete.

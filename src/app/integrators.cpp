@@ -160,8 +160,8 @@ IntegratorSettings buildIntegratorSettings(const IntegratorOptions& o) {
   s.everyMode = o.everyMode;
   s.osr = osrSettings(o.osr);
   // OSR blends in more of its residual for an image denoiser (docs/osr.md, "Blending the
-  // residual in"); the offline renderer takes it back where --time drops the denoiser.
-  if (s.everyMode.denoise.active()) s.osr.residualNoiseWeight = oneshot::kDenoisedResidualNoiseWeight;
+  // residual in"); the offline renderer sets it again once --time has settled the denoiser.
+  s.osr.residualNoiseWeight = oneshot::residualNoiseWeightFor(s.everyMode.denoise.active());
   return s;
 }
 

@@ -36,6 +36,9 @@ inline constexpr uint32_t kViewerQuickPasses = 1;
 // OsrSettings::residualNoiseWeight where an image denoiser follows: with the network, 0.75x
 // the error of 1 on cornell, 0.85-0.89x on room, 1.00x on interior 9002 (docs/osr.md).
 inline constexpr float kDenoisedResidualNoiseWeight = 0.5f;
+inline float residualNoiseWeightFor(bool imageDenoised) {
+  return imageDenoised ? kDenoisedResidualNoiseWeight : 1.0f;
+}
 
 struct OsrSettings {
   // Measured (docs/training.md): at equal time the shipped U-Net's better maps do not yet pay
