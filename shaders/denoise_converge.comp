@@ -4,8 +4,8 @@
 // bias (texture and shading detail averaged away) stays however many samples the film has, so
 // without this step a denoised image stops converging; with it, the image returns to the film
 // as the film's noise falls.
-// In: colour (the film's: rgb, w its luminance variance), normal (w: the share of light seen
-// directly), denoised (rgb). Out: rgb, w 0.
+// In: colour (the film's: rgb, w its luminance variance), normal (the film's mean normal; w: the
+// share of light seen directly), denoised (rgb). Out: rgb, w 0.
 #extension GL_GOOGLE_include_directive : require
 #include "shared/denoise.h"
 #include "lib/sampling.glsl"  // luminance
@@ -22,20 +22,25 @@ void main() {
   const ivec2 size = ivec2(gPush.width, gPush.height);
   if (any(greaterThanEqual(p, size))) return;
   const uint ip = uint(p.y) * gPush.width + uint(p.x);
+  const vec3 normal = gNormal[ip].xyz;
   float gap = 0.0, noise = 0.0, level = 0.0, count = 0.0;
   for (int dy = -kConvergeRadius; dy <= kConvergeRadius; ++dy)
     for (int dx = -kConvergeRadius; dx <= kConvergeRadius; ++dx) {
       const ivec2 q = p + ivec2(dx, dy);
       if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, size))) continue;
       const uint iq = uint(q.y) * gPush.width + uint(q.x);
-      if (gNormal[iq].w > 0.0) continue;  // a lamp's variance or gap is not this surface's
+      const vec4 guide = gNormal[iq];
+      if (guide.w > 0.0) continue;  // a lamp's variance or gap is not this surface's
+      // Neighbours weigh by how alike their geometry is (shared/denoise.h, "Convergence").
+      const vec3 dn = guide.xyz - normal;
+      const float w = exp(-kConvergeNormalSigma * dot(dn, dn));
       const vec4 film = gColour[iq];
       const float denoised = max(luminance(gDenoised[iq].rgb), 0.0);
       const float g = luminance(film.rgb) - denoised;
-      gap += g * g;
-      noise += film.w > 0.0 ? film.w : denoised * denoised / float(max(gPush.samples, 1u));
-      level += denoised;
-      count += 1.0;
+      gap += w * g * g;
+      noise += w * (film.w > 0.0 ? film.w : denoised * denoised / float(max(gPush.samples, 1u)));
+      level += w * denoised;
+      count += w;
     }
   // The window's relative standard error: its mean variance's root over its mean level.
   const float k = 1.0 + kConvergeNoiseScale * sqrt(noise / max(count, 1.0)) / max(level / max(count, 1.0), 1e-4);

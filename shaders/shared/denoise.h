@@ -112,20 +112,24 @@ OSR_CONST(float, kFilterSigmaLuminance, 4.0);
 OSR_CONST(float, kFilterVarianceFloor, 1e-6);
 
 // Convergence (denoise_converge.comp): the denoised colour d moves back towards the film's
-// colour x by lambda = clamp(1 - k sum(v) / sum((l_x - l_d)^2), 0, 1), sums over the
-// (2 kConvergeRadius + 1)^2 pixels around, l the luminance and v the film's variance of it: the
-// positive-part James-Stein rule, which keeps d where the gap is what the film's noise explains
-// and returns to x where it is more (the denoiser's bias). k = 1 + kConvergeNoiseScale
-// sqrt(mean(v)) / max(mean(l_d), 1e-4), the film's relative standard error over the window:
-// where few paths carry most of the light (small lamps), the variance of a few samples is a
-// heavy-tailed estimate and a gap of several of its standard deviations is still noise. A
-// variance of 0 (unknown, or every sample dark) counts as l_d^2 / samples, one sample's worth
-// of the denoised level; pixels that saw light directly are left out of the sums, as the
-// denoisers leave them out of their averages. The gap is the luminance's: a bias in colour
-// alone is not seen. Films of fewer than kConvergeMinSamples samples per pixel are left as
-// denoised.
+// colour x by lambda = clamp(1 - k sum(w v) / sum(w (l_x - l_d)^2), 0, 1), sums over the
+// (2 kConvergeRadius + 1)^2 pixels around, l the luminance, v the film's variance of it and
+// w = exp(-kConvergeNormalSigma |n_p - n_q|^2) on the film's mean normals: 1 on the pixel's own
+// face, about 0 across an edge and between pixels along one whose mixes of the two faces
+// differ, so that an edge's bias is not diluted by its faces' noise, nor do the faces beside it
+// return to the film for it. The positive-part James-Stein rule keeps d where the gap is what
+// the film's noise explains and returns to x where it is more (the denoiser's bias).
+// k = 1 + kConvergeNoiseScale sqrt(mean(v)) / max(mean(l_d), 1e-4) (means weighted by w), the
+// film's relative standard error over the window: where few paths carry most of the light
+// (small lamps), the variance of a few samples is a heavy-tailed estimate and a gap of several
+// of its standard deviations is still noise. A variance of 0 (unknown, or every sample dark)
+// counts as l_d^2 / samples, one sample's worth of the denoised level; pixels that saw light
+// directly are left out of the sums, as the denoisers leave them out of their averages. The
+// gap is the luminance's: a bias in colour alone is not seen. Films of fewer than
+// kConvergeMinSamples samples per pixel are left as denoised.
 OSR_CONST(int, kConvergeRadius, 1);
 OSR_CONST(float, kConvergeNoiseScale, 8.0);
+OSR_CONST(float, kConvergeNormalSigma, 256.0);
 OSR_CONST(uint, kConvergeMinSamples, 64);
 
 OSR_NAMESPACE_END
