@@ -33,7 +33,7 @@ void main() {
       if (guide.w > 0.0) continue;  // a lamp's variance or gap is not this surface's
       // Neighbours weigh by how alike their geometry is (shared/denoise.h, "Convergence").
       const vec3 dn = guide.xyz - normal;
-      const float w = exp(-kConvergeNormalSigma * dot(dn, dn));
+      const float w = max(exp(-kConvergeNormalSigma * dot(dn, dn)), kConvergeWeightFloor);
       const vec4 film = gColour[iq];
       const float denoised = max(luminance(gDenoised[iq].rgb), 0.0);
       const float g = luminance(film.rgb) - denoised;

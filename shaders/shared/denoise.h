@@ -114,10 +114,12 @@ OSR_CONST(float, kFilterVarianceFloor, 1e-6);
 // Convergence (denoise_converge.comp): the denoised colour d moves back towards the film's
 // colour x by lambda = clamp(1 - k sum(w v) / sum(w (l_x - l_d)^2), 0, 1), sums over the
 // (2 kConvergeRadius + 1)^2 pixels around, l the luminance, v the film's variance of it and
-// w = exp(-kConvergeNormalSigma |n_p - n_q|^2) on the film's mean normals: 1 on the pixel's own
-// face, about 0 across an edge and between pixels along one whose mixes of the two faces
-// differ, so that an edge's bias is not diluted by its faces' noise, nor do the faces beside it
-// return to the film for it. The positive-part James-Stein rule keeps d where the gap is what
+// w = max(exp(-kConvergeNormalSigma |n_p - n_q|^2), kConvergeWeightFloor) on the film's mean
+// normals: 1 on the pixel's own face, little across an edge and between pixels along one whose
+// mixes of the two faces differ, so that an edge's bias is not diluted by its faces' noise, nor
+// do the faces beside it return to the film for it. The floor keeps some neighbours in every
+// window: a pixel left alone with its own heavy-tailed variance (small lamps' light) returns to
+// the film by chance. The positive-part James-Stein rule keeps d where the gap is what
 // the film's noise explains and returns to x where it is more (the denoiser's bias).
 // k = 1 + kConvergeNoiseScale sqrt(mean(v)) / max(mean(l_d), 1e-4) (means weighted by w), the
 // film's relative standard error over the window: where few paths carry most of the light
@@ -130,6 +132,7 @@ OSR_CONST(float, kFilterVarianceFloor, 1e-6);
 OSR_CONST(int, kConvergeRadius, 1);
 OSR_CONST(float, kConvergeNoiseScale, 8.0);
 OSR_CONST(float, kConvergeNormalSigma, 256.0);
+OSR_CONST(float, kConvergeWeightFloor, 0.1);
 OSR_CONST(uint, kConvergeMinSamples, 64);
 
 OSR_NAMESPACE_END

@@ -430,7 +430,7 @@ TEST(Denoiser, ConvergeFollowsTheShrinkageRule) {
           const size_t q = size_t(qy) * f.width + qx;
           double dn2 = 0;
           for (int c = 0; c < 3; ++c) dn2 += std::pow(double(f.normal[3 * q + c]) - f.normal[3 * p + c], 2);
-          const double w = std::exp(-gpu::denoise::kConvergeNormalSigma * dn2);
+          const double w = std::max(std::exp(-gpu::denoise::kConvergeNormalSigma * dn2), double(gpu::denoise::kConvergeWeightFloor));
           const double l = std::max(denoised.luminance(q), 0.0), g = film.luminance(q) - l;
           gap += w * g * g;
           noise += w * (f.variance[q] > 0 ? f.variance[q] : l * l / f.samples);
@@ -508,9 +508,10 @@ TEST(Denoiser, ConvergeReturnsToTheFilmOnlyWhereTheDenoiserIsBiased) {
 
 // Two faces meet at an edge whose pixels straddle both (a mean normal between theirs). The
 // denoiser got the faces right and the edge 3 standard deviations of the film's noise off: the
-// edge returns to the film, and the faces beside it keep the denoised level. When every pixel
-// of the 3 x 3 window counted alike, the faces' unbiased gaps diluted the edge's and the edge's
-// gaps pulled the faces beside it most of the way back to the film's noise (0.7x its error).
+// edge returns to the film, and the faces beside it keep the denoised level (0.3x the film's
+// error). When every pixel of the 3 x 3 window counted alike, the faces' unbiased gaps diluted
+// the edge's and the edge's gaps pulled the faces beside it most of the way back to the film's
+// noise (0.7x its error).
 TEST(Denoiser, ConvergeReturnsAnEdgeWithoutTheFacesBesideIt) {
   const int w = 64, h = 48, edge = 32;
   const float sigma = 0.01f, bias = 3.0f * sigma;
@@ -547,7 +548,42 @@ TEST(Denoiser, ConvergeReturnsAnEdgeWithoutTheFacesBesideIt) {
   std::printf("edge: mean |error| %.4f (denoised %.3f); faces beside it %.5f (film %.5f)\n", edgeErr, bias,
               besideErr / (2 * (h - 2)), besideRawErr / (2 * (h - 2)));
   EXPECT_LE(edgeErr, 0.5 * bias);
-  EXPECT_LE(besideErr, 0.25 * besideRawErr);
+  EXPECT_LE(besideErr, 0.4 * besideRawErr);
+}
+
+// Where no neighbour shares a pixel's geometry (every normal different: fine detail, foliage),
+// the window must not shrink to the pixel alone: one sample of its own noise would return it to
+// the film whenever its gap happens to exceed its variance. Denoised exactly, the film's
+// heavy-tailed noise (a few bright paths, as under small lamps) stays out.
+TEST(Denoiser, ConvergeKeepsNeighboursWhereNoneSharesTheGeometry) {
+  const int w = 64, h = 48;
+  render::FilmLayers f = film(w, h);
+  std::mt19937 rng(8);
+  std::uniform_real_distribution<float> uni(0.0f, 1.0f);
+  std::vector<float> denoised(f.combined.size(), 0.5f);
+  for (size_t i = 0; i < size_t(w) * h; ++i) {
+    // 16 paths, most of them a little dark and now and then one far too bright (mean 0.5): a
+    // pixel that met no bright path is dark and reports a small variance.
+    double sum = 0, sumSq = 0;
+    for (int k = 0; k < 16; ++k) {
+      const double path = uni(rng) < 0.1f ? 0.5 + 2.7 : 0.5 - 0.3 + 0.1 * uni(rng);
+      sum += path;
+      sumSq += path * path;
+    }
+    const double mean = sum / 16;
+    for (int c = 0; c < 3; ++c) f.combined[3 * i + c] = float(mean);
+    f.variance[i] = float((sumSq / 16 - mean * mean) / 15);
+    for (int c = 0; c < 3; ++c) f.normal[3 * i + c] = 2.0f * uni(rng) - 1.0f;
+  }
+  f.samples = 16;
+  const std::vector<float> got = runConverge(f, denoised);
+  double err = 0, rawErr = 0;
+  for (size_t i = 0; i < size_t(w) * h; ++i) {
+    err += std::pow(got[3 * i] - 0.5, 2);
+    rawErr += std::pow(f.combined[3 * i] - 0.5, 2);
+  }
+  std::printf("normals all different: squared error %.4f of the film's\n", err / rawErr);
+  EXPECT_LE(err, 0.05 * rawErr);  // 0.22 with no floor
 }
 
 // The Denoiser runs the step after its filter from kConvergeMinSamples samples per pixel on, and
