@@ -1,10 +1,11 @@
 #!/usr/bin/python3
 """Images side by side in one PNG, for looking at renders against each other (docs/images).
 
-usage: side_by_side.py OUT.png A.exr B.exr ... [--exposure EV] [--gap 4] [--scale N]
+usage: side_by_side.py OUT.png A.exr B.exr[:LAYER] ... [--exposure EV] [--gap 4] [--scale N]
                          [--crop X,Y,W,H]
 
-Each EXR's default RGB layer, scaled by 2^EV, clamped to [0, 1] and sRGB-encoded as
+Each EXR's default RGB layer (or, as FILE.exr:LAYER, its layer LAYER: `film.exr:noisy` is
+osr-vk's raw colour beside its denoised one), scaled by 2^EV, clamped to [0, 1] and sRGB-encoded as
 `osr-vk --png --tonemap clamp` does, left to right in the order given, with a black gap
 between them. All images must have the same height. --crop shows the same rectangle of each
 (pixels from the top left), to look at a detail with --scale.
@@ -54,12 +55,20 @@ def main(argv: list[str] | None = None) -> int:
             return 2
     panels = []
     for path in args.images:
+        file, layer = path, ""
+        if not Path(path).exists() and ":" in path:
+            file, layer = path.rsplit(":", 1)
         try:
-            _, _, planes = exr.read_layers(path)
-            rgb = np.stack([planes[c] for c in "RGB"], -1).astype(np.float64)
-        except (exr.ExrError, KeyError, OSError) as e:
-            print(f"side_by_side.py: {path}: not an RGB EXR ({e})", file=sys.stderr)
+            _, _, planes = exr.read_layers(file)
+        except (exr.ExrError, OSError) as e:
+            print(f"side_by_side.py: {file}: not an EXR ({e})", file=sys.stderr)
             return 2
+        prefix = layer + "." if layer else ""
+        if any(prefix + c not in planes for c in "RGB"):
+            what = f"no RGB layer '{layer}'" if layer else "no default RGB layer"
+            print(f"side_by_side.py: {file}: {what}", file=sys.stderr)
+            return 2
+        rgb = np.stack([planes[prefix + c] for c in "RGB"], -1).astype(np.float64)
         if crop is not None:
             x, y, w, h = crop
             if x + w > rgb.shape[1] or y + h > rgb.shape[0]:

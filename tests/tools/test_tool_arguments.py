@@ -12,14 +12,35 @@ import subprocess
 import sys
 import tempfile
 import unittest
+import zlib
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[2]
 TOOLS = ROOT / "tools"
 sys.path.insert(0, str(TOOLS))
 from arg_types import parse_seeds  # noqa: E402
+import exr_file  # noqa: E402
+import numpy as np  # noqa: E402
 
 PY = "/usr/bin/python3"
+
+
+def read_png(path: Path) -> list[list[tuple[int, int, int]]]:
+    """The RGB of each pixel of a PNG that tools/gltf_build.png wrote (RGBA 8, filter 0)."""
+    data, pos, idat = path.read_bytes(), 8, b""
+    width = height = 0
+    while pos < len(data):
+        size, kind = int.from_bytes(data[pos:pos + 4], "big"), data[pos + 4:pos + 8]
+        body = data[pos + 8:pos + 8 + size]
+        if kind == b"IHDR":
+            width, height = int.from_bytes(body[:4], "big"), int.from_bytes(body[4:8], "big")
+        elif kind == b"IDAT":
+            idat += body
+        pos += 12 + size
+    rows = zlib.decompress(idat)
+    stride = 1 + 4 * width
+    return [[tuple(rows[y * stride + 1 + 4 * x:y * stride + 4 + 4 * x]) for x in range(width)]
+            for y in range(height)]
 
 
 class BadNumbers(unittest.TestCase):
@@ -67,6 +88,25 @@ class BadNumbers(unittest.TestCase):
             width, height = int.from_bytes(out.read_bytes()[16:20], "big"), \
                 int.from_bytes(out.read_bytes()[20:24], "big")
             self.assertEqual((width, height), (2 * 30 * 2 + 4, 2 * 40))
+
+    def test_side_by_side_layer(self):
+        ref = str(ROOT / "scenes" / "cornell" / "cornell_cycles_4096spp.exr")
+        self.refused("side_by_side.py", ["OUT.png", ref + ":noisy"], "no RGB layer 'noisy'")
+        self.refused("side_by_side.py", ["OUT.png", "missing.exr:noisy"], "missing.exr")
+        with tempfile.TemporaryDirectory() as tmp:
+            # A film as osr-vk writes one: the denoised colour 0 by default, the raw one 1.
+            film = Path(tmp) / "film.exr"
+            ones, zeros = np.ones((4, 6), np.float32), np.zeros((4, 6), np.float32)
+            exr_file.write_raw(film, {**{c: (2, zeros.view(np.uint32)) for c in "RGB"},
+                                      **{"noisy." + c: (2, ones.view(np.uint32)) for c in "RGB"}})
+            out = Path(tmp) / "layer.png"
+            r = subprocess.run([PY, str(TOOLS / "side_by_side.py"), str(out), f"{film}:noisy",
+                                str(film), "--gap", "0"], capture_output=True, text=True, timeout=60)
+            self.assertEqual(r.returncode, 0, r.stderr)
+            self.assertEqual(int.from_bytes(out.read_bytes()[16:20], "big"), 12)
+            pixels = read_png(out)
+            self.assertEqual(pixels[0][0], (255, 255, 255))  # the raw layer, white
+            self.assertEqual(pixels[0][6], (0, 0, 0))        # the default layer, black
 
     def test_add_camera_path(self):
         scene = str(ROOT / "scenes" / "cornell" / "cornell.gltf")
