@@ -43,8 +43,9 @@ struct IntegratorKind {
 };
 // path, preview, osr: the viewer's order.
 const std::vector<IntegratorKind>& integratorKinds();
-// Path tracing with the a-trous filter gives the lowest relMSE at equal time on cornell, room
-// and held-out generated interiors (docs/denoise.md, "The default"), OSR with it 1.2-4.6x more.
+// Path tracing with the learned denoiser gives the lowest relMSE at equal time on cornell, room
+// and held-out generated interiors; OSR with it is 1.5-5.2x worse (docs/osr.md, "Against path
+// tracing once both are denoised").
 inline constexpr char kDefaultMode[] = "path";
 // The kind named `mode`; InputError naming --mode and the known kinds otherwise.
 const IntegratorKind& integratorKind(const std::string& mode);
