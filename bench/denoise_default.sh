@@ -18,23 +18,25 @@ for s in "${scenes[@]}"; do
   view=()
   case $s in
     cornell | room)
-      scene=$root/scenes/$s/$s.gltf half=2048 ;;
+      # osr-bench knows them by name (their lines say "cornell", "room"); osr-vk by file.
+      scene=$root/scenes/$s/$s.gltf name=$s half=2048 ;;
     *)
-      [[ -f $data/$s/scene.gltf ]] || /usr/bin/python3 "$root/tools/make_interiors.py" "$data" --seeds "$s" >/dev/null
-      scene=$data/$s/scene.gltf half=1024 view=(--camera 0)
+      [[ -f $data/$s/scene.gltf ]] ||
+        /usr/bin/python3 "$root/tools/make_interiors.py" "$data" --seeds "$s" >/dev/null
+      scene=$data/$s/scene.gltf name=$data/$s/scene.gltf half=1024 view=(--camera 0)
       [[ -f $data/$s/sky.hdr ]] && view+=(--env "$data/$s/sky.hdr") ;;
   esac
   ref=$data/ref${s}_$((2 * half)).exr
   if [[ ! -f $ref ]]; then
     for seed in 777 778; do
-      [[ -f $data/ref${s}_${half}_$seed.exr ]] || "$vk" --mode path --spp $half --seed $seed --width 256 \
-        --height 256 "${view[@]}" --network none --filter none --exr-float --quiet \
-        --offline "$data/ref${s}_${half}_$seed.exr" "$scene"
+      part=$data/ref${s}_${half}_$seed.exr
+      [[ -f $part ]] || "$vk" --mode path --spp $half --seed $seed --width 256 --height 256 \
+        "${view[@]}" --network none --filter none --exr-float --quiet --offline "$part" "$scene"
     done
-    /usr/bin/python3 "$root/tools/merge_references.py" "$ref" "$data/ref${s}_${half}_777.exr:$half" \
-      "$data/ref${s}_${half}_778.exr:$half"
+    /usr/bin/python3 "$root/tools/merge_references.py" "$ref" \
+      "$data/ref${s}_${half}_777.exr:$half" "$data/ref${s}_${half}_778.exr:$half"
   fi
-  args=(--scene "$scene" --reference "$ref" "${view[@]}")
-  "$bench" denoise "${args[@]}" --rows path,path+atrous,path+network --budgets 5,10,30 --network default --record
-  "$bench" denoise "${args[@]}" --rows path,path+network --budgets 60,120 --network default --record
+  args=(--scene "$name" --reference "$ref" "${view[@]}" --network default --record)
+  "$bench" denoise "${args[@]}" --rows path,path+atrous,path+network --budgets 5,10,30
+  "$bench" denoise "${args[@]}" --rows path,path+network --budgets 60,120
 done

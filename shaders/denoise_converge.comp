@@ -33,7 +33,9 @@ void main() {
       if (guide.w > 0.0) continue;  // a lamp's variance or gap is not this surface's
       // Neighbours weigh by how alike their geometry is (shared/denoise.h, "Convergence").
       const vec3 dn = guide.xyz - normal;
-      const float w = max(exp(-kConvergeNormalSigma * dot(dn, dn)), kConvergeWeightFloor);
+      const float dn2 = dot(dn, dn);  // at most 4 between normals of length <= 1; NaN: the floor
+      const float w =
+          dn2 <= 4.0 ? max(exp(-kConvergeNormalSigma * dn2), kConvergeWeightFloor) : kConvergeWeightFloor;
       const vec4 film = gColour[iq];
       const float denoised = max(luminance(gDenoised[iq].rgb), 0.0);
       const float g = luminance(film.rgb) - denoised;
@@ -43,7 +45,8 @@ void main() {
       count += w;
     }
   // The window's relative standard error: its mean variance's root over its mean level.
-  const float k = 1.0 + kConvergeNoiseScale * sqrt(noise / max(count, 1.0)) / max(level / max(count, 1.0), 1e-4);
+  const float weights = max(count, 1e-6);
+  const float k = 1.0 + kConvergeNoiseScale * sqrt(noise / weights) / max(level / weights, 1e-4);
   const float ratio = k * noise / gap;  // NaN where both are infinite: then d is kept
   const float lambda = gap > 0.0 && !isnan(ratio) ? clamp(1.0 - ratio, 0.0, 1.0) : 0.0;
   gOut[ip] = vec4(mix(gDenoised[ip].rgb, gColour[ip].rgb, lambda), 0.0);

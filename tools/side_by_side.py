@@ -61,7 +61,7 @@ def main(argv: list[str] | None = None) -> int:
         try:
             _, _, planes = exr.read_layers(file)
         except (exr.ExrError, OSError) as e:
-            print(f"side_by_side.py: {file}: not an EXR ({e})", file=sys.stderr)
+            print(f"side_by_side.py: {e}", file=sys.stderr)  # names the file and the problem
             return 2
         prefix = layer + "." if layer else ""
         if any(prefix + c not in planes for c in "RGB"):

@@ -7,10 +7,11 @@ namespace osr::app {
 namespace {
 
 // Each mode's default, the lowest relMSE at equal time measured (docs/denoise.md, "The
-// default"): for path tracing and OSR the shipped network (osr_image_kpn_v4), which beats the
-// a-trous filter in 14 of 15 scenes and budgets on path tracing and 11 of 13 on OSR, with the
-// filter below 4 samples per pixel (OSR: passes), where the network is worse (a build without
-// the model: the filter); nothing for the preview.
+// default, against raw path tracing and OSR"): for path tracing and OSR the shipped network
+// (osr_image_kpn_v4), which beats the a-trous filter on five scenes at 5-30 s on path tracing
+// and in 11 of 13 scenes and budgets on OSR, with the filter below 4 samples per pixel (OSR:
+// passes), where the network is worse (a build without the model: the filter); nothing for the
+// preview.
 render::DenoiseSettings modeDefault(const std::string& mode) {
   render::DenoiseSettings s;
   s.atrous = mode == "path" || mode == "osr";

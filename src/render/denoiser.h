@@ -115,8 +115,8 @@ struct DenoiseSettings {
 std::optional<nn::ImageUNetWeights> defaultImageModel();
 inline constexpr char kDefaultImageModelName[] = "built-in model models/osr_image_denoiser.osrw";
 // The fewest samples per pixel the network denoises when the filter is on too: at 1 sample the
-// shipped network is worse than the filter, from 4 better (docs/denoise.md, "The variance-guided
-// kernels"), so the viewer's first images after a move are filtered.
+// shipped network is worse than the filter, from 4 better (docs/training.md, "Image denoiser"),
+// so the viewer's first images after a move are filtered.
 inline constexpr uint32_t kNetworkMinSamples = 4;
 // The samples per pixel of a film on which a timing probe runs every pass of the denoiser it
 // times: the network (from kNetworkMinSamples) and the convergence step.

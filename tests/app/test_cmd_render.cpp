@@ -56,8 +56,8 @@ TEST(CmdRender, PreviewWritesAllLayersQuietly) {
   fs::remove_all(d);
 }
 
-// Without --mode: path tracing with the a-trous filter, the lowest error at equal time measured
-// (docs/denoise.md, "The default"); the EXR keeps the raw colour as its 'noisy' layer.
+// Without --mode: path tracing, denoised (at 2 spp by the a-trous filter: the network takes
+// over from kNetworkMinSamples); the EXR keeps the raw colour as its 'noisy' layer.
 TEST(CmdRender, DefaultIsPathTracingWithTheFilter) {
   fs::path d = tempDir();
   std::string exr = (d / "default.exr").string();

@@ -26,7 +26,7 @@ PY = "/usr/bin/python3"
 
 
 def read_png(path: Path) -> list[list[tuple[int, int, int]]]:
-    """The RGB of each pixel of a PNG that tools/gltf_build.png wrote (RGBA 8, filter 0)."""
+    """The RGB of each pixel of a PNG that gltf_build.png() wrote (RGBA 8, filter 0)."""
     data, pos, idat = path.read_bytes(), 8, b""
     width = height = 0
     while pos < len(data):
