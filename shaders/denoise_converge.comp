@@ -8,6 +8,7 @@
 // share of light seen directly), denoised (rgb). Out: rgb, w 0.
 #extension GL_GOOGLE_include_directive : require
 #include "shared/denoise.h"
+#include "lib/converge_weight.glsl"
 #include "lib/sampling.glsl"  // luminance
 
 layout(local_size_x = kDenoiseTile, local_size_y = kDenoiseTile) in;
@@ -31,11 +32,7 @@ void main() {
       const uint iq = uint(q.y) * gPush.width + uint(q.x);
       const vec4 guide = gNormal[iq];
       if (guide.w > 0.0) continue;  // a lamp's variance or gap is not this surface's
-      // Neighbours weigh by how alike their geometry is (shared/denoise.h, "Convergence").
-      const vec3 dn = guide.xyz - normal;
-      const float dn2 = dot(dn, dn);  // at most 4 between normals of length <= 1; NaN: the floor
-      const float w =
-          dn2 <= 4.0 ? max(exp(-kConvergeNormalSigma * dn2), kConvergeWeightFloor) : kConvergeWeightFloor;
+      const float w = convergeWeight(normal, guide.xyz);
       const vec4 film = gColour[iq];
       const float denoised = max(luminance(gDenoised[iq].rgb), 0.0);
       const float g = luminance(film.rgb) - denoised;

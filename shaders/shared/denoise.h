@@ -111,7 +111,13 @@ OSR_CONST(uint, kKernelFactorsStraddle, 3);
 OSR_CONST(float, kFilterSigmaLuminance, 4.0);
 OSR_CONST(float, kFilterVarianceFloor, 1e-6);
 
-// Convergence (denoise_converge.comp): the denoised colour d moves back towards the film's
+// Convergence, in two passes. First (denoise_bias.comp) the denoised colour d gains the film's
+// mean gap from it, m = sum(w (x - d)) / sum(w) over the (2 kBiasRadius + 1)^2 pixels around
+// (w below), times lambda = clamp(1 - k sum(w^2 v) / (sum(w)^2 l_m^2), 0, 1), the positive-part
+// James-Stein rule on the mean (v the film's variance of the luminance, l_m the mean gap's
+// luminance, k as below with kBiasNoiseScale): a bias spread along a face, as light from the
+// next face into a band beside their edge, is measured with a 1 / sum(w) share of one pixel's
+// noise. Then (denoise_converge.comp) the result, again called d, moves back towards the film's
 // colour x by lambda = clamp(1 - k sum(w v) / sum(w (l_x - l_d)^2), 0, 1), sums over the
 // (2 kConvergeRadius + 1)^2 pixels around, l the luminance, v the film's variance of it and
 // w = max(exp(-kConvergeNormalSigma |n_p - n_q|^2), kConvergeWeightFloor) on the film's mean
@@ -134,6 +140,8 @@ OSR_CONST(float, kConvergeNoiseScale, 8.0);
 OSR_CONST(float, kConvergeNormalSigma, 256.0);
 OSR_CONST(float, kConvergeWeightFloor, 0.1);
 OSR_CONST(uint, kConvergeMinSamples, 64);
+OSR_CONST(int, kBiasRadius, 2);
+OSR_CONST(float, kBiasNoiseScale, 16.0);
 
 OSR_NAMESPACE_END
 #endif

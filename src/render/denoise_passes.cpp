@@ -30,6 +30,14 @@ void bindAll(VkCommandBuffer cmd, const vk::ComputePipeline& pipeline, const Den
 
 uint32_t groups(uint32_t pixels) { return (pixels + g::kDenoiseTile - 1) / g::kDenoiseTile; }
 
+// A pass with one invocation per pixel of the whole image.
+void recordOverImage(VkCommandBuffer cmd, const vk::ComputePipeline& pipeline, const DenoiseBindings& b,
+                     const g::DenoisePush& push) {
+  bindAll(cmd, pipeline, b, push);
+  pipeline.dispatch(cmd, groups(push.width), groups(push.height));
+  vk::computeBarrier(cmd);
+}
+
 }  // namespace
 
 ExposurePass::ExposurePass(const vk::Context& ctx)
@@ -81,17 +89,19 @@ AtrousPass::AtrousPass(const vk::Context& ctx, bool first, bool last)
                              {vk::specUint(g::kSpecAtrousFirst, first), vk::specUint(g::kSpecAtrousLast, last)})) {}
 
 void AtrousPass::record(VkCommandBuffer cmd, const DenoiseBindings& b, const g::DenoisePush& push) const {
-  bindAll(cmd, pipeline_, b, push);
-  pipeline_.dispatch(cmd, groups(push.width), groups(push.height));
-  vk::computeBarrier(cmd);
+  recordOverImage(cmd, pipeline_, b, push);
+}
+
+BiasPass::BiasPass(const vk::Context& ctx) : pipeline_(makePipeline(ctx, shaders::Id::denoise_bias)) {}
+
+void BiasPass::record(VkCommandBuffer cmd, const DenoiseBindings& b, const g::DenoisePush& push) const {
+  recordOverImage(cmd, pipeline_, b, push);
 }
 
 ConvergePass::ConvergePass(const vk::Context& ctx) : pipeline_(makePipeline(ctx, shaders::Id::denoise_converge)) {}
 
 void ConvergePass::record(VkCommandBuffer cmd, const DenoiseBindings& b, const g::DenoisePush& push) const {
-  bindAll(cmd, pipeline_, b, push);
-  pipeline_.dispatch(cmd, groups(push.width), groups(push.height));
-  vk::computeBarrier(cmd);
+  recordOverImage(cmd, pipeline_, b, push);
 }
 
 }  // namespace osr::render

@@ -76,8 +76,21 @@ class AtrousPass {
   vk::ComputePipeline pipeline_;
 };
 
+// The denoised colour (b.denoised) plus the film's (b.colour) mean gap from it over the pixel's
+// neighbours of the same geometry, where that gap is more than the film's noise explains
+// (denoise_bias.comp), into b.out: the first of the two convergence passes.
+class BiasPass {
+ public:
+  explicit BiasPass(const vk::Context& ctx);
+  void record(VkCommandBuffer cmd, const DenoiseBindings& b, const gpu::denoise::DenoisePush& push) const;
+
+ private:
+  vk::ComputePipeline pipeline_;
+};
+
 // The denoised colour (b.denoised) moved back towards the film's (b.colour) where they differ by
-// more than the film's noise explains (denoise_converge.comp), into b.out.
+// more than the film's noise explains (denoise_converge.comp), into b.out: the second
+// convergence pass, after BiasPass.
 class ConvergePass {
  public:
   explicit ConvergePass(const vk::Context& ctx);

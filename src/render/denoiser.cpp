@@ -206,12 +206,13 @@ void DenoiseSettings::check() const {
 }
 
 Denoiser::Denoiser(const vk::Context& ctx, const DenoiseSettings& settings, uint32_t width, uint32_t height)
-    : ctx_(ctx), settings_(settings), image_(ctx, width, height), converge_(ctx) {
+    : ctx_(ctx), settings_(settings), image_(ctx, width, height), bias_(ctx), converge_(ctx) {
   if (settings.network != DenoiseSettings::Network::None)
     network_ = std::make_unique<NetworkDenoiser>(ctx, loadModel(settings), width, height);
   if (settings.atrous) filter_ = std::make_unique<AtrousFilter>(ctx, width, height);
   lastRanNetwork_ = network_ != nullptr;
   denoised_ = vk::Buffer(ctx, VkDeviceSize(width) * height * 16, vk::MemoryUse::DeviceLocal, "denoised colour");
+  unbiased_ = vk::Buffer(ctx, VkDeviceSize(width) * height * 16, vk::MemoryUse::DeviceLocal, "bias-corrected colour");
   out_ = vk::Buffer(ctx, VkDeviceSize(width) * height * 16, vk::MemoryUse::DeviceLocal, "converged colour");
 }
 
@@ -233,10 +234,13 @@ void Denoiser::apply(FilmLayers& film, std::vector<float>* unconverged) {
       filter_->record(cmd, image_, denoised_);
     if (converge) {
       DenoiseBindings b = image_.bindings();
-      b.denoised = denoised_;
-      b.out = out_;
       g::DenoisePush push = imagePush(image_.width(), image_.height());
       push.samples = film.samples;
+      b.denoised = denoised_;
+      b.out = unbiased_;
+      bias_.record(cmd, b, push);
+      b.denoised = unbiased_;
+      b.out = out_;
       converge_.record(cmd, b, push);
     }
   });

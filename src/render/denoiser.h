@@ -143,8 +143,10 @@ class Denoiser {
   DenoiseImage image_;
   std::unique_ptr<NetworkDenoiser> network_;
   std::unique_ptr<AtrousFilter> filter_;
+  BiasPass bias_;
   ConvergePass converge_;
-  vk::Buffer denoised_, out_;  // the network's or filter's colour; after convergence
+  // The network's or filter's colour; after BiasPass; after ConvergePass.
+  vk::Buffer denoised_, unbiased_, out_;
   double lastSeconds_ = 0;
   bool lastRanNetwork_ = true;
 };
