@@ -2,9 +2,9 @@
 // each time budget, one JSON line per row: path tracing and OSR, each raw, + the a-trous
 // filter and + the image network, each with relMSE against a reference EXR and the
 // denoiser's own time; a denoised row also with the relMSE of the same film before the
-// denoiser's convergence step (render/denoise_passes.h ConvergePass). A denoised row renders
-// for the budget minus the denoiser's time (measured once per denoiser at this size, after a
-// warm-up run), so the denoise is paid out of the budget.
+// denoiser's two convergence passes (render/denoise_passes.h BiasPass, ConvergePass). A
+// denoised row renders for the budget minus the denoiser's time (measured once per denoiser
+// at this size, after a warm-up run), so the denoise is paid out of the budget.
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
