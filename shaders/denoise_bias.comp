@@ -31,7 +31,7 @@ void main() {
     return;
   }
   vec3 gap = vec3(0.0);
-  float meanNoise = 0.0, noise = 0.0, level = 0.0, count = 0.0;
+  float sumVariance = 0.0, noise = 0.0, level = 0.0, count = 0.0;  // sumVariance: of sum(w x)
   for (int dy = -kBiasRadius; dy <= kBiasRadius; ++dy)
     for (int dx = -kBiasRadius; dx <= kBiasRadius; ++dx) {
       const ivec2 q = p + ivec2(dx, dy);
@@ -45,7 +45,7 @@ void main() {
       const float l = max(luminance(denoised), 0.0);
       const float v = film.w > 0.0 ? film.w : l * l / float(max(gPush.samples, 1u));
       gap += w * (film.rgb - denoised);
-      meanNoise += w * w * v;
+      sumVariance += w * w * v;
       noise += w * v;
       level += w * l;
       count += w;
@@ -55,7 +55,11 @@ void main() {
   const float g = luminance(meanGap);
   // k: the film's relative standard error over the window, as in denoise_converge.comp.
   const float k = 1.0 + kBiasNoiseScale * sqrt(noise / weights) / max(level / weights, 1e-4);
-  const float ratio = k * meanNoise / (weights * weights * g * g);  // NaN where both are infinite
-  const float lambda = g * g > 0.0 && !isnan(ratio) ? clamp(1.0 - ratio, 0.0, 1.0) : 0.0;
-  gOut[ip] = vec4(denoisedHere + lambda * meanGap, 0.0);
+  const float ratio = k * sumVariance / (weights * weights * g * g);
+  const float lambda = clamp(1.0 - ratio, 0.0, 1.0);
+  // A non-finite value in the window (a NaN or Inf that reached the film) stays out of the
+  // pixel: it is kept as denoised, where the per-pixel pass after this confines such a value
+  // to its own pixel.
+  const bool finite = !any(isnan(meanGap)) && !any(isinf(meanGap)) && !isnan(ratio);
+  gOut[ip] = vec4(finite && g * g > 0.0 ? denoisedHere + lambda * meanGap : denoisedHere, 0.0);
 }

@@ -41,9 +41,11 @@ std::string denoiseHelp() {
          "                        tile is not filtered unless asked (its edges would not\n"
          "                        match its neighbours')\n"
          "                        (default per mode: " + defaults(false) + ")\n"
-         "                        From 64 samples per pixel, either one's image returns to\n"
-         "                        the raw film where they differ by more than its noise, so\n"
-         "                        the denoised image converges as samples grow\n";
+         "                        From 64 samples per pixel, either one's image gains the\n"
+         "                        film's mean gap from it over neighbours of the same\n"
+         "                        surface and returns to the raw film where they still\n"
+         "                        differ by more than its noise, so the denoised image\n"
+         "                        converges as samples grow\n";
 }
 
 render::DenoiseSettings readDenoiseOptions(Args& args, const std::string& mode) {

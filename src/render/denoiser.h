@@ -119,7 +119,7 @@ inline constexpr char kDefaultImageModelName[] = "built-in model models/osr_imag
 // so the viewer's first images after a move are filtered.
 inline constexpr uint32_t kNetworkMinSamples = 4;
 // The samples per pixel of a film on which a timing probe runs every pass of the denoiser it
-// times: the network (from kNetworkMinSamples) and the convergence step.
+// times: the network (from kNetworkMinSamples) and the two convergence passes.
 inline constexpr uint32_t kDenoiseProbeSamples = std::max(kNetworkMinSamples, gpu::denoise::kConvergeMinSamples);
 
 class Denoiser {
@@ -128,7 +128,7 @@ class Denoiser {
   Denoiser(const vk::Context& ctx, const DenoiseSettings& settings, uint32_t width, uint32_t height);
   // Replaces film.combined by the denoised colour and keeps the raw one in film.noisy; a film
   // already denoised is denoised again from its noisy colour. `unconverged`, if given and a
-  // denoiser ran, gets the network's or filter's colour before the convergence step (rgb
+  // denoiser ran, gets the network's or filter's colour before the convergence passes (rgb
   // interleaved).
   void apply(FilmLayers& film, std::vector<float>* unconverged = nullptr);
   double lastSeconds() const { return lastSeconds_; }

@@ -2,7 +2,8 @@
 // padding, exposure, network and output transform) on an image whose size is no multiple of
 // 8; tiled runs equal untiled ones everywhere (the margin covers the receptive field); the
 // a-trous filter keeps a constant image constant, keeps an edge, and removes noise; the
-// convergence step follows its rule and returns to the film only where the denoiser is biased.
+// two convergence passes follow their rules and return to the film only where the denoiser is
+// biased.
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -408,6 +409,13 @@ std::vector<float> runConverge(const render::FilmLayers& f, const std::vector<fl
   return runConvergePass<render::ConvergePass>(f, denoised);
 }
 
+// lib/converge_weight.glsl on the CPU: how much pixel q counts in pixel p's window sums.
+double convergeWeight(const render::FilmLayers& f, size_t p, size_t q) {
+  double dn2 = 0;
+  for (int c = 0; c < 3; ++c) dn2 += std::pow(double(f.normal[3 * q + c]) - f.normal[3 * p + c], 2);
+  return std::max(std::exp(-gpu::denoise::kConvergeNormalSigma * dn2), double(gpu::denoise::kConvergeWeightFloor));
+}
+
 // Both convergence passes, as the Denoiser runs them.
 std::vector<float> runBiasAndConverge(const render::FilmLayers& f, const std::vector<float>& denoised) {
   return runConverge(f, runConvergePass<render::BiasPass>(f, denoised));
@@ -439,10 +447,7 @@ TEST(Denoiser, ConvergeFollowsTheShrinkageRule) {
       for (int qy = std::max(y - 1, 0); qy <= std::min(y + 1, f.height - 1); ++qy)
         for (int qx = std::max(x - 1, 0); qx <= std::min(x + 1, f.width - 1); ++qx) {
           const size_t q = size_t(qy) * f.width + qx;
-          double dn2 = 0;
-          for (int c = 0; c < 3; ++c) dn2 += std::pow(double(f.normal[3 * q + c]) - f.normal[3 * p + c], 2);
-          const double w = std::max(std::exp(-gpu::denoise::kConvergeNormalSigma * dn2),
-                                    double(gpu::denoise::kConvergeWeightFloor));
+          const double w = convergeWeight(f, p, q);
           const double l = std::max(denoised.luminance(q), 0.0), g = film.luminance(q) - l;
           gap += w * g * g;
           noise += w * (f.variance[q] > 0 ? f.variance[q] : l * l / f.samples);
@@ -602,9 +607,9 @@ TEST(Denoiser, ConvergeKeepsNeighboursWhereNoneSharesTheGeometry) {
 }
 
 // The first pass's rule (shared/denoise.h) on the CPU: the 5 x 5 weighted mean of the film's gap
-// from the denoised colour, added where its luminance is more than k standard errors of the
-// mean, shrunk by the positive-part James-Stein factor; a pixel that saw light directly keeps
-// its denoised colour and counts in no sum.
+// from the denoised colour, added where its luminance is more than sqrt(k) standard errors of
+// the mean, shrunk by the positive-part James-Stein factor; a pixel that saw light directly
+// keeps its denoised colour and counts in no sum.
 TEST(Denoiser, BiasFollowsTheMeanGapRule) {
   render::FilmLayers f = randomFilm(37, 21, 5, true);
   for (float& v : f.variance) v *= 1e-4f;
@@ -620,9 +625,9 @@ TEST(Denoiser, BiasFollowsTheMeanGapRule) {
                                          ? 1.0f + 0.003f * (d.combined[i] - 1.0f)
                                          : 0.9f + 0.05f * (d.combined[i] - 1.0f));
   const std::vector<float> got = runConvergePass<render::BiasPass>(f, d.combined);
-  const image::RgbImage film{f.width, f.height, f.combined}, denoised{f.width, f.height, d.combined};
+  const image::RgbImage denoised{f.width, f.height, d.combined};
   std::vector<float> want(got.size());
-  size_t kept = 0, moved = 0;
+  size_t kept = 0, moved = 0;  // pixels other than the lamp
   const int r = gpu::denoise::kBiasRadius;
   for (int y = 0; y < f.height; ++y)
     for (int x = 0; x < f.width; ++x) {
@@ -632,10 +637,7 @@ TEST(Denoiser, BiasFollowsTheMeanGapRule) {
         for (int qx = std::max(x - r, 0); qx <= std::min(x + r, f.width - 1); ++qx) {
           const size_t q = size_t(qy) * f.width + qx;
           if (f.light[q] > 0) continue;
-          double dn2 = 0;
-          for (int c = 0; c < 3; ++c) dn2 += std::pow(double(f.normal[3 * q + c]) - f.normal[3 * p + c], 2);
-          const double w = std::max(std::exp(-gpu::denoise::kConvergeNormalSigma * dn2),
-                                    double(gpu::denoise::kConvergeWeightFloor));
+          const double w = convergeWeight(f, p, q);
           const double l = std::max(denoised.luminance(q), 0.0);
           const double v = f.variance[q] > 0 ? f.variance[q] : l * l / f.samples;
           for (int c = 0; c < 3; ++c) gap[c] += w * (double(f.combined[3 * q + c]) - d.combined[3 * q + c]);
@@ -647,25 +649,50 @@ TEST(Denoiser, BiasFollowsTheMeanGapRule) {
       const double k = 1.0 + gpu::denoise::kBiasNoiseScale * std::sqrt(noise / count) / std::max(level / count, 1e-4);
       const double g = (0.2126 * gap[0] + 0.7152 * gap[1] + 0.0722 * gap[2]) / count;
       double lambda = g != 0 ? std::clamp(1.0 - k * meanNoise / (count * count * g * g), 0.0, 1.0) : 0.0;
-      if (f.light[p] > 0) lambda = 0;
-      kept += lambda == 0.0;
-      moved += lambda > 0.9;
+      if (f.light[p] > 0)
+        lambda = 0;
+      else {
+        kept += lambda == 0.0;
+        moved += lambda > 0.9;
+      }
       for (int c = 0; c < 3; ++c) want[3 * p + c] = float(d.combined[3 * p + c] + lambda * gap[c] / count);
     }
   std::printf("bias 37x21: %zu pixels kept denoised, %zu moved by most of their mean gap; max abs err %.3g\n", kept,
               moved, maxAbsDiff(got, want));
   EXPECT_GT(kept, 0u);
   EXPECT_GT(moved, 0u);
+  EXPECT_LT(kept + moved, size_t(f.width) * f.height - 1);  // some pixels in between
   EXPECT_EQ(got[3 * 200], d.combined[3 * 200]);
   EXPECT_LE(maxAbsDiff(got, want), 1e-4 * maxAbs(want));
 }
 
+// A non-finite film value (a NaN or Inf that reached the film) must not spread through the 5 x 5
+// mean: every pixel whose window holds it keeps its denoised colour.
+TEST(Denoiser, BiasKeepsANonFiniteFilmValueOut) {
+  render::FilmLayers f = randomFilm(24, 20, 12, true);
+  for (float& v : f.variance) v *= 1e-4f;
+  f.samples = 100;
+  std::vector<float> denoised(f.combined.size());
+  for (size_t i = 0; i < denoised.size(); ++i) denoised[i] = 0.8f * f.combined[i];  // biased everywhere
+  f.combined[3 * (10 * 24 + 10)] = INFINITY;
+  f.combined[3 * (3 * 24 + 18) + 1] = NAN;
+  const std::vector<float> got = runConvergePass<render::BiasPass>(f, denoised);
+  size_t finite = 0, moved = 0;
+  for (size_t i = 0; i < got.size(); ++i) {
+    finite += std::isfinite(got[i]);
+    moved += got[i] != denoised[i];
+  }
+  std::printf("non-finite film values: %zu of %zu outputs finite, %zu moved\n", finite, got.size(), moved);
+  EXPECT_EQ(finite, got.size());
+  EXPECT_GT(moved, got.size() / 2);  // elsewhere the bias is corrected
+}
+
 // Two faces meet at an edge; the denoiser spread the bright face's light into a band three
 // pixels wide on the dark face beside it, 0.7 standard deviations of the film's noise too bright
-// (as on cornell's ceiling edges at 1000 spp), and got the rest right. Per pixel, no rule tells
+// (as on cornell's ceiling edges at 1250 spp), and got the rest right. Per pixel, no rule tells
 // such a bias from noise; the band's mean gap does: with both passes the band keeps at most
-// half of its squared error, while the second pass alone keeps most of it, and the faces away
-// from the band keep the denoised level.
+// half of its squared error and of what the second pass alone keeps (most of it), and the faces
+// away from the band keep the denoised level.
 TEST(Denoiser, BiasRemovesABandTheNoiseHides) {
   const int w = 64, h = 48, edge = 32, band = 3;
   const float sigma = 0.01f, bias = 0.7f * sigma;
@@ -706,7 +733,7 @@ TEST(Denoiser, BiasRemovesABandTheNoiseHides) {
   std::printf("band's squared error over its bias's: both passes %.3f, the second alone %.3f; rest %.4f of the film's\n",
               bandError(both), bandError(second), restErr / restRawErr);
   EXPECT_LE(bandError(both), 0.5);
-  EXPECT_GE(bandError(second), 0.8);
+  EXPECT_LE(bandError(both), 0.5 * bandError(second));
   EXPECT_LE(restErr, 0.1 * restRawErr);
 }
 
