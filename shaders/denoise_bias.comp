@@ -9,7 +9,7 @@
 // share of light seen directly), denoised (rgb). Out: rgb, w 0.
 #extension GL_GOOGLE_include_directive : require
 #include "shared/denoise.h"
-#include "lib/converge_weight.glsl"
+#include "lib/converge_window.glsl"
 #include "lib/sampling.glsl"  // luminance
 
 layout(local_size_x = kDenoiseTile, local_size_y = kDenoiseTile) in;
@@ -53,8 +53,7 @@ void main() {
   const float weights = max(count, 1e-6);
   const vec3 meanGap = gap / weights;
   const float g = luminance(meanGap);
-  // k: the film's relative standard error over the window, as in denoise_converge.comp.
-  const float k = 1.0 + kBiasNoiseScale * sqrt(noise / weights) / max(level / weights, 1e-4);
+  const float k = convergeNoiseFactor(kBiasNoiseScale, noise, level, weights);
   const float ratio = k * sumVariance / (weights * weights * g * g);
   const float lambda = clamp(1.0 - ratio, 0.0, 1.0);
   // A non-finite value in the window (a NaN or Inf that reached the film) stays out of the

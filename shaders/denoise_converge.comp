@@ -8,7 +8,7 @@
 // share of light seen directly), denoised (rgb). Out: rgb, w 0.
 #extension GL_GOOGLE_include_directive : require
 #include "shared/denoise.h"
-#include "lib/converge_weight.glsl"
+#include "lib/converge_window.glsl"
 #include "lib/sampling.glsl"  // luminance
 
 layout(local_size_x = kDenoiseTile, local_size_y = kDenoiseTile) in;
@@ -41,9 +41,8 @@ void main() {
       level += w * denoised;
       count += w;
     }
-  // The window's relative standard error: its mean variance's root over its mean level.
   const float weights = max(count, 1e-6);
-  const float k = 1.0 + kConvergeNoiseScale * sqrt(noise / weights) / max(level / weights, 1e-4);
+  const float k = convergeNoiseFactor(kConvergeNoiseScale, noise, level, weights);
   const float ratio = k * noise / gap;  // NaN where both are infinite: then d is kept
   const float lambda = gap > 0.0 && !isnan(ratio) ? clamp(1.0 - ratio, 0.0, 1.0) : 0.0;
   gOut[ip] = vec4(mix(gDenoised[ip].rgb, gColour[ip].rgb, lambda), 0.0);

@@ -409,11 +409,16 @@ std::vector<float> runConverge(const render::FilmLayers& f, const std::vector<fl
   return runConvergePass<render::ConvergePass>(f, denoised);
 }
 
-// lib/converge_weight.glsl on the CPU: how much pixel q counts in pixel p's window sums.
+// lib/converge_window.glsl on the CPU: how much pixel q counts in pixel p's window sums, and
+// the factor k on the noise from the window's sums.
 double convergeWeight(const render::FilmLayers& f, size_t p, size_t q) {
   double dn2 = 0;
   for (int c = 0; c < 3; ++c) dn2 += std::pow(double(f.normal[3 * q + c]) - f.normal[3 * p + c], 2);
   return std::max(std::exp(-gpu::denoise::kConvergeNormalSigma * dn2), double(gpu::denoise::kConvergeWeightFloor));
+}
+
+double convergeNoiseFactor(double scale, double noise, double level, double count) {
+  return 1.0 + scale * std::sqrt(noise / count) / std::max(level / count, 1e-4);
 }
 
 // Both convergence passes, as the Denoiser runs them.
@@ -454,7 +459,7 @@ TEST(Denoiser, ConvergeFollowsTheShrinkageRule) {
           level += w * l;
           count += w;
         }
-      const double k = 1.0 + gpu::denoise::kConvergeNoiseScale * std::sqrt(noise / count) / std::max(level / count, 1e-4);
+      const double k = convergeNoiseFactor(gpu::denoise::kConvergeNoiseScale, noise, level, count);
       const double lambda = gap > 0 ? std::clamp(1.0 - k * noise / gap, 0.0, 1.0) : 0.0;
       kept += lambda == 0.0;
       returned += lambda > 0.99;
@@ -632,7 +637,7 @@ TEST(Denoiser, BiasFollowsTheMeanGapRule) {
   for (int y = 0; y < f.height; ++y)
     for (int x = 0; x < f.width; ++x) {
       const size_t p = size_t(y) * f.width + x;
-      double gap[3] = {}, meanNoise = 0, noise = 0, level = 0, count = 0;
+      double gap[3] = {}, sumVariance = 0, noise = 0, level = 0, count = 0;
       for (int qy = std::max(y - r, 0); qy <= std::min(y + r, f.height - 1); ++qy)
         for (int qx = std::max(x - r, 0); qx <= std::min(x + r, f.width - 1); ++qx) {
           const size_t q = size_t(qy) * f.width + qx;
@@ -641,14 +646,14 @@ TEST(Denoiser, BiasFollowsTheMeanGapRule) {
           const double l = std::max(denoised.luminance(q), 0.0);
           const double v = f.variance[q] > 0 ? f.variance[q] : l * l / f.samples;
           for (int c = 0; c < 3; ++c) gap[c] += w * (double(f.combined[3 * q + c]) - d.combined[3 * q + c]);
-          meanNoise += w * w * v;
+          sumVariance += w * w * v;
           noise += w * v;
           level += w * l;
           count += w;
         }
-      const double k = 1.0 + gpu::denoise::kBiasNoiseScale * std::sqrt(noise / count) / std::max(level / count, 1e-4);
+      const double k = convergeNoiseFactor(gpu::denoise::kBiasNoiseScale, noise, level, count);
       const double g = (0.2126 * gap[0] + 0.7152 * gap[1] + 0.0722 * gap[2]) / count;
-      double lambda = g != 0 ? std::clamp(1.0 - k * meanNoise / (count * count * g * g), 0.0, 1.0) : 0.0;
+      double lambda = g != 0 ? std::clamp(1.0 - k * sumVariance / (count * count * g * g), 0.0, 1.0) : 0.0;
       if (f.light[p] > 0)
         lambda = 0;
       else {
