@@ -8,7 +8,9 @@
 # (osr_image_kpn_v3, run3), which reads the renders' variance, and the shipped one (run):
 # osr_image_kpn_v4 (v3 whose pixels on edges compare mean normals) trained on at the sample
 # counts a render of seconds reaches (16-400, --min-spp 16) on more interiors, two cameras
-# each, with a 256-sample render besides (data2).
+# each, with a 256-sample render besides (data2), then the shipped one (run_high): the same
+# architecture trained on at 16-1600 samples per pixel, what renders of 5-120 s reach, on
+# renders of up to 1024 samples (data3).
 #
 #   tools/train_default_denoiser.sh [--quick] [--work DIR] [--osr-vk PATH] [--minutes M] [--install]
 #
@@ -63,6 +65,8 @@ else
     --osr-vk "$osrvk"
   $py "$t/make_denoise_data.py" "$work/data2" --seeds 1-40 --cameras 2 --spp-list 1,2,4,8,16,32,64,128,256 \
     --osr-vk "$osrvk"
+  $py "$t/make_denoise_data.py" "$work/data3" --seeds 1-20 --cameras 1 \
+    --spp-list 4,8,16,32,64,128,256,512,1024 --osr-vk "$osrvk"
   train=(--k 8 --minutes "$minutes")
 fi
 if [ ! -f "$work/run2/checkpoint.pt" ] && [ ! -f "$work/run3/checkpoint.pt" ] && [ ! -f "$work/run/checkpoint.pt" ]; then
@@ -79,13 +83,20 @@ if [ ! -f "$work/run/checkpoint.pt" ]; then
 fi
 data2="$work/data2"
 ((quick)) && data2="$work/data"
-$py "$t/train_denoiser.py" "$data2" --val "$work/val" --out "$work/run" --arch kpn4 --init "$work/run3/best.pt" \
-  --lr 3e-4 --min-spp "$((quick ? 1 : 16))" --eval-s 600 "${train[@]}" $(resume_of "$work/run")
-$py "$t/weights_pack.py" "$work/run/best.pt" "$work/run/model.osrw"
+data3="$work/data3"
+((quick)) && data3="$work/data"
+if [ ! -f "$work/run_high/checkpoint.pt" ]; then
+  $py "$t/train_denoiser.py" "$data2" --val "$work/val" --out "$work/run" --arch kpn4 --init "$work/run3/best.pt" \
+    --lr 3e-4 --min-spp "$((quick ? 1 : 16))" --eval-s 600 "${train[@]}" $(resume_of "$work/run")
+fi
+$py "$t/train_denoiser.py" "$data3" --val "$work/val" --out "$work/run_high" --arch kpn4 --init "$work/run/best.pt" \
+  --lr 3e-4 --min-spp "$((quick ? 1 : 16))" --eval-s 900 "${train[@]}" $(resume_of "$work/run_high")
+final="$work/run_high"
+$py "$t/weights_pack.py" "$final/best.pt" "$final/model.osrw"
 if ((install)); then
-  cp "$work/run/model.osrw" "$root/models/osr_image_denoiser.osrw"
-  $py "$t/train_denoiser.py" --evaluate "$work/run/best.pt" --val "$work/val" --out "$work/run" \
+  cp "$final/model.osrw" "$root/models/osr_image_denoiser.osrw"
+  $py "$t/train_denoiser.py" --evaluate "$final/best.pt" --val "$work/val" --out "$final" \
     --record "$root/models/osr_image_denoiser.json"
   echo "train_default_denoiser.sh: installed models/osr_image_denoiser.osrw; rebuild to embed it" >&2
 fi
-echo "train_default_denoiser.sh: model $work/run/model.osrw, evaluation $work/run/eval.json" >&2
+echo "train_default_denoiser.sh: model $final/model.osrw, evaluation $final/eval.json" >&2

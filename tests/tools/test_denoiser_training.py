@@ -352,9 +352,10 @@ class RealRenders(unittest.TestCase):
             work = Path(tmp) / "work"
             r = run(["bash", TOOLS / "train_default_denoiser.sh", "--quick", "--work", work, "--osr-vk", osr_vk])
             self.assertNotIn("osr-vk: validation", r.stderr)  # CTest sets OSR_VALIDATION=1
-            blob = (work / "run" / "model.osrw").read_bytes()
+            blob = (work / "run_high" / "model.osrw").read_bytes()
             self.assertIn(b'"stage":"image_denoiser"', blob)
             self.assertIn(b'"architecture":"osr_image_kpn_v4"', blob)
+            self.assertTrue((work / "run" / "best.pt").is_file())  # the v4 run that started run_high
             self.assertTrue((work / "run1" / "best.pt").is_file())  # the kpn_v1 run that started run2
             self.assertTrue((work / "run2" / "best.pt").is_file())  # the kpn_v2 run that started run3
             self.assertTrue((work / "run3" / "best.pt").is_file())  # the kpn_v3 run that started it
