@@ -5,7 +5,7 @@
 # Four trainings, each started from the last one's weights (the kernel architectures share
 # them): the kernel predictor without fixed factors (osr_image_kpn_v1, run1), with the normal
 # and depth factors (osr_image_kpn_v2, run2), with the a-trous filter's factors too
-# (osr_image_kpn_v3, run3), which reads the renders' variance, and the shipped one (run):
+# (osr_image_kpn_v3, run3), which reads the renders' variance, the one shipped before (run):
 # osr_image_kpn_v4 (v3 whose pixels on edges compare mean normals) trained on at the sample
 # counts a render of seconds reaches (16-400, --min-spp 16) on more interiors, two cameras
 # each, with a 256-sample render besides (data2), then the shipped one (run_high): the same
