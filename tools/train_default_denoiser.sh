@@ -94,10 +94,7 @@ $py "$t/train_denoiser.py" "$data3" --val "$work/val" --out "$work/run_high" --a
 final="$work/run_high"
 # The shipped weights are the run's last moving average, not its best.pt: the validation's
 # three views told them apart by 1.4 %, and best.pt (halfway) kept more fireflies on dark
-# faces (docs/training.md, "Image denoiser").
-$py -c "import sys, torch; c = torch.load(sys.argv[1], map_location='cpu'); \
-torch.save({'model': c['ema'], 'architecture': c['architecture'], 'base_width': c['base_width'], \
-'step': c['state']['step']}, sys.argv[2])" "$final/checkpoint.pt" "$final/final.pt"
+# faces (docs/training.md, "Image denoiser"). train_denoiser.py writes it as final.pt.
 $py "$t/weights_pack.py" "$final/final.pt" "$final/model.osrw"
 if ((install)); then
   cp "$final/model.osrw" "$root/models/osr_image_denoiser.osrw"

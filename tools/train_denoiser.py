@@ -17,6 +17,8 @@ references (make_denoise_data.py VAL --validation). The run folder RUN gets:
 - best.pt: the weights with the lowest validation error, as a dict {"model": state_dict,
   "architecture": "osr_image_kpn_v1", "base_width": K, "epoch", "step", "loss",
   "val_relmse", ...} with the training metadata (the packer's input);
+- final.pt: the same for the moving average at the end of the run (what the default ships:
+  on three views best.pt can win by noise, docs/training.md "Image denoiser");
 - train.log: one JSON object per validation (step, epoch, losses, relMSE per input spp,
   crops/s); eval.json: the last validation of best.pt.
 
@@ -508,6 +510,7 @@ def main(argv: list[str] | None = None) -> int:
             return 2
     run = Path(args.out)
     ckpt_path, best_path, log_path = run / "checkpoint.pt", run / "best.pt", run / "train.log"
+    final_path = run / "final.pt"
     if ckpt_path.is_file() and not args.resume and not args.evaluate:
         print(f"train_denoiser.py: {ckpt_path} exists: pass --resume to continue it, or another --out",
               file=sys.stderr)
@@ -638,6 +641,8 @@ def main(argv: list[str] | None = None) -> int:
                      "state": state,
                      "base_width": args.k, "architecture": architecture}, ckpt_path)
 
+    last_weights = None  # the moving average as of the last validation, as best.pt holds it
+
     def validate() -> dict:
         nonlocal val_err
         errors = evaluate(ema, val, args.min_spp)
@@ -648,13 +653,15 @@ def main(argv: list[str] | None = None) -> int:
                  "crops_per_s": round(state["crops"] / max(elapsed, 1e-9), 2), "train_views": len(train.keys)}
         with open(log_path, "a") as f:
             f.write(json.dumps(entry) + "\n")
+        nonlocal last_weights
+        last_weights = {"model": ema.state_dict(), **meta, "epoch": entry["epoch"], "step": state["step"],
+                        "loss": running if running is not None else float("nan"), **errors,
+                        "train_views": len(train.keys), "train_interiors": len(train.scenes()),
+                        "val_views": len(val.keys), "val_ref_spp": min(v.ref_spp for v in val.views.values()),
+                        "train_minutes": entry["minutes"]}
         if val_err < state["best"]:
             state["best"] = val_err
-            save_atomic({"model": ema.state_dict(), **meta, "epoch": entry["epoch"], "step": state["step"],
-                         "loss": running if running is not None else float("nan"), **errors,
-                         "train_views": len(train.keys), "train_interiors": len(train.scenes()),
-                         "val_views": len(val.keys), "val_ref_spp": min(v.ref_spp for v in val.views.values()),
-                         "train_minutes": entry["minutes"]}, best_path)
+            save_atomic(last_weights, best_path)
         return errors
 
     def done_fraction() -> float:
@@ -708,6 +715,7 @@ def main(argv: list[str] | None = None) -> int:
             sys.stderr.flush()
     validate()
     checkpoint()
+    save_atomic(last_weights, final_path)
     sys.stderr.write("\n")
     print(f"train_denoiser.py: {state['step']} steps ({epoch():.1f} epochs) in "
           f"{(time.monotonic() - start) / 60:.1f} min", file=sys.stderr)

@@ -269,6 +269,11 @@ class QuickTraining(unittest.TestCase):
             r = run([PY, TOOLS / "train_denoiser.py", "--out", out, "--quick", "--resume", "--steps", "8"])
             self.assertIn("resuming", r.stderr)
             self.assertEqual(torch.load(out / "checkpoint.pt", map_location="cpu")["state"]["step"], 8)
+            # final.pt is the moving average at the run's end, whichever validation was best.
+            final = torch.load(out / "final.pt", map_location="cpu")
+            ema = torch.load(out / "checkpoint.pt", map_location="cpu")["ema"]
+            self.assertEqual(final["step"], 8)
+            self.assertTrue(all(torch.equal(final["model"][k], v) for k, v in ema.items()))
 
     def test_init_from_a_kpn_v1_run(self):
         import torch
