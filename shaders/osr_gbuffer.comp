@@ -7,6 +7,11 @@
 // AccumPixel.mirroredSq (the resolve's variance). The lights seen directly are
 // averaged over `cameraRays` camera rays of the pixel filter (the first is the G-buffer's own):
 // a light's edge pixels would otherwise be speckled for as many passes as they take to average.
+// The first-hit record (the denoisers' guides) follows the chain through mirrors only, as path
+// tracing's does (lib/first_hit.glsl): the maps sit on what glass shows, the guides on the glass.
+// Unlike path tracing's, light met past a mirror is not light seen: the chain's sampled
+// direction makes it noise, which the variance holds (AccumPixel.mirroredSq), and a pixel of
+// light seen is kept as it is (room's mirror kept a firefly of relMSE 11 through the network).
 // In: CameraFrame, scene, BVH. Out: GBufferPixel, AccumPixel first-hit records and emission.
 #extension GL_GOOGLE_include_directive : require
 #include "lib/osr_common.glsl"
@@ -37,6 +42,10 @@ void main() {
   // Each camera ray's share of the lights seen directly (first hit); later hits count whole.
   const float cameraShare = 1.0 / float(max(gPush.cameraRays, 1u));
   float rayLength = 0.0;
+  FirstHit first = noFirstHit();
+  bool guideOpen = true;  // the first-hit record still looks through mirrors
+  vec3 guideTint = vec3(1.0);
+  float viewCos = 1.0;  // view-axis depth per unit length along the camera ray
   for (uint chain = 0u; chain <= kMaxSpecularChain; ++chain) {
     Hit hit;
     if (!bvhClosestHit(origin, dir, 0.0, kInfinity, hit)) {
@@ -44,22 +53,27 @@ void main() {
       vec3 env = missRadiance(pathStart(origin, dir, beta, 0.0, origin, chain));
       emitted += (chain == 0u ? cameraShare : 1.0) * env;
       if (chain > 0u) mirrored += env;
-      if (chain == 0u) a.depth.z += cameraShare * lightSeen(env);
+      if (chain == 0u) first.light = lightSeen(env);
       break;
     }
     SurfaceSample surf = surfaceAt(hit.triangle, hit.barycentrics);
     ShadingPoint sp = shadingPoint(surf, -dir);
     rayLength += hit.t;
     beta *= mediumTransmittance(surf, sp.front, hit.t);
-    if (chain == 0u) {
-      a.albedo.rgb += denoiseAlbedo(sp.bsdf, sp.woLocal);
-      a.normal.rgb += facingShadingNormal(surf, -dir);
-      a.depth += vec4(cameraDepth(gFrame, surf.position), 1.0, 0.0, 0.0);
-    }
     vec3 emission = hitEmission(pathStart(origin, dir, beta, 0.0, origin, chain), hit.triangle, surf, sp);
     emitted += (chain == 0u ? cameraShare : 1.0) * emission;
     if (chain > 0u) mirrored += emission;
-    if (chain == 0u) a.depth.z += cameraShare * lightSeen(emission);
+    if (chain == 0u) first.light = lightSeen(emission);
+    if (guideOpen) {
+      if (chain == 0u) viewCos = cameraDepth(gFrame, surf.position) / max(rayLength, 1e-30);
+      const vec3 albedo = denoiseAlbedo(sp.bsdf, sp.woLocal);
+      first.hit = true;
+      first.albedo = guideTint * albedo;
+      first.normal = facingShadingNormal(surf, -dir);
+      first.depth = viewCos * rayLength;  // through mirrors, the virtual image's
+      guideTint *= albedo;
+      guideOpen = bsdfGuideMirror(sp.bsdf) && chain + 1u < kGuideChainSurfaces;
+    }
     if (!bsdfNearSpecular(sp.bsdf)) {
       g.position = vec4(sp.position, 1.0);
       g.normal = vec4(sp.ns, 0.0);
@@ -77,7 +91,10 @@ void main() {
     origin = shadingRayOrigin(sp, wi);
     dir = wi;
   }
-  a.albedo.w += 1.0;  // passes, for the first-hit layers' average
+  a.albedo += vec4(first.albedo, 1.0);  // w: passes, for the first-hit layers' average
+  a.normal.rgb += first.normal;
+  a.depth += first.hit ? vec4(first.depth, 1.0, 0.0, 0.0) : vec4(0.0);
+  a.depth.z += cameraShare * first.light;
   // The other camera rays: the emission (or environment) of their first hit only.
   for (uint s = 1u; s < gPush.cameraRays; ++s) {
     vec3 o, d;

@@ -78,7 +78,6 @@ struct CameraPath {
   float featureCos;   // view-axis depth per unit length along the camera ray
   uint specularLead;  // near-specular surfaces met before any other (addLight)
 };
-const uint kFeatureChainSurfaces = 4u;  // surfaces the record looks at, at most (3 mirrors)
 
 // Stratified 2-D sample for dimension pair `pair` of this path's sample (see sobolOwen2).
 vec2 stratified2(CameraPath c, uint pair) {
@@ -138,7 +137,7 @@ bool pathStep(inout CameraPath c) {
       c.s.first.depth = c.featureCos * c.featurePath;
       c.featureTint *= r.albedo;
     }
-    c.featuresOpen = r.hit && r.mirror && !ended && bounce + 1u < kFeatureChainSurfaces;
+    c.featuresOpen = r.hit && r.mirror && !ended && bounce + 1u < kGuideChainSurfaces;
   }
   addLight(c.s, bounce - c.specularLead, r.emitted);
   addLight(c.s, bounce + 1u - c.specularLead, r.nee);

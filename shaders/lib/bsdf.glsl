@@ -99,6 +99,14 @@ bool bsdfNearSpecular(BsdfParams p) {
   return mirror || glass;
 }
 
+// A mirror to the denoisers' guides: an isotropic metal of roughness below 0.1, whose
+// reflection the first-hit record looks into (lib/first_hit.glsl), in path tracing and OSR.
+const float kGuideMirrorRoughness = 0.1;
+bool bsdfGuideMirror(BsdfParams p) {
+  // Anisotropy widens the lobe along one axis.
+  return p.roughness < kGuideMirrorRoughness && p.metallic >= 0.99 && p.anisotropy == 0.0;
+}
+
 // (alpha along local x, alpha along local y) of the base GGX lobes, in the frame bsdfAnisoFrame
 // rotates into (x = the anisotropy direction).
 vec2 ggxAlpha2(BsdfParams p) {

@@ -4,8 +4,10 @@
 #define OSR_LIB_FIRST_HIT_GLSL
 #include "shared/film.h"
 
-// The denoisers' guides. Path tracing records the first surface that is not a mirror, seen
-// through the mirrors in front of it (pt_trace.comp, CameraPath); OSR and preview the first.
+// The denoisers' guides. Path tracing and OSR record the first surface that is not a mirror
+// (lib/bsdf.glsl bsdfGuideMirror), seen through the mirrors in front of it, at most
+// kGuideChainSurfaces surfaces deep (pt_trace.comp CameraPath, osr_gbuffer.comp); preview
+// the first.
 struct FirstHit {
   vec3 albedo;  // the recorded surface's denoiseAlbedo (lib/bsdf.glsl; times the mirrors');
                 // preview: its base colour
@@ -13,8 +15,9 @@ struct FirstHit {
   float depth;  // its (through mirrors: its virtual image's) distance along the view axis
   bool hit;
   float light;  // 1 when the camera ray saw light directly (an emitter or the environment,
-                // or in path tracing one seen in a mirror)
+                // or one seen in a mirror)
 };
+const uint kGuideChainSurfaces = 4u;  // surfaces the record looks at, at most (3 mirrors)
 
 FirstHit noFirstHit() {
   FirstHit h;

@@ -40,13 +40,11 @@ struct BounceResult {
   vec3 position;
   vec3 normal;  // shading normal facing the ray (AOV convention); zero on a miss
   vec3 albedo;  // the denoisers' albedo guide at the hit (lib/bsdf.glsl denoiseAlbedo), where asked
-  // A mirror (an isotropic metal with roughness below kFeatureMirrorRoughness): the denoisers'
-  // guides look into it (pt_trace's first-hit record).
+  // A mirror (lib/bsdf.glsl bsdfGuideMirror): the denoisers' guides look into it (pt_trace's
+  // first-hit record).
   bool mirror;
   bool nearSpecular;  // lib/bsdf.glsl bsdfNearSpecular: pt_trace's direct/indirect split
 };
-
-const float kFeatureMirrorRoughness = 0.1;
 
 // Environment light seen along a ray that left the scene.
 vec3 missRadiance(PathState p) {
@@ -131,8 +129,7 @@ bool pathBounce(inout PathState p, vec3 uLight, vec3 uBsdf, float uRoulette, boo
   r.position = surf.position;
   r.normal = facingShadingNormal(surf, -p.dir);
   if (recordAlbedo) r.albedo = denoiseAlbedo(sp.bsdf, sp.woLocal);
-  r.mirror = sp.bsdf.roughness < kFeatureMirrorRoughness && sp.bsdf.metallic >= 0.99 &&
-             sp.bsdf.anisotropy == 0.0;  // anisotropy widens the lobe along one axis
+  r.mirror = bsdfGuideMirror(sp.bsdf);
   r.nearSpecular = bsdfNearSpecular(sp.bsdf);
   r.emitted = hitEmission(p, hit.triangle, surf, sp);
   r.nee = p.beta * estimateDirect(sp, uLight);
