@@ -15,7 +15,7 @@ struct FirstHit {
   float depth;  // its (through mirrors: its virtual image's) distance along the view axis
   bool hit;
   float light;  // 1 when the camera ray saw light directly (an emitter or the environment,
-                // or one seen in a mirror)
+                // or in path tracing one seen in a mirror: osr_gbuffer.comp says why not OSR)
 };
 const uint kGuideChainSurfaces = 4u;  // surfaces the record looks at, at most (3 mirrors)
 
