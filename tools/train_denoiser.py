@@ -641,9 +641,9 @@ def main(argv: list[str] | None = None) -> int:
                      "state": state,
                      "base_width": args.k, "architecture": architecture}, ckpt_path)
 
-    last_weights = None  # the moving average as of the last validation, as best.pt holds it
-
     def validate() -> dict:
+        """Validates the moving average, logs it, keeps it as best.pt when best; returns it as
+        best.pt holds it (weights and metadata)."""
         nonlocal val_err
         errors = evaluate(ema, val, args.min_spp)
         val_err = errors["val_select"]
@@ -653,16 +653,15 @@ def main(argv: list[str] | None = None) -> int:
                  "crops_per_s": round(state["crops"] / max(elapsed, 1e-9), 2), "train_views": len(train.keys)}
         with open(log_path, "a") as f:
             f.write(json.dumps(entry) + "\n")
-        nonlocal last_weights
-        last_weights = {"model": ema.state_dict(), **meta, "epoch": entry["epoch"], "step": state["step"],
-                        "loss": running if running is not None else float("nan"), **errors,
-                        "train_views": len(train.keys), "train_interiors": len(train.scenes()),
-                        "val_views": len(val.keys), "val_ref_spp": min(v.ref_spp for v in val.views.values()),
-                        "train_minutes": entry["minutes"]}
+        weights = {"model": ema.state_dict(), **meta, "epoch": entry["epoch"], "step": state["step"],
+                   "loss": running if running is not None else float("nan"), **errors,
+                   "train_views": len(train.keys), "train_interiors": len(train.scenes()),
+                   "val_views": len(val.keys), "val_ref_spp": min(v.ref_spp for v in val.views.values()),
+                   "train_minutes": entry["minutes"]}
         if val_err < state["best"]:
             state["best"] = val_err
-            save_atomic(last_weights, best_path)
-        return errors
+            save_atomic(weights, best_path)
+        return weights
 
     def done_fraction() -> float:
         if args.steps:
@@ -713,9 +712,9 @@ def main(argv: list[str] | None = None) -> int:
             left = elapsed * (1 - frac) / max(frac, 1e-9)
             sys.stderr.write(progress_line(frac, state["step"], epoch(), running, rate, val_err, left))
             sys.stderr.flush()
-    validate()
+    final = validate()
     checkpoint()
-    save_atomic(last_weights, final_path)
+    save_atomic(final, final_path)
     sys.stderr.write("\n")
     print(f"train_denoiser.py: {state['step']} steps ({epoch():.1f} epochs) in "
           f"{(time.monotonic() - start) / 60:.1f} min", file=sys.stderr)
