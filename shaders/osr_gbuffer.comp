@@ -43,9 +43,7 @@ void main() {
   const float cameraShare = 1.0 / float(max(gPush.cameraRays, 1u));
   float rayLength = 0.0;
   FirstHit first = noFirstHit();
-  bool guideOpen = true;  // the first-hit record still looks through mirrors
-  vec3 guideTint = vec3(1.0);
-  float viewCos = 1.0;  // view-axis depth per unit length along the camera ray
+  GuideChain guide = guideChainStart();
   for (uint chain = 0u; chain <= kMaxSpecularChain; ++chain) {
     Hit hit;
     if (!bvhClosestHit(origin, dir, 0.0, kInfinity, hit)) {
@@ -64,15 +62,10 @@ void main() {
     emitted += (chain == 0u ? cameraShare : 1.0) * emission;
     if (chain > 0u) mirrored += emission;
     if (chain == 0u) first.light = lightSeen(emission);
-    if (guideOpen) {
-      if (chain == 0u) viewCos = cameraDepth(gFrame, surf.position) / max(rayLength, 1e-30);
-      const vec3 albedo = denoiseAlbedo(sp.bsdf, sp.woLocal);
-      first.hit = true;
-      first.albedo = guideTint * albedo;
-      first.normal = facingShadingNormal(surf, -dir);
-      first.depth = viewCos * rayLength;  // through mirrors, the virtual image's
-      guideTint *= albedo;
-      guideOpen = bsdfGuideMirror(sp.bsdf) && chain + 1u < kGuideChainSurfaces;
+    if (guide.open) {
+      guideChainRecord(guide, first, chain, hit.t, cameraDepth(gFrame, surf.position),
+                       denoiseAlbedo(sp.bsdf, sp.woLocal), facingShadingNormal(surf, -dir),
+                       bsdfGuideMirror(sp.bsdf));
     }
     if (!bsdfNearSpecular(sp.bsdf)) {
       g.position = vec4(sp.position, 1.0);

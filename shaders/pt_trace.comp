@@ -72,10 +72,7 @@ struct CameraPath {
   // counts as light seen directly. Not through clear glass: its reflect-or-refract choice per
   // sample made the guides noisy, and the denoised interior 9001 worse at 55 spp
   // (docs/denoise.md, "Guides in mirrors").
-  bool featuresOpen;
-  vec3 featureTint;
-  float featurePath;  // the path's length to the record's surface
-  float featureCos;   // view-axis depth per unit length along the camera ray
+  GuideChain guide;
   uint specularLead;  // near-specular surfaces met before any other (addLight)
 };
 
@@ -108,10 +105,7 @@ CameraPath startPath(uint pixel, uint sampleIndex) {
   c.s.direct = vec3(0.0);
   c.s.indirect = vec3(0.0);
   c.s.first = noFirstHit();
-  c.featuresOpen = true;
-  c.featureTint = vec3(1.0);
-  c.featurePath = 0.0;
-  c.featureCos = 1.0;
+  c.guide = guideChainStart();
   c.specularLead = 0u;
   return c;
 }
@@ -125,19 +119,15 @@ bool pathStep(inout CameraPath c) {
   float uRoulette = bounce >= 3u ? rngNext(c.rng) : 0.0;
   vec3 origin = c.path.origin;
   BounceResult r;
-  bool ended = pathBounce(c.path, uLight, uBsdf, uRoulette, c.featuresOpen, r);
-  if (c.featuresOpen) {
+  bool ended = pathBounce(c.path, uLight, uBsdf, uRoulette, c.guide.open, r);
+  if (c.guide.open) {
     if (bounce == 0u || lightSeen(r.emitted) > 0.0) c.s.first.light = lightSeen(r.emitted);
     if (r.hit) {
-      c.featurePath += distance(origin, r.position);
-      if (bounce == 0u) c.featureCos = cameraDepth(gFrame, r.position) / max(c.featurePath, 1e-30);
-      c.s.first.hit = true;
-      c.s.first.albedo = c.featureTint * r.albedo;
-      c.s.first.normal = r.normal;
-      c.s.first.depth = c.featureCos * c.featurePath;
-      c.featureTint *= r.albedo;
+      guideChainRecord(c.guide, c.s.first, bounce, distance(origin, r.position),
+                       cameraDepth(gFrame, r.position), r.albedo, r.normal, r.mirror && !ended);
+    } else {
+      c.guide.open = false;
     }
-    c.featuresOpen = r.hit && r.mirror && !ended && bounce + 1u < kGuideChainSurfaces;
   }
   addLight(c.s, bounce - c.specularLead, r.emitted);
   addLight(c.s, bounce + 1u - c.specularLead, r.nee);

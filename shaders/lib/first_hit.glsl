@@ -29,6 +29,40 @@ FirstHit noFirstHit() {
   return h;
 }
 
+// The record while it looks through mirrors, built surface by surface along the camera ray's
+// chain the same way by path tracing and OSR.
+struct GuideChain {
+  bool open;         // the record still looks past the last surface recorded (a mirror)
+  vec3 tint;         // the product of the mirrors' albedos so far
+  float pathLength;  // the chain's length to the last surface recorded
+  float viewCos;     // view-axis depth per unit length along the camera ray
+};
+
+GuideChain guideChainStart() {
+  GuideChain g;
+  g.open = true;
+  g.tint = vec3(1.0);
+  g.pathLength = 0.0;
+  g.viewCos = 1.0;
+  return g;
+}
+
+// Records the chain's surface `index` (0: the camera ray's first hit), `segment` beyond the
+// last one, at view-axis distance `viewDepth` from the camera: the record takes its albedo
+// tinted by the mirrors before it and the depth of its virtual image. The record looks on
+// past it when it is a mirror (`lookPast`) and the chain is not yet kGuideChainSurfaces deep.
+void guideChainRecord(inout GuideChain g, inout FirstHit first, uint index, float segment, float viewDepth,
+                      vec3 albedo, vec3 normal, bool lookPast) {
+  g.pathLength += segment;
+  if (index == 0u) g.viewCos = viewDepth / max(g.pathLength, 1e-30);
+  first.hit = true;
+  first.albedo = g.tint * albedo;
+  first.normal = normal;
+  first.depth = g.viewCos * g.pathLength;
+  g.tint *= albedo;
+  g.open = lookPast && index + 1u < kGuideChainSurfaces;
+}
+
 // 1 when a camera ray's first hit (or miss) gives it light: what the denoisers keep out of
 // their neighbours (shared/denoise.h).
 float lightSeen(vec3 emitted) { return any(greaterThan(emitted, vec3(0.0))) ? 1.0 : 0.0; }
