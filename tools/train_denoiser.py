@@ -302,7 +302,18 @@ def make_batch(data: Dataset, rng: np.random.Generator, batch: int, crop: int, d
     return (*tensors[:5], e, tensors[5], float(np.mean(spps)))
 
 
-def loss_fn(model, colour, albedo, normal, depth, variance, e, target):
+def filter_image(model, colour, albedo, normal, depth, variance, e):
+    """The a-trous filter's image of the input: the kernels with zero logits (kpn3, kpn4)."""
+    import torch
+    import image_unet
+    n, _, h, w = colour.shape
+    zero = torch.zeros(n, image_unet.KPN_OUT_CHANNELS, h, w, dtype=colour.dtype, device=colour.device)
+    with torch.no_grad():
+        return image_unet.apply_kernels(zero, colour, albedo, e, guides=(normal, depth), variance=variance,
+                                        straddle=model.architecture == image_unet.STRADDLE_ARCHITECTURE)
+
+
+def loss_fn(model, colour, albedo, normal, depth, variance, e, target, scale_by: str = "output"):
     import torch
     import image_unet
     scale = e.view(-1, 1, 1, 1)
@@ -312,7 +323,11 @@ def loss_fn(model, colour, albedo, normal, depth, variance, e, target):
         x, _ = image_unet.make_input(colour, albedo, normal, e)
         y = torch.expm1(model(x))  # exposure-scaled colour, unclamped (see the docstring)
     t = target * scale
-    return ((y - t) ** 2 / (y.detach() ** 2 + RELMSE_EPSILON)).mean()
+    # Each pixel's error relative to an estimate of its colour: the network's own output
+    # (Lehtinen et al.), or the filter's image of the same input, which does not move with the
+    # weights (see the docstring).
+    d = y.detach() if scale_by == "output" else filter_image(model, colour, albedo, normal, depth, variance, e) * scale
+    return ((y - t) ** 2 / (d ** 2 + RELMSE_EPSILON)).mean()
 
 
 def relmse(a: np.ndarray, ref: np.ndarray) -> float:
@@ -479,6 +494,9 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--device", default="cpu",
                    help="where the network trains: cpu, or cuda (a GPU; the batches are still made on the "
                    "CPU) (default cpu)")
+    p.add_argument("--loss-scale", choices=["output", "filter"], default="output",
+                   help="what each pixel's squared error is relative to: the network's output or the "
+                        "a-trous filter's image of the input (kpn3, kpn4; default output)")
     p.add_argument("--ema", type=float, default=0.99,
                    help="decay of the weights' running average, which is validated and saved (default 0.99)")
     p.add_argument("--seed", type=int, default=1, help="seed of initialization and batches (default 1)")
@@ -537,6 +555,8 @@ def main(argv: list[str] | None = None) -> int:
     architecture = ARCHS[args.arch]
     guided = architecture in image_unet.GEOMETRY_GUIDED
     with_variance = architecture in image_unet.VARIANCE_GUIDED
+    if args.loss_scale == "filter" and not with_variance:
+        p.error(f"--loss-scale filter: {args.arch} has no a-trous filter to run (kpn3 or kpn4 does)")
     train = Dataset(args.data, need_depth=guided, need_variance=with_variance)
     val = Dataset([args.val], with_reference=True, need_depth=guided, need_variance=with_variance)
     if not train.keys:
@@ -617,7 +637,7 @@ def main(argv: list[str] | None = None) -> int:
               f"({state['elapsed'] / 60:.1f} min)", file=sys.stderr)
     meta = {"architecture": architecture, "stage": image_unet.STAGE, "base_width": args.k,
             "inputs": ",".join(image_unet.INPUTS), "input_transform": image_unet.INPUT_TRANSFORM,
-            "loss_kind": "relmse_exposed_n2n", "datasets": ",".join(Path(d).name for d in args.data),
+            "loss_kind": "relmse_exposed_n2n" if args.loss_scale == "output" else "relmse_filter_exposed_n2n", "datasets": ",".join(Path(d).name for d in args.data),
             "init": Path(args.init).parent.name + "/" + Path(args.init).name if args.init else "",
             "validation": Path(args.val).name,
             "batch": args.batch, "crop": args.crop, "lr": args.lr, "min_spp": args.min_spp, "git_commit": git_commit(),
@@ -679,7 +699,7 @@ def main(argv: list[str] | None = None) -> int:
             group["lr"] = args.lr * 0.5 * (1 + math.cos(math.pi * frac))
         colour, albedo, normal, depth, variance, e, target, _ = make_batch(
             train, rng, args.batch, args.crop, args.device, args.min_spp)
-        loss = loss_fn(model, colour, albedo, normal, depth, variance, e, target)
+        loss = loss_fn(model, colour, albedo, normal, depth, variance, e, target, args.loss_scale)
         opt.zero_grad()
         loss.backward()
         torch.nn.utils.clip_grad_norm_(model.parameters(), 1.0)

@@ -233,6 +233,39 @@ class FilterGuidedKernels(unittest.TestCase):
         self.assertLess(errors[2], errors[1])
         self.assertLess(errors[2], 0.05 * noisy)
 
+    def test_loss_relative_to_the_filter_image(self):
+        # --loss-scale filter divides each pixel's squared error by the filter's image of the
+        # input (the kernels at zero logits), which does not move with the weights: with a zero
+        # head the output is that image and both scales give one loss; with another head the
+        # divisor is still the filter's.
+        import torch
+        import image_unet
+        rng = np.random.default_rng(4)
+        h, w = 16, 16
+        colour = torch.from_numpy(rng.gamma(2.0, 0.3, (1, 3, h, w)).astype(np.float32))
+        albedo = torch.full((1, 3, h, w), 0.6)
+        normal = torch.zeros(1, 3, h, w)
+        normal[:, 2] = 1
+        depth = torch.full((1, 1, h, w), 3.0)
+        variance = torch.full((1, 1, h, w), 0.02)
+        target = torch.from_numpy(rng.gamma(2.0, 0.3, (1, 3, h, w)).astype(np.float32))
+        e = image_unet.image_exposure(colour)
+        model = image_unet.ImageUNet(4, "osr_image_kpn_v4")
+        head = model.dec0[4]
+        with torch.no_grad():
+            head.weight.zero_()
+            head.bias.zero_()
+        args = (model, colour, albedo, normal, depth, variance, e, target)
+        torch.testing.assert_close(td.loss_fn(*args, "filter"), td.loss_fn(*args, "output"))
+        image_unet.randomize(model, 3)
+        with torch.no_grad():
+            f = td.filter_image(model, colour, albedo, normal, depth, variance, e) * e
+            y = image_unet.denoise(model, colour, albedo, normal, e, depth, variance) * e
+            t = target * e
+            expected = ((y - t) ** 2 / (f ** 2 + td.RELMSE_EPSILON)).mean()
+        self.assertGreater(float((y - f).abs().max()), 1e-3)
+        torch.testing.assert_close(td.loss_fn(*args, "filter"), expected)
+
     def test_quick_run_and_pack(self):
         import torch
         with tempfile.TemporaryDirectory() as tmp:
@@ -335,6 +368,7 @@ class QuickTraining(unittest.TestCase):
                 ([t / "a", "--val", t / "noref"], "no view with a reference"),
                 ([t / "a", "--val", t / "v", "--crop", "12"], "--crop"),
                 ([t / "a", "--val", t / "v", "--k", "0"], "--k"),
+                ([t / "a", "--val", t / "v", "--arch", "kpn", "--loss-scale", "filter"], "--loss-scale"),
             ]
             for args, mention in cases:
                 with self.subTest(mention=mention):
