@@ -41,6 +41,9 @@ Loss: relative MSE on linear colour scaled by the exposure, mean over pixels and
 y = expm1(out) unclamped, so a pixel whose output starts below zero still gets a gradient;
 the renderer clamps it), t the target times e and sg no gradient
 (Lehtinen et al. 2018: mean-seeking, so noisy targets train towards their expectation).
+--loss-scale filter divides by the a-trous filter's image of the same input in place of
+sg(y): a divisor that does not move with the weights (measured no better on the renderer's
+films, docs/training.md "Nor an error relative to the filter's image").
 Adam with a cosine learning-rate decay over the budget; gradient norm clipped at 1 (a noisy
 target's rare bright path still makes a large relative loss now and then). The noisy targets
 make single steps noisy too, so the weights validated and saved are a running average
