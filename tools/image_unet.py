@@ -265,10 +265,12 @@ def apply_kernels(logits: torch.Tensor, colour: torch.Tensor, albedo: torch.Tens
 
 def denoise(model: "ImageUNet", colour: torch.Tensor, albedo: torch.Tensor, normal: torch.Tensor,
             e: torch.Tensor | None = None, depth: torch.Tensor | None = None,
-            variance: torch.Tensor | None = None) -> torch.Tensor:
+            variance: torch.Tensor | None = None, light: torch.Tensor | None = None) -> torch.Tensor:
     """The denoised colour (N x 3 x H x W, H and W multiples of 8) by any architecture;
     osr_image_kpn_v2, _v3 and _v4 need the depth (N x 1 x H x W), _v3 and _v4 also the variance of each
-    pixel's luminance estimate (N x 1 x H x W, the renderer's `variance` layer)."""
+    pixel's luminance estimate (N x 1 x H x W, the renderer's `variance` layer). light (N x 1 x H
+    x W, optional, the renderer's `light` layer): the kernel variants keep the pixels that saw
+    light directly out of their neighbours' averages, as the renderer does."""
     x, e = make_input(colour, albedo, normal, e)
     y = model(x)
     if model.architecture in GEOMETRY_GUIDED:
@@ -277,11 +279,11 @@ def denoise(model: "ImageUNet", colour: torch.Tensor, albedo: torch.Tensor, norm
         if model.architecture in VARIANCE_GUIDED:
             if variance is None:
                 raise ValueError(f"{model.architecture} needs the variance")
-            return apply_kernels(y, colour, albedo, e, guides=(normal, depth), variance=variance,
+            return apply_kernels(y, colour, albedo, e, light, guides=(normal, depth), variance=variance,
                                  straddle=model.architecture == STRADDLE_ARCHITECTURE)
-        return apply_kernels(y, colour, albedo, e, guides=(normal, depth))
+        return apply_kernels(y, colour, albedo, e, light, guides=(normal, depth))
     if model.architecture == KPN_ARCHITECTURE:
-        return apply_kernels(y, colour, albedo, e)
+        return apply_kernels(y, colour, albedo, e, light)
     return output_colour(y, e)
 
 

@@ -14,10 +14,13 @@ entry of --spp-list, each with its own --seed, so the renders are independent. E
 kept as OUT/SEED_cCAM/in_SPP.npz (colour float32 3 x H x W, linear, unfiltered; albedo and
 normal float16; depth float32 1 x H x W, the first hit's view-axis distance, 0 where none;
 variance float32 1 x H x W, the variance of the pixel's luminance estimate: the layers osr-vk
-writes in the same EXR). A view whose renders were made before depth was kept gets
-OUT/SEED_cCAM/depth.npz instead: the depth of one `--mode preview` render of 16 samples (the
-same first hits; only the pixel jitter differs, so edges are as sharp as a 16-sample render's),
-rendered before anything else. So an older dataset gains depth in minutes:
+writes in the same EXR; and light float16 1 x H x W, the share of the pixel's camera rays that
+saw light directly, which the renderer's denoisers keep out of their averages). A view whose
+renders were made before depth was kept gets OUT/SEED_cCAM/depth.npz instead: the depth of one
+`--mode preview` render of 16 samples (the same first hits; only the pixel jitter differs, so
+edges are as sharp as a 16-sample render's), rendered before anything else; likewise
+OUT/SEED_cCAM/light.npz, the light share of one 16-sample path render, for renders made before
+it was kept. So an older dataset gains depth in minutes:
 `cp -al OLD NEW` and run this on NEW with the seeds it holds. With --target-spp N > 0 the view also gets a
 reference of N samples, rendered in chunks of at most --chunk-spp (128) samples (OUT/SEED_cCAM/ref_K.npz,
 each with its own seed; the reference is their spp-weighted mean).
@@ -42,6 +45,7 @@ reference); seconds, for the tests.
 from __future__ import annotations
 
 import argparse
+import itertools
 import json
 import os
 import subprocess
@@ -78,7 +82,11 @@ def parse_spp_list(text: str) -> list[int]:
     return spps
 
 
-DEPTH_GUIDE_SPP = 16  # samples of the preview render that gives an older view its depth
+GUIDE_SPP = 16  # samples of the render that gives an older view its depth or light share
+# A guide older renders lack: (key in the renders, the mode of the one render that makes
+# VIEW/KEY.npz for all of them). Depth needs only first hits (a preview); the share of light
+# seen directly, the path tracer's camera rays.
+GUIDES = (("depth", "preview"), ("light", "path"))
 
 
 def read_render(path: Path) -> dict[str, np.ndarray]:
@@ -104,22 +112,25 @@ def read_render(path: Path) -> dict[str, np.ndarray]:
               "depth": stack(["depth.Z"], np.float32)}
     if "variance.Y" in planes:
         layers["variance"] = stack(["variance.Y"], np.float32)
+    if "light.Y" in planes:
+        layers["light"] = stack(["light.Y"], np.float16)
     if filtered:
         layers["filtered"] = stack(["R", "G", "B"], np.float32)
     return layers
 
 
-def lacks_depth(render_file: Path) -> bool:
-    """Whether a render was made before depth was kept."""
+def lacks(render_file: Path, key: str) -> bool:
+    """Whether a render was made before `key` was kept."""
     with np.load(render_file) as z:
-        return "depth" not in z.files
+        return key not in z.files
 
 
 def render(osr_vk: str, scene_dir: Path, env: str | None, camera: int, size: int, spp: int, seed: int,
-           out: Path, mode: str = "path", filtered: bool = False) -> float:
+           out: Path, mode: str = "path", filtered: bool = False, keep: str | None = None) -> float:
     """One render (path-traced; `preview` for a depth guide) into out (.npz, written
     atomically); its seconds. filtered: the a-trous filter runs too and its image is kept
-    beside the raw colour (validation inputs, so that networks are measured against it)."""
+    beside the raw colour (validation inputs, so that networks are measured against it).
+    keep: only that layer is kept (a guide for older renders)."""
     with tempfile.TemporaryDirectory(dir=out.parent) as tmp:
         image = Path(tmp) / "render.exr"
         # No learned stage; the filter only where asked (its image is then the default layer and
@@ -140,8 +151,8 @@ def render(osr_vk: str, scene_dir: Path, env: str | None, camera: int, size: int
         for line in r.stderr.splitlines():  # osr-vk's warnings (it ran with --quiet)
             print(f"{out.parent.name}: {line}", file=sys.stderr)
         layers = read_render(image)
-        if mode == "preview":
-            layers = {"depth": layers["depth"]}
+        if keep:
+            layers = {keep: layers[keep]}
         part = Path(tmp) / "render.npz"
         np.savez(part, spp=np.int32(spp), seed=np.int64(seed), seconds=np.float32(seconds), **layers)
         os.replace(part, out)
@@ -240,17 +251,17 @@ def main(argv: list[str] | None = None) -> int:
         inputs.append([(name, scene_dir, info, cam, job) for job in jobs[:len(args.spp_list)]])
         chunks.append([(name, scene_dir, info, cam, job) for job in jobs[len(args.spp_list):]])
     groups = inputs + [[c[k] for c in chunks if k < len(c)] for k in range(max(map(len, chunks), default=0))]
-    for name, scene_dir, info, cam, _ in (g[0] for g in inputs):
+    for (name, scene_dir, info, cam, _), (key, mode) in itertools.product((g[0] for g in inputs), GUIDES):
         renders = sorted((out / name).glob("in_*.npz"))
-        if not renders or (out / name / "depth.npz").is_file() or not lacks_depth(renders[0]):
+        if not renders or (out / name / f"{key}.npz").is_file() or not lacks(renders[0], key):
             continue
         try:
-            seconds = render(args.osr_vk, scene_dir, info.get("env"), cam, args.size, DEPTH_GUIDE_SPP, 1,
-                             out / name / "depth.npz", mode="preview")
+            seconds = render(args.osr_vk, scene_dir, info.get("env"), cam, args.size, GUIDE_SPP, 1,
+                             out / name / f"{key}.npz", mode=mode, keep=key)
         except DataError as e:
             print(f"make_denoise_data.py: {e}", file=sys.stderr)
             return 2
-        print(f"make_denoise_data.py: {name}: depth of the older renders ({seconds:.1f} s)", file=sys.stderr,
+        print(f"make_denoise_data.py: {name}: {key} of the older renders ({seconds:.1f} s)", file=sys.stderr,
               flush=True)
     start_all, done = time.monotonic(), 0
     for n, group in enumerate(groups):

@@ -142,6 +142,18 @@ class View:
         self.variance = None
         if all("variance" in r for r in renders):
             self.variance = np.stack([r["variance"] for r in renders]).astype(np.float32)
+        # The share of each pixel's camera rays that saw light directly, per render, else the
+        # view's light.npz for all of them, else none (no pixel kept out, R x 1 x H x W).
+        self.light = None
+        if all("light" in r for r in renders):
+            self.light = np.stack([r["light"] for r in renders]).astype(np.float32)
+        elif (folder / "light.npz").is_file():
+            try:
+                with np.load(folder / "light.npz") as z:
+                    share = z["light"].astype(np.float32)
+            except (OSError, ValueError, KeyError, EOFError) as e:
+                raise DataError(f"{folder / 'light.npz'}: not a make_denoise_data.py light render ({e})") from None
+            self.light = np.broadcast_to(share, (len(renders), *share.shape))
         # Validation renders also keep the a-trous filter's image of each render.
         self.filtered = None
         if all("filtered" in r for r in renders):
@@ -184,7 +196,7 @@ class View:
         try:
             with np.load(path) as z:
                 out = {k: z[k] for k in ("spp", "colour", "albedo", "normal")}
-                for optional in ("depth", "variance", "filtered"):
+                for optional in ("depth", "variance", "filtered", "light"):
                     if optional in z.files:
                         out[optional] = z[optional]
                 return out
@@ -193,18 +205,20 @@ class View:
 
     def mean(self, idx: list[int]) -> tuple[np.ndarray, ...]:
         """The spp-weighted mean of renders idx: colour, albedo, normal, depth (zeros when the
-        view has none) and the variance of the mean's luminance (sum of w_i^2 var_i over the
-        independent renders; zeros when the view has none)."""
+        view has none), the variance of the mean's luminance (sum of w_i^2 var_i over the
+        independent renders; zeros when the view has none) and the share of light seen
+        directly (zeros when the view has none)."""
         w = self.spp[idx].astype(np.float32)
         w /= w.sum()
         depth = self.depth if self.depth is not None else np.zeros_like(self.colour[:, :1])
         variance = self.variance if self.variance is not None else np.zeros_like(self.colour[:, :1])
+        light = self.light if self.light is not None else np.zeros_like(self.colour[:, :1])
         means = tuple(np.tensordot(w, a[idx], 1) for a in (self.colour, self.albedo, self.normal, depth))
-        return (*means, np.tensordot(w * w, variance[idx], 1))
+        return (*means, np.tensordot(w * w, variance[idx], 1), np.tensordot(w, light[idx], 1))
 
     def example(self, rng: np.random.Generator, min_spp: int = 1) -> tuple[np.ndarray, ...]:
-        """A random (input colour, albedo, normal, depth, variance, target colour, input spp),
-        whole images, of at least min_spp samples where the view reaches that many."""
+        """A random (input colour, albedo, normal, depth, variance, target colour, input spp,
+        input light share), whole images, of at least min_spp samples where the view reaches that many."""
         # Log-uniform over the reachable sample counts: the nearest level to exp(u).
         levels = self.levels[self.levels >= min_spp]
         if not len(levels):
@@ -213,13 +227,13 @@ class View:
         level = int(levels[np.abs(np.log(levels) - u).argmin()])
         choices = self.subsets[level]
         chosen = list(choices[int(rng.integers(len(choices)))])
-        colour, albedo, normal, depth, variance = self.mean(chosen)
+        colour, albedo, normal, depth, variance, light = self.mean(chosen)
         if self.ref is not None:
             target = self.ref
         else:
             rest = [i for i in range(len(self.spp)) if i not in chosen]
             target = self.mean(rest)[0]
-        return colour, albedo, normal, depth, variance, target, level
+        return colour, albedo, normal, depth, variance, target, level, light
 
 
 class Dataset:
@@ -282,13 +296,13 @@ def symmetry(a: np.ndarray, k: int) -> np.ndarray:
 def make_batch(data: Dataset, rng: np.random.Generator, batch: int, crop: int, device: str = "cpu",
                min_spp: int = 1):
     """(colour, albedo, normal, depth, variance, e, target) tensors of `batch` random crops on
-    `device`, and the mean input spp."""
+    `device`, the mean input spp and the light share's tensor."""
     import torch
     from image_unet import image_exposure
-    colours, albedos, normals, depths, variances, targets, es, spps = [], [], [], [], [], [], [], []
+    colours, albedos, normals, depths, variances, targets, lights, es, spps = [], [], [], [], [], [], [], [], []
     for _ in range(batch):
         view = data.views[data.keys[int(rng.integers(len(data.keys)))]]
-        colour, albedo, normal, depth, variance, target, spp = view.example(rng, min_spp)
+        colour, albedo, normal, depth, variance, target, spp, light = view.example(rng, min_spp)
         es.append(image_exposure(torch.from_numpy(colour)[None]))
         size = min(crop, view.height, view.width) // 8 * 8
         y0 = int(rng.integers(view.height - size + 1))
@@ -296,32 +310,32 @@ def make_batch(data: Dataset, rng: np.random.Generator, batch: int, crop: int, d
         k = int(rng.integers(8))
         window = (slice(None), slice(y0, y0 + size), slice(x0, x0 + size))
         for out, a in ((colours, colour), (albedos, albedo), (normals, normal), (depths, depth),
-                       (variances, variance), (targets, target)):
+                       (variances, variance), (targets, target), (lights, light)):
             out.append(np.ascontiguousarray(symmetry(a[window], k)))
         spps.append(spp)
     e = torch.cat(es).to(device)
     tensors = [torch.from_numpy(np.stack(a)).to(device)
-               for a in (colours, albedos, normals, depths, variances, targets)]
-    return (*tensors[:5], e, tensors[5], float(np.mean(spps)))
+               for a in (colours, albedos, normals, depths, variances, targets, lights)]
+    return (*tensors[:5], e, tensors[5], float(np.mean(spps)), tensors[6])
 
 
-def filter_image(model, colour, albedo, normal, depth, variance, e):
+def filter_image(model, colour, albedo, normal, depth, variance, e, light=None):
     """The a-trous filter's image of the input: the kernels with zero logits (kpn3, kpn4)."""
     import torch
     import image_unet
     n, _, h, w = colour.shape
     zero = torch.zeros(n, image_unet.KPN_OUT_CHANNELS, h, w, dtype=colour.dtype, device=colour.device)
     with torch.no_grad():
-        return image_unet.apply_kernels(zero, colour, albedo, e, guides=(normal, depth), variance=variance,
+        return image_unet.apply_kernels(zero, colour, albedo, e, light, guides=(normal, depth), variance=variance,
                                         straddle=model.architecture == image_unet.STRADDLE_ARCHITECTURE)
 
 
-def loss_fn(model, colour, albedo, normal, depth, variance, e, target, scale_by: str = "output"):
+def loss_fn(model, colour, albedo, normal, depth, variance, e, target, scale_by: str = "output", light=None):
     import torch
     import image_unet
     scale = e.view(-1, 1, 1, 1)
     if model.architecture in image_unet.KERNEL_ARCHITECTURES:
-        y = image_unet.denoise(model, colour, albedo, normal, e, depth, variance) * scale
+        y = image_unet.denoise(model, colour, albedo, normal, e, depth, variance, light) * scale
     else:
         x, _ = image_unet.make_input(colour, albedo, normal, e)
         y = torch.expm1(model(x))  # exposure-scaled colour, unclamped (see the docstring)
@@ -329,7 +343,7 @@ def loss_fn(model, colour, albedo, normal, depth, variance, e, target, scale_by:
     # Each pixel's error relative to an estimate of its colour: the network's own output
     # (Lehtinen et al.), or the filter's image of the same input, which does not move with the
     # weights (see the docstring).
-    d = y.detach() if scale_by == "output" else filter_image(model, colour, albedo, normal, depth, variance, e) * scale
+    d = y.detach() if scale_by == "output" else filter_image(model, colour, albedo, normal, depth, variance, e, light) * scale
     return ((y - t) ** 2 / (d ** 2 + RELMSE_EPSILON)).mean()
 
 
@@ -338,16 +352,17 @@ def relmse(a: np.ndarray, ref: np.ndarray) -> float:
 
 
 def denoise(model, colour: np.ndarray, albedo: np.ndarray, normal: np.ndarray, depth: np.ndarray,
-            variance: np.ndarray) -> np.ndarray:
-    """The network's colour for one whole image (3 x H x W, depth and variance 1 x H x W, H and
-    W multiples of 8)."""
+            variance: np.ndarray, light: np.ndarray | None = None) -> np.ndarray:
+    """The network's colour for one whole image (3 x H x W, depth, variance and light 1 x H x W,
+    H and W multiples of 8)."""
     import torch
     import image_unet
     device = next(model.parameters()).device
     with torch.no_grad():
         c, a, n, z, v = (torch.from_numpy(np.ascontiguousarray(x))[None].to(device)
                          for x in (colour, albedo, normal, depth, variance))
-        return image_unet.denoise(model, c, a, n, depth=z, variance=v)[0].cpu().numpy()
+        lit = None if light is None else torch.from_numpy(np.ascontiguousarray(light))[None].to(device)
+        return image_unet.denoise(model, c, a, n, depth=z, variance=v, light=lit)[0].cpu().numpy()
 
 
 def evaluate(model, val: Dataset, min_spp: int = 1) -> dict:
@@ -368,8 +383,9 @@ def evaluate(model, val: Dataset, min_spp: int = 1) -> dict:
         top = int(view.spp.argmax())
         ref_noise.append(relmse(view.colour[top], view.ref) / (view.ref_spp / view.spp[top] + 1))
         for i, spp in enumerate(view.spp.tolist()):
-            colour, albedo, normal, depth, variance = view.mean([i])
-            net.setdefault(spp, []).append(relmse(denoise(model, colour, albedo, normal, depth, variance), view.ref))
+            colour, albedo, normal, depth, variance, light = view.mean([i])
+            net.setdefault(spp, []).append(relmse(denoise(model, colour, albedo, normal, depth, variance, light),
+                                                  view.ref))
             if view.ref_noise is not None:
                 net_less_ref.setdefault(spp, []).append(net[spp][-1] - view.ref_noise)
                 # For the choice of best.pt, floored at a tenth of the reference's noise: less
@@ -700,9 +716,9 @@ def main(argv: list[str] | None = None) -> int:
             break
         for group in opt.param_groups:  # cosine decay over the budget
             group["lr"] = args.lr * 0.5 * (1 + math.cos(math.pi * frac))
-        colour, albedo, normal, depth, variance, e, target, _ = make_batch(
+        colour, albedo, normal, depth, variance, e, target, _, light = make_batch(
             train, rng, args.batch, args.crop, args.device, args.min_spp)
-        loss = loss_fn(model, colour, albedo, normal, depth, variance, e, target, args.loss_scale)
+        loss = loss_fn(model, colour, albedo, normal, depth, variance, e, target, args.loss_scale, light)
         opt.zero_grad()
         loss.backward()
         torch.nn.utils.clip_grad_norm_(model.parameters(), 1.0)

@@ -29,7 +29,7 @@ image::LayeredImage toLayeredImage(FilmLayers&& f) {
   img.width = f.width;
   img.height = f.height;
   const std::vector<std::string> rgb = {"R", "G", "B"}, xyz = {"X", "Y", "Z"};
-  img.layers.reserve(8);
+  img.layers.reserve(9);
   img.layers.push_back({"", rgb, std::move(f.combined)});
   img.layers.push_back({"direct", rgb, std::move(f.direct)});
   img.layers.push_back({"indirect", rgb, std::move(f.indirect)});
@@ -40,6 +40,10 @@ image::LayeredImage toLayeredImage(FilmLayers&& f) {
   // by and what training data for a denoiser keeps; absent where the integrator has none.
   if (f.variance.size() == size_t(f.width) * size_t(f.height))
     img.layers.push_back({"variance", {"Y"}, std::move(f.variance)});
+  // The share of each pixel's camera rays that saw light directly: what the denoisers keep
+  // out of their averages, so that a denoiser's training can do the same.
+  if (f.light.size() == size_t(f.width) * size_t(f.height))
+    img.layers.push_back({"light", {"Y"}, std::move(f.light)});
   // A denoised film keeps its raw colour beside the default (denoised) layer.
   if (!f.noisy.empty()) img.layers.push_back({"noisy", rgb, std::move(f.noisy)});
   return img;

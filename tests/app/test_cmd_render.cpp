@@ -67,6 +67,8 @@ TEST(CmdRender, DefaultIsPathTracingWithTheFilter) {
   EXPECT_NE(r.out.find("denoise (atrous)"), std::string::npos) << r.out;
   Imf::InputFile f(exr.c_str());
   EXPECT_NE(f.header().channels().findChannel("noisy.R"), nullptr);
+  // The share of light seen directly, which the denoisers keep out (training data reads it).
+  EXPECT_NE(f.header().channels().findChannel("light.Y"), nullptr);
   fs::remove_all(d);
 }
 

@@ -67,7 +67,7 @@ class Examples(unittest.TestCase):
         rng = np.random.default_rng(3)
         moved = 0
         for _ in range(12):
-            colour, albedo, normal, depth, _, e, target, _ = td.make_batch(data, rng, 2, 24)
+            colour, albedo, normal, depth, _, e, target, _, _ = td.make_batch(data, rng, 2, 24)
             np.testing.assert_array_equal(depth.numpy(), 0.0)  # a view without depth gets zeros
             np.testing.assert_allclose(colour.numpy(), albedo.numpy(), rtol=2e-3, atol=1e-4)
             np.testing.assert_allclose(target.numpy(), albedo.numpy(), rtol=2e-3, atol=1e-4)
@@ -89,7 +89,7 @@ class Examples(unittest.TestCase):
         rng = np.random.default_rng(1)
         seen = set()
         for _ in range(200):
-            colour, _, _, _, _, target, spp = view.example(rng)
+            colour, _, _, _, _, target, spp, _ = view.example(rng)
             seen.add(spp)
             # Recover the subset from the level (binary, as the counts are powers of two).
             chosen = [i for i in range(4) if spp >> i & 1]
@@ -148,6 +148,41 @@ class Examples(unittest.TestCase):
             self.assertEqual(view.depth.shape, (2, 1, 8, 8))
             np.testing.assert_array_equal(view.mean([0, 1])[3], 3.0)
 
+
+    def test_light_share_from_the_renders_or_the_views_light_npz_keeps_lamps_out(self):
+        # The share of light seen directly, as the renderer's denoisers use it: a lamp pixel
+        # keeps its colour and is no tap of its neighbours'. Without it, a wall pixel beside a
+        # lamp 1000 times brighter takes a share of it.
+        import torch
+        import image_unet
+        h = w = 16
+        colour = np.full((3, h, w), 0.5, np.float32)
+        colour[:, 8, 8] = 500.0
+        share = np.zeros((1, h, w), np.float32)
+        share[0, 8, 8] = 1.0
+        flat = np.zeros((3, h, w), np.float32)
+        normal = np.zeros((3, h, w), np.float32)
+        normal[2] = 1
+        with tempfile.TemporaryDirectory() as tmp:
+            write_view(Path(tmp), "1_c0", [1, 3], lambda i: colour, flat + 0.5, normal)
+            self.assertIsNone(td.View(Path(tmp) / "1_c0").light)
+            np.testing.assert_array_equal(td.View(Path(tmp) / "1_c0").mean([0, 1])[5], 0.0)
+            np.savez(Path(tmp) / "1_c0" / "light.npz", light=share.astype(np.float16))
+            view = td.View(Path(tmp) / "1_c0")
+            self.assertEqual(view.light.shape, (2, 1, h, w))
+            c, a, n, _, _, light = view.mean([0, 1])
+            np.testing.assert_array_equal(light, share)
+        model = image_unet.ImageUNet(4, "osr_image_kpn_v4")
+        with torch.no_grad():
+            model.dec0[4].weight.zero_()
+            model.dec0[4].bias.zero_()
+        depth = np.full((1, h, w), 2.0, np.float32)
+        variance = np.full((1, h, w), 1e6, np.float32)  # so noisy that the luminance factor lets the lamp in
+        kept = td.denoise(model, c, a, n, depth, variance, light)
+        spread = td.denoise(model, c, a, n, depth, variance)
+        self.assertAlmostEqual(float(kept[1, 8, 8]), 500.0, places=2)
+        self.assertAlmostEqual(float(kept[1, 8, 9]), 0.5, places=4)
+        self.assertGreater(float(spread[1, 8, 9]), 0.6)
 
 class GuidedKernels(unittest.TestCase):
     def test_no_average_across_a_geometric_edge(self):
@@ -421,7 +456,7 @@ class RealRenders(unittest.TestCase):
                 old = work / "old" / f.parent.name / f.name
                 old.parent.mkdir(parents=True, exist_ok=True)
                 with np.load(f) as z:
-                    np.savez(old, **{k: z[k] for k in z.files if k != "depth"})
+                    np.savez(old, **{k: z[k] for k in z.files if k not in ("depth", "light")})
             (work / "old" / "dataset.json").write_text((work / "data" / "dataset.json").read_text())
             r = run([PY, TOOLS / "make_denoise_data.py", work / "old", "--quick", "--scenes", work / "data" / "scenes",
                      "--osr-vk", osr_vk])
@@ -432,6 +467,11 @@ class RealRenders(unittest.TestCase):
                 depth = view.depth[-1]
                 hit = depth > 0
                 self.assertLess(float(np.median(np.abs(guide[hit] - depth[hit]) / depth[hit])), 0.01)
+                # ... and one path render their share of light seen directly (the renders have it).
+                share = np.load(work / "old" / Path(name).name / "light.npz")["light"]
+                self.assertEqual(share.shape, (1, 32, 32))
+                self.assertEqual(view.light.shape, (3, 1, 32, 32))
+                self.assertTrue(np.all((share >= 0) & (share <= 1)))
             r = run([PY, TOOLS / "make_denoise_data.py", work / "x", "--size", "30", "--seeds", "1",
                      "--osr-vk", osr_vk], expect=2)
             self.assertIn("--size", r.stderr.strip().splitlines()[-1])
