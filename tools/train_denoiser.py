@@ -127,33 +127,15 @@ class View:
         self.normal = np.stack([r["normal"] for r in renders]).astype(np.float32)
         # Depth per render, else the view's depth.npz for all of them (make_denoise_data.py),
         # else none (R x 1 x H x W).
-        self.depth = None
-        if all("depth" in r for r in renders):
-            self.depth = np.stack([r["depth"] for r in renders]).astype(np.float32)
-        elif (folder / "depth.npz").is_file():
-            try:
-                with np.load(folder / "depth.npz") as z:
-                    guide = z["depth"].astype(np.float32)
-            except (OSError, ValueError, KeyError, EOFError) as e:
-                raise DataError(f"{folder / 'depth.npz'}: not a make_denoise_data.py depth render ({e})") from None
-            self.depth = np.broadcast_to(guide, (len(renders), *guide.shape))
+        self.depth = self._guide(folder, renders, "depth")
         # The renderer's variance of each pixel's luminance estimate per render (R x 1 x H x W),
         # where the renders kept it (osr_image_kpn_v3 needs it).
         self.variance = None
         if all("variance" in r for r in renders):
             self.variance = np.stack([r["variance"] for r in renders]).astype(np.float32)
-        # The share of each pixel's camera rays that saw light directly, per render, else the
-        # view's light.npz for all of them, else none (no pixel kept out, R x 1 x H x W).
-        self.light = None
-        if all("light" in r for r in renders):
-            self.light = np.stack([r["light"] for r in renders]).astype(np.float32)
-        elif (folder / "light.npz").is_file():
-            try:
-                with np.load(folder / "light.npz") as z:
-                    share = z["light"].astype(np.float32)
-            except (OSError, ValueError, KeyError, EOFError) as e:
-                raise DataError(f"{folder / 'light.npz'}: not a make_denoise_data.py light render ({e})") from None
-            self.light = np.broadcast_to(share, (len(renders), *share.shape))
+        # The share of each pixel's camera rays that saw light directly, likewise (none: no pixel
+        # kept out).
+        self.light = self._guide(folder, renders, "light")
         # Validation renders also keep the a-trous filter's image of each render.
         self.filtered = None
         if all("filtered" in r for r in renders):
@@ -190,6 +172,21 @@ class View:
                     continue
                 self.subsets.setdefault(spp, []).append(s)
         self.levels = np.array(sorted(self.subsets), np.int64)
+
+    @staticmethod
+    def _guide(folder: Path, renders: list[dict], key: str) -> np.ndarray | None:
+        """A guide layer (R x 1 x H x W float32) from every render, else from the view's KEY.npz
+        (one render for all, make_denoise_data.py), else None."""
+        if all(key in r for r in renders):
+            return np.stack([r[key] for r in renders]).astype(np.float32)
+        if not (folder / f"{key}.npz").is_file():
+            return None
+        try:
+            with np.load(folder / f"{key}.npz") as z:
+                guide = z[key].astype(np.float32)
+        except (OSError, ValueError, KeyError, EOFError) as e:
+            raise DataError(f"{folder / f'{key}.npz'}: not a make_denoise_data.py {key} render ({e})") from None
+        return np.broadcast_to(guide, (len(renders), *guide.shape))
 
     @staticmethod
     def _load(path: Path) -> dict:
