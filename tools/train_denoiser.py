@@ -200,13 +200,21 @@ class View:
         except (OSError, ValueError, KeyError, EOFError) as e:
             raise DataError(f"{path}: not a make_denoise_data.py render ({e})") from None
 
+    def _weights(self, idx: list[int]) -> np.ndarray:
+        """Each of renders idx's share of their summed samples."""
+        w = self.spp[idx].astype(np.float32)
+        return w / w.sum()
+
+    def colour_mean(self, idx: list[int]) -> np.ndarray:
+        """The spp-weighted mean colour of renders idx (a Noise2Noise target needs no guides)."""
+        return np.tensordot(self._weights(idx), self.colour[idx], 1)
+
     def mean(self, idx: list[int]) -> tuple[np.ndarray, ...]:
         """The spp-weighted mean of renders idx: colour, albedo, normal, depth (zeros when the
         view has none), the variance of the mean's luminance (sum of w_i^2 var_i over the
         independent renders; zeros when the view has none) and the share of light seen
         directly (zeros when the view has none)."""
-        w = self.spp[idx].astype(np.float32)
-        w /= w.sum()
+        w = self._weights(idx)
         depth = self.depth if self.depth is not None else np.zeros_like(self.colour[:, :1])
         variance = self.variance if self.variance is not None else np.zeros_like(self.colour[:, :1])
         light = self.light if self.light is not None else np.zeros_like(self.colour[:, :1])
@@ -229,7 +237,7 @@ class View:
             target = self.ref
         else:
             rest = [i for i in range(len(self.spp)) if i not in chosen]
-            target = self.mean(rest)[0]
+            target = self.colour_mean(rest)
         return colour, albedo, normal, depth, variance, target, level, light
 
 
