@@ -348,7 +348,10 @@ def loss_fn(model, colour, albedo, normal, depth, variance, e, target, scale_by:
     # Each pixel's error relative to an estimate of its colour: the network's own output
     # (Lehtinen et al.), or the filter's image of the same input, which does not move with the
     # weights (see the docstring).
-    d = y.detach() if scale_by == "output" else filter_image(model, colour, albedo, normal, depth, variance, e, light) * scale
+    if scale_by == "output":
+        d = y.detach()
+    else:
+        d = filter_image(model, colour, albedo, normal, depth, variance, e, light) * scale
     return ((y - t) ** 2 / (d ** 2 + RELMSE_EPSILON)).mean()
 
 
@@ -661,7 +664,8 @@ def main(argv: list[str] | None = None) -> int:
               f"({state['elapsed'] / 60:.1f} min)", file=sys.stderr)
     meta = {"architecture": architecture, "stage": image_unet.STAGE, "base_width": args.k,
             "inputs": ",".join(image_unet.INPUTS), "input_transform": image_unet.INPUT_TRANSFORM,
-            "loss_kind": "relmse_exposed_n2n" if args.loss_scale == "output" else "relmse_filter_exposed_n2n", "datasets": ",".join(Path(d).name for d in args.data),
+            "loss_kind": "relmse_exposed_n2n" if args.loss_scale == "output" else "relmse_filter_exposed_n2n",
+            "datasets": ",".join(Path(d).name for d in args.data),
             "init": Path(args.init).parent.name + "/" + Path(args.init).name if args.init else "",
             "validation": Path(args.val).name,
             "batch": args.batch, "crop": args.crop, "lr": args.lr, "min_spp": args.min_spp, "git_commit": git_commit(),
