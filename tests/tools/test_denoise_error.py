@@ -19,9 +19,8 @@ TOOLS = ROOT / "tools"
 sys.path.insert(0, str(TOOLS))
 import exr_file  # noqa: E402
 
-PY = "/usr/bin/python3"
-FLOAT = 2
 H, W = 64, 96
+FLOAT = next(t for t, (name, _) in exr_file.PIXEL_TYPES.items() if name == "FLOAT")
 
 
 def write(path: Path, rgb: np.ndarray, layer: str = "") -> str:
@@ -31,7 +30,8 @@ def write(path: Path, rgb: np.ndarray, layer: str = "") -> str:
 
 
 def run(*args: str) -> subprocess.CompletedProcess:
-    return subprocess.run([PY, str(TOOLS / "denoise_error.py"), *args], capture_output=True, text=True, timeout=60)
+    return subprocess.run(["/usr/bin/python3", str(TOOLS / "denoise_error.py"), *args], capture_output=True,
+                          text=True, timeout=60)
 
 
 class DenoiseError(unittest.TestCase):
