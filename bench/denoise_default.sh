@@ -3,9 +3,10 @@
 # tracing, path + the a-trous filter and the default (path + the shipped network) at 5-30 s,
 # raw path and the default at 60 and 120 s, on cornell, room and the held-out generated
 # interiors 9001-9003. The references are our own path tracer's, two independent halves
-# merged, so that each line carries the reference's own noise (ref_noise): cornell and room
-# 2 x 2048 spp, the interiors 2 x 1024 (made here and kept: about an hour of lavapipe the
-# first time). Appends to bench/results/denoise.jsonl.
+# merged, so that each line carries the reference's own noise (ref_noise): 2 x 2048 spp each
+# (made here and kept: about 80 minutes of lavapipe the first time). Halves of 1024 or 512
+# samples were too noisy to rank the denoisers on 9003 and 9001, whose lamps and glass make
+# fireflies (docs/denoise.md "References"). Appends to bench/results/denoise.jsonl.
 #   bench/denoise_default.sh [DATA_DIR] [SCENE...]    (default: $TMPDIR/osr-denoise-default, all)
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
@@ -23,7 +24,7 @@ for s in "${scenes[@]}"; do
     *)
       [[ -f $data/$s/scene.gltf ]] ||
         /usr/bin/python3 "$root/tools/make_interiors.py" "$data" --seeds "$s" >/dev/null
-      scene=$data/$s/scene.gltf name=$data/$s/scene.gltf half=1024 view=(--camera 0)
+      scene=$data/$s/scene.gltf name=$data/$s/scene.gltf half=2048 view=(--camera 0)
       [[ -f $data/$s/sky.hdr ]] && view+=(--env "$data/$s/sky.hdr") ;;
   esac
   ref=$data/ref${s}_$((2 * half)).exr
