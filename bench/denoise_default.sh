@@ -4,9 +4,9 @@
 # raw path and the default at 60 and 120 s, on cornell, room and the held-out generated
 # interiors 9001-9003. The references are our own path tracer's, two independent halves
 # merged, so that each line carries the reference's own noise (ref_noise): 2 x 2048 spp each
-# (made here and kept: about 80 minutes of lavapipe the first time). Halves of 1024 or 512
-# samples were too noisy to rank the denoisers on 9003 and 9001, whose lamps and glass make
-# fireflies (docs/denoise.md "References"). Appends to bench/results/denoise.jsonl.
+# (made here and kept: about 50 minutes of lavapipe the first time). With halves of 512
+# samples the fireflies of 9003's lamps ranked the denoisers the wrong way round, and 1024
+# still moved its figures (docs/denoise.md "References"). Appends to bench/results/denoise.jsonl.
 #   bench/denoise_default.sh [DATA_DIR] [SCENE...]    (default: $TMPDIR/osr-denoise-default, all)
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)

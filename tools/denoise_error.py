@@ -11,24 +11,29 @@ same view's films through one denoiser at independent seeds (FILM.exr:LAYER read
 line:
 
 - relmse: the error less the references' noise, the mean over seeds and pixels of
-  (x - a)(x - b) / (m^2 + 0.01), m = (a + b) / 2: unbiased for the relMSE against the truth,
-  since a and b are independent of x and of each other;
+  (x - a)(x - b) / (m^2 + 0.01), m = (a + b) / 2: nearly unbiased for the relMSE against the
+  truth, since a and b are independent of x and of each other (nearly: the weight depends on
+  them through m);
 - variance and bias2 (two seeds or more): relmse split into the films' spread over seeds and
   the rest, (mu - a)(mu - b) / (m^2 + 0.01) less variance / seeds, mu the seeds' mean;
-- top1_share: the share of the region's error in its worst 1 % of pixels.
+- top1_share: the share of the region's error in its worst 1 % of pixels (of the pixels'
+  errors clamped at 0: less the noise, a pixel's can be negative).
 
 A region's figures are its sums over the whole image's pixel count, so that regions add up to
 the image's. --gate N: for the first two sets, per seed and N x N block, the set whose error
-against A is lower, judged against B alone (less B's noise): the bound of a learned per-block
-choice between them, since it picks with a reference no denoiser has.
+against A is lower, judged against B alone (less B's noise, (a - b)^2 / 2: halves of equal
+samples): an estimate of what a per-block choice between them made with a reference's help
+achieves, which a learned choice, without one, would hardly beat.
 
 Bad input (a missing or unreadable file, images of other sizes, a region outside the image, a
-set whose seeds differ in number from the other's under --gate) is one line on stderr, exit 2.
+set whose seeds differ in number from the other's under --gate) is one line on stderr, exit 2
+(a malformed option is argparse's usage and message, exit 2).
 """
 from __future__ import annotations
 
 import argparse
 import json
+import struct
 import sys
 import zlib
 from pathlib import Path
@@ -51,8 +56,8 @@ def read_rgb(arg: str) -> np.ndarray:
     try:
         header, raw = exr_file.read_raw(path)
     except exr_file.ExrError as e:
-        raise InputError(str(e)) from None
-    except (OSError, zlib.error, ValueError) as e:
+        raise InputError(str(e) if path in str(e) else f"{path}: {e}") from None
+    except (OSError, zlib.error, ValueError, struct.error, IndexError, KeyError) as e:
         raise InputError(f"{path}: cannot read ({e})") from None
     names = [f"{layer}.{c}" if layer else c for c in "RGB"]
     types = dict(header["channels"])
@@ -113,7 +118,7 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("sets", nargs="+", metavar="NAME=FILM.exr[,FILM.exr...]")
     p.add_argument("--region", action="append", default=[], metavar="NAME=X,Y,W,H")
     p.add_argument("--gate", type=int, metavar="N", help="block side of the per-block choice bound")
-    args = p.parse_args(argv)
+    args = p.parse_intermixed_args(argv)
     try:
         if args.gate is not None and args.gate < 1:
             raise InputError(f"--gate {args.gate}: the block side must be 1 or more")
@@ -145,10 +150,11 @@ def main(argv: list[str] | None = None) -> int:
         maps = split(films, a, b)
         for region, box in regions:
             e = maps["relmse"][box]
-            worst = np.sort(e.ravel())[::-1][:max(1, e.size // 100)]
+            positive = np.maximum(e, 0.0)
+            worst = np.sort(positive.ravel())[::-1][:max(1, e.size // 100)]
             line = {"films": name, "region": region, "seeds": films.shape[0],
                     "pixels": e.size / pixels, "relmse": float(e.sum() / pixels),
-                    "top1_share": float(worst.sum() / e.sum()) if e.sum() > 0 else None}
+                    "top1_share": float(worst.sum() / positive.sum()) if positive.sum() > 0 else None}
             for key in ("variance", "bias2"):
                 if key in maps:
                     line[key] = float(maps[key][box].sum() / pixels)
