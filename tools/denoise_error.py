@@ -54,17 +54,11 @@ def read_rgb(arg: str) -> np.ndarray:
     if not sep or not path.endswith(".exr"):
         path, layer = arg, ""
     try:
-        header, raw = exr_file.read_raw(path)
+        return exr_file.read_rgb(path, layer).transpose(2, 0, 1).astype(np.float64)
     except exr_file.ExrError as e:
         raise InputError(str(e) if path in str(e) else f"{path}: {e}") from None
     except (OSError, zlib.error, ValueError, struct.error, IndexError, KeyError) as e:
         raise InputError(f"{path}: cannot read ({e})") from None
-    names = [f"{layer}.{c}" if layer else c for c in "RGB"]
-    types = dict(header["channels"])
-    missing = [n for n in names if n not in types]
-    if missing:
-        raise InputError(f"{path}: no channel {missing[0]}")
-    return np.stack([exr_file.to_float(types[n], raw[n]) for n in names]).astype(np.float64)
 
 
 def region_box(arg: str, shape: tuple[int, int]) -> tuple[str, tuple[slice, slice]]:
@@ -78,9 +72,13 @@ def region_box(arg: str, shape: tuple[int, int]) -> tuple[str, tuple[slice, slic
     return name, (slice(y, y + h), slice(x, x + w))
 
 
-def split(films: np.ndarray, a: np.ndarray, b: np.ndarray) -> dict[str, np.ndarray]:
+def weight(a: np.ndarray, b: np.ndarray) -> np.ndarray:
+    """1 / (m^2 + 0.01), m the halves' mean: relMSE's divisor."""
+    return 1.0 / ((0.5 * (a + b)) ** 2 + 0.01)
+
+
+def split(films: np.ndarray, a: np.ndarray, b: np.ndarray, w: np.ndarray) -> dict[str, np.ndarray]:
     """Per-pixel error maps (H x W) of K films (K x 3 x H x W) against halves a and b."""
-    w = 1.0 / ((0.5 * (a + b)) ** 2 + 0.01)
     out = {"relmse": ((films - a) * (films - b) * w).mean(0).mean(0)}
     k = films.shape[0]
     if k > 1:
@@ -90,9 +88,8 @@ def split(films: np.ndarray, a: np.ndarray, b: np.ndarray) -> dict[str, np.ndarr
     return out
 
 
-def gate(x: np.ndarray, y: np.ndarray, a: np.ndarray, b: np.ndarray, n: int) -> float:
+def gate(x: np.ndarray, y: np.ndarray, a: np.ndarray, b: np.ndarray, w: np.ndarray, n: int) -> float:
     """Error less B's noise of the per-block choice between x and y (K x 3 x H x W) made on A."""
-    w = 1.0 / ((0.5 * (a + b)) ** 2 + 0.01)
     h, wd = a.shape[1:]
     bh, bw = -(-h // n), -(-wd // n)
 
@@ -146,8 +143,9 @@ def main(argv: list[str] | None = None) -> int:
         print(f"denoise_error.py: {e}", file=sys.stderr)
         return 2
     pixels = a.shape[1] * a.shape[2]
+    w = weight(a, b)
     for name, films in sets:
-        maps = split(films, a, b)
+        maps = split(films, a, b, w)
         for region, box in regions:
             e = maps["relmse"][box]
             positive = np.maximum(e, 0.0)
@@ -162,9 +160,9 @@ def main(argv: list[str] | None = None) -> int:
     if args.gate is not None:
         (nx, x), (ny, y) = sets[0], sets[1]
         print(json.dumps({"films": f"gate({nx}|{ny})", "region": "image", "block": args.gate,
-                          "seeds": x.shape[0], "relmse_b": gate(x, y, a, b, args.gate),
-                          "relmse_b_" + nx: gate(x, x, a, b, args.gate),
-                          "relmse_b_" + ny: gate(y, y, a, b, args.gate)}))
+                          "seeds": x.shape[0], "relmse_b": gate(x, y, a, b, w, args.gate),
+                          "relmse_b_" + nx: gate(x, x, a, b, w, args.gate),
+                          "relmse_b_" + ny: gate(y, y, a, b, w, args.gate)}))
     return 0
 
 

@@ -192,3 +192,15 @@ def _zip(raw: bytes) -> bytes:
 def to_float(ptype: int, bits: np.ndarray) -> np.ndarray:
     """A channel's raw bits as float32 values."""
     return bits.view(np.float16).astype(np.float32) if ptype == 1 else bits.view(np.float32)
+
+
+def read_rgb(path: str | Path, layer: str = "") -> np.ndarray:
+    """The R, G, B channels (of `layer`, as osr-vk names them: noisy.R, ...) as an H x W x 3
+    float32 array; ExrError names a missing channel."""
+    h, raw = read_raw(path)
+    types = dict(h["channels"])
+    names = [f"{layer}.{c}" if layer else c for c in "RGB"]
+    missing = next((n for n in names if n not in types), None)
+    if missing is not None:
+        raise ExrError(f"{path}: no channel {missing}")
+    return np.stack([to_float(types[n], raw[n]) for n in names], -1)

@@ -23,9 +23,7 @@ from arg_types import positive_int  # noqa: E402
 
 
 def rgb(path: str) -> np.ndarray:
-    h, ch = exr_file.read_raw(path)
-    types = dict(h["channels"])
-    return np.stack([exr_file.to_float(types[c], ch[c]) for c in "RGB"], -1)
+    return exr_file.read_rgb(path)
 
 
 def seam_mask(height: int, width: int, rows: int, cols: int, band: int) -> np.ndarray:
