@@ -44,6 +44,10 @@ the renderer clamps it), t the target times e and sg no gradient
 --loss-scale filter divides by the a-trous filter's image of the same input in place of
 sg(y): a divisor that does not move with the weights (measured no better on the renderer's
 films, docs/training.md "Nor an error relative to the filter's image").
+--loss-cap C counts a pixel's relative error r = |y - t| / sqrt(sg(y)^2 + 0.01) beyond C
+linearly (Huber: 2 C r - C^2 in place of r^2), so a target's firefly pulls with a bounded
+gradient; it is no longer mean-seeking there, and measured darkens scenes lit by small lamps
+(docs/training.md "Nor a capped loss").
 Adam with a cosine learning-rate decay over the budget; gradient norm clipped at 1 (a noisy
 target's rare bright path still makes a large relative loss now and then). The noisy targets
 make single steps noisy too, so the weights validated and saved are a running average
@@ -335,7 +339,8 @@ def filter_image(model, colour, albedo, normal, depth, variance, e, light=None):
                                         straddle=model.architecture == image_unet.STRADDLE_ARCHITECTURE)
 
 
-def loss_fn(model, colour, albedo, normal, depth, variance, e, target, scale_by: str = "output", light=None):
+def loss_fn(model, colour, albedo, normal, depth, variance, e, target, scale_by: str = "output", light=None,
+            cap: float = 0.0):
     import torch
     import image_unet
     scale = e.view(-1, 1, 1, 1)
@@ -352,7 +357,10 @@ def loss_fn(model, colour, albedo, normal, depth, variance, e, target, scale_by:
         d = y.detach()
     else:
         d = filter_image(model, colour, albedo, normal, depth, variance, e, light) * scale
-    return ((y - t) ** 2 / (d ** 2 + RELMSE_EPSILON)).mean()
+    r2 = (y - t) ** 2 / (d ** 2 + RELMSE_EPSILON)
+    if cap > 0:  # Huber on the relative error: linear beyond cap
+        r2 = torch.where(r2 < cap * cap, r2, 2 * cap * torch.sqrt(r2.clamp(min=cap * cap)) - cap * cap)
+    return r2.mean()
 
 
 def relmse(a: np.ndarray, ref: np.ndarray) -> float:
@@ -524,6 +532,8 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--loss-scale", choices=["output", "filter"], default="output",
                    help="what each pixel's squared error is relative to: the network's output or the "
                         "a-trous filter's image of the input (kpn3, kpn4; default output)")
+    p.add_argument("--loss-cap", type=positive_float, default=None, metavar="C",
+                   help="count each pixel's relative error beyond C linearly (Huber; default: no cap)")
     p.add_argument("--ema", type=float, default=0.99,
                    help="decay of the weights' running average, which is validated and saved (default 0.99)")
     p.add_argument("--seed", type=int, default=1, help="seed of initialization and batches (default 1)")
@@ -664,7 +674,8 @@ def main(argv: list[str] | None = None) -> int:
               f"({state['elapsed'] / 60:.1f} min)", file=sys.stderr)
     meta = {"architecture": architecture, "stage": image_unet.STAGE, "base_width": args.k,
             "inputs": ",".join(image_unet.INPUTS), "input_transform": image_unet.INPUT_TRANSFORM,
-            "loss_kind": "relmse_exposed_n2n" if args.loss_scale == "output" else "relmse_filter_exposed_n2n",
+            "loss_kind": ("relmse_exposed_n2n" if args.loss_scale == "output" else "relmse_filter_exposed_n2n")
+            + (f"_huber{args.loss_cap:g}" if args.loss_cap else ""),
             "datasets": ",".join(Path(d).name for d in args.data),
             "init": Path(args.init).parent.name + "/" + Path(args.init).name if args.init else "",
             "validation": Path(args.val).name,
@@ -727,7 +738,8 @@ def main(argv: list[str] | None = None) -> int:
             group["lr"] = args.lr * 0.5 * (1 + math.cos(math.pi * frac))
         colour, albedo, normal, depth, variance, e, target, _, light = make_batch(
             train, rng, args.batch, args.crop, args.device, args.min_spp)
-        loss = loss_fn(model, colour, albedo, normal, depth, variance, e, target, args.loss_scale, light)
+        loss = loss_fn(model, colour, albedo, normal, depth, variance, e, target, args.loss_scale, light,
+                       args.loss_cap or 0.0)
         opt.zero_grad()
         loss.backward()
         torch.nn.utils.clip_grad_norm_(model.parameters(), 1.0)

@@ -301,6 +301,36 @@ class FilterGuidedKernels(unittest.TestCase):
         self.assertGreater(float((y - f).abs().max()), 1e-3)
         torch.testing.assert_close(td.loss_fn(*args, "filter"), expected)
 
+    def test_loss_cap_counts_large_relative_errors_linearly(self):
+        import torch
+        import image_unet
+        rng = np.random.default_rng(6)
+        h = w = 16
+        colour = torch.from_numpy(rng.gamma(2.0, 0.3, (1, 3, h, w)).astype(np.float32))
+        albedo = torch.full((1, 3, h, w), 0.6)
+        normal = torch.zeros(1, 3, h, w)
+        normal[:, 2] = 1
+        depth = torch.full((1, 1, h, w), 3.0)
+        variance = torch.full((1, 1, h, w), 0.02)
+        target = colour.clone()
+        target[0, :, 3, 5] = 50.0  # a target firefly: relative error far beyond the cap
+        target[0, :, 9, 9] = 0.0  # and a pixel the target misses, within 1 of the output
+        e = image_unet.image_exposure(colour)
+        model = image_unet.ImageUNet(4, "osr_image_kpn_v4")
+        image_unet.randomize(model, 5)
+        args = (model, colour, albedo, normal, depth, variance, e, target, "output", None)
+        with torch.no_grad():
+            y = image_unet.denoise(model, colour, albedo, normal, e, depth, variance) * e
+            r2 = (y - target * e) ** 2 / (y ** 2 + td.RELMSE_EPSILON)
+        self.assertGreater(float(r2.max()), 100.0)
+        huber = torch.where(r2 < 4.0, r2, 4.0 * r2.sqrt() - 4.0).mean()
+        torch.testing.assert_close(td.loss_fn(*args, cap=2.0), huber)
+        torch.testing.assert_close(td.loss_fn(*args, cap=1e6), td.loss_fn(*args))
+        loss = td.loss_fn(*args, cap=2.0)
+        loss.backward()
+        grads = [p.grad for p in model.parameters()]
+        self.assertTrue(all(bool(torch.isfinite(g).all()) for g in grads))
+
     def test_quick_run_and_pack(self):
         import torch
         with tempfile.TemporaryDirectory() as tmp:
