@@ -13,30 +13,11 @@ root=$(cd "$(dirname "$0")/.." && pwd)
 data=${1:-${TMPDIR:-/tmp}/osr-denoise-default}
 if (($#)); then shift; fi
 if (($#)); then scenes=("$@"); else scenes=(cornell room 9001 9002 9003); fi
-vk=$root/build/osr-vk bench=$root/build/osr-bench
+bench=$root/build/osr-bench
 mkdir -p "$data"
+source "$root/bench/denoise_scenes.sh"
 for s in "${scenes[@]}"; do
-  view=()
-  case $s in
-    cornell | room)
-      # osr-bench knows them by name (their lines say "cornell", "room"); osr-vk by file.
-      scene=$root/scenes/$s/$s.gltf name=$s half=2048 ;;
-    *)
-      [[ -f $data/$s/scene.gltf ]] ||
-        /usr/bin/python3 "$root/tools/make_interiors.py" "$data" --seeds "$s" >/dev/null
-      scene=$data/$s/scene.gltf name=$data/$s/scene.gltf half=2048 view=(--camera 0)
-      [[ -f $data/$s/sky.hdr ]] && view+=(--env "$data/$s/sky.hdr") ;;
-  esac
-  ref=$data/ref${s}_$((2 * half)).exr
-  if [[ ! -f $ref ]]; then
-    for seed in 777 778; do
-      part=$data/ref${s}_${half}_$seed.exr
-      [[ -f $part ]] || "$vk" --mode path --spp $half --seed $seed --width 256 --height 256 \
-        "${view[@]}" --network none --filter none --exr-float --quiet --offline "$part" "$scene"
-    done
-    /usr/bin/python3 "$root/tools/merge_references.py" "$ref" \
-      "$data/ref${s}_${half}_777.exr:$half" "$data/ref${s}_${half}_778.exr:$half"
-  fi
+  denoise_scene "$data" "$s"
   args=(--scene "$name" --reference "$ref" "${view[@]}" --network default --record)
   "$bench" denoise "${args[@]}" --rows path,path+atrous,path+network --budgets 5,10,30
   "$bench" denoise "${args[@]}" --rows path,path+network --budgets 60,120
