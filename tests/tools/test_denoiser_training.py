@@ -239,6 +239,17 @@ class GuidedKernels(unittest.TestCase):
         torch.testing.assert_close(mixed[..., 5:], plain[..., 5:])
 
 
+def flat_wall(rng, size: int = 16):
+    """Colour (noisy, gamma-distributed), albedo, normal, depth and variance of a flat wall
+    facing the camera, 1 x C x size x size tensors."""
+    import torch
+    colour = torch.from_numpy(rng.gamma(2.0, 0.3, (1, 3, size, size)).astype(np.float32))
+    normal = torch.zeros(1, 3, size, size)
+    normal[:, 2] = 1
+    return (colour, torch.full((1, 3, size, size), 0.6), normal, torch.full((1, 1, size, size), 3.0),
+            torch.full((1, 1, size, size), 0.02))
+
+
 class FilterGuidedKernels(unittest.TestCase):
     def test_zero_logits_filter_noise_by_its_variance(self):
         # osr_image_kpn_v3 with zero logits is the a-trous filter: a flat grey wall with noise
@@ -276,14 +287,8 @@ class FilterGuidedKernels(unittest.TestCase):
         import torch
         import image_unet
         rng = np.random.default_rng(4)
-        h, w = 16, 16
-        colour = torch.from_numpy(rng.gamma(2.0, 0.3, (1, 3, h, w)).astype(np.float32))
-        albedo = torch.full((1, 3, h, w), 0.6)
-        normal = torch.zeros(1, 3, h, w)
-        normal[:, 2] = 1
-        depth = torch.full((1, 1, h, w), 3.0)
-        variance = torch.full((1, 1, h, w), 0.02)
-        target = torch.from_numpy(rng.gamma(2.0, 0.3, (1, 3, h, w)).astype(np.float32))
+        colour, albedo, normal, depth, variance = flat_wall(rng)
+        target = torch.from_numpy(rng.gamma(2.0, 0.3, (1, 3, 16, 16)).astype(np.float32))
         e = image_unet.image_exposure(colour)
         model = image_unet.ImageUNet(4, "osr_image_kpn_v4")
         head = model.dec0[4]
@@ -304,14 +309,7 @@ class FilterGuidedKernels(unittest.TestCase):
     def test_loss_cap_counts_large_relative_errors_linearly(self):
         import torch
         import image_unet
-        rng = np.random.default_rng(6)
-        h = w = 16
-        colour = torch.from_numpy(rng.gamma(2.0, 0.3, (1, 3, h, w)).astype(np.float32))
-        albedo = torch.full((1, 3, h, w), 0.6)
-        normal = torch.zeros(1, 3, h, w)
-        normal[:, 2] = 1
-        depth = torch.full((1, 1, h, w), 3.0)
-        variance = torch.full((1, 1, h, w), 0.02)
+        colour, albedo, normal, depth, variance = flat_wall(np.random.default_rng(6))
         target = colour.clone()
         target[0, :, 3, 5] = 50.0  # a target firefly: relative error far beyond the cap
         target[0, :, 9, 9] = 0.0  # and a pixel the target misses, within 1 of the output
