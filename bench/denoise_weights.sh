@@ -7,31 +7,49 @@
 # for pixel whatever denoises it, so the ratios hold no noise of their own inputs. Appends one
 # line per film and denoiser to bench/results/denoise_weights.jsonl: the error less the
 # references' noise, its ratio to the shipped weights' and the filter's, and the mean
-# luminance over the reference's (a loss that is not mean-seeking shows there first).
+# luminance over the reference's (a loss that is not mean-seeking shows there first). The
+# films are kept in DATA_DIR/films/COMMIT (the filter's and the shipped network's depend on
+# the build), a weights file's under its name and hash; a tree with changes renders afresh.
 #   bench/denoise_weights.sh DATA_DIR [WEIGHTS.osrw ...] [-- SCENE ...]
 set -euo pipefail
 root=$(cd "$(dirname "$0")/.." && pwd)
-(($#)) || { echo "usage: bench/denoise_weights.sh DATA_DIR [WEIGHTS.osrw ...] [-- SCENE ...]" >&2; exit 2; }
+usage="usage: bench/denoise_weights.sh DATA_DIR [WEIGHTS.osrw ...] [-- SCENE ...]"
+if ((!$#)) || [[ $1 == -* ]]; then
+  echo "$usage" >&2
+  exit 2
+fi
 data=$1
 shift
 weights=()
 while (($#)) && [[ $1 != -- ]]; do
   [[ -f $1 ]] || { echo "bench/denoise_weights.sh: $1: no such weights file" >&2; exit 2; }
+  # Absolute, so that a file named "filter" or "default" is not taken for those denoisers.
   weights+=("$(cd "$(dirname "$1")" && pwd)/$(basename "$1")")
   shift
 done
 (($#)) && shift
 if (($#)); then scenes=("$@"); else scenes=(cornell room 9001 9002 9003); fi
-mkdir -p "$data/films"
-source "$root/bench/denoise_scenes.sh"
-commit=$(git -C "$root" rev-parse --short HEAD)$(git -C "$root" diff --quiet HEAD -- src shaders models || echo -dirty)
+# The sample counts the bench's 5, 10 and 30 s reached per scene (docs/denoise.md's table).
+declare -A spp_lists=([cornell]="88 163 520" [room]="49 95 324" [9001]="21 44 155" [9002]="49 98 331"
+  [9003]="28 56 169")
 for s in "${scenes[@]}"; do
-  denoise_scene "$data" "$s"
-  case $s in
-    cornell) spps=(88 163 520) ;; room) spps=(49 95 324) ;; 9001) spps=(21 44 155) ;;
-    9002) spps=(49 98 331) ;; 9003) spps=(28 56 169) ;;
-    *) echo "bench/denoise_weights.sh: $s: no sample counts for this scene" >&2; exit 2 ;;
-  esac
+  [[ -n ${spp_lists[$s]:-} ]] || { echo "bench/denoise_weights.sh: $s: no sample counts for this scene" \
+    "(one of ${!spp_lists[*]})" >&2; exit 2; }
+done
+# shellcheck source=bench/denoise_scenes.sh
+source "$root/bench/denoise_scenes.sh"
+commit=$(git -C "$root" rev-parse --short HEAD)
+films=$data/films/$commit
+if ! git -C "$root" diff --quiet HEAD -- . ':(exclude)bench/results'; then
+  commit+=-dirty films=$data/films/$commit
+  rm -rf "$films"
+fi
+mkdir -p "$films"
+date=$(date -u +%Y-%m-%dT%H:%M:%SZ)
+device=$("$root/build/osr-vk" --list-devices | sed -n '1s/^0: //p')
+for s in "${scenes[@]}"; do
+  denoise_scene "$data" "$s" halves
+  read -ra spps <<<"${spp_lists[$s]}"
   for n in "${spps[@]}"; do
     sets=()
     for w in filter default "${weights[@]}"; do
@@ -40,29 +58,29 @@ for s in "${scenes[@]}"; do
         default) label=shipped net=(--network default) ;;
         *) label=$(basename "$w" .osrw)-$(sha1sum "$w" | cut -c1-8) net=(--network "$w") ;;
       esac
-      film=$data/films/${s}_${n}_s11_$label.exr
+      film=$films/${s}_${n}_s11_$label.exr
       [[ -f $film ]] || "$root/build/osr-vk" --mode path --spp "$n" --seed 11 --width 256 --height 256 \
         "${view[@]}" "${net[@]}" --exr-float --quiet --offline "$film" "$scene"
       sets+=("$label=$film")
     done
     /usr/bin/python3 "$root/tools/denoise_error.py" --halves "$refA" "$refB" "${sets[@]}" |
       /usr/bin/python3 -c '
-import datetime, json, os, platform, sys
+import json, os, platform, sys
 sys.path.insert(0, sys.argv[1] + "/tools")
 import exr_file
-scene, spp, commit, films = sys.argv[2], int(sys.argv[3]), sys.argv[4], dict(a.split("=", 1) for a in sys.argv[5:])
+scene, spp, commit, date, device = sys.argv[2], int(sys.argv[3]), sys.argv[4], sys.argv[5], sys.argv[6]
+films = dict(a.split("=", 1) for a in sys.argv[7:])
 lines = {l["films"]: l for l in map(json.loads, sys.stdin) if l["region"] == "image"}
 lum = lambda p: float((exr_file.read_rgb(p, "") @ [0.2126, 0.7152, 0.0722]).mean())
 ref = 0.5 * (lum(films["ref_a"]) + lum(films["ref_b"]))
-date = datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%dT%H:%M:%SZ")
 cpu = next((l.split(":", 1)[1].strip() for l in open("/proc/cpuinfo") if l.startswith("model name")), "unknown")
 machine = f"{platform.node()}, {cpu}, {os.cpu_count()} cores"
 for name, l in lines.items():
-    row = {"date": date, "commit": commit, "machine": machine, "bench": "denoise_weights", "scene": scene, "spp": spp, "seed": 11, "denoiser": name,
+    row = {"date": date, "commit": commit, "machine": machine, "bench": "denoise_weights", "device": device, "scene": scene, "spp": spp, "seed": 11, "denoiser": name,
            "relmse": l["relmse"], "over_shipped": l["relmse"] / lines["shipped"]["relmse"],
            "over_filter": l["relmse"] / lines["filter"]["relmse"], "lum_ratio": lum(films[name]) / ref,
            }
     print(json.dumps(row))
-' "$root" "$s" "$n" "$commit" "ref_a=$refA" "ref_b=$refB" "${sets[@]}" | tee -a "$root/bench/results/denoise_weights.jsonl"
+' "$root" "$s" "$n" "$commit" "$date" "$device" "ref_a=$refA" "ref_b=$refB" "${sets[@]}" | tee -a "$root/bench/results/denoise_weights.jsonl"
   done
 done

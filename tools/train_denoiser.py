@@ -7,6 +7,7 @@ renders.
 usage: train_denoiser.py DATA [DATA ...] --val VAL --out RUN [--arch kpn4|kpn3|kpn2|kpn|unet] [--k 16]
                          [--steps N | --minutes M]
                          [--resume] [--batch 8] [--crop 64] [--lr 2e-3] [--threads 2] [--device cpu]
+                         [--loss-scale output|filter] [--loss-cap C]
                          [--quick]
 
 DATA and VAL are make_denoise_data.py folders; VAL holds other interiors than DATA, with
@@ -44,10 +45,10 @@ the renderer clamps it), t the target times e and sg no gradient
 --loss-scale filter divides by the a-trous filter's image of the same input in place of
 sg(y): a divisor that does not move with the weights (measured no better on the renderer's
 films, docs/training.md "Nor an error relative to the filter's image").
---loss-cap C counts a pixel's relative error r = |y - t| / sqrt(sg(y)^2 + 0.01) beyond C
-linearly (Huber: 2 C r - C^2 in place of r^2), so a target's firefly pulls with a bounded
-gradient; it is no longer mean-seeking there, and measured darkens scenes lit by small lamps
-(docs/training.md "Nor a capped loss").
+--loss-cap C counts a pixel's relative error r = |y - t| / sqrt(d^2 + 0.01), d the divisor
+--loss-scale chose, beyond C linearly (Huber: 2 C r - C^2 in place of r^2), so a target's
+firefly pulls with a bounded gradient; it is no longer mean-seeking there, and measured
+darkens scenes lit by small lamps (docs/training.md "Nor a capped loss").
 Adam with a cosine learning-rate decay over the budget; gradient norm clipped at 1 (a noisy
 target's rare bright path still makes a large relative loss now and then). The noisy targets
 make single steps noisy too, so the weights validated and saved are a running average
@@ -358,9 +359,15 @@ def loss_fn(model, colour, albedo, normal, depth, variance, e, target, scale_by:
     else:
         d = filter_image(model, colour, albedo, normal, depth, variance, e, light) * scale
     r2 = (y - t) ** 2 / (d ** 2 + RELMSE_EPSILON)
-    if cap > 0:  # Huber on the relative error: linear beyond cap
-        r2 = torch.where(r2 < cap * cap, r2, 2 * cap * torch.sqrt(r2.clamp(min=cap * cap)) - cap * cap)
-    return r2.mean()
+    return (huber(r2, cap) if cap > 0 else r2).mean()
+
+
+def huber(r2, cap: float):
+    """r^2 up to cap^2, 2 cap r - cap^2 beyond: each pixel's squared relative error r^2 with
+    the part beyond cap counted linearly. The root is taken of r^2 clamped to the linear side
+    only: where r^2 is 0 its gradient would be infinite, and 0 times that is NaN."""
+    import torch
+    return torch.where(r2 < cap * cap, r2, 2 * cap * torch.sqrt(r2.clamp(min=cap * cap)) - cap * cap)
 
 
 def relmse(a: np.ndarray, ref: np.ndarray) -> float:
