@@ -17,7 +17,9 @@ line:
 - variance and bias2 (two seeds or more): relmse split into the films' spread over seeds and
   the rest, (mu - a)(mu - b) / (m^2 + 0.01) less variance / seeds, mu the seeds' mean;
 - top1_share: the share of the region's error in its worst 1 % of pixels (of the pixels'
-  errors clamped at 0: less the noise, a pixel's can be negative).
+  errors clamped at 0: less the noise, a pixel's can be negative);
+- lum_ratio: the films' mean luminance over the references' (a denoiser that darkens or
+  brightens shows there).
 
 A region's figures are its sums over the whole image's pixel count, so that regions add up to
 the image's. --gate N: for the first two sets, per seed and N x N block, the set whose error
@@ -75,6 +77,11 @@ def region_box(arg: str, shape: tuple[int, int]) -> tuple[str, tuple[slice, slic
 def weight(a: np.ndarray, b: np.ndarray) -> np.ndarray:
     """1 / (m^2 + 0.01), m the halves' mean: relMSE's divisor."""
     return 1.0 / ((0.5 * (a + b)) ** 2 + 0.01)
+
+
+def luminance(rgb: np.ndarray) -> np.ndarray:
+    """Rec. 709 luminance over the channel axis (3 x H x W, or K x 3 x H x W)."""
+    return np.tensordot([0.2126, 0.7152, 0.0722], rgb, axes=([0], [-3]))
 
 
 def split(films: np.ndarray, a: np.ndarray, b: np.ndarray, w: np.ndarray) -> dict[str, np.ndarray]:
@@ -144,6 +151,7 @@ def main(argv: list[str] | None = None) -> int:
         return 2
     pixels = a.shape[1] * a.shape[2]
     w = weight(a, b)
+    ref_lum = luminance(0.5 * (a + b))
     for name, films in sets:
         maps = split(films, a, b, w)
         for region, box in regions:
@@ -152,7 +160,8 @@ def main(argv: list[str] | None = None) -> int:
             worst = np.sort(positive.ravel())[::-1][:max(1, e.size // 100)]
             line = {"films": name, "region": region, "seeds": films.shape[0],
                     "pixels": e.size / pixels, "relmse": float(e.sum() / pixels),
-                    "top1_share": float(worst.sum() / positive.sum()) if positive.sum() > 0 else None}
+                    "top1_share": float(worst.sum() / positive.sum()) if positive.sum() > 0 else None,
+                    "lum_ratio": float(luminance(films).mean(0)[box].mean() / ref_lum[box].mean())}
             for key in ("variance", "bias2"):
                 if key in maps:
                     line[key] = float(maps[key][box].sum() / pixels)

@@ -22,10 +22,6 @@ import exr_file  # noqa: E402
 from arg_types import positive_int  # noqa: E402
 
 
-def rgb(path: str) -> np.ndarray:
-    return exr_file.read_rgb(path)
-
-
 def seam_mask(height: int, width: int, rows: int, cols: int, band: int) -> np.ndarray:
     """osr_farm.py's tile borders (near-equal splits), widened by band pixels each side."""
     mask = np.zeros((height, width), bool)
@@ -54,7 +50,7 @@ def main(argv: list[str] | None = None) -> int:
     args = p.parse_args(argv)
     try:
         rows, cols = (int(v) for v in args.grid.split("x"))
-        images = {k: rgb(v) for k, v in (("tiled", args.tiled), ("ref", args.ref), ("noise", args.noise)) if v}
+        images = {k: exr_file.read_rgb(v) for k, v in (("tiled", args.tiled), ("ref", args.ref), ("noise", args.noise)) if v}
     except ValueError:
         print(f"tile_seams.py: '{args.grid}' is not RxC", file=sys.stderr)
         return 2

@@ -539,7 +539,7 @@ def main(argv: list[str] | None = None) -> int:
     p.add_argument("--loss-scale", choices=["output", "filter"], default="output",
                    help="what each pixel's squared error is relative to: the network's output or the "
                         "a-trous filter's image of the input (kpn3, kpn4; default output)")
-    p.add_argument("--loss-cap", type=positive_float, default=None, metavar="C",
+    p.add_argument("--loss-cap", type=positive_float, default=0.0, metavar="C",
                    help="count each pixel's relative error beyond C linearly (Huber; default: no cap)")
     p.add_argument("--ema", type=float, default=0.99,
                    help="decay of the weights' running average, which is validated and saved (default 0.99)")
@@ -746,7 +746,7 @@ def main(argv: list[str] | None = None) -> int:
         colour, albedo, normal, depth, variance, e, target, _, light = make_batch(
             train, rng, args.batch, args.crop, args.device, args.min_spp)
         loss = loss_fn(model, colour, albedo, normal, depth, variance, e, target, args.loss_scale, light,
-                       args.loss_cap or 0.0)
+                       args.loss_cap)
         opt.zero_grad()
         loss.backward()
         torch.nn.utils.clip_grad_norm_(model.parameters(), 1.0)

@@ -77,6 +77,11 @@ class DenoiseError(unittest.TestCase):
         self.assertAlmostEqual(y["variance"] / w, 0.0016, delta=0.0001)
         self.assertAlmostEqual(y["bias2"] / w, 0.0, delta=0.00005)
         self.assertGreater(y["top1_share"], 0.01)
+        # The films' level over the references': x is 0.05 bright on the left half only.
+        self.assertAlmostEqual(x["left"]["lum_ratio"], 1.1, delta=0.002)
+        self.assertAlmostEqual(x["right"]["lum_ratio"], 1.0, delta=0.002)
+        self.assertAlmostEqual(x["image"]["lum_ratio"], 1.05, delta=0.002)
+        self.assertAlmostEqual(y["lum_ratio"], 1.0, delta=0.002)
         self.assertLessEqual(y["top1_share"], 1.0)
 
     def test_gate_picks_the_better_set_per_block(self):

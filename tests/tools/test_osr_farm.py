@@ -162,7 +162,7 @@ class Farm(unittest.TestCase):
             subprocess.run([OSR_VK, *osr, "--seed", seed, "--filter", "none", "--quiet", "--offline", self.tmp / f"osr{seed}.exr",
                             CORNELL], check=True)
 
-        tiled, a, b = (tile_seams.rgb(str(self.tmp / n)) for n in ("osr_tiled.exr", "osr1.exr", "osr2.exr"))
+        tiled, a, b = (exr_file.read_rgb(self.tmp / n) for n in ("osr_tiled.exr", "osr1.exr", "osr2.exr"))
         mask = tile_seams.seam_mask(128, 128, 2, 2, 2)
         err, noise = tile_seams.errors(tiled, a, mask), tile_seams.errors(b, a, mask)
         print("osr tiles vs one render:", err, "two renders:", noise, file=sys.stderr)
