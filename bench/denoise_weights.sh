@@ -69,7 +69,7 @@ import json, os, platform, sys
 scene, spp, commit, date, device = sys.argv[1], int(sys.argv[2]), sys.argv[3], sys.argv[4], sys.argv[5]
 lines = {l["films"]: l for l in map(json.loads, sys.stdin) if l["region"] == "image"}
 cpu = next((l.split(":", 1)[1].strip() for l in open("/proc/cpuinfo") if l.startswith("model name")), "unknown")
-machine = f"{platform.node()}, {cpu}, {os.cpu_count()} cores"
+machine = f"{platform.node()}: {cpu}, {os.cpu_count()} cores"  # as osr-bench writes it (record.cpp)
 for name, l in lines.items():
     row = {"date": date, "commit": commit, "machine": machine, "bench": "denoise_weights", "device": device, "scene": scene, "spp": spp, "seed": 11, "denoiser": name,
            "relmse": l["relmse"], "over_shipped": l["relmse"] / lines["shipped"]["relmse"],
